@@ -183,6 +183,10 @@ enum sh2000_reject_reason {
 	SH2000_REJECT_SOFT_LIMIT = 4,	/* point beyond a soft limit */
 	SH2000_REJECT_DISABLED = 5,	/* moves an axis that is not enabled */
 	SH2000_REJECT_STATE = 6,	/* card not in a state to move */
+	/* v1.0 addition: the record was consumed but not executed (the card
+	 * model's SH2000_INJECT_DROP_SEGMENT; a real card uses it for a
+	 * record lost inside the firmware). Handled like any rejection. */
+	SH2000_REJECT_DROPPED = 7,
 };
 
 /* ---------------------------------------------------------------------------
@@ -217,6 +221,8 @@ enum sh2000_cmd_result {
 	SH2000_RES_BUSY = 5,		/* not allowed while moving */
 	SH2000_RES_FAULTED = 6,		/* a latched fault forbids it */
 	SH2000_RES_CHECKSUM = 7,	/* CMD_CHECK wrong: nothing done */
+	SH2000_RES_DISABLED = 8,	/* HOME/SET_POSITION needs an enabled
+					 * (HOME) or idle axis (v1.0 addition) */
 };
 
 /* ---------------------------------------------------------------------------
@@ -277,8 +283,33 @@ struct sh2000_param_info {
 
 /* The table (libsh2000/protocol/sh2000_protocol.c); NULL for unknown ids. */
 const struct sh2000_param_info *sh2000_param_lookup(unsigned int id);
-/* Range check shared by host validation and card acceptance: 0 if ok. */
+/* Range check shared by host validation and card acceptance: 0 if ok.
+ * Also refuses NaN/infinity, non-integers for I32, values that are not a
+ * normal binary32 for F32, and HOME_VEL == 0. Cross-parameter rules
+ * (SOFT_MIN < SOFT_MAX, coarse period divisible into fine steps) are the
+ * card's: see SH2000_FW_* below and docs/protocol.md. */
 int sh2000_param_in_range(const struct sh2000_param_info *p, double v);
+/* Lookup by the user-visible name; NULL when unknown. */
+const struct sh2000_param_info *sh2000_param_by_name(const char *name);
+
+/* ---------------------------------------------------------------------------
+ * Firmware constants the host can rely on (docs/protocol.md "Faults").
+ * ------------------------------------------------------------------------ */
+
+/* A record step may exceed VMAX * coarse period by this fraction plus
+ * SH2000_FW_VMAX_SLACK_COUNTS before it is rejected (REJECT_VELOCITY). */
+#define SH2000_FW_VMAX_MARGIN		0.05
+#define SH2000_FW_VMAX_SLACK_COUNTS	2.0
+/* DAC at +-DAC_LIMIT for this many consecutive servo cycles: DAC_SAT. */
+#define SH2000_FW_DAC_SAT_CYCLES	200u
+/* Counter change in one servo cycle above 4 * VMAX * servo period plus
+ * this many counts: COUNTER fault. */
+#define SH2000_FW_COUNTER_SLACK		1000.0
+/* Shortest servo period the firmware runs (coarse period / fine steps);
+ * the coarse period in ns must also divide exactly by the fine steps. */
+#define SH2000_FW_MIN_SERVO_NS		10000u
+/* Homing with SH2000_HOME_F_INDEX creeps at |HOME_VEL| / this. */
+#define SH2000_FW_HOME_CREEP_DIV	10.0
 
 /* ---------------------------------------------------------------------------
  * Check words: a 16-bit Fletcher-style sum that catches any single flipped
@@ -318,5 +349,8 @@ static inline uint16_t sh2000_cmd_check(uint16_t seq, uint16_t op,
 const char *sh2000_state_name(unsigned int state);
 const char *sh2000_reject_name(unsigned int reason);
 const char *sh2000_result_name(unsigned int result);
+/* One bit of SH2000_W_FAULTS / SH2000_W_AXIS_FAULTS (v1.0 additions). */
+const char *sh2000_fault_name(unsigned int bit);
+const char *sh2000_axis_fault_name(unsigned int bit);
 
 #endif /* SH2000_PROTOCOL_H */

@@ -1,0 +1,158 @@
+// SPDX-License-Identifier: MIT
+/*
+ * The parameter table of protocol v1 and the names of states, results and
+ * reasons. Host validation and card acceptance both use this table, so a
+ * value the library accepts is a value the card accepts.
+ *
+ * Defaults describe the card model's default axis (docs/cardmodel.md): a
+ * 2 kg linear motor on a 10 nm scale, +-10 V DAC.
+ */
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+#include "sh2000_protocol.h"
+
+#define I32_MIN (-2147483648.0)
+#define I32_MAX 2147483647.0
+
+static const struct sh2000_param_info axis_params[SH2000_AXIS_PARAMS] = {
+	{ SH2000_P_SCALE, "scale", SH2000_PT_F32, 0.0, 1e8, 1, 100000.0 },
+	{ SH2000_P_KP, "kp", SH2000_PT_F32, 0.0, 1000.0, 0, 0.5 },
+	{ SH2000_P_TI, "ti", SH2000_PT_F32, 0.0, 100.0, 0, 0.02 },
+	{ SH2000_P_TD, "td", SH2000_PT_F32, 0.0, 10.0, 0, 0.004 },
+	{ SH2000_P_KVFF, "kvff", SH2000_PT_F32, 0.0, 1.0, 0, 3.2768e-5 },
+	{ SH2000_P_KAFF, "kaff", SH2000_PT_F32, 0.0, 1.0, 0, 3.2768e-6 },
+	{ SH2000_P_DAC_RANGE, "dac_range", SH2000_PT_I32, 0.0, 3.0, 0,
+	  SH2000_DAC_PM10V },
+	{ SH2000_P_DAC_LIMIT, "dac_limit", SH2000_PT_I32, 1.0, 32767.0, 0,
+	  32767.0 },
+	{ SH2000_P_FERR_LIMIT, "ferr_limit", SH2000_PT_I32, 0.0, 134217727.0,
+	  1, 20000.0 },
+	{ SH2000_P_SOFT_MIN, "soft_min", SH2000_PT_I32, I32_MIN, I32_MAX, 0,
+	  I32_MIN },
+	{ SH2000_P_SOFT_MAX, "soft_max", SH2000_PT_I32, I32_MIN, I32_MAX, 0,
+	  I32_MAX },
+	{ SH2000_P_VMAX, "vmax", SH2000_PT_F32, 0.0, 1e9, 1, 4e7 },
+	{ SH2000_P_AMAX, "amax", SH2000_PT_F32, 0.0, 1e11, 1, 5e8 },
+	{ SH2000_P_HOME_VEL, "home_vel", SH2000_PT_F32, -1e9, 1e9, 0, -1e6 },
+	{ SH2000_P_HOME_DEBOUNCE, "home_debounce", SH2000_PT_I32, 1.0, 1000.0,
+	  0, 10.0 },
+	{ SH2000_P_HOME_OFFSET, "home_offset", SH2000_PT_I32, I32_MIN, I32_MAX,
+	  0, 0.0 },
+};
+
+static const struct sh2000_param_info global_params[SH2000_GP_END -
+						     SH2000_GP_FIRST] = {
+	{ SH2000_GP_COARSE_PERIOD_US, "coarse_period_us", SH2000_PT_I32, 100.0,
+	  100000.0, 0, 2000.0 },
+	{ SH2000_GP_FINE_STEPS, "fine_steps", SH2000_PT_I32, 1.0, 1000.0, 0,
+	  20.0 },
+	{ SH2000_GP_HOST_TIMEOUT_MS, "host_timeout_ms", SH2000_PT_I32, 0.0,
+	  60000.0, 0, 100.0 },
+	{ SH2000_GP_STATUS_PERIOD, "status_period", SH2000_PT_I32, 1.0,
+	  1000.0, 0, 10.0 },
+};
+
+const struct sh2000_param_info *sh2000_param_lookup(unsigned int id)
+{
+	if (id < SH2000_AXIS_PARAMS)
+		return &axis_params[id];
+	if (id >= SH2000_GP_FIRST && id < SH2000_GP_END)
+		return &global_params[id - SH2000_GP_FIRST];
+	return NULL;
+}
+
+const struct sh2000_param_info *sh2000_param_by_name(const char *name)
+{
+	unsigned int i;
+
+	if (!name)
+		return NULL;
+	for (i = 0; i < SH2000_AXIS_PARAMS; i++)
+		if (!strcmp(axis_params[i].name, name))
+			return &axis_params[i];
+	for (i = 0; i < SH2000_GP_END - SH2000_GP_FIRST; i++)
+		if (!strcmp(global_params[i].name, name))
+			return &global_params[i];
+	return NULL;
+}
+
+int sh2000_param_in_range(const struct sh2000_param_info *p, double v)
+{
+	if (!p || !isfinite(v))
+		return -1;
+	if (p->type == SH2000_PT_I32 && v != floor(v))
+		return -1;
+	if (p->type == SH2000_PT_F32 && v != 0.0 &&
+	    (fabs(v) > 3.4028234663852886e38 || fabs(v) < 1.17549435e-38))
+		return -1;	/* not a normal binary32 */
+	if (p->min_exclusive ? !(v > p->min) : !(v >= p->min))
+		return -1;
+	if (!(v <= p->max))
+		return -1;
+	if (p->id == SH2000_P_HOME_VEL && v == 0.0)
+		return -1;
+	return 0;
+}
+
+const char *sh2000_state_name(unsigned int state)
+{
+	static const char *const n[] = {
+		"boot", "idle", "running", "stopping", "homing", "fault",
+		"estop",
+	};
+
+	return state < sizeof(n) / sizeof(n[0]) ? n[state] : "unknown state";
+}
+
+const char *sh2000_reject_name(unsigned int reason)
+{
+	static const char *const n[] = {
+		"none", "bad record checksum", "reserved bits set",
+		"step exceeds max velocity", "point beyond soft limit",
+		"axis not enabled", "card not ready to move",
+		"record dropped (injected)",
+	};
+
+	return reason < sizeof(n) / sizeof(n[0]) ? n[reason] :
+						   "unknown reason";
+}
+
+const char *sh2000_result_name(unsigned int result)
+{
+	static const char *const n[] = {
+		"ok", "unknown command", "bad axis", "unknown parameter",
+		"value out of range", "busy (moving)", "fault latched",
+		"command checksum wrong", "axis not enabled",
+	};
+
+	return result < sizeof(n) / sizeof(n[0]) ? n[result] :
+						   "unknown result";
+}
+
+const char *sh2000_fault_name(unsigned int bit)
+{
+	switch (bit) {
+	case SH2000_FAULT_UNDERRUN: return "segment underrun";
+	case SH2000_FAULT_HOST_TIMEOUT: return "host heartbeat timeout";
+	case SH2000_FAULT_ESTOP: return "emergency stop";
+	case SH2000_FAULT_REJECTED: return "segment rejected";
+	case SH2000_FAULT_PROTOCOL: return "protocol violation";
+	case SH2000_FAULT_AXIS: return "axis fault";
+	default: return "unknown fault";
+	}
+}
+
+const char *sh2000_axis_fault_name(unsigned int bit)
+{
+	switch (bit) {
+	case SH2000_AXIS_FAULT_FERR: return "following error";
+	case SH2000_AXIS_FAULT_SOFT_LIMIT: return "soft limit";
+	case SH2000_AXIS_FAULT_HARD_LIMIT: return "hard limit switch";
+	case SH2000_AXIS_FAULT_DAC_SAT: return "DAC saturated";
+	case SH2000_AXIS_FAULT_COUNTER: return "encoder counter jump";
+	case SH2000_AXIS_FAULT_HOME: return "homing failed";
+	default: return "unknown axis fault";
+	}
+}

@@ -23,7 +23,7 @@
 #define SH2000_IOC_MAGIC	0xB7
 
 /* struct sh2000_info.flags */
-#define SH2000_INFO_SIMULATED	(1U << 0)	/* bound to an sh2000_sim card */
+#define SH2000_INFO_SIMULATED	0x1U		/* bound to an sh2000_sim card */
 
 #define SH2000_VERSION_LEN	16
 

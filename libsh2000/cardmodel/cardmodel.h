@@ -144,6 +144,8 @@ struct sh2000_fw {
 	uint16_t host_hb;
 	uint64_t host_hb_cycles;	/* cycles since HOST_HEARTBEAT changed */
 	unsigned int fine_k;	/* fine steps done in this coarse period */
+	uint64_t stop_left;	/* servo cycles left in a controlled stop */
+	uint16_t seg_seq;	/* SEQ of the last record consumed */
 	unsigned int pad_left;	/* END padding periods still to run */
 	int ending;		/* END record seen */
 	unsigned int status_div;
@@ -155,7 +157,8 @@ struct sh2000_fw {
 	void *observer_ctx;
 };
 
-/* inject.c needs these from firmware.c */
+/* firmware.c, for inject.c */
 void sh2000_fw_publish_words(struct sh2000_fw *fw);
+double sh2000_fw_servo_s(const struct sh2000_fw *fw);
 
 #endif /* SH2000_CARDMODEL_H */

@@ -66,6 +66,9 @@ enum sh2000_inject {
 	SH2000_INJECT_LIMIT,		/* trip a hard limit switch of axis */
 	SH2000_INJECT_DROP_SEGMENT,	/* firmware skips the next record */
 	SH2000_INJECT_CLEAR,		/* undo every injection */
+	/* Addition: the axis' 28-bit counter jumps by `arg` counts once
+	 * (0: 2^20), as after a glitch on the scale lines. */
+	SH2000_INJECT_COUNTER_GLITCH,
 };
 
 /* What the card is doing inside, for tests, traces and benchmarks: not
@@ -121,5 +124,7 @@ uint64_t sh2000_cardsim_now_ns(const struct sh2000_cardsim *c);
 struct sh2000_fw *sh2000_cardsim_fw(struct sh2000_cardsim *c);
 /* Port cycles issued: clears, increments, data reads, data writes. */
 void sh2000_cardsim_counters(const struct sh2000_cardsim *c, uint64_t out[4]);
+/* Addition: the RAM itself (tests, traces; a host uses the registers). */
+uint16_t *sh2000_cardsim_ram(struct sh2000_cardsim *c);
 
 #endif /* SH2000_CARDSIM_H */

@@ -35,7 +35,7 @@ static const struct sh2000_param_info axis_params[SH2000_AXIS_PARAMS] = {
 	  I32_MAX },
 	{ SH2000_P_VMAX, "vmax", SH2000_PT_F32, 0.0, 1e9, 1, 4e7 },
 	{ SH2000_P_AMAX, "amax", SH2000_PT_F32, 0.0, 1e11, 1, 5e8 },
-	{ SH2000_P_HOME_VEL, "home_vel", SH2000_PT_F32, -1e9, 1e9, 0, -1e6 },
+	{ SH2000_P_HOME_VEL, "home_vel", SH2000_PT_F32, -1e9, 1e9, 0, -2e6 },
 	{ SH2000_P_HOME_DEBOUNCE, "home_debounce", SH2000_PT_I32, 1.0, 1000.0,
 	  0, 10.0 },
 	{ SH2000_P_HOME_OFFSET, "home_offset", SH2000_PT_I32, I32_MIN, I32_MAX,

@@ -1,0 +1,1114 @@
+// SPDX-License-Identifier: MIT
+/*
+ * The DSP firmware: protocol v1 on the card side (docs/protocol.md). One
+ * call of sh2000_fw_cycle() is one servo interrupt. Its order is fixed:
+ *   1. emergency stop (before anything else can act);
+ *   2. sample the encoders, switches and index latches; axis checks;
+ *   3. card heartbeat, host heartbeat watchdog;
+ *   4. at most one command;
+ *   5. ring and motion: records, B-spline, controlled stop or homing;
+ *   6. PID + feed-forward per axis, following-error and DAC checks;
+ *   7. DAC out (the plant integrates one servo period);
+ *   8. publish the status words and, every STATUS_PERIOD cycles, the
+ *      versioned snapshot.
+ * Everything is in struct sh2000_fw, allocated once; nothing allocates or
+ * blocks inside a cycle.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cardmodel.h"
+
+#define RD(fw, w)	sh2000_dpram_read((fw)->ram, (w))
+#define WR(fw, w, v)	sh2000_dpram_write((fw)->ram, (w), (uint16_t)(v))
+
+static int is_enabled(const struct sh2000_fw_axis *ax)
+{
+	return (ax->state & SH2000_AXIS_ENABLED) != 0;
+}
+
+static int in_motion(const struct sh2000_fw *fw)
+{
+	return fw->state == SH2000_STATE_RUNNING ||
+	       fw->state == SH2000_STATE_STOPPING ||
+	       fw->state == SH2000_STATE_HOMING;
+}
+
+double sh2000_fw_servo_s(const struct sh2000_fw *fw)
+{
+	return (double)sh2000_fw_servo_period_ns(fw) * 1e-9;
+}
+
+uint64_t sh2000_fw_servo_period_ns(const struct sh2000_fw *fw)
+{
+	return (uint64_t)fw->coarse_us * 1000u / (uint64_t)fw->fine_steps;
+}
+
+/* ---- holding, stopping ---- */
+
+/* Set-point of axis a becomes x, at rest; the window holds x. */
+static void hold_at(struct sh2000_fw *fw, unsigned int a, double x)
+{
+	struct sh2000_fw_axis *ax = &fw->ax[a];
+
+	ax->cmd = x;
+	ax->cmd_v = 0.0;
+	ax->cmd_a = 0.0;
+	sh2000_interp_hold(&fw->ip, a, x);
+}
+
+static void discard_ring(struct sh2000_fw *fw)
+{
+	fw->tail = RD(fw, SH2000_W_HEAD);
+	WR(fw, SH2000_W_TAIL, fw->tail);
+}
+
+static void abort_homing(struct sh2000_fw_axis *ax)
+{
+	ax->home = HOME_NONE;
+	ax->state &= (uint16_t)~SH2000_AXIS_HOMING;
+}
+
+/* The motion is over: every axis holds where its set-point is. */
+static void settle(struct sh2000_fw *fw)
+{
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		abort_homing(&fw->ax[a]);
+		hold_at(fw, a, fw->ax[a].cmd);
+	}
+	fw->ending = 0;
+	fw->pad_left = 0;
+	fw->fine_k = 0;
+	fw->stop_left = 0;
+	fw->state = fw->faults ? SH2000_STATE_FAULT : SH2000_STATE_IDLE;
+}
+
+/*
+ * Controlled stop: every enabled axis decelerates from its set-point
+ * velocity so that all reach zero in the same number of servo cycles (the
+ * path keeps its direction) and no axis exceeds its AMAX. The ring is
+ * discarded.
+ */
+static void begin_stop(struct sh2000_fw *fw)
+{
+	double T = sh2000_fw_servo_s(fw), tstop = 0.0;
+	uint64_t n;
+	unsigned int a;
+
+	if (fw->state == SH2000_STATE_ESTOP)
+		return;
+	discard_ring(fw);
+	if (fw->state == SH2000_STATE_STOPPING)
+		return;		/* already decelerating within AMAX */
+	for (a = 0; a < SH2000_AXES; a++) {
+		struct sh2000_fw_axis *ax = &fw->ax[a];
+
+		abort_homing(ax);
+		if (is_enabled(ax) && fabs(ax->cmd_v) / ax->prm.amax > tstop)
+			tstop = fabs(ax->cmd_v) / ax->prm.amax;
+	}
+	n = (uint64_t)ceil(tstop / T - 1e-9);
+	if (n == 0) {
+		settle(fw);
+		return;
+	}
+	for (a = 0; a < SH2000_AXES; a++)
+		fw->ax[a].stop_a = fw->ax[a].cmd_v / ((double)n * T);
+	fw->stop_left = n;
+	fw->ending = 0;
+	fw->pad_left = 0;
+	fw->state = SH2000_STATE_STOPPING;
+}
+
+static void stop_step(struct sh2000_fw *fw, double T)
+{
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		struct sh2000_fw_axis *ax = &fw->ax[a];
+		double v;
+
+		if (!is_enabled(ax))
+			continue;
+		v = fw->stop_left == 1 ? 0.0 : ax->cmd_v - ax->stop_a * T;
+		ax->cmd += 0.5 * (ax->cmd_v + v) * T;
+		ax->cmd_a = (v - ax->cmd_v) / T;
+		ax->cmd_v = v;
+	}
+	if (--fw->stop_left == 0)
+		settle(fw);
+}
+
+static void card_fault(struct sh2000_fw *fw, uint16_t bit)
+{
+	fw->faults |= bit;
+	begin_stop(fw);
+	if (fw->state == SH2000_STATE_IDLE)
+		fw->state = SH2000_STATE_FAULT;
+}
+
+static void disable_axis(struct sh2000_fw *fw, unsigned int a)
+{
+	struct sh2000_fw_axis *ax = &fw->ax[a];
+
+	ax->state &= (uint16_t)~(SH2000_AXIS_ENABLED | SH2000_AXIS_MOVING);
+	abort_homing(ax);
+	ax->dac = 0;
+	sh2000_pid_reset(&ax->pid);
+	hold_at(fw, a, (double)ax->act);
+}
+
+static void axis_fault(struct sh2000_fw *fw, unsigned int a, uint16_t bit,
+		       int disable)
+{
+	fw->ax[a].faults |= bit;
+	if (disable)
+		disable_axis(fw, a);
+	card_fault(fw, SH2000_FAULT_AXIS);
+}
+
+/* ---- emergency stop ---- */
+
+static void estop(struct sh2000_fw *fw)
+{
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		struct sh2000_fw_axis *ax = &fw->ax[a];
+
+		abort_homing(ax);
+		hold_at(fw, a, (double)ax->act);
+		/* keep the accumulated output, forget the error history:
+		 * no derivative kick from the jump of the set-point */
+		ax->pid.e1 = 0.0;
+		ax->pid.e2 = 0.0;
+	}
+	discard_ring(fw);
+	fw->ending = 0;
+	fw->pad_left = 0;
+	fw->fine_k = 0;
+	fw->stop_left = 0;
+	fw->faults |= SH2000_FAULT_ESTOP;
+	fw->state = SH2000_STATE_ESTOP;
+}
+
+/* ---- sampling and axis checks ---- */
+
+static void sample_axes(struct sh2000_fw *fw, double T)
+{
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		struct sh2000_fw_axis *ax = &fw->ax[a];
+		uint32_t c = sh2000_plant_counter(&ax->plant);
+		int32_t d = sh2000_counter_delta(c, ax->counter);
+		int lim = (sh2000_plant_limit_neg(&ax->plant) ? 1 : 0) |
+			  (sh2000_plant_limit_pos(&ax->plant) ? 2 : 0);
+		uint16_t st = ax->state;
+
+		ax->counter = c;
+		ax->act += d;
+		st &= (uint16_t)~(SH2000_AXIS_LIMIT_NEG | SH2000_AXIS_LIMIT_POS |
+				  SH2000_AXIS_HOME_SW);
+		if (lim & 1)
+			st |= SH2000_AXIS_LIMIT_NEG;
+		if (lim & 2)
+			st |= SH2000_AXIS_LIMIT_POS;
+		if (sh2000_plant_home(&ax->plant))
+			st |= SH2000_AXIS_HOME_SW;
+		if (ax->plant.index_seen && ax->home != HOME_NONE)
+			st |= SH2000_AXIS_INDEX;
+		ax->state = st;
+		if (is_enabled(ax)) {
+			double jump = 4.0 * ax->prm.vmax * T +
+				      SH2000_FW_COUNTER_SLACK;
+
+			if (fabs((double)d) > jump) {
+				axis_fault(fw, a, SH2000_AXIS_FAULT_COUNTER, 1);
+			} else if (ax->home != HOME_NONE) {
+				if (lim)
+					axis_fault(fw, a, SH2000_AXIS_FAULT_HOME,
+						   0);
+			} else if ((lim & ~ax->prev_limit) ||
+				   ((lim & 1) && ax->cmd_v < 0.0) ||
+				   ((lim & 2) && ax->cmd_v > 0.0)) {
+				axis_fault(fw, a, SH2000_AXIS_FAULT_HARD_LIMIT,
+					   1);
+			}
+		}
+		ax->prev_limit = lim;
+	}
+}
+
+/* ---- host heartbeat ---- */
+
+static void host_watchdog(struct sh2000_fw *fw)
+{
+	uint16_t h = RD(fw, SH2000_W_HOST_HEARTBEAT);
+
+	if (h != fw->host_hb) {
+		fw->host_hb = h;
+		fw->host_hb_cycles = 0;
+		return;
+	}
+	fw->host_hb_cycles++;
+	if (fw->host_timeout_ms > 0 &&
+	    (fw->state == SH2000_STATE_RUNNING ||
+	     fw->state == SH2000_STATE_HOMING) &&
+	    fw->host_hb_cycles * sh2000_fw_servo_period_ns(fw) >=
+		    (uint64_t)fw->host_timeout_ms * 1000000u)
+		card_fault(fw, SH2000_FAULT_HOST_TIMEOUT);
+}
+
+/* ---- parameters ---- */
+
+static uint32_t f32_bits(double v)
+{
+	float f = (float)v;
+	uint32_t b;
+
+	memcpy(&b, &f, sizeof(b));
+	return b;
+}
+
+static double f32_value(uint32_t b)
+{
+	float f;
+
+	memcpy(&f, &b, sizeof(f));
+	return (double)f;
+}
+
+static double *axis_f(struct sh2000_axis_params *p, unsigned int id)
+{
+	switch (id) {
+	case SH2000_P_SCALE: return &p->scale;
+	case SH2000_P_KP: return &p->kp;
+	case SH2000_P_TI: return &p->ti;
+	case SH2000_P_TD: return &p->td;
+	case SH2000_P_KVFF: return &p->kvff;
+	case SH2000_P_KAFF: return &p->kaff;
+	case SH2000_P_VMAX: return &p->vmax;
+	case SH2000_P_AMAX: return &p->amax;
+	case SH2000_P_HOME_VEL: return &p->home_vel;
+	default: return NULL;
+	}
+}
+
+static int32_t *axis_i(struct sh2000_axis_params *p, unsigned int id)
+{
+	switch (id) {
+	case SH2000_P_DAC_RANGE: return &p->dac_range;
+	case SH2000_P_DAC_LIMIT: return &p->dac_limit;
+	case SH2000_P_FERR_LIMIT: return &p->ferr_limit;
+	case SH2000_P_SOFT_MIN: return &p->soft_min;
+	case SH2000_P_SOFT_MAX: return &p->soft_max;
+	case SH2000_P_HOME_DEBOUNCE: return &p->home_debounce;
+	case SH2000_P_HOME_OFFSET: return &p->home_offset;
+	default: return NULL;
+	}
+}
+
+static int32_t *global_i(struct sh2000_fw *fw, unsigned int id)
+{
+	switch (id) {
+	case SH2000_GP_COARSE_PERIOD_US: return &fw->coarse_us;
+	case SH2000_GP_FINE_STEPS: return &fw->fine_steps;
+	case SH2000_GP_HOST_TIMEOUT_MS: return &fw->host_timeout_ms;
+	case SH2000_GP_STATUS_PERIOD: return &fw->status_period;
+	default: return NULL;
+	}
+}
+
+/* Parameters that may change while the card moves: the loop gains and
+ * limits that do not change the meaning of queued records. */
+static int live_param(unsigned int id)
+{
+	switch (id) {
+	case SH2000_P_KP: case SH2000_P_TI: case SH2000_P_TD:
+	case SH2000_P_KVFF: case SH2000_P_KAFF: case SH2000_P_FERR_LIMIT:
+	case SH2000_GP_HOST_TIMEOUT_MS: case SH2000_GP_STATUS_PERIOD:
+		return 1;
+	default:
+		return 0;
+	}
+}
+
+static int timing_ok(int64_t coarse_us, int64_t fine)
+{
+	int64_t ns = coarse_us * 1000;
+
+	return ns % fine == 0 && ns / fine >= (int64_t)SH2000_FW_MIN_SERVO_NS;
+}
+
+static uint16_t get_param(struct sh2000_fw *fw, unsigned int axis,
+			  unsigned int id, uint32_t *out)
+{
+	const struct sh2000_param_info *pi = sh2000_param_lookup(id);
+
+	if (!pi)
+		return SH2000_RES_BAD_PARAM;
+	if (id >= SH2000_GP_FIRST) {
+		if (axis != SH2000_AXIS_GLOBAL)
+			return SH2000_RES_BAD_AXIS;
+		*out = (uint32_t)*global_i(fw, id);
+		return SH2000_RES_OK;
+	}
+	if (axis >= SH2000_AXES)
+		return SH2000_RES_BAD_AXIS;
+	if (pi->type == SH2000_PT_F32)
+		*out = f32_bits(*axis_f(&fw->ax[axis].prm, id));
+	else
+		*out = (uint32_t)*axis_i(&fw->ax[axis].prm, id);
+	return SH2000_RES_OK;
+}
+
+static uint16_t set_param(struct sh2000_fw *fw, unsigned int axis,
+			  unsigned int id, uint32_t bits)
+{
+	const struct sh2000_param_info *pi = sh2000_param_lookup(id);
+	double v;
+
+	if (!pi)
+		return SH2000_RES_BAD_PARAM;
+	if (id >= SH2000_GP_FIRST ? axis != SH2000_AXIS_GLOBAL :
+				    axis >= SH2000_AXES)
+		return SH2000_RES_BAD_AXIS;
+	v = pi->type == SH2000_PT_F32 ? f32_value(bits) :
+					(double)(int32_t)bits;
+	if (sh2000_param_in_range(pi, v))
+		return SH2000_RES_BAD_VALUE;
+	if (in_motion(fw) && !live_param(id))
+		return SH2000_RES_BUSY;
+	if (id >= SH2000_GP_FIRST) {
+		if (id == SH2000_GP_COARSE_PERIOD_US &&
+		    !timing_ok((int64_t)v, fw->fine_steps))
+			return SH2000_RES_BAD_VALUE;
+		if (id == SH2000_GP_FINE_STEPS &&
+		    !timing_ok(fw->coarse_us, (int64_t)v))
+			return SH2000_RES_BAD_VALUE;
+		*global_i(fw, id) = (int32_t)v;
+		return SH2000_RES_OK;
+	}
+	if (id == SH2000_P_SOFT_MIN && !(v < fw->ax[axis].prm.soft_max))
+		return SH2000_RES_BAD_VALUE;
+	if (id == SH2000_P_SOFT_MAX && !(v > fw->ax[axis].prm.soft_min))
+		return SH2000_RES_BAD_VALUE;
+	if (pi->type == SH2000_PT_F32)
+		*axis_f(&fw->ax[axis].prm, id) = v;
+	else
+		*axis_i(&fw->ax[axis].prm, id) = (int32_t)v;
+	return SH2000_RES_OK;
+}
+
+/* ---- commands ---- */
+
+static uint16_t cmd_enable(struct sh2000_fw *fw, uint32_t mask, int on)
+{
+	unsigned int a;
+
+	if (mask & ~((1u << SH2000_AXES) - 1u))
+		return SH2000_RES_BAD_VALUE;
+	if (!on) {
+		for (a = 0; a < SH2000_AXES; a++)
+			if (mask & (1u << a))
+				disable_axis(fw, a);
+		if (fw->state == SH2000_STATE_HOMING) {
+			for (a = 0; a < SH2000_AXES; a++)
+				if (fw->ax[a].home != HOME_NONE)
+					return SH2000_RES_OK;
+			fw->state = SH2000_STATE_IDLE;
+		}
+		return SH2000_RES_OK;
+	}
+	if (fw->faults)
+		return SH2000_RES_FAULTED;
+	if (in_motion(fw))
+		return SH2000_RES_BUSY;
+	for (a = 0; a < SH2000_AXES; a++) {
+		struct sh2000_fw_axis *ax = &fw->ax[a];
+
+		if (!(mask & (1u << a)) || is_enabled(ax))
+			continue;
+		sh2000_pid_reset(&ax->pid);
+		hold_at(fw, a, (double)ax->act);
+		ax->sat_cycles = 0;
+		ax->state |= SH2000_AXIS_ENABLED;
+	}
+	return SH2000_RES_OK;
+}
+
+static uint16_t cmd_home(struct sh2000_fw *fw, unsigned int axis,
+			 uint32_t flags)
+{
+	struct sh2000_fw_axis *ax;
+
+	if (axis >= SH2000_AXES)
+		return SH2000_RES_BAD_AXIS;
+	if (flags & ~SH2000_HOME_F_INDEX)
+		return SH2000_RES_BAD_VALUE;
+	if (fw->faults)
+		return SH2000_RES_FAULTED;
+	ax = &fw->ax[axis];
+	if (!is_enabled(ax))
+		return SH2000_RES_DISABLED;
+	if (fw->state != SH2000_STATE_IDLE && fw->state != SH2000_STATE_HOMING)
+		return SH2000_RES_BUSY;
+	if (ax->home != HOME_NONE)
+		return SH2000_RES_BUSY;
+	ax->home = HOME_SEEK;
+	ax->home_flags = flags;
+	ax->debounce = 0;
+	ax->state &= (uint16_t)~(SH2000_AXIS_HOMED | SH2000_AXIS_INDEX);
+	ax->state |= SH2000_AXIS_HOMING;
+	fw->state = SH2000_STATE_HOMING;
+	fw->host_hb_cycles = 0;
+	return SH2000_RES_OK;
+}
+
+static void reset(struct sh2000_fw *fw)
+{
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		struct sh2000_fw_axis *ax = &fw->ax[a];
+
+		ax->faults = 0;
+		ax->sat_cycles = 0;
+		abort_homing(ax);
+		sh2000_pid_reset(&ax->pid);
+		hold_at(fw, a, (double)ax->act);
+	}
+	fw->faults = 0;
+	discard_ring(fw);
+	fw->ending = 0;
+	fw->pad_left = 0;
+	fw->fine_k = 0;
+	fw->stop_left = 0;
+	fw->host_hb_cycles = 0;
+	fw->state = SH2000_STATE_IDLE;
+}
+
+/* The FPGA's counter preset: the axis reads `pos` from now on. */
+static void set_position(struct sh2000_fw *fw, unsigned int a, int64_t pos)
+{
+	struct sh2000_fw_axis *ax = &fw->ax[a];
+
+	sh2000_plant_preset(&ax->plant, (uint32_t)((uint64_t)pos &
+						   SH2000_COUNTER_MASK));
+	ax->counter = sh2000_plant_counter(&ax->plant);
+	ax->act = pos;
+	ax->pid.e1 = 0.0;
+	ax->pid.e2 = 0.0;
+	hold_at(fw, a, (double)pos);
+}
+
+static uint16_t execute(struct sh2000_fw *fw, uint16_t op, uint16_t axis,
+			uint16_t param, uint32_t arg, uint32_t *value)
+{
+	switch (op) {
+	case SH2000_CMD_NOP:
+		*value = (uint32_t)fw->cycle;
+		return SH2000_RES_OK;
+	case SH2000_CMD_ENABLE:
+		return cmd_enable(fw, arg, 1);
+	case SH2000_CMD_DISABLE:
+		return cmd_enable(fw, arg, 0);
+	case SH2000_CMD_SET_PARAM:
+		return set_param(fw, axis, param, arg);
+	case SH2000_CMD_GET_PARAM:
+		return get_param(fw, axis, param, value);
+	case SH2000_CMD_HOME:
+		return cmd_home(fw, axis, arg);
+	case SH2000_CMD_STOP:
+		if (in_motion(fw))
+			begin_stop(fw);
+		else
+			discard_ring(fw);
+		return SH2000_RES_OK;
+	case SH2000_CMD_RESET:
+		reset(fw);
+		return SH2000_RES_OK;
+	case SH2000_CMD_SET_POSITION:
+		if (axis >= SH2000_AXES)
+			return SH2000_RES_BAD_AXIS;
+		if (in_motion(fw))
+			return SH2000_RES_BUSY;
+		set_position(fw, axis, (int32_t)arg);
+		return SH2000_RES_OK;
+	default:
+		return SH2000_RES_BAD_OP;
+	}
+}
+
+static void command(struct sh2000_fw *fw)
+{
+	uint16_t seq = RD(fw, SH2000_W_CMD_SEQ);
+	uint16_t op, axis, param, lo, hi, res;
+	uint32_t value = 0;
+
+	if (seq == fw->cmd_ack)
+		return;
+	op = RD(fw, SH2000_W_CMD_OP);
+	axis = RD(fw, SH2000_W_CMD_AXIS);
+	param = RD(fw, SH2000_W_CMD_PARAM);
+	lo = RD(fw, SH2000_W_CMD_ARG_LO);
+	hi = RD(fw, SH2000_W_CMD_ARG_HI);
+	if (RD(fw, SH2000_W_CMD_CHECK) !=
+	    sh2000_cmd_check(seq, op, axis, param, lo, hi))
+		res = SH2000_RES_CHECKSUM;
+	else
+		res = execute(fw, op, axis, param,
+			      (uint32_t)lo | ((uint32_t)hi << 16), &value);
+	WR(fw, SH2000_W_CMD_VALUE_LO, value & 0xffffu);
+	WR(fw, SH2000_W_CMD_VALUE_HI, value >> 16);
+	WR(fw, SH2000_W_CMD_RESULT, res);
+	fw->cmd_ack = seq;
+	WR(fw, SH2000_W_CMD_ACK, seq);
+}
+
+/* ---- segment ring ---- */
+
+static void reject(struct sh2000_fw *fw, uint16_t seq, uint16_t reason)
+{
+	WR(fw, SH2000_W_REJECT_SEQ, seq);
+	WR(fw, SH2000_W_REJECT_REASON, reason);
+	fw->reject_count++;
+	WR(fw, SH2000_W_REJECT_COUNT, fw->reject_count);
+	card_fault(fw, SH2000_FAULT_REJECTED);
+}
+
+static int32_t rec_pos(const uint16_t *rec, unsigned int a)
+{
+	return (int32_t)((uint32_t)rec[SH2000_REC_POS_LO(a)] |
+			 ((uint32_t)rec[SH2000_REC_POS_HI(a)] << 16));
+}
+
+static uint16_t validate(struct sh2000_fw *fw, const uint16_t *rec)
+{
+	double step_max = 0.0;
+	unsigned int a;
+
+	if (fw->drop_next) {
+		fw->drop_next = 0;
+		return SH2000_REJECT_DROPPED;
+	}
+	if (rec[SH2000_REC_CHECK] != sh2000_record_check(rec))
+		return SH2000_REJECT_CHECKSUM;
+	if (rec[SH2000_REC_RESERVED] || (rec[SH2000_REC_FLAGS] &
+					 (uint16_t)~SH2000_REC_F_ALL))
+		return SH2000_REJECT_RESERVED;
+	for (a = 0; a < SH2000_AXES; a++) {
+		const struct sh2000_fw_axis *ax = &fw->ax[a];
+		double p = (double)rec_pos(rec, a);
+
+		if (!is_enabled(ax)) {
+			if (fabs(p - (double)ax->act) >
+			    (double)ax->prm.ferr_limit)
+				return SH2000_REJECT_DISABLED;
+			continue;
+		}
+		if (p < (double)ax->prm.soft_min ||
+		    p > (double)ax->prm.soft_max)
+			return SH2000_REJECT_SOFT_LIMIT;
+		step_max = ax->prm.vmax * (double)fw->coarse_us * 1e-6 *
+				   (1.0 + SH2000_FW_VMAX_MARGIN) +
+			   SH2000_FW_VMAX_SLACK_COUNTS;
+		if (fabs(p - sh2000_interp_last(&fw->ip, a)) > step_max)
+			return SH2000_REJECT_VELOCITY;
+	}
+	return SH2000_REJECT_NONE;
+}
+
+/* Start of a coarse period while running: the next point of the window.
+ * Returns 0 if the card stopped instead. */
+static int next_point(struct sh2000_fw *fw, uint16_t fill)
+{
+	uint16_t rec[SH2000_RECORD_WORDS], why;
+	unsigned int a, i, base;
+
+	if (fw->ending) {
+		for (a = 0; a < SH2000_AXES; a++)
+			sh2000_interp_push(&fw->ip, a,
+					   sh2000_interp_last(&fw->ip, a));
+		fw->pad_left--;
+		return 1;
+	}
+	if (fill == 0) {
+		card_fault(fw, SH2000_FAULT_UNDERRUN);
+		return 0;
+	}
+	base = SH2000_W_RING_BASE +
+	       (fw->tail % SH2000_RING_RECORDS) * SH2000_RECORD_WORDS;
+	for (i = 0; i < SH2000_RECORD_WORDS; i++)
+		rec[i] = RD(fw, base + i);
+	fw->tail++;
+	WR(fw, SH2000_W_TAIL, fw->tail);
+	fw->seg_seq = rec[SH2000_REC_SEQ];
+	why = validate(fw, rec);
+	if (why != SH2000_REJECT_NONE) {
+		reject(fw, rec[SH2000_REC_SEQ], why);
+		return 0;
+	}
+	for (a = 0; a < SH2000_AXES; a++) {
+		double p = is_enabled(&fw->ax[a]) ? (double)rec_pos(rec, a) :
+						    (double)fw->ax[a].act;
+
+		sh2000_interp_push(&fw->ip, a, p);
+	}
+	if (rec[SH2000_REC_FLAGS] & SH2000_REC_F_END) {
+		/* two more copies: the last window is (p, e, e, e), whose
+		 * x(1) is e */
+		fw->ending = 1;
+		fw->pad_left = 2;
+	}
+	return 1;
+}
+
+static void run_step(struct sh2000_fw *fw, uint16_t fill, double T)
+{
+	double Tc = (double)fw->coarse_us * 1e-6, t;
+	unsigned int a;
+
+	if (fw->fine_k == 0 && !next_point(fw, fill)) {
+		/* decelerate from this very cycle: no set-point hiccup */
+		if (fw->state == SH2000_STATE_STOPPING)
+			stop_step(fw, T);
+		return;
+	}
+	fw->fine_k++;
+	t = (double)fw->fine_k / (double)fw->fine_steps;
+	for (a = 0; a < SH2000_AXES; a++) {
+		struct sh2000_fw_axis *ax = &fw->ax[a];
+
+		if (is_enabled(ax))
+			sh2000_interp_eval(&fw->ip, a, t, Tc, &ax->cmd,
+					   &ax->cmd_v, &ax->cmd_a);
+	}
+	if (fw->fine_k < (unsigned int)fw->fine_steps)
+		return;
+	fw->fine_k = 0;
+	if (fw->ending && fw->pad_left == 0) {
+		/* the end point exactly, not the polynomial's rounding */
+		for (a = 0; a < SH2000_AXES; a++)
+			if (is_enabled(&fw->ax[a]))
+				fw->ax[a].cmd = sh2000_interp_last(&fw->ip, a);
+		settle(fw);
+	}
+}
+
+/* Rejected while a fault is latched: the host learns the first record it
+ * pushed after the fault was not executed. */
+static void reject_all(struct sh2000_fw *fw)
+{
+	unsigned int base = SH2000_W_RING_BASE +
+			    (fw->tail % SH2000_RING_RECORDS) *
+				    SH2000_RECORD_WORDS;
+	uint16_t seq = RD(fw, base + SH2000_REC_SEQ);
+
+	discard_ring(fw);
+	reject(fw, seq, SH2000_REJECT_STATE);
+}
+
+/* ---- homing (seed 003) ---- */
+
+/* Set-point velocity towards vt within AMAX; position integrated. */
+static void ramp(struct sh2000_fw_axis *ax, double vt, double T)
+{
+	double dv = ax->prm.amax * T, v = ax->cmd_v;
+
+	if (v < vt)
+		v = v + dv < vt ? v + dv : vt;
+	else
+		v = v - dv > vt ? v - dv : vt;
+	ax->cmd += 0.5 * (ax->cmd_v + v) * T;
+	ax->cmd_a = (v - ax->cmd_v) / T;
+	ax->cmd_v = v;
+}
+
+/* Towards `target` with |v| <= vcap within AMAX; 1 when there. */
+static int move_to(struct sh2000_fw_axis *ax, double target, double vcap,
+		   double T)
+{
+	double d = target - ax->cmd, am = ax->prm.amax, vd;
+
+	if (fabs(d) <= am * T * T + 0.5 && fabs(ax->cmd_v) <= 2.0 * am * T) {
+		ax->cmd = target;
+		ax->cmd_v = 0.0;
+		ax->cmd_a = 0.0;
+		return 1;
+	}
+	vd = sqrt(2.0 * am * fabs(d));
+	if (vd > vcap)
+		vd = vcap;
+	ramp(ax, d > 0 ? vd : -vd, T);
+	return 0;
+}
+
+static void home_step(struct sh2000_fw *fw, unsigned int a, double T)
+{
+	struct sh2000_fw_axis *ax = &fw->ax[a];
+	double speed = fabs(ax->prm.home_vel), dir;
+	int64_t delta;
+
+	if (speed > ax->prm.vmax)
+		speed = ax->prm.vmax;
+	dir = ax->prm.home_vel < 0 ? -1.0 : 1.0;
+	switch (ax->home) {
+	case HOME_SEEK:
+		ramp(ax, dir * speed, T);
+		ax->debounce = (ax->state & SH2000_AXIS_HOME_SW) ?
+				       ax->debounce + 1 : 0;
+		if (ax->debounce >= (unsigned int)ax->prm.home_debounce) {
+			ax->home_latch = (double)ax->act;
+			ax->home = HOME_STOP1;
+		}
+		break;
+	case HOME_STOP1:
+		ramp(ax, 0.0, T);
+		if (ax->cmd_v == 0.0)
+			ax->home = (ax->home_flags & SH2000_HOME_F_INDEX) ?
+					   HOME_CREEP : HOME_RETURN;
+		break;
+	case HOME_CREEP:
+		ramp(ax, dir * speed / SH2000_FW_HOME_CREEP_DIV, T);
+		if (ax->plant.index_seen) {
+			ax->home_latch = (double)(ax->act +
+				sh2000_counter_delta(ax->plant.index_latch,
+						     ax->counter));
+			ax->home = HOME_STOP2;
+		}
+		break;
+	case HOME_STOP2:
+		ramp(ax, 0.0, T);
+		if (ax->cmd_v == 0.0)
+			ax->home = HOME_RETURN;
+		break;
+	case HOME_RETURN:
+		if (!move_to(ax, ax->home_latch, speed, T))
+			break;
+		delta = (int64_t)ax->prm.home_offset - (int64_t)ax->home_latch;
+		set_position(fw, a, ax->act + delta);
+		ax->cmd = (double)ax->prm.home_offset;
+		sh2000_interp_hold(&fw->ip, a, ax->cmd);
+		ax->home = HOME_NONE;
+		ax->state &= (uint16_t)~SH2000_AXIS_HOMING;
+		ax->state |= SH2000_AXIS_HOMED;
+		break;
+	default:
+		break;
+	}
+}
+
+static void homing(struct sh2000_fw *fw, double T)
+{
+	unsigned int a, busy = 0;
+
+	for (a = 0; a < SH2000_AXES; a++)
+		if (fw->ax[a].home != HOME_NONE) {
+			home_step(fw, a, T);
+			busy |= fw->ax[a].home != HOME_NONE;
+		}
+	if (!busy && fw->state == SH2000_STATE_HOMING)
+		fw->state = SH2000_STATE_IDLE;
+}
+
+/* ---- motion by state ---- */
+
+static void motion(struct sh2000_fw *fw, double T)
+{
+	uint16_t fill = (uint16_t)(RD(fw, SH2000_W_HEAD) - fw->tail);
+
+	if (fill > SH2000_RING_RECORDS) {
+		card_fault(fw, SH2000_FAULT_PROTOCOL);
+		fill = 0;
+	}
+	switch (fw->state) {
+	case SH2000_STATE_IDLE:
+		if (fill == 0)
+			break;
+		fw->state = SH2000_STATE_RUNNING;
+		fw->fine_k = 0;
+		fw->host_hb_cycles = 0;
+		run_step(fw, fill, T);
+		break;
+	case SH2000_STATE_RUNNING:
+		run_step(fw, fill, T);
+		break;
+	case SH2000_STATE_STOPPING:
+		stop_step(fw, T);
+		break;
+	case SH2000_STATE_HOMING:
+		homing(fw, T);
+		break;
+	case SH2000_STATE_FAULT:
+	case SH2000_STATE_ESTOP:
+		if (fill)
+			reject_all(fw);
+		break;
+	default:
+		break;
+	}
+}
+
+/* ---- the servo loop ---- */
+
+static void servo(struct sh2000_fw *fw, double T)
+{
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		struct sh2000_fw_axis *ax = &fw->ax[a];
+		struct sh2000_pid_gains g;
+		double e;
+
+		if (!is_enabled(ax)) {
+			ax->dac = 0;
+			hold_at(fw, a, (double)ax->act);
+			continue;
+		}
+		if (ax->cmd_v != 0.0)
+			ax->state |= SH2000_AXIS_MOVING;
+		else
+			ax->state &= (uint16_t)~SH2000_AXIS_MOVING;
+		if (ax->cmd_v != 0.0 && ax->home == HOME_NONE &&
+		    (ax->cmd < (double)ax->prm.soft_min ||
+		     ax->cmd > (double)ax->prm.soft_max) &&
+		    !(ax->faults & SH2000_AXIS_FAULT_SOFT_LIMIT))
+			axis_fault(fw, a, SH2000_AXIS_FAULT_SOFT_LIMIT, 0);
+		e = ax->cmd - (double)ax->act;
+		if (fabs(e) > (double)ax->prm.ferr_limit &&
+		    fw->state != SH2000_STATE_ESTOP) {
+			axis_fault(fw, a, SH2000_AXIS_FAULT_FERR, 1);
+			continue;
+		}
+		g.kp = ax->prm.kp;
+		g.ti = ax->prm.ti;
+		g.td = ax->prm.td;
+		g.kvff = ax->prm.kvff;
+		g.kaff = ax->prm.kaff;
+		g.dac_limit = ax->prm.dac_limit;
+		ax->dac = sh2000_pid_step(&ax->pid, &g, e, ax->cmd_v,
+					  ax->cmd_a, T);
+		if (ax->dac >= ax->prm.dac_limit ||
+		    ax->dac <= -ax->prm.dac_limit) {
+			if (++ax->sat_cycles >= SH2000_FW_DAC_SAT_CYCLES)
+				axis_fault(fw, a, SH2000_AXIS_FAULT_DAC_SAT, 1);
+		} else {
+			ax->sat_cycles = 0;
+		}
+	}
+}
+
+static void put32(struct sh2000_fw *fw, unsigned int w, uint32_t v)
+{
+	WR(fw, w, v & 0xffffu);
+	WR(fw, w + 1u, v >> 16);
+}
+
+static void publish_snapshot(struct sh2000_fw *fw)
+{
+	uint16_t s = (uint16_t)(fw->snap_seq + 1u);
+	unsigned int a;
+
+	WR(fw, SH2000_W_SNAP_SEQ_BEGIN, s);
+	for (a = 0; a < SH2000_AXES; a++) {
+		const struct sh2000_fw_axis *ax = &fw->ax[a];
+		unsigned int w = SH2000_W_SNAP_AXIS(a);
+		double c = nearbyint(ax->cmd);
+
+		if (c > 2147483647.0)
+			c = 2147483647.0;
+		if (c < -2147483648.0)
+			c = -2147483648.0;
+		put32(fw, w + SH2000_SNAP_CMD_LO, (uint32_t)(int32_t)c);
+		put32(fw, w + SH2000_SNAP_ACT_LO, ax->counter);
+		WR(fw, w + SH2000_SNAP_DAC, (uint16_t)ax->dac);
+	}
+	put32(fw, SH2000_W_SNAP_TIME_LO, (uint32_t)fw->cycle);
+	WR(fw, SH2000_W_SNAP_SEQ_END, s);
+	fw->snap_seq = s;
+}
+
+void sh2000_fw_publish_words(struct sh2000_fw *fw)
+{
+	unsigned int a;
+
+	WR(fw, SH2000_W_FAULTS, fw->faults);
+	for (a = 0; a < SH2000_AXES; a++) {
+		WR(fw, SH2000_W_AXIS_FAULTS(a), fw->ax[a].faults);
+		WR(fw, SH2000_W_AXIS_STATE(a), fw->ax[a].state);
+	}
+	WR(fw, SH2000_W_STATE, fw->state);
+}
+
+void sh2000_fw_probe(const struct sh2000_fw *fw, struct sh2000_probe *p)
+{
+	unsigned int a;
+
+	p->servo_cycle = fw->cycle;
+	p->time_ns = fw->time_ns;
+	p->state = fw->state;
+	for (a = 0; a < SH2000_AXES; a++) {
+		const struct sh2000_fw_axis *ax = &fw->ax[a];
+
+		p->axis[a].fine_cmd = ax->cmd;
+		p->axis[a].actual = (double)ax->act;
+		p->axis[a].velocity = ax->plant.v_mm_s *
+				      ax->plant.cfg.counts_per_mm;
+		p->axis[a].dac = ax->dac;
+	}
+}
+
+static void step_plants(struct sh2000_fw *fw, double T)
+{
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++)
+		sh2000_plant_step(&fw->ax[a].plant, fw->ax[a].dac,
+				  (unsigned int)fw->ax[a].prm.dac_range, T);
+}
+
+void sh2000_fw_cycle(struct sh2000_fw *fw)
+{
+	uint64_t Tns = sh2000_fw_servo_period_ns(fw);
+	double T = (double)Tns * 1e-9;
+	uint16_t req;
+
+	if (fw->stalled) {
+		/* no firmware: the DAC holds its last output */
+		step_plants(fw, T);
+		fw->time_ns += Tns;
+		return;
+	}
+	fw->cycle++;
+	req = RD(fw, SH2000_W_ESTOP_REQ);
+	if (req != fw->estop_ack) {
+		estop(fw);
+		fw->estop_ack = req;
+		WR(fw, SH2000_W_ESTOP_ACK, req);
+	}
+	sample_axes(fw, T);
+	if (!fw->hb_frozen)
+		WR(fw, SH2000_W_HEARTBEAT, ++fw->heartbeat);
+	host_watchdog(fw);
+	command(fw);
+	motion(fw, T);
+	servo(fw, T);
+	step_plants(fw, T);
+	fw->time_ns += Tns;
+	sh2000_fw_publish_words(fw);
+	if (++fw->status_div >= (unsigned int)fw->status_period) {
+		fw->status_div = 0;
+		publish_snapshot(fw);
+	}
+	if (fw->observer) {
+		struct sh2000_probe p;
+
+		sh2000_fw_probe(fw, &p);
+		fw->observer(fw->observer_ctx, &p);
+	}
+}
+
+void sh2000_fw_set_observer(struct sh2000_fw *fw, sh2000_fw_observer fn,
+			    void *ctx)
+{
+	fw->observer = fn;
+	fw->observer_ctx = ctx;
+}
+
+/* ---- boot ---- */
+
+void sh2000_sim_config_default(struct sh2000_sim_config *cfg)
+{
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		struct sh2000_plant_config *p = &cfg->axis[a];
+
+		p->mass_kg = 2.0;
+		p->friction_ns_per_m = 20.0;
+		p->force_n_per_v = 20.0;
+		p->counts_per_mm = 100000.0;
+		p->limit_neg_mm = -5.0;
+		p->limit_pos_mm = 605.0;
+		p->home_mm = 0.0;
+		p->index_period_mm = 1.0;
+		p->start_mm = 300.0;
+	}
+}
+
+static void default_params(struct sh2000_fw *fw)
+{
+	unsigned int a, id;
+
+	for (a = 0; a < SH2000_AXES; a++)
+		for (id = 0; id < SH2000_AXIS_PARAMS; id++) {
+			const struct sh2000_param_info *pi =
+				sh2000_param_lookup(id);
+
+			if (pi->type == SH2000_PT_F32)
+				*axis_f(&fw->ax[a].prm, id) =
+					(double)(float)pi->def;
+			else
+				*axis_i(&fw->ax[a].prm, id) = (int32_t)pi->def;
+		}
+	for (id = SH2000_GP_FIRST; id < SH2000_GP_END; id++)
+		*global_i(fw, id) = (int32_t)sh2000_param_lookup(id)->def;
+}
+
+int sh2000_fw_create(struct sh2000_fw **out, uint16_t *ram,
+		     const struct sh2000_sim_config *cfg)
+{
+	struct sh2000_sim_config def;
+	struct sh2000_fw *fw;
+	unsigned int a, w;
+
+	if (!out || !ram)
+		return -22;	/* -EINVAL */
+	if (!cfg) {
+		sh2000_sim_config_default(&def);
+		cfg = &def;
+	}
+	fw = calloc(1, sizeof(*fw));
+	if (!fw)
+		return -12;	/* -ENOMEM */
+	fw->ram = ram;
+	WR(fw, SH2000_W_STATE, SH2000_STATE_BOOT);
+	default_params(fw);
+	for (a = 0; a < SH2000_AXES; a++) {
+		struct sh2000_fw_axis *ax = &fw->ax[a];
+
+		sh2000_plant_init(&ax->plant, &cfg->axis[a]);
+		ax->counter = sh2000_plant_counter(&ax->plant);
+		ax->act = ax->counter;
+		ax->prev_limit = 0;
+		hold_at(fw, a, (double)ax->act);
+	}
+	/* Whatever the host left in its words is history, not a request. */
+	fw->estop_ack = RD(fw, SH2000_W_ESTOP_REQ);
+	fw->cmd_ack = RD(fw, SH2000_W_CMD_SEQ);
+	fw->tail = RD(fw, SH2000_W_HEAD);
+	fw->host_hb = RD(fw, SH2000_W_HOST_HEARTBEAT);
+	for (w = SH2000_W_HEARTBEAT; w < SH2000_STATUS_WORDS; w++)
+		if (w != SH2000_W_STATE)
+			WR(fw, w, 0);
+	WR(fw, SH2000_W_ESTOP_ACK, fw->estop_ack);
+	WR(fw, SH2000_W_CMD_ACK, fw->cmd_ack);
+	WR(fw, SH2000_W_TAIL, fw->tail);
+	fw->state = SH2000_STATE_IDLE;
+	sh2000_fw_publish_words(fw);
+	publish_snapshot(fw);
+	WR(fw, SH2000_W_VERSION, SH2000_PROTO_VERSION);
+	WR(fw, SH2000_W_MAGIC, SH2000_PROTO_MAGIC);
+	*out = fw;
+	return 0;
+}
+
+void sh2000_fw_destroy(struct sh2000_fw *fw)
+{
+	free(fw);
+}

@@ -136,6 +136,7 @@ static int sh2000_isa_probe(struct platform_device *pdev)
 					 pdev->id);
 	if (IS_ERR(isa->card))
 		return PTR_ERR(isa->card);
+	platform_set_drvdata(pdev, isa);
 	/* devres runs this before it releases the region: no cycle after. */
 	return devm_add_action_or_reset(dev, sh2000_isa_unregister, isa);
 }
@@ -183,7 +184,7 @@ static void sh2000_remove_pdevs(void)
 static int __init sh2000_init(void)
 {
 	struct platform_device *pdev;
-	unsigned int i;
+	unsigned int i, up = 0;
 	int ret;
 
 	ret = sh2000_check_io();
@@ -205,9 +206,13 @@ static int __init sh2000_init(void)
 			goto err_pdevs;
 		}
 		sh2000_pdevs[i] = pdev;
+		/* The driver core clears drvdata when a probe fails. */
+		if (platform_get_drvdata(pdev))
+			up++;
 	}
-	pr_info("driver %s, ABI %d, %u card(s) given by io=\n",
-		SH2000_DRIVER_VERSION, SH2000_ABI_VERSION, nr_io);
+	/* A card that failed (-EBUSY) stays down; the others keep working. */
+	pr_info("driver %s, ABI %d: %u of %u card(s) from io= up\n",
+		SH2000_DRIVER_VERSION, SH2000_ABI_VERSION, up, nr_io);
 	return 0;
 
 err_pdevs:

@@ -1,0 +1,264 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * libsh2000's motion planner: path geometry and feeds in, coarse
+ * interpolation points out (docs/planner.md is the tour).
+ *
+ * The planner knows nothing about the card. It consumes primitives (lines,
+ * arcs, NURBS, point-to-point moves) and limits, and hands one point per
+ * coarse period to a sink callback: absolute positions of the 4 axes in mm
+ * (and in counts when scales are given), with SH2000_PATH_F_END on the last
+ * point of every motion. Pushing the points to a card is the caller's job
+ * (a few lines over the library's segment push).
+ *
+ * Memory is constant: a look-ahead window of a fixed number of blocks and a
+ * fixed compensation window, both allocated by sh2000_path_create(). The
+ * only other allocation is a copy of each NURBS while it is in the window.
+ *
+ * Errors: functions return 0 (or a count) on success and a negative errno
+ * on failure; sh2000_path_error() says what was wrong in words. A rejected
+ * primitive leaves nothing behind: validation is complete before any of it
+ * is queued. A planner is not thread-safe; the override, pause and stop
+ * calls may be made from inside the sink.
+ */
+#ifndef SH2000_PATH_H
+#define SH2000_PATH_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SH2000_PATH_AXES	4u
+
+enum sh2000_path_profile {
+	SH2000_PROFILE_SCURVE = 0,	/* jerk-limited, 7 phases (default) */
+	SH2000_PROFILE_TRAPEZOID = 1,	/* acceleration-limited, 3 phases */
+};
+
+enum sh2000_path_output {
+	/* control points P with P[i-1] + 4P[i] + P[i+1] = 6Q[i]: the card's
+	 * B-spline passes through the planned points Q (default) */
+	SH2000_OUTPUT_COMPENSATED = 0,
+	/* the planned points themselves: the card's B-spline cuts curves */
+	SH2000_OUTPUT_RAW = 1,
+};
+
+struct sh2000_path_config {
+	double period_s;		/* coarse period (default 0.002 s) */
+	unsigned int fine_steps;	/* card servo cycles per period (20) */
+	double vmax[SH2000_PATH_AXES];	/* mm/s, > 0 */
+	double amax[SH2000_PATH_AXES];	/* mm/s^2, > 0 */
+	double jerk;			/* path jerk, mm/s^3 (S-curve) */
+	enum sh2000_path_profile profile;
+	enum sh2000_path_output output;
+	double corner_tol;		/* mm a corner may be rounded (0.01) */
+	double chord_tol;		/* mm sagitta between points (0.005) */
+	/* share of each axis' acceleration given to curvature; the rest is
+	 * for acceleration along the path (0.5) */
+	double centripetal_share;
+	/* fraction of every limit the plan uses, the rest is headroom for
+	 * rounding to counts and the compensation's overshoot (0.95) */
+	double margin;
+	double counts_per_mm[SH2000_PATH_AXES];	/* 0: no counts */
+	double start[SH2000_PATH_AXES];		/* position at create, mm */
+	unsigned int window;		/* look-ahead blocks (256) */
+	unsigned int comp_window;	/* compensation half-window (12) */
+};
+
+/* Fills *cfg with the defaults (limits of a small linear-motor table). */
+void sh2000_path_config_default(struct sh2000_path_config *cfg);
+
+#define SH2000_PATH_F_END	0x0001u	/* last point of a motion */
+
+struct sh2000_path_point {
+	double mm[SH2000_PATH_AXES];
+	int32_t counts[SH2000_PATH_AXES];	/* round(mm * scale), 0 if none */
+	unsigned int flags;			/* SH2000_PATH_F_* */
+	uint32_t seq;		/* tag of the primitive being traversed */
+	uint64_t index;		/* points emitted before this one */
+};
+
+/* Called once per coarse point, in order. A negative return stops the
+ * planner: the call that was running returns it and the planner refuses
+ * work until sh2000_path_reset(). */
+typedef int (*sh2000_path_sink_fn)(void *ctx,
+				   const struct sh2000_path_point *pt);
+
+struct sh2000_path;
+
+/* -EINVAL with a message in *errbuf (if given) for a bad config. */
+int sh2000_path_create(struct sh2000_path **out,
+		       const struct sh2000_path_config *cfg,
+		       sh2000_path_sink_fn sink, void *ctx,
+		       char *errbuf, size_t errlen);
+void sh2000_path_destroy(struct sh2000_path *p);
+
+/* What the last failing call on this planner was unhappy about. */
+const char *sh2000_path_error(const struct sh2000_path *p);
+
+/* Tag stored in the points of the primitives added from now on. */
+void sh2000_path_set_seq(struct sh2000_path *p, uint32_t seq);
+
+/* ---- primitives (each returns 0 or a negative errno) ---------------- */
+
+/* Straight line from the end of the previous primitive to `end`, all four
+ * axes interpolated, at `feed` mm/s along the path. */
+int sh2000_path_line(struct sh2000_path *p,
+		     const double end[SH2000_PATH_AXES], double feed);
+
+enum sh2000_path_plane {
+	SH2000_PLANE_XY = 0,	/* first axis X, second Y */
+	SH2000_PLANE_XZ = 1,	/* first axis X, second Z */
+	SH2000_PLANE_YZ = 2,	/* first axis Y, second Z */
+};
+
+struct sh2000_path_arc {
+	enum sh2000_path_plane plane;
+	/* absolute end; the axes outside the plane move linearly (helix) */
+	double end[SH2000_PATH_AXES];
+	int ccw;		/* 1: from the plane's first axis towards its
+				 * second; 0: the other way */
+	int radius_form;	/* 0: centre given, 1: radius given */
+	double centre[2];	/* absolute, plane axes (centre form) */
+	/* radius form: |radius|, > 0 for the arc of at most 180 degrees,
+	 * < 0 for the longer one */
+	double radius;
+	/* extra full turns; with the centre form, end == start in the plane
+	 * is a full circle (plus turns) */
+	unsigned int turns;
+};
+
+/* Start and end radii must agree within 0.001 mm. */
+int sh2000_path_arc(struct sh2000_path *p, const struct sh2000_path_arc *arc,
+		    double feed);
+
+struct sh2000_path_nurbs {
+	unsigned int degree;		/* >= 1 */
+	unsigned int count;		/* control points, >= degree + 1 */
+	const double (*ctrl)[SH2000_PATH_AXES];	/* mm */
+	const double *weights;		/* count values > 0; NULL: all 1 */
+	const double *knots;		/* count + degree + 1, non-decreasing */
+};
+
+/* The curve over [knots[degree], knots[count]] must start at the current
+ * position (within 0.001 mm); it is copied. Feed adapts to the chord
+ * tolerance and to the acceleration and jerk limits along the curve. */
+int sh2000_path_nurbs(struct sh2000_path *p,
+		      const struct sh2000_path_nurbs *n, double feed);
+
+/* Point-to-point: a straight move that starts and ends at rest, at `speed`
+ * mm/s, or as fast as the axes allow when speed is 0. */
+int sh2000_path_move_abs(struct sh2000_path *p,
+			 const double target[SH2000_PATH_AXES], double speed);
+int sh2000_path_move_rel(struct sh2000_path *p,
+			 const double delta[SH2000_PATH_AXES], double speed);
+/* Jog one axis at signed `velocity` mm/s for at most `travel` mm; end it
+ * early with sh2000_path_stop(). */
+int sh2000_path_jog(struct sh2000_path *p, unsigned int axis,
+		    double velocity, double travel);
+
+/* End of the queued primitives: where the next one starts. */
+void sh2000_path_end_position(const struct sh2000_path *p,
+			      double pos[SH2000_PATH_AXES]);
+
+/* ---- execution -------------------------------------------------------- */
+
+/* Emit up to max_points points (the motion stops at the end of what is
+ * queued, with END). Returns the number emitted, or a negative errno. */
+int sh2000_path_run(struct sh2000_path *p, unsigned int max_points);
+/* Emit everything queued; the motion ends at rest on the last end point.
+ * 0 when done, -EAGAIN if paused with work left. */
+int sh2000_path_finish(struct sh2000_path *p);
+
+/* Feed override, 0 < factor <= 2, from the next period; changes decelerate
+ * and accelerate within the limits. */
+int sh2000_path_set_override(struct sh2000_path *p, double factor);
+/* Decelerate to rest on the path (END there); resume continues it. */
+int sh2000_path_pause(struct sh2000_path *p);
+int sh2000_path_resume(struct sh2000_path *p);
+/* Decelerate to rest on the path and discard everything queued. */
+int sh2000_path_stop(struct sh2000_path *p);
+/* Forget everything at once, without points, and start over at pos (the
+ * card was stopped another way). Clears a sink failure. */
+int sh2000_path_reset(struct sh2000_path *p,
+		      const double pos[SH2000_PATH_AXES]);
+
+struct sh2000_path_stats {
+	uint64_t points;	/* points emitted */
+	uint64_t motions;	/* points that carried END */
+	uint64_t blocks;	/* blocks planned (NURBS: several per span) */
+	double velocity;	/* current path velocity, mm/s */
+	int moving;		/* 0 at rest */
+	int paused;
+	/* NURBS: largest sagitta between consecutive points, mm, and the
+	 * largest |chord - planned step| / planned step */
+	double nurbs_chord_error;
+	double nurbs_feed_fluctuation;
+	uint64_t nurbs_steps;
+	size_t mem_bytes;	/* heap the planner holds now */
+	size_t mem_peak;	/* and at most so far */
+};
+
+void sh2000_path_stats(const struct sh2000_path *p,
+		       struct sh2000_path_stats *st);
+
+/* ---- B-spline compensation as a stand-alone stream filter ------------- */
+
+/* Turns points Q (one axis set per period) into control points P so that
+ * the uniform cubic B-spline over P passes through Q, with Q extended by
+ * its first point before and its last point after (a motion from rest to
+ * rest). Constant memory: a window of 2*half+1 points. */
+struct sh2000_bscomp;
+
+int sh2000_bscomp_create(struct sh2000_bscomp **out, unsigned int half,
+			 unsigned int naxes);
+void sh2000_bscomp_destroy(struct sh2000_bscomp *c);
+/* Begin a motion at rest at x. */
+void sh2000_bscomp_start(struct sh2000_bscomp *c, const double *x);
+/* Feed Q; returns how many P are ready (0 or 1) and copies it to *p. */
+int sh2000_bscomp_push(struct sh2000_bscomp *c, const double *q, double *p);
+/* After the last Q: returns 1 and one P per call until done, the very
+ * last one being exactly the last Q; 0 when done. *last is set on it. */
+int sh2000_bscomp_flush(struct sh2000_bscomp *c, double *p, int *last);
+
+/* ---- seed 002's DDA interpolator (reference and baseline) ------------- */
+
+struct sh2000_dda_config {
+	unsigned int bits;	/* accumulator width, 2..31 */
+	int half_load;		/* preset remainders to half capacity */
+	int normalize;		/* left-shift integrands until the largest
+				 * has its top bit set */
+};
+
+struct sh2000_dda_result {
+	uint64_t iterations;	/* accumulation cycles */
+	uint64_t pulses[3];	/* pulses per axis */
+	uint64_t max_gap;	/* longest run of cycles without any pulse */
+	int32_t end[3];		/* where the pulses led */
+};
+
+/* Called for every cycle that produced at least one pulse: the position
+ * after it and the mask of axes that stepped. */
+typedef void (*sh2000_dda_step_fn)(void *ctx, const int32_t pos[3],
+				   unsigned int mask);
+
+/* Line in up to 3 axes, integer counts. -EINVAL if a delta does not fit. */
+int sh2000_dda_line(const struct sh2000_dda_config *cfg,
+		    const int32_t start[3], const int32_t end[3],
+		    sh2000_dda_step_fn fn, void *ctx,
+		    struct sh2000_dda_result *res);
+/* Arc in 2 axes around an integer centre; start and end at the same
+ * rounded radius; start == end is a full circle. */
+int sh2000_dda_arc(const struct sh2000_dda_config *cfg,
+		   const int32_t centre[2], const int32_t start[2],
+		   const int32_t end[2], int ccw,
+		   sh2000_dda_step_fn fn, void *ctx,
+		   struct sh2000_dda_result *res);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SH2000_PATH_H */

@@ -1,0 +1,269 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * libsh2000: the C library NC applications call to drive an SH-2000TH
+ * motion card (docs/library.md is the tour).
+ *
+ * Error rule: every function that can fail returns an int that is 0 or
+ * positive on success and negative on failure: -errno for system errors,
+ * -SH2000_E* (SH2000_E_BASE..SH2000_E_LAST) for card and protocol errors.
+ * sh2000_strerror() names every code; sh2000_last_error() says what failed
+ * and where on this handle.
+ *
+ * Thread safety: a handle has its own mutex, so threads may share it. Port
+ * sequences are bounded and run under the mutex; waits (for a command
+ * acknowledgement, queue space, idle) release it between polls, so an
+ * emergency stop from another thread never waits behind them. The library
+ * has no global mutable state: separate handles are independent.
+ *
+ * The card's state, fault bits, parameter ids and axis count are the
+ * protocol's own names (sh2000_protocol.h), not copies.
+ */
+#ifndef SH2000_SH2000_H
+#define SH2000_SH2000_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sh2000_protocol.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- errors ---------------------------------------------------------- */
+
+enum sh2000_error {
+	SH2000_E_BASE = 1000,
+	SH2000_EVERSION = 1000,		/* card speaks another protocol major */
+	SH2000_EMAGIC = 1001,		/* no firmware: magic word wrong */
+	SH2000_EHEARTBEAT = 1002,	/* card heartbeat stopped (DSP stalled) */
+	SH2000_ETIMEOUT = 1003,		/* the card did not answer in time */
+	SH2000_EQUEUE_FULL = 1004,	/* no room in the ring for the batch */
+	SH2000_EPARAM = 1005,		/* value rejected by host validation */
+	SH2000_ETORN = 1006,		/* snapshot kept tearing, retries spent */
+	SH2000_ENOTSIM = 1007,		/* needs a simulated card */
+	/* command results (SH2000_RES_*) */
+	SH2000_ECMD_OP = 1010,		/* card: unknown command */
+	SH2000_ECMD_AXIS = 1011,	/* card: bad axis */
+	SH2000_ECMD_PARAM = 1012,	/* card: unknown parameter */
+	SH2000_ECMD_VALUE = 1013,	/* card: value out of range */
+	SH2000_ECMD_BUSY = 1014,	/* card: not allowed while moving */
+	SH2000_ECMD_FAULTED = 1015,	/* card: a latched fault forbids it */
+	SH2000_ECMD_CHECKSUM = 1016,	/* card: command check word wrong */
+	SH2000_ECMD_DISABLED = 1017,	/* card: axis not enabled / not idle */
+	SH2000_ECMD_UNKNOWN = 1018,	/* card: result code not in protocol */
+	/* latched card faults */
+	SH2000_EESTOP = 1020,		/* emergency stop latched */
+	SH2000_EUNDERRUN = 1021,	/* ring ran dry mid-motion */
+	SH2000_EHOST_TIMEOUT = 1022,	/* card saw the host heartbeat stop */
+	SH2000_EREJECTED = 1023,	/* card rejected a segment record */
+	SH2000_EPROTOCOL = 1024,	/* card saw an impossible ring fill */
+	SH2000_EFAULTED = 1025,		/* card faulted (no known fault bit) */
+	/* latched axis faults */
+	SH2000_EFERR = 1030,		/* following error limit */
+	SH2000_ESOFT_LIMIT = 1031,	/* set-point beyond a soft limit */
+	SH2000_EHARD_LIMIT = 1032,	/* limit switch hit */
+	SH2000_EDAC_SAT = 1033,		/* DAC saturated too long */
+	SH2000_ECOUNTER = 1034,		/* implausible encoder counter jump */
+	SH2000_EHOME = 1035,		/* homing failed */
+	SH2000_E_LAST = 1035,
+};
+
+/* Name of any code this library returns (-errno, -SH2000_E*, >= 0). */
+const char *sh2000_strerror(int code);
+
+/* ---- handles --------------------------------------------------------- */
+
+struct sh2000;
+
+enum sh2000_backend_kind {
+	SH2000_BACKEND_DEV = 0,	/* /dev/sh2000-N, the kernel driver */
+	SH2000_BACKEND_IO = 1,	/* io:0xNNN, direct port I/O */
+	SH2000_BACKEND_SIM = 2,	/* sim, in-process card model, virtual time */
+	SH2000_BACKEND_SHM = 3,	/* sim:NAME, served card model, real time */
+};
+
+#define SH2000_DEFAULT_DEVICE	"/dev/sh2000-0"
+#define SH2000_DEVICE_ENV	"SH2000_DEVICE"
+
+/*
+ * Open a card. device: "/dev/sh2000-N" (or any path), "io:0xNNN", "sim",
+ * "sim:NAME"; NULL or "" means $SH2000_DEVICE, else /dev/sh2000-0. Checks
+ * the magic, the protocol version and the heartbeat. On failure *out is
+ * NULL and, if msg is not NULL, msg gets a message naming the device and
+ * the reason.
+ */
+int sh2000_open(struct sh2000 **out, const char *device, char *msg,
+		size_t msglen);
+void sh2000_close(struct sh2000 *h);
+
+/* What the last failing call on h said. The pointer stays valid until the
+ * next call on h; threads sharing h use sh2000_last_error_copy(). */
+const char *sh2000_last_error(struct sh2000 *h);
+void sh2000_last_error_copy(struct sh2000 *h, char *buf, size_t len);
+
+const char *sh2000_device(const struct sh2000 *h);
+enum sh2000_backend_kind sh2000_backend(const struct sh2000 *h);
+/* SH2000_W_VERSION as the card reported it at open. */
+unsigned int sh2000_card_version(const struct sh2000 *h);
+
+/* The handle's clock: virtual card time for `sim`, CLOCK_MONOTONIC else. */
+uint64_t sh2000_now_ns(struct sh2000 *h);
+/* Let time pass: advances the card model for `sim`, sleeps otherwise. */
+int sh2000_sleep_ns(struct sh2000 *h, uint64_t ns);
+
+/* ---- status ---------------------------------------------------------- */
+
+struct sh2000_axis_status {
+	int64_t pos_counts;	/* encoder, 28-bit counter extended to 64 */
+	int32_t cmd_counts;	/* card's set-point */
+	int32_t ferr_counts;	/* cmd - pos */
+	double pos_mm, cmd_mm, ferr_mm;
+	int16_t dac;		/* DAC code */
+	unsigned int state;	/* SH2000_AXIS_* bits */
+	unsigned int faults;	/* SH2000_AXIS_FAULT_* bits */
+};
+
+struct sh2000_status {
+	unsigned int card_state;	/* enum sh2000_card_state */
+	unsigned int card_faults;	/* SH2000_FAULT_* bits */
+	unsigned int queue_fill;	/* records queued, 0..RING_RECORDS */
+	unsigned int queue_free;
+	uint16_t heartbeat;		/* card heartbeat word */
+	uint64_t heartbeat_age_ns;	/* host time since it last changed */
+	uint64_t card_cycle;		/* servo cycle of the snapshot (32 bit) */
+	uint16_t estop_req, estop_ack;
+	uint16_t reject_seq, reject_reason, reject_count;
+	uint64_t host_time_ns;		/* sh2000_now_ns() at the poll */
+	unsigned int retries;		/* torn snapshots re-read */
+	struct sh2000_axis_status axis[SH2000_AXES];
+};
+
+/* A card heartbeat unchanged for this long is a stopped DSP. */
+#define SH2000_HEARTBEAT_LIMIT_NS	10000000ull
+/* Torn snapshots re-read before a poll gives up with SH2000_ETORN. */
+#define SH2000_POLL_RETRIES		16
+
+/*
+ * One poll: words 0..SH2000_STATUS_WORDS-1 in one streamed read (re-read
+ * while the snapshot is torn), then the host heartbeat. Fills *st and
+ * returns 0; -SH2000_EHEARTBEAT (with *st filled) when the card heartbeat
+ * has not advanced for SH2000_HEARTBEAT_LIMIT_NS. Latched faults are in
+ * *st, not in the return value (see sh2000_status_error()).
+ */
+int sh2000_poll(struct sh2000 *h, struct sh2000_status *st);
+/* The error a status' latched faults stand for (0 if none), with the
+ * detail message set on h. */
+int sh2000_status_error(struct sh2000 *h, const struct sh2000_status *st);
+
+/* ---- commands -------------------------------------------------------- */
+
+/* Default wait for a command acknowledgement. */
+#define SH2000_CMD_TIMEOUT_MS	100
+
+/* One raw command (enum sh2000_cmd_op): waits for the acknowledgement;
+ * result codes map to -SH2000_ECMD_*; *value gets CMD_VALUE if not NULL. */
+int sh2000_command(struct sh2000 *h, unsigned int op, unsigned int axis,
+		   unsigned int param, int32_t arg, int32_t *value);
+int sh2000_nop(struct sh2000 *h);
+int sh2000_enable(struct sh2000 *h, unsigned int axis_mask);
+int sh2000_disable(struct sh2000 *h, unsigned int axis_mask);
+/* Controlled stop: the card decelerates and discards the ring. */
+int sh2000_stop(struct sh2000 *h);
+/* Clear latched faults (and a latched emergency stop); card goes idle. */
+int sh2000_reset(struct sh2000 *h);
+/* Home one axis (flags: SH2000_HOME_F_*); poll or wait_idle for the end. */
+int sh2000_home(struct sh2000 *h, unsigned int axis, unsigned int flags);
+/* Tell the card axis is at pos_mm now. */
+int sh2000_set_position(struct sh2000 *h, unsigned int axis, double pos_mm);
+/*
+ * Emergency stop: writes SH2000_W_ESTOP_REQ at once (never behind a
+ * command or the ring), then waits up to timeout_ms for ESTOP_ACK.
+ */
+int sh2000_estop(struct sh2000 *h, int timeout_ms);
+
+/* ---- parameters ------------------------------------------------------ */
+
+/* axis argument for the global parameters (SH2000_GP_*) */
+#define SH2000_GLOBAL		(-1)
+
+/*
+ * Parameters in user units: lengths in mm (ferr_limit, soft_min/max,
+ * home_offset), velocities mm/s (vmax, home_vel), accelerations mm/s^2
+ * (amax); scale counts/mm; gains, times, DAC values, cycles and the global
+ * parameters in the card's units. Conversion uses the axis' scale as the
+ * library last read or set it.
+ *
+ * Validation happens before anything is written: NaN or infinity, values
+ * outside the protocol's range (negative gains...), soft limits out of
+ * order, values the card cannot represent -> -SH2000_EPARAM with a message
+ * naming the axis and the parameter.
+ */
+int sh2000_param_set(struct sh2000 *h, int axis, unsigned int param,
+		     double value);
+int sh2000_param_get(struct sh2000 *h, int axis, unsigned int param,
+		     double *value);
+/* Parameter names as users see them; -SH2000_EPARAM if unknown. */
+int sh2000_param_id(const char *name);
+const char *sh2000_param_name(unsigned int param);
+const char *sh2000_param_unit(unsigned int param);
+
+/* Every per-axis parameter, indexed by enum sh2000_param, in user units. */
+struct sh2000_axis_params {
+	double v[SH2000_AXIS_PARAMS];
+};
+/* The protocol's defaults, in user units. */
+void sh2000_axis_params_default(struct sh2000_axis_params *p);
+int sh2000_axis_params_get(struct sh2000 *h, unsigned int axis,
+			   struct sh2000_axis_params *p);
+/* Validates all of p (scale first, the rest in the new scale), then sets
+ * them: nothing is sent if any value is bad. */
+int sh2000_axis_params_set(struct sh2000 *h, unsigned int axis,
+			   const struct sh2000_axis_params *p);
+
+/* ---- segments -------------------------------------------------------- */
+
+/* sh2000_push_*() flags */
+#define SH2000_PUSH_END		0x0001u	/* last batch of a motion */
+
+/*
+ * Queue n coarse-interpolation points (one record each, all axes) in one
+ * all-or-nothing batch: either all n are queued and published with one
+ * HEAD update, or nothing is written. Returns n, -SH2000_EQUEUE_FULL if
+ * the ring has not room for all n now, -EMSGSIZE if n > ring size, a
+ * latched card fault as its error, -SH2000_EPARAM for an unrepresentable
+ * point. Each record carries the segment number sh2000_next_segment()
+ * gives (low 16 bits); a rejection names it.
+ */
+int sh2000_push_counts(struct sh2000 *h, const int32_t (*pts)[SH2000_AXES],
+		       size_t n, unsigned int flags);
+int sh2000_push_mm(struct sh2000 *h, const double (*pts)[SH2000_AXES],
+		   size_t n, unsigned int flags);
+uint64_t sh2000_next_segment(struct sh2000 *h);
+/* Free records in the ring now (one read), or an error. */
+int sh2000_queue_free(struct sh2000 *h);
+/* Wait until n records fit / the card is idle with an empty ring. A latched
+ * fault ends the wait with its error; -SH2000_ETIMEOUT after timeout_ms. */
+int sh2000_wait_space(struct sh2000 *h, unsigned int n, int timeout_ms);
+int sh2000_wait_idle(struct sh2000 *h, int timeout_ms);
+
+/* ---- raw access, for tools and tests --------------------------------- */
+
+struct sh2000_port_counters {
+	uint64_t clears, increments, data_reads, data_writes;
+	uint32_t position;	/* counter position, 0xffffffff unknown */
+};
+/* Port cycles this handle issued (dev: the driver's counters for the
+ * card). */
+int sh2000_port_counters(struct sh2000 *h, struct sh2000_port_counters *c);
+/* Words [addr, addr+n) of the dual-port RAM (no wrap past 1023). */
+int sh2000_ram_read(struct sh2000 *h, unsigned int addr, unsigned int n,
+		    uint16_t *buf);
+int sh2000_ram_write(struct sh2000 *h, unsigned int addr, unsigned int n,
+		     const uint16_t *buf);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SH2000_SH2000_H */

@@ -1,0 +1,94 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * io:0xNNN: the card's four ports from user space (ioperm, inw/outw).
+ * Needs CAP_SYS_RAWIO; x86 only.
+ */
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sh2000_internal.h"
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <linux/capability.h>
+#include <sys/io.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+static void io_out(struct sh2000 *h, unsigned int reg, uint16_t v)
+{
+	if (reg == SH2000_REG_DATA)
+		outw(v, (unsigned short)(h->io_base + reg));
+	else
+		outb(0, (unsigned short)(h->io_base + reg));
+}
+
+static uint16_t io_in(struct sh2000 *h, unsigned int reg)
+{
+	return inw((unsigned short)(h->io_base + reg));
+}
+
+static void io_close(struct sh2000 *h)
+{
+	ioperm(h->io_base, SH2000_IO_EXTENT, 0);
+}
+
+static const struct sh2000_backend io_backend = {
+	.kind = SH2000_BACKEND_IO,
+	.port_out = io_out,
+	.port_in = io_in,
+	.counters = sh2000_bus_counters,
+	.close = io_close,
+};
+
+static int has_rawio(void)
+{
+	struct __user_cap_header_struct hdr = {
+		.version = _LINUX_CAPABILITY_VERSION_3, .pid = 0 };
+	struct __user_cap_data_struct data[2];
+
+	memset(data, 0, sizeof(data));
+	if (syscall(SYS_capget, &hdr, data) < 0)
+		return -1;
+	return !!(data[CAP_SYS_RAWIO / 32].effective &
+		  (1u << (CAP_SYS_RAWIO % 32)));
+}
+#endif
+
+int sh2000_io_open(struct sh2000 *h, const char *spec, char *msg, size_t len)
+{
+	char *end;
+	unsigned long base;
+
+	errno = 0;
+	base = strtoul(spec, &end, 0);
+	if (errno || end == spec || *end)
+		return sh2000_msg(msg, len, -EINVAL,
+				  "io:%s: not a port number (use io:0x300)",
+				  spec);
+	if (!sh2000_io_base_valid(base))
+		return sh2000_msg(msg, len, -EINVAL,
+				  "io:%s: base 0x%lx invalid: must be %u-aligned in 0x%x..0x%x",
+				  spec, base, SH2000_IO_ALIGN, SH2000_IO_MIN,
+				  SH2000_IO_MAX);
+#if defined(__x86_64__) || defined(__i386__)
+	if (has_rawio() == 0)
+		return sh2000_msg(msg, len, -EPERM,
+				  "io:0x%lx: direct port I/O needs CAP_SYS_RAWIO (run as root or setcap cap_sys_rawio+ep; or use /dev/sh2000-N)",
+				  base);
+	if (ioperm(base, SH2000_IO_EXTENT, 1) < 0) {
+		int e = errno;
+
+		return sh2000_msg(msg, len, -e, "io:0x%lx: ioperm: %s%s", base,
+				  strerror(e),
+				  e == EPERM ? " (needs CAP_SYS_RAWIO)" : "");
+	}
+	h->io_base = base;
+	h->bus.pos = SH2000_SEEK_UNKNOWN;
+	h->be = &io_backend;
+	return 0;
+#else
+	return sh2000_msg(msg, len, -EOPNOTSUPP,
+			  "io:0x%lx: direct port I/O exists on x86 only", base);
+#endif
+}

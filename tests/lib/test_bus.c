@@ -1,0 +1,461 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The register-level bus, status, command and estop paths against a
+ * scripted card (fakecard.c), cycle by cycle: the bus issues exactly the
+ * port-cycle sequence the kernel driver's rule gives (sh2000_core.c: seek
+ * each word with sh2000_seek_plan() unless already there, then the data
+ * cycle), and the documented costs of a poll, a push and a command.
+ */
+#include <errno.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "fakecard.h"
+
+/* The driver's rule, word by word, as a reference. */
+static unsigned int driver_rule(unsigned int pos, unsigned int addr,
+				unsigned int n, int write,
+				struct fake_event *ev)
+{
+	unsigned int k = 0, w, i;
+
+	for (w = addr; w < addr + n; w++) {
+		if (pos != w) {
+			struct sh2000_seek s = sh2000_seek_plan(pos, w);
+
+			if (s.clear) {
+				ev[k].op = FAKE_CLEAR;
+				ev[k++].addr = 0;
+				pos = 0;
+			}
+			for (i = 0; i < s.increments; i++) {
+				pos = (pos + 1) & SH2000_ADDR_MASK;
+				ev[k].op = FAKE_INC;
+				ev[k++].addr = (uint16_t)pos;
+			}
+		}
+		ev[k].op = write ? FAKE_WR : FAKE_RD;
+		ev[k++].addr = (uint16_t)w;
+	}
+	return k;
+}
+
+static uint32_t lcg(uint32_t *s)
+{
+	*s = *s * 1664525u + 1013904223u;
+	return *s >> 8;
+}
+
+static void test_stream_equals_driver_rule(void **state)
+{
+	static struct fake_event ref[4096];
+	struct fakecard *f = fakecard_new();
+	uint16_t buf[SH2000_RAM_WORDS], shadow[SH2000_RAM_WORDS];
+	uint32_t seed = 12345;
+	unsigned int t, i;
+
+	(void)state;
+	memset(shadow, 0, sizeof(shadow));
+	for (t = 0; t < 5000; t++) {
+		unsigned int addr = lcg(&seed) % SH2000_RAM_WORDS;
+		unsigned int max = SH2000_RAM_WORDS - addr;
+		unsigned int n = 1 + lcg(&seed) % (max < 80 ? max : 80);
+		int write = lcg(&seed) & 1;
+		unsigned int pos = f->h.bus.pos, k;
+
+		/* the driver starts where the bus believes the counter is */
+		if (pos != SH2000_SEEK_UNKNOWN)
+			assert_int_equal(pos, f->counter);
+		k = driver_rule(pos, addr, n, write, ref);
+		fakecard_clear_log(f);
+		if (write) {
+			for (i = 0; i < n; i++)
+				buf[i] = shadow[addr + i] = (uint16_t)lcg(&seed);
+			assert_int_equal(sh2000_wr(&f->h, addr, n, buf), 0);
+		} else {
+			assert_int_equal(sh2000_rd(&f->h, addr, n, buf), 0);
+			assert_memory_equal(buf, &shadow[addr], 2 * n);
+		}
+		assert_int_equal(f->nlog, k);
+		for (i = 0; i < k; i++) {
+			assert_int_equal(f->log[i].op, ref[i].op);
+			if (ref[i].op != FAKE_CLEAR)
+				assert_int_equal(f->log[i].addr, ref[i].addr);
+		}
+		/* lazy: the counter stays on the last word */
+		assert_int_equal(f->h.bus.pos, addr + n - 1);
+	}
+	assert_memory_equal(f->ram, shadow, sizeof(shadow));
+	fakecard_free(f);
+}
+
+static void test_seek_costs(void **state)
+{
+	struct fakecard *f = fakecard_new();
+	struct sh2000_port_counters c;
+	uint16_t w;
+
+	(void)state;
+	/* unknown position: clear + target increments */
+	sh2000_rd(&f->h, 10, 1, &w);
+	sh2000_port_counters(&f->h, &c);
+	assert_int_equal(c.clears, 1);
+	assert_int_equal(c.increments, 10);
+	/* through the wrap: 1023 -> 3 is 4 increments, a tie with clear + 3:
+	 * the tie keeps the counter */
+	f->h.bus.pos = 1023;
+	f->counter = 1023;
+	sh2000_rd(&f->h, 3, 1, &w);
+	sh2000_port_counters(&f->h, &c);
+	assert_int_equal(c.clears, 1);
+	assert_int_equal(c.increments, 14);
+	/* 1000 -> 5: clear + 5 beats 29 increments */
+	f->h.bus.pos = 1000;
+	f->counter = 1000;
+	sh2000_rd(&f->h, 5, 1, &w);
+	sh2000_port_counters(&f->h, &c);
+	assert_int_equal(c.clears, 2);
+	assert_int_equal(c.increments, 19);
+	/* backwards: clear + target */
+	sh2000_rd(&f->h, 3, 1, &w);
+	sh2000_port_counters(&f->h, &c);
+	assert_int_equal(c.clears, 3);
+	assert_int_equal(c.increments, 22);
+	/* a streamed word costs 2 cycles, the first word after a seek 1 */
+	sh2000_rd(&f->h, 3, 100, (uint16_t[100]){ 0 });
+	sh2000_port_counters(&f->h, &c);
+	assert_int_equal(c.increments, 22 + 99);
+	assert_int_equal(c.data_reads, 4 + 100);
+	fakecard_free(f);
+}
+
+static unsigned int cycles(const struct fakecard *f)
+{
+	return f->nlog;
+}
+
+static void test_poll_cost(void **state)
+{
+	struct fakecard *f = fakecard_new();
+	struct sh2000_status st;
+	unsigned int c[4];
+
+	(void)state;
+	fakecard_boot(f);
+	assert_int_equal(sh2000_poll_locked(&f->h, &st), 0);
+	fakecard_counts(f, c);
+	/* clear, 47 reads with 46 increments, 1 increment, heartbeat write */
+	assert_int_equal(c[FAKE_CLEAR], 1);
+	assert_int_equal(c[FAKE_INC], 47);
+	assert_int_equal(c[FAKE_RD], SH2000_STATUS_WORDS);
+	assert_int_equal(c[FAKE_WR], 1);
+	assert_int_equal(cycles(f), 96);
+	assert_int_equal(f->ram[SH2000_W_HOST_HEARTBEAT], f->h.host_hb);
+	/* steady state: the counter sits on 47, word 0 is one clear away */
+	fakecard_clear_log(f);
+	assert_int_equal(sh2000_poll_locked(&f->h, &st), 0);
+	assert_int_equal(cycles(f), 96);
+	fakecard_free(f);
+}
+
+static void test_push_cost(void **state)
+{
+	struct fakecard *f = fakecard_new();
+	struct sh2000_status st;
+	int32_t pts[SH2000_RING_RECORDS][SH2000_AXES];
+	unsigned int one, two, full;
+
+	(void)state;
+	memset(pts, 0, sizeof(pts));
+	fakecard_boot(f);
+	sh2000_poll_locked(&f->h, &st);
+	fakecard_clear_log(f);
+	assert_int_equal(sh2000_push_counts(&f->h, pts, 1, 0), 1);
+	one = cycles(f);
+	/* check 3..7 (4+9), seek to the ring (57), one record (12 data +
+	 * 11 increments), publish 47..48 (48 + 3) */
+	assert_int_equal(one, 4 + 9 + 57 + 23 + 48 + 3);
+	assert_int_equal(f->ram[SH2000_W_HEAD], 1);
+	/* each further record of a batch costs 24 cycles */
+	f->ram[SH2000_W_TAIL] = 1;	/* card consumed it */
+	fakecard_clear_log(f);
+	assert_int_equal(sh2000_push_counts(&f->h, pts, 2, 0), 2);
+	two = cycles(f);
+	assert_int_equal(two, one + 24 + 12);	/* +12: slot 1 is 12 further */
+	/* a full ring's batch */
+	f->ram[SH2000_W_TAIL] = 3;
+	fakecard_clear_log(f);
+	assert_int_equal(sh2000_push_counts(&f->h, pts, SH2000_RING_RECORDS, 0),
+			 SH2000_RING_RECORDS);
+	full = cycles(f);
+	print_message("push: 1 record %u cycles, 64 records %u (%.2f/record)\n",
+		      one, full, full / 64.0);
+	assert_true(full < 26 * SH2000_RING_RECORDS + 200);
+	/* and now no room: nothing written */
+	fakecard_clear_log(f);
+	assert_int_equal(sh2000_push_counts(&f->h, pts, 1, 0),
+			 -SH2000_EQUEUE_FULL);
+	{
+		unsigned int c[4];
+
+		fakecard_counts(f, c);
+		assert_int_equal(c[FAKE_WR], 0);
+	}
+	/* batches larger than the ring are refused outright */
+	assert_int_equal(sh2000_push_counts(&f->h, pts, SH2000_RING_RECORDS + 1, 0),
+			 -EMSGSIZE);
+	fakecard_free(f);
+}
+
+static void test_record_format(void **state)
+{
+	struct fakecard *f = fakecard_new();
+	const int32_t pts[2][SH2000_AXES] = { { 1, -2, 0x12345678, -0x7fffffff },
+					       { 5, 6, 7, 8 } };
+	const uint16_t *r;
+
+	(void)state;
+	fakecard_boot(f);
+	f->h.head = 63;		/* the batch wraps from slot 63 to slot 0 */
+	f->h.segments = 1000;
+	f->ram[SH2000_W_TAIL] = 63;
+	assert_int_equal(sh2000_push_counts(&f->h, pts, 2, SH2000_PUSH_END), 2);
+	r = &f->ram[SH2000_W_RING_BASE + 63 * SH2000_RECORD_WORDS];
+	assert_int_equal(sh2000_w32(&r[SH2000_REC_POS_LO(2)]), 0x12345678);
+	assert_int_equal(sh2000_w32(&r[SH2000_REC_POS_LO(3)]), -0x7fffffff);
+	assert_int_equal(r[SH2000_REC_SEQ], 1000);
+	assert_int_equal(r[SH2000_REC_FLAGS], 0);
+	assert_int_equal(r[SH2000_REC_CHECK], sh2000_record_check(r));
+	r = &f->ram[SH2000_W_RING_BASE];
+	assert_int_equal(sh2000_w32(&r[SH2000_REC_POS_LO(0)]), 5);
+	assert_int_equal(r[SH2000_REC_SEQ], 1001);
+	assert_int_equal(r[SH2000_REC_FLAGS], SH2000_REC_F_END);
+	assert_int_equal(r[SH2000_REC_CHECK], sh2000_record_check(r));
+	assert_int_equal(f->ram[SH2000_W_HEAD], 65);
+	fakecard_free(f);
+}
+
+static void test_command_cost_and_results(void **state)
+{
+	struct fakecard *f = fakecard_new();
+	struct sh2000_status st;
+	int32_t v = 0;
+	unsigned int res;
+
+	(void)state;
+	fakecard_boot(f);
+	sh2000_poll_locked(&f->h, &st);
+	fakecard_clear_log(f);
+	f->ack_value = 0xdeadbeef;
+	assert_int_equal(sh2000_command_locked(&f->h, SH2000_CMD_GET_PARAM, 1,
+					       SH2000_P_KP, 0, &v, 100), 0);
+	assert_int_equal((uint32_t)v, 0xdeadbeef);
+	/* 49..55 from 47 (2 + 13), answer 8..11 (9 + 7) */
+	assert_int_equal(cycles(f), 31);
+	assert_int_equal(f->ram[SH2000_W_CMD_CHECK],
+			 sh2000_cmd_check(f->ram[SH2000_W_CMD_SEQ],
+					  SH2000_CMD_GET_PARAM, 1, SH2000_P_KP,
+					  0, 0));
+	for (res = 1; res <= SH2000_RES_DISABLED + 1; res++) {
+		int want = res <= SH2000_RES_DISABLED ?
+			   -(SH2000_ECMD_OP + (int)res - 1) : -SH2000_ECMD_UNKNOWN;
+
+		f->ack_result = (uint16_t)res;
+		assert_int_equal(sh2000_command_locked(&f->h, SH2000_CMD_NOP, 0,
+						       0, 0, NULL, 100), want);
+		assert_non_null(strstr(f->h.err, "nop"));
+	}
+	/* no answer: a timeout, after 100 ms of (fake) time */
+	f->auto_ack = 0;
+	assert_int_equal(sh2000_command_locked(&f->h, SH2000_CMD_NOP, 0, 0, 0,
+					       NULL, 100), -SH2000_ETIMEOUT);
+	fakecard_free(f);
+}
+
+static void test_estop_cost(void **state)
+{
+	struct fakecard *f = fakecard_new();
+	struct sh2000_status st;
+
+	(void)state;
+	fakecard_boot(f);
+	sh2000_poll_locked(&f->h, &st);
+	fakecard_clear_log(f);
+	assert_int_equal(sh2000_estop(&f->h, 10), 0);
+	/* clear + write word 0 come first: nothing before them */
+	assert_int_equal(f->log[0].op, FAKE_CLEAR);
+	assert_int_equal(f->log[1].op, FAKE_WR);
+	assert_int_equal(f->log[1].addr, SH2000_W_ESTOP_REQ);
+	/* then 4 increments and the ESTOP_ACK read */
+	assert_int_equal(cycles(f), 7);
+	fakecard_free(f);
+}
+
+static void test_torn_snapshot(void **state)
+{
+	struct fakecard *f = fakecard_new();
+	struct sh2000_status st;
+
+	(void)state;
+	fakecard_boot(f);
+	f->tear_polls = 3;
+	assert_int_equal(sh2000_poll_locked(&f->h, &st), 0);
+	assert_int_equal(st.retries, 3);
+	f->tear_polls = 1000;
+	assert_int_equal(sh2000_poll_locked(&f->h, &st), -SH2000_ETORN);
+	fakecard_free(f);
+}
+
+static void test_heartbeat_loss(void **state)
+{
+	struct fakecard *f = fakecard_new();
+	struct sh2000_status st;
+	uint64_t t0;
+
+	(void)state;
+	fakecard_boot(f);
+	assert_int_equal(sh2000_poll_locked(&f->h, &st), 0);
+	f->hb_running = 0;
+	t0 = f->now_ns;
+	while (sh2000_poll_locked(&f->h, &st) == 0)
+		f->now_ns += 500000;
+	assert_true(f->now_ns - t0 >= SH2000_HEARTBEAT_LIMIT_NS);
+	assert_true(f->now_ns - t0 <= SH2000_HEARTBEAT_LIMIT_NS + 1000000);
+	assert_int_equal(sh2000_poll_locked(&f->h, &st), -SH2000_EHEARTBEAT);
+	assert_non_null(strstr(f->h.err, "heartbeat stuck"));
+	f->hb_running = 1;
+	f->ram[SH2000_W_HEARTBEAT]++;
+	assert_int_equal(sh2000_poll_locked(&f->h, &st), 0);
+	fakecard_free(f);
+}
+
+static void set32(uint16_t *ram, unsigned int w, uint32_t v)
+{
+	ram[w] = (uint16_t)v;
+	ram[w + 1] = (uint16_t)(v >> 16);
+}
+
+static void test_counter_extension(void **state)
+{
+	struct fakecard *f = fakecard_new();
+	struct sh2000_status st;
+	unsigned int act = SH2000_W_SNAP_AXIS(1) + SH2000_SNAP_ACT_LO;
+	unsigned int cmd = SH2000_W_SNAP_AXIS(1) + SH2000_SNAP_CMD_LO;
+
+	(void)state;
+	fakecard_boot(f);
+	set32(f->ram, act, 0x0ffffff0u);	/* -16 as 28 bits */
+	set32(f->ram, cmd, (uint32_t)-10);
+	assert_int_equal(sh2000_poll_locked(&f->h, &st), 0);
+	assert_int_equal(st.axis[1].pos_counts, -16);
+	assert_int_equal(st.axis[1].ferr_counts, 6);
+	/* upward through 2^27 several times: the 64-bit value keeps going */
+	{
+		int64_t want = -16;
+		unsigned int i;
+
+		for (i = 0; i < 40; i++) {
+			want += 50000000;
+			set32(f->ram, act, (uint32_t)want & 0x0fffffffu);
+			set32(f->ram, cmd, (uint32_t)(int32_t)want);
+			assert_int_equal(sh2000_poll_locked(&f->h, &st), 0);
+			assert_true(st.axis[1].pos_counts == want);
+			assert_int_equal(st.axis[1].ferr_counts,
+					 (int32_t)(want - (int64_t)(int32_t)want) == 0 ?
+					 0 : st.axis[1].ferr_counts);
+		}
+		assert_true(st.axis[1].pos_counts > (1ll << 30));
+		assert_true(st.axis[1].pos_mm > 1e6);
+	}
+	fakecard_free(f);
+}
+
+static void test_fault_errors(void **state)
+{
+	static const struct {
+		unsigned int state, faults, axis_faults;
+		int code;
+	} cases[] = {
+		{ SH2000_STATE_ESTOP, SH2000_FAULT_ESTOP, 0, -SH2000_EESTOP },
+		{ SH2000_STATE_FAULT, SH2000_FAULT_UNDERRUN, 0, -SH2000_EUNDERRUN },
+		{ SH2000_STATE_FAULT, SH2000_FAULT_HOST_TIMEOUT, 0, -SH2000_EHOST_TIMEOUT },
+		{ SH2000_STATE_FAULT, SH2000_FAULT_REJECTED, 0, -SH2000_EREJECTED },
+		{ SH2000_STATE_FAULT, SH2000_FAULT_PROTOCOL, 0, -SH2000_EPROTOCOL },
+		{ SH2000_STATE_FAULT, SH2000_FAULT_AXIS, SH2000_AXIS_FAULT_FERR, -SH2000_EFERR },
+		{ SH2000_STATE_FAULT, SH2000_FAULT_AXIS, SH2000_AXIS_FAULT_SOFT_LIMIT, -SH2000_ESOFT_LIMIT },
+		{ SH2000_STATE_FAULT, SH2000_FAULT_AXIS, SH2000_AXIS_FAULT_HARD_LIMIT, -SH2000_EHARD_LIMIT },
+		{ SH2000_STATE_FAULT, SH2000_FAULT_AXIS, SH2000_AXIS_FAULT_DAC_SAT, -SH2000_EDAC_SAT },
+		{ SH2000_STATE_FAULT, SH2000_FAULT_AXIS, SH2000_AXIS_FAULT_COUNTER, -SH2000_ECOUNTER },
+		{ SH2000_STATE_FAULT, SH2000_FAULT_AXIS, SH2000_AXIS_FAULT_HOME, -SH2000_EHOME },
+		{ SH2000_STATE_FAULT, 0, 0, -SH2000_EFAULTED },
+	};
+	int32_t pts[1][SH2000_AXES] = { { 0 } };
+	unsigned int i;
+
+	(void)state;
+	for (i = 0; i < sizeof(cases) / sizeof(cases[0]); i++) {
+		struct fakecard *f = fakecard_new();
+		unsigned int c[4];
+
+		fakecard_boot(f);
+		f->ram[SH2000_W_STATE] = (uint16_t)cases[i].state;
+		f->ram[SH2000_W_FAULTS] = (uint16_t)cases[i].faults;
+		f->ram[SH2000_W_AXIS_FAULTS(2)] = (uint16_t)cases[i].axis_faults;
+		f->ram[SH2000_W_REJECT_SEQ] = 77;
+		f->ram[SH2000_W_REJECT_REASON] = SH2000_REJECT_VELOCITY;
+		f->h.segments = 100;
+		assert_int_equal(sh2000_push_counts(&f->h, pts, 1, 0), cases[i].code);
+		fakecard_counts(f, c);
+		assert_int_equal(f->ram[SH2000_W_HEAD], 0);	/* nothing published */
+		assert_int_equal(sh2000_wait_idle(&f->h, 10), cases[i].code);
+		if (cases[i].axis_faults)
+			assert_non_null(strstr(f->h.err, "axis 2"));
+		if (cases[i].code == -SH2000_EREJECTED)
+			assert_non_null(strstr(f->h.err, "segment 77"));
+		fakecard_free(f);
+	}
+}
+
+static void test_strerror(void **state)
+{
+	int e;
+
+	(void)state;
+	for (e = SH2000_E_BASE; e <= SH2000_E_LAST; e++) {
+		const char *s = sh2000_strerror(-e);
+
+		assert_non_null(s);
+		/* holes in the range are unused codes */
+		if (strncmp(s, "unknown", 7))
+			assert_true(strlen(s) > 5);
+	}
+	assert_string_equal(sh2000_strerror(-SH2000_EVERSION),
+			    "card speaks another protocol version");
+	assert_string_equal(sh2000_strerror(-ENOENT), "No such file or directory");
+	assert_string_equal(sh2000_strerror(0), "success");
+	assert_string_equal(sh2000_strerror(-99999), "unknown error");
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_stream_equals_driver_rule),
+		cmocka_unit_test(test_seek_costs),
+		cmocka_unit_test(test_poll_cost),
+		cmocka_unit_test(test_push_cost),
+		cmocka_unit_test(test_record_format),
+		cmocka_unit_test(test_command_cost_and_results),
+		cmocka_unit_test(test_estop_cost),
+		cmocka_unit_test(test_torn_snapshot),
+		cmocka_unit_test(test_heartbeat_loss),
+		cmocka_unit_test(test_counter_extension),
+		cmocka_unit_test(test_fault_errors),
+		cmocka_unit_test(test_strerror),
+	};
+
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

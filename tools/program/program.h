@@ -1,0 +1,252 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Program readers for the SH-2000 tools: RS-274 G-code (built-in parser),
+ * LinuxCNC rs274 canonical-command output, CSV point lists and JSON NURBS
+ * files, all read into one device- and planner-independent representation
+ * (docs/programs.md describes the accepted input).
+ *
+ * A program is an array of blocks. Every motion block carries its absolute
+ * start and end points in mm for the four axes X Y Z A (A is the card's
+ * fourth *linear* axis, written "A" in every format), its feed in mm/s and
+ * its source position, so a consumer needs no modal state: units, distance
+ * modes and relative arc centres are resolved by the reader.
+ *
+ * A reader checks the whole input before it returns: on any error the
+ * program is left empty, every error and warning is in the caller's
+ * diagnostics list with file:line:column, and the call returns
+ * -SH2000_PROG_EINVALID. Nothing here has global mutable state.
+ *
+ * Errors: negative codes, -errno for system errors (reading a file, memory)
+ * or -SH2000_PROG_E*; sh2000_prog_strerror() names them.
+ */
+#ifndef SH2000_TOOLS_PROGRAM_H
+#define SH2000_TOOLS_PROGRAM_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SH2000_PROG_AXES 4
+enum sh2000_prog_axis {
+	SH2000_PROG_X = 0,
+	SH2000_PROG_Y = 1,
+	SH2000_PROG_Z = 2,
+	SH2000_PROG_A = 3,	/* the fourth linear axis, mm */
+};
+
+/* Positive values; the functions return them negated. */
+enum sh2000_prog_error {
+	SH2000_PROG_E_BASE = 1200,
+	SH2000_PROG_EINVALID = 1200,	/* the program has errors (see diags) */
+	SH2000_PROG_EFORMAT = 1201,	/* format unknown (name gives no hint) */
+	SH2000_PROG_E_LAST = 1201,
+};
+
+/* Name of -errno, -SH2000_PROG_E* or 0. */
+const char *sh2000_prog_strerror(int code);
+
+/* ---- source positions and diagnostics -------------------------------- */
+
+/* line and column count from 1; column is a byte column (a tab is one). */
+struct sh2000_prog_pos {
+	const char *file;	/* owned by the program (or diags list) */
+	unsigned int line;
+	unsigned int column;
+};
+
+enum sh2000_prog_severity {
+	SH2000_PROG_WARNING = 0,
+	SH2000_PROG_ERROR = 1,
+};
+
+/* What a diagnostic is about; tests and tools may switch on it. */
+enum sh2000_prog_diag_code {
+	SH2000_PD_SYNTAX = 1,	/* malformed word, number, comment, line */
+	SH2000_PD_UNKNOWN,	/* no such word, G or M code, command, field */
+	SH2000_PD_UNSUPPORTED,	/* valid RS274NGC/LinuxCNC, not in this subset */
+	SH2000_PD_NO_AXIS,	/* an axis this card does not have (B C U V W) */
+	SH2000_PD_CONFLICT,	/* same modal group twice, repeated word */
+	SH2000_PD_MISSING,	/* a required word or field is missing */
+	SH2000_PD_RANGE,	/* value out of range, NaN, inf, not integer */
+	SH2000_PD_ARC,		/* arc geometry (radii differ, cannot reach) */
+	SH2000_PD_FEED,		/* feed move without a positive feed rate */
+	SH2000_PD_NURBS,	/* NURBS structure (points, order, knots) */
+	SH2000_PD_NOT_ACTED,	/* warning: accepted, not acted on (S, M3...) */
+	SH2000_PD_IGNORED,	/* warning: text after the end, messages */
+	SH2000_PD_LIMIT,	/* too many errors: reading stopped */
+};
+
+struct sh2000_prog_diag {
+	enum sh2000_prog_severity severity;
+	enum sh2000_prog_diag_code code;
+	struct sh2000_prog_pos pos;	/* pos.file owned by the list */
+	char *message;
+};
+
+/* The caller's list; readers append to it. */
+struct sh2000_prog_diags {
+	struct sh2000_prog_diag *items;
+	size_t count, cap;
+	size_t errors, warnings;
+};
+
+void sh2000_prog_diags_init(struct sh2000_prog_diags *d);
+void sh2000_prog_diags_free(struct sh2000_prog_diags *d);
+/* "file:line:column: error: message" into buf; returns snprintf's length. */
+int sh2000_prog_diag_format(const struct sh2000_prog_diag *g, char *buf,
+			    size_t size);
+
+/* ---- blocks ----------------------------------------------------------- */
+
+enum sh2000_prog_kind {
+	SH2000_PROG_RAPID = 1,	/* G0: straight, at the rapid rate */
+	SH2000_PROG_LINE,	/* G1: straight, at feed */
+	SH2000_PROG_ARC,	/* G2/G3: circle or helix, at feed */
+	SH2000_PROG_NURBS,	/* G5.2/G5.3, JSON NURBS: at feed */
+	SH2000_PROG_FEED,	/* the feed rate changes (F) */
+	SH2000_PROG_DWELL,	/* G4 P: wait */
+	SH2000_PROG_PAUSE,	/* M0/M1: stop until the operator resumes */
+	SH2000_PROG_END,	/* M2/M30 */
+};
+
+/* The plane of an arc: axis1 and axis2 span it, axisn is its normal. */
+enum sh2000_prog_plane {
+	SH2000_PROG_XY = 17,	/* G17: axis1 X, axis2 Y, normal Z */
+	SH2000_PROG_XZ = 18,	/* G18: axis1 Z, axis2 X, normal Y */
+	SH2000_PROG_YZ = 19,	/* G19: axis1 Y, axis2 Z, normal X */
+};
+
+struct sh2000_prog_arc {
+	enum sh2000_prog_plane plane;
+	unsigned int axis1, axis2, axisn;	/* enum sh2000_prog_axis */
+	/*
+	 * Absolute centre in mm (x, y, z); its axisn component is the
+	 * start's. The end point's axisn (and A) component is the helix end:
+	 * those axes move linearly with the angle.
+	 */
+	double centre[3];
+	bool ccw;		/* G3; viewed from the positive normal axis */
+	unsigned int turns;	/* P: 1 = the programmed arc, +1 per full turn */
+	double radius;		/* centre to start, mm */
+	double end_radius;	/* centre to end, mm (within the tolerance) */
+	/*
+	 * Total signed angle in radians, counter-clockwise positive,
+	 * including the extra full turns: (0, 2 pi * turns] for G3. An end
+	 * equal to the start in the plane is a full circle.
+	 */
+	double sweep;
+};
+
+/*
+ * A non-uniform rational B-spline of the given degree over the 4 axes:
+ * npoints control points (x y z a, mm), npoints weights (> 0) and
+ * npoints + degree + 1 non-decreasing knots. The curve runs over
+ * knots[degree] .. knots[npoints]; start and end of the block are the
+ * curve's values there.
+ */
+struct sh2000_prog_nurbs {
+	unsigned int degree;	/* order - 1 */
+	size_t npoints;
+	double (*points)[SH2000_PROG_AXES];
+	double *weights;
+	double *knots;		/* npoints + degree + 1 */
+};
+
+struct sh2000_prog_block {
+	enum sh2000_prog_kind kind;
+	struct sh2000_prog_pos pos;
+	/* Motion: absolute start and end, mm. Others: both the position. */
+	double start[SH2000_PROG_AXES];
+	double end[SH2000_PROG_AXES];
+	/* LINE, ARC, NURBS: the feed in mm/s; FEED: the new feed in mm/s;
+	 * RAPID and the others: 0. */
+	double feed;
+	union {
+		struct sh2000_prog_arc arc;		/* ARC */
+		struct sh2000_prog_nurbs nurbs;		/* NURBS */
+		double feed_mm_min;	/* FEED: as programmed, in mm/min */
+		double dwell_s;		/* DWELL: seconds */
+		bool optional;		/* PAUSE: M1 (optional stop) */
+		int end_code;		/* END: 2 (M2) or 30 (M30) */
+	} u;
+};
+
+struct sh2000_program {
+	char *file;			/* the name positions point to */
+	struct sh2000_prog_block *blocks;
+	size_t count, cap;
+};
+
+void sh2000_program_init(struct sh2000_program *p);
+void sh2000_program_free(struct sh2000_program *p);
+
+/* ---- reading ------------------------------------------------------------ */
+
+enum sh2000_prog_format {
+	SH2000_PROG_AUTO = 0,	/* from the file name's extension */
+	SH2000_PROG_GCODE,	/* .ngc .nc .gcode .g .tap .cnc */
+	SH2000_PROG_CANON,	/* .canon: rs274 canonical-command output */
+	SH2000_PROG_CSV,	/* .csv */
+	SH2000_PROG_NURBS_JSON,	/* .json */
+};
+
+struct sh2000_prog_options {
+	/* Where the machine is when the program starts, mm. G-code moves
+	 * and arcs start there, CSV and JSON files rapid from there. */
+	double start[SH2000_PROG_AXES];
+	/* CSV feed in mm/s when the file has no feed column; 0: none. */
+	double feed_mm_s;
+	/* Allowed difference of an arc's start and end radius in mm;
+	 * 0: LinuxCNC's default for the active units (docs/programs.md). */
+	double arc_tolerance_mm;
+	/* Stop reading after this many errors; 0: 20. */
+	unsigned int max_errors;
+};
+
+void sh2000_prog_options_default(struct sh2000_prog_options *o);
+
+/* SH2000_PROG_AUTO when the name has no known extension. */
+enum sh2000_prog_format sh2000_prog_format_guess(const char *name);
+const char *sh2000_prog_format_name(enum sh2000_prog_format f);
+
+/*
+ * Read text (len bytes, no terminator needed) named name (positions and
+ * messages use it) into prog, which must be initialised and is replaced.
+ * opt NULL: defaults. Returns 0 (warnings may be in diags),
+ * -SH2000_PROG_EINVALID (errors in diags, prog empty),
+ * -SH2000_PROG_EFORMAT (AUTO and the name says nothing) or -ENOMEM.
+ */
+int sh2000_program_read(struct sh2000_program *prog,
+			enum sh2000_prog_format fmt, const char *name,
+			const char *text, size_t len,
+			const struct sh2000_prog_options *opt,
+			struct sh2000_prog_diags *diags);
+
+/* The same from a file; "-" is standard input (named "<stdin>"). A file
+ * that cannot be read gives -errno and an error naming the file. */
+int sh2000_program_read_file(struct sh2000_program *prog,
+			     enum sh2000_prog_format fmt, const char *path,
+			     const struct sh2000_prog_options *opt,
+			     struct sh2000_prog_diags *diags);
+
+/* ---- geometry helpers for consumers and tests ---------------------------- */
+
+/* Point at fraction s (0..1) of a LINE, RAPID, ARC or NURBS block (NURBS:
+ * of the parameter range, not of the length). 0, or -EINVAL otherwise. */
+int sh2000_prog_block_point(const struct sh2000_prog_block *b, double s,
+			    double out[SH2000_PROG_AXES]);
+
+/* The curve at parameter u (clamped to the domain). */
+void sh2000_prog_nurbs_eval(const struct sh2000_prog_nurbs *n, double u,
+			    double out[SH2000_PROG_AXES]);
+
+const char *sh2000_prog_kind_name(enum sh2000_prog_kind k);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SH2000_TOOLS_PROGRAM_H */

@@ -35,6 +35,9 @@ void sh2000_hold_wait(struct sh2000 *h, uint64_t ns)
 {
 	if (h->be->virtual_time) {
 		h->be->wait_ns(h, ns);
+		/* let another thread (an emergency stop) in between steps */
+		pthread_mutex_unlock(&h->lock);
+		pthread_mutex_lock(&h->lock);
 		return;
 	}
 	pthread_mutex_unlock(&h->lock);

@@ -186,6 +186,8 @@ int sh2000_set_position(struct sh2000 *h, unsigned int axis, double pos_mm)
 					  (int32_t)c, NULL,
 					  SH2000_CMD_TIMEOUT_MS);
 		if (!r)
+			r = sh2000_fresh_snapshot(h, SH2000_CMD_TIMEOUT_MS);
+		if (!r)
 			h->act_seen = 0;	/* re-base the 64-bit extension */
 	}
 	pthread_mutex_unlock(&h->lock);

@@ -11,15 +11,20 @@
 #include "sh2000_internal.h"
 
 #define WAIT_POLL_NS	100000ull
+/* A waiting host still beats: the card stops a motion whose host is
+ * silent for SH2000_GP_HOST_TIMEOUT_MS (keep that >= 10 ms). */
+#define KEEPALIVE_NS	1000000ull
 
 /*
  * Words HEARTBEAT..TAIL in one read: enough to see a stopped card, a
  * latched fault (then a full poll names it) and the ring fill.
  */
-static int quick(struct sh2000 *h, unsigned int *fill, unsigned int *state)
+static int quick(struct sh2000 *h, unsigned int *fill, unsigned int *state,
+		 int keepalive)
 {
 	struct sh2000_status st;
 	uint16_t w[5];
+	uint64_t now;
 	int r;
 
 	r = sh2000_rd(h, SH2000_W_HEARTBEAT, 5, w);
@@ -34,6 +39,13 @@ static int quick(struct sh2000 *h, unsigned int *fill, unsigned int *state)
 		r = sh2000_status_error_locked(h, &st);
 		if (r < 0)
 			return r;
+	}
+	now = sh2000_now_locked(h);
+	if (keepalive && now - h->host_hb_ns >= KEEPALIVE_NS) {
+		r = sh2000_wr1(h, SH2000_W_HOST_HEARTBEAT, ++h->host_hb);
+		if (r < 0)
+			return r;
+		h->host_hb_ns = now;
 	}
 	*fill = (uint16_t)(h->head - w[4]);
 	*state = w[2];
@@ -52,7 +64,7 @@ static int push_locked(struct sh2000 *h, const int32_t (*pts)[SH2000_AXES],
 	unsigned int fill, state, slot, first, i, a;
 	int r;
 
-	r = quick(h, &fill, &state);
+	r = quick(h, &fill, &state, 0);
 	if (r < 0)
 		return r;
 	if (SH2000_RING_RECORDS - fill < n)
@@ -92,6 +104,7 @@ static int push_locked(struct sh2000 *h, const int32_t (*pts)[SH2000_AXES],
 	r = sh2000_wr(h, SH2000_W_HOST_HEARTBEAT, 2, pub);
 	if (r < 0)
 		return r;
+	h->host_hb_ns = sh2000_now_locked(h);
 	h->head = pub[1];
 	h->segments += n;
 	return (int)n;
@@ -165,7 +178,7 @@ int sh2000_queue_free(struct sh2000 *h)
 	int r;
 
 	pthread_mutex_lock(&h->lock);
-	r = quick(h, &fill, &state);
+	r = quick(h, &fill, &state, 1);
 	if (!r)
 		r = (int)(SH2000_RING_RECORDS - fill);
 	pthread_mutex_unlock(&h->lock);
@@ -184,7 +197,7 @@ static int wait_for(struct sh2000 *h, unsigned int n, int idle, int timeout_ms)
 	t0 = sh2000_now_locked(h);
 	limit = timeout_ms < 0 ? UINT64_MAX : (uint64_t)timeout_ms * 1000000ull;
 	for (;;) {
-		r = quick(h, &fill, &state);
+		r = quick(h, &fill, &state, 1);
 		if (r < 0)
 			break;
 		if (idle ? fill == 0 && state == SH2000_STATE_IDLE :
@@ -214,5 +227,12 @@ int sh2000_wait_idle(struct sh2000 *h, int timeout_ms)
 {
 	int r = wait_for(h, 0, 1, timeout_ms);
 
+	if (r < 0)
+		return r;
+	/* the next poll shows where the motion ended, not a snapshot from
+	 * before its last cycles */
+	pthread_mutex_lock(&h->lock);
+	r = sh2000_fresh_snapshot(h, SH2000_CMD_TIMEOUT_MS);
+	pthread_mutex_unlock(&h->lock);
 	return r < 0 ? r : 0;
 }

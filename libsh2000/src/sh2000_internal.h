@@ -58,6 +58,7 @@ struct sh2000 {
 	/* host-owned words, as this handle last wrote them */
 	uint16_t estop_req;
 	uint16_t host_hb;
+	uint64_t host_hb_ns;		/* when host_hb was last written */
 	uint16_t head;
 	uint16_t cmd_seq;
 	int cmd_busy;
@@ -107,6 +108,8 @@ void sh2000_hold_wait(struct sh2000 *h, uint64_t ns);
 uint64_t sh2000_now_locked(struct sh2000 *h);
 
 /* status.c, with the lock held */
+/* Wait until the card publishes its next snapshot. */
+int sh2000_fresh_snapshot(struct sh2000 *h, int timeout_ms);
 uint64_t sh2000_hb_note(struct sh2000 *h, uint16_t hb, uint64_t now);
 int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st);
 int sh2000_status_error_locked(struct sh2000 *h,

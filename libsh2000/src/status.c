@@ -28,6 +28,7 @@ static void decode(struct sh2000 *h, const uint16_t *w,
 	st->reject_reason = w[SH2000_W_REJECT_REASON];
 	st->reject_count = w[SH2000_W_REJECT_COUNT];
 	st->card_cycle = (uint32_t)sh2000_w32(&w[SH2000_W_SNAP_TIME_LO]);
+	st->snap_seq = w[SH2000_W_SNAP_SEQ_END];
 	for (a = 0; a < SH2000_AXES; a++) {
 		const uint16_t *s = &w[SH2000_W_SNAP_AXIS(a)];
 		struct sh2000_axis_status *ax = &st->axis[a];
@@ -89,6 +90,7 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 		return r;
 
 	now = sh2000_now_locked(h);
+	h->host_hb_ns = now;
 	st->retries = tries;
 	st->host_time_ns = now;
 	decode(h, w, st);
@@ -107,6 +109,30 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 				   sh2000_state_name(st->card_state),
 				   (unsigned long long)st->card_cycle);
 	return 0;
+}
+
+int sh2000_fresh_snapshot(struct sh2000 *h, int timeout_ms)
+{
+	uint16_t s0, s;
+	uint64_t t0 = sh2000_now_locked(h);
+	int r = sh2000_rd(h, SH2000_W_SNAP_SEQ_END, 1, &s0);
+
+	while (r == 0) {
+		sh2000_hold_wait(h, 100000);
+		r = sh2000_rd(h, SH2000_W_SNAP_SEQ_END, 1, &s);
+		if (r < 0 || s != s0)
+			break;
+		if (sh2000_now_locked(h) - t0 > (uint64_t)timeout_ms * 1000000ull) {
+			struct sh2000_status st;
+
+			r = sh2000_poll_locked(h, &st);
+			if (r == 0)
+				r = sh2000_fail(h, -SH2000_ETIMEOUT,
+						"no new status snapshot within %d ms",
+						timeout_ms);
+		}
+	}
+	return r;
 }
 
 int sh2000_poll(struct sh2000 *h, struct sh2000_status *st)

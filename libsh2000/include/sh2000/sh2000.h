@@ -132,6 +132,7 @@ struct sh2000_status {
 	uint16_t heartbeat;		/* card heartbeat word */
 	uint64_t heartbeat_age_ns;	/* host time since it last changed */
 	uint64_t card_cycle;		/* servo cycle of the snapshot (32 bit) */
+	uint16_t snap_seq;		/* snapshot sequence (SNAP_SEQ_*) */
 	uint16_t estop_req, estop_ack;
 	uint16_t reject_seq, reject_reason, reject_count;
 	uint64_t host_time_ns;		/* sh2000_now_ns() at the poll */
@@ -242,8 +243,10 @@ int sh2000_push_mm(struct sh2000 *h, const double (*pts)[SH2000_AXES],
 uint64_t sh2000_next_segment(struct sh2000 *h);
 /* Free records in the ring now (one read), or an error. */
 int sh2000_queue_free(struct sh2000 *h);
-/* Wait until n records fit / the card is idle with an empty ring. A latched
- * fault ends the wait with its error; -SH2000_ETIMEOUT after timeout_ms. */
+/* Wait until n records fit / the card is idle with an empty ring (and has
+ * published a snapshot since, so a poll shows the end of the motion). A
+ * latched fault ends the wait with its error; -SH2000_ETIMEOUT after
+ * timeout_ms (negative: no limit). Waits keep the host heartbeat going. */
 int sh2000_wait_space(struct sh2000 *h, unsigned int n, int timeout_ms);
 int sh2000_wait_idle(struct sh2000 *h, int timeout_ms);
 

@@ -118,6 +118,8 @@ struct sh2000_fw_axis {
 	uint16_t faults;	/* SH2000_AXIS_FAULT_* */
 	uint32_t counter;	/* last sampled 28-bit counter */
 	int64_t act;		/* the counter, extended */
+	int32_t delta;		/* counter change in this cycle */
+	int limit;		/* switch bits this cycle: 1 -, 2 + */
 	double cmd, cmd_v, cmd_a;	/* set-point and its derivatives */
 	double stop_a;		/* deceleration of a controlled stop */
 	int16_t dac;

@@ -197,36 +197,49 @@ static void estop(struct sh2000_fw *fw)
 
 /* ---- sampling and axis checks ---- */
 
-static void sample_axes(struct sh2000_fw *fw, double T)
+/* The FPGA's counters and the switch inputs, latched at the start of the
+ * cycle: the position every decision of this cycle uses. */
+static void read_inputs(struct sh2000_fw *fw)
 {
 	unsigned int a;
 
 	for (a = 0; a < SH2000_AXES; a++) {
 		struct sh2000_fw_axis *ax = &fw->ax[a];
 		uint32_t c = sh2000_plant_counter(&ax->plant);
-		int32_t d = sh2000_counter_delta(c, ax->counter);
-		int lim = (sh2000_plant_limit_neg(&ax->plant) ? 1 : 0) |
-			  (sh2000_plant_limit_pos(&ax->plant) ? 2 : 0);
 		uint16_t st = ax->state;
 
+		ax->delta = sh2000_counter_delta(c, ax->counter);
 		ax->counter = c;
-		ax->act += d;
+		ax->act += ax->delta;
+		ax->limit = (sh2000_plant_limit_neg(&ax->plant) ? 1 : 0) |
+			    (sh2000_plant_limit_pos(&ax->plant) ? 2 : 0);
 		st &= (uint16_t)~(SH2000_AXIS_LIMIT_NEG | SH2000_AXIS_LIMIT_POS |
 				  SH2000_AXIS_HOME_SW);
-		if (lim & 1)
+		if (ax->limit & 1)
 			st |= SH2000_AXIS_LIMIT_NEG;
-		if (lim & 2)
+		if (ax->limit & 2)
 			st |= SH2000_AXIS_LIMIT_POS;
 		if (sh2000_plant_home(&ax->plant))
 			st |= SH2000_AXIS_HOME_SW;
 		if (ax->plant.index_seen && ax->home != HOME_NONE)
 			st |= SH2000_AXIS_INDEX;
 		ax->state = st;
+	}
+}
+
+static void check_axes(struct sh2000_fw *fw, double T)
+{
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		struct sh2000_fw_axis *ax = &fw->ax[a];
+		int lim = ax->limit;
+
 		if (is_enabled(ax)) {
 			double jump = 4.0 * ax->prm.vmax * T +
 				      SH2000_FW_COUNTER_SLACK;
 
-			if (fabs((double)d) > jump) {
+			if (fabs((double)ax->delta) > jump) {
 				axis_fault(fw, a, SH2000_AXIS_FAULT_COUNTER, 1);
 			} else if (ax->home != HOME_NONE) {
 				if (lim)
@@ -985,13 +998,14 @@ void sh2000_fw_cycle(struct sh2000_fw *fw)
 		return;
 	}
 	fw->cycle++;
+	read_inputs(fw);
 	req = RD(fw, SH2000_W_ESTOP_REQ);
 	if (req != fw->estop_ack) {
 		estop(fw);
 		fw->estop_ack = req;
 		WR(fw, SH2000_W_ESTOP_ACK, req);
 	}
-	sample_axes(fw, T);
+	check_axes(fw, T);
 	if (!fw->hb_frozen)
 		WR(fw, SH2000_W_HEARTBEAT, ++fw->heartbeat);
 	host_watchdog(fw);

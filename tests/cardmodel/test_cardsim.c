@@ -1,0 +1,114 @@
+// SPDX-License-Identifier: MIT
+/* The card in virtual time: port cycles cost 1 us, servo cycles run as
+ * time crosses them, emergency-stop latency through the ports,
+ * determinism. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+#include <cmocka.h>
+
+#include "sh2000_cardsim.h"
+#include "sh2000_hw.h"
+
+static void seek(struct sh2000_cardsim *c, unsigned int w)
+{
+	sh2000_cardsim_out(c, SH2000_REG_ADDR_CLEAR, 0);
+	while (w--)
+		sh2000_cardsim_out(c, SH2000_REG_ADDR_INC, 0);
+}
+
+static uint16_t rd(struct sh2000_cardsim *c, unsigned int w)
+{
+	seek(c, w);
+	return sh2000_cardsim_in(c, SH2000_REG_DATA);
+}
+
+static void time_flows(void **state)
+{
+	struct sh2000_cardsim *c;
+	uint64_t n[4];
+	(void)state;
+	assert_int_equal(sh2000_cardsim_create(&c, NULL), 0);
+	assert_int_equal(rd(c, SH2000_W_MAGIC), SH2000_PROTO_MAGIC);
+	assert_int_equal(rd(c, SH2000_W_VERSION), SH2000_PROTO_VERSION);
+	assert_int_equal(rd(c, SH2000_W_HEARTBEAT), 0);
+	/* 3 + 4 + 5 port cycles of 1 us */
+	assert_int_equal(sh2000_cardsim_now_ns(c), 12000);
+	sh2000_cardsim_advance(c, 100000 - 12000 - 1000);
+	/* this read happens at 99 us; the first servo cycle runs at 100 us */
+	assert_int_equal(sh2000_cardsim_in(c, SH2000_REG_DATA), 0);
+	assert_int_equal(sh2000_cardsim_in(c, SH2000_REG_DATA), 1);
+	sh2000_cardsim_advance(c, 1000000000ull);
+	assert_int_equal(rd(c, SH2000_W_HEARTBEAT), 10001);
+	sh2000_cardsim_counters(c, n);
+	assert_int_equal(n[0], 4);
+	assert_int_equal(n[1], 1 + 2 + 3 + 3);
+	assert_int_equal(n[2], 6);
+	assert_int_equal(n[3], 0);
+	assert_int_equal(sh2000_cardsim_ram(c)[SH2000_W_MAGIC], SH2000_PROTO_MAGIC);
+	sh2000_cardsim_destroy(c);
+}
+
+static void estop_latency(void **state)
+{
+	struct sh2000_cardsim *c;
+	uint64_t t0, worst = 0;
+	unsigned int k;
+
+	(void)state;
+	assert_int_equal(sh2000_cardsim_create(&c, NULL), 0);
+	for (k = 1; k <= 50; k++) {
+		/* request at varying phases of the servo cycle */
+		sh2000_cardsim_advance(c, 7777);
+		sh2000_cardsim_out(c, SH2000_REG_ADDR_CLEAR, 0);
+		t0 = sh2000_cardsim_now_ns(c);
+		sh2000_cardsim_out(c, SH2000_REG_DATA, (uint16_t)k);
+		seek(c, SH2000_W_ESTOP_ACK);
+		while (sh2000_cardsim_in(c, SH2000_REG_DATA) != k)
+			;
+		if (sh2000_cardsim_now_ns(c) - t0 > worst)
+			worst = sh2000_cardsim_now_ns(c) - t0;
+	}
+	printf("# estop request -> ack through the ports: worst %.0f us (servo period 100 us)\n",
+	       worst / 1000.0);
+	/* at most one servo period plus the port cycles to see the ack */
+	assert_true(worst <= 100000 + 8 * SH2000_PORT_CYCLE_NS);
+	sh2000_cardsim_destroy(c);
+}
+
+static void deterministic(void **state)
+{
+	struct sh2000_cardsim *a, *b;
+	struct timespec t0, t1;
+	double wall;
+
+	(void)state;
+	assert_int_equal(sh2000_cardsim_create(&a, NULL), 0);
+	assert_int_equal(sh2000_cardsim_create(&b, NULL), 0);
+	clock_gettime(CLOCK_MONOTONIC, &t0);
+	sh2000_cardsim_advance(a, 60ull * 1000000000ull);
+	clock_gettime(CLOCK_MONOTONIC, &t1);
+	sh2000_cardsim_advance(b, 30ull * 1000000000ull);
+	sh2000_cardsim_advance(b, 30ull * 1000000000ull);
+	assert_memory_equal(sh2000_cardsim_ram(a), sh2000_cardsim_ram(b),
+			    2 * SH2000_RAM_WORDS);
+	wall = (double)(t1.tv_sec - t0.tv_sec) + (t1.tv_nsec - t0.tv_nsec) * 1e-9;
+	printf("# 60 s of card time (600000 servo cycles, idle) in %.3f s wall\n", wall);
+	sh2000_cardsim_destroy(a);
+	sh2000_cardsim_destroy(b);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(time_flows),
+		cmocka_unit_test(estop_latency),
+		cmocka_unit_test(deterministic),
+	};
+
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

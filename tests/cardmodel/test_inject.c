@@ -1,0 +1,217 @@
+// SPDX-License-Identifier: MIT
+/* Every injection surfaces through the protocol as documented in
+ * docs/cardmodel.md. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <cmocka.h>
+
+#include "harness.h"
+
+static int setup(void **state)
+{
+	static struct harness h;
+
+	h_init(&h, NULL);
+	assert_int_equal(h_cmd(&h, SH2000_CMD_ENABLE, 0, 0, 0x3, NULL), SH2000_RES_OK);
+	*state = &h;
+	return 0;
+}
+
+static int teardown(void **state)
+{
+	h_fini(*state);
+	return 0;
+}
+
+/* 40 records of a slow ramp on axis 0 (the last without END). */
+static void push_ramp(struct harness *h, unsigned int n)
+{
+	int32_t p[SH2000_AXES] = { 0, 0, 0, 0 };
+	unsigned int i;
+
+	for (i = 1; i <= n; i++) {
+		p[0] = (int32_t)(i * i * 100);
+		assert_int_equal(h_push(h, p, (uint16_t)i, 0), 0);
+	}
+}
+
+static void heartbeat_stop(void **state)
+{
+	struct harness *h = *state;
+	uint16_t hb;
+
+	h_cycles(h, 10);
+	sh2000_fw_inject(h->fw, SH2000_INJECT_HEARTBEAT_STOP, 0, 0);
+	hb = h_word(h, SH2000_W_HEARTBEAT);
+	h_cycles(h, 200);
+	assert_int_equal(h_word(h, SH2000_W_HEARTBEAT), hb);
+	/* the rest of the firmware runs: commands are answered */
+	assert_int_equal(h_cmd(h, SH2000_CMD_NOP, 0, 0, 0, NULL), SH2000_RES_OK);
+	sh2000_fw_inject(h->fw, SH2000_INJECT_CLEAR, 0, 0);
+	h_cycles(h, 1);
+	assert_int_equal(h_word(h, SH2000_W_HEARTBEAT), (uint16_t)(hb + 1));
+}
+
+static void dsp_stall(void **state)
+{
+	struct harness *h = *state;
+	uint16_t hb, snap;
+
+	h_cycles(h, 10);
+	sh2000_fw_inject(h->fw, SH2000_INJECT_DSP_STALL, 0, 0);
+	hb = h_word(h, SH2000_W_HEARTBEAT);
+	snap = h_word(h, SH2000_W_SNAP_SEQ_END);
+	h_cmd_post(h, SH2000_CMD_NOP, 0, 0, 0);
+	h_cycles(h, 200);
+	assert_int_equal(h_word(h, SH2000_W_HEARTBEAT), hb);
+	assert_int_equal(h_word(h, SH2000_W_SNAP_SEQ_END), snap);
+	assert_int_not_equal(h_word(h, SH2000_W_CMD_ACK), h->seq);
+	sh2000_fw_inject(h->fw, SH2000_INJECT_CLEAR, 0, 0);
+	h_cycles(h, 1);
+	assert_int_equal(h_word(h, SH2000_W_CMD_ACK), h->seq);
+	assert_int_equal(h_word(h, SH2000_W_HEARTBEAT), (uint16_t)(hb + 1));
+}
+
+static void ram_flip(void **state)
+{
+	struct harness *h = *state;
+	unsigned int slot = (h->head + 5u) % SH2000_RING_RECORDS;
+
+	push_ramp(h, 20);
+	/* record seq 6 (the 6th pushed), its axis-0 position word */
+	assert_int_equal(sh2000_fw_inject(h->fw, SH2000_INJECT_RAM_FLIP, 0,
+					  SH2000_W_RING_BASE + slot * SH2000_RECORD_WORDS),
+			 0);
+	h_cycles(h, 6 * 20);
+	assert_int_equal(h_word(h, SH2000_W_REJECT_SEQ), 6);
+	assert_int_equal(h_word(h, SH2000_W_REJECT_REASON), SH2000_REJECT_CHECKSUM);
+	assert_true(h_word(h, SH2000_W_FAULTS) & SH2000_FAULT_REJECTED);
+	assert_int_equal(h_fill(h), 0);
+	assert_int_equal(sh2000_fw_inject(h->fw, SH2000_INJECT_RAM_FLIP, 0, 1024), -22);
+}
+
+static void jam(void **state)
+{
+	struct harness *h = *state;
+
+	push_ramp(h, 40);
+	h_cycles(h, 100);
+	sh2000_fw_inject(h->fw, SH2000_INJECT_JAM, 0, 0);
+	h_cycles(h, 400);
+	assert_true(h_word(h, SH2000_W_AXIS_FAULTS(0)) & SH2000_AXIS_FAULT_FERR);
+	assert_true(h_word(h, SH2000_W_FAULTS) & SH2000_FAULT_AXIS);
+	/* the faulted axis is disabled; the other one keeps holding */
+	assert_false(h_word(h, SH2000_W_AXIS_STATE(0)) & SH2000_AXIS_ENABLED);
+	assert_true(h_word(h, SH2000_W_AXIS_STATE(1)) & SH2000_AXIS_ENABLED);
+	assert_int_equal(h_word(h, SH2000_W_AXIS_FAULTS(1)), 0);
+	h_cycles(h, 2000);
+	assert_int_equal(h_word(h, SH2000_W_STATE), SH2000_STATE_FAULT);
+	assert_int_equal(h_cmd(h, SH2000_CMD_ENABLE, 0, 0, 1, NULL), SH2000_RES_FAULTED);
+	sh2000_fw_inject(h->fw, SH2000_INJECT_CLEAR, 0, 0);
+	assert_int_equal(h_cmd(h, SH2000_CMD_RESET, 0, 0, 0, NULL), SH2000_RES_OK);
+	assert_int_equal(h_word(h, SH2000_W_AXIS_FAULTS(0)), 0);
+	/* reset does not re-enable an axis the fault disabled */
+	assert_false(h_word(h, SH2000_W_AXIS_STATE(0)) & SH2000_AXIS_ENABLED);
+	assert_int_equal(h_cmd(h, SH2000_CMD_ENABLE, 0, 0, 1, NULL), SH2000_RES_OK);
+}
+
+static void limit(void **state)
+{
+	struct harness *h = *state;
+
+	h_cycles(h, 10);
+	sh2000_fw_inject(h->fw, SH2000_INJECT_LIMIT, 1, 1);
+	h_cycles(h, 1);
+	assert_true(h_word(h, SH2000_W_AXIS_FAULTS(1)) & SH2000_AXIS_FAULT_HARD_LIMIT);
+	assert_true(h_word(h, SH2000_W_AXIS_STATE(1)) & SH2000_AXIS_LIMIT_POS);
+	assert_false(h_word(h, SH2000_W_AXIS_STATE(1)) & SH2000_AXIS_ENABLED);
+	assert_int_equal(h_word(h, SH2000_W_STATE), SH2000_STATE_FAULT);
+	/* after reset, with the switch still active, the axis may be enabled
+	 * and moved away from it, not into it */
+	assert_int_equal(h_cmd(h, SH2000_CMD_RESET, 0, 0, 0, NULL), SH2000_RES_OK);
+	assert_int_equal(h_cmd(h, SH2000_CMD_ENABLE, 0, 0, 2, NULL), SH2000_RES_OK);
+	h_cycles(h, 10);
+	assert_int_equal(h_word(h, SH2000_W_FAULTS), 0);
+	sh2000_fw_inject(h->fw, SH2000_INJECT_LIMIT, 0, 0);
+	h_cycles(h, 1);
+	assert_true(h_word(h, SH2000_W_AXIS_STATE(0)) & SH2000_AXIS_LIMIT_NEG);
+	assert_true(h_word(h, SH2000_W_AXIS_FAULTS(0)) & SH2000_AXIS_FAULT_HARD_LIMIT);
+}
+
+static void drop(void **state)
+{
+	struct harness *h = *state;
+
+	push_ramp(h, 20);
+	h_cycles(h, 3 * 20);
+	sh2000_fw_inject(h->fw, SH2000_INJECT_DROP_SEGMENT, 0, 0);
+	h_cycles(h, 20);
+	assert_int_equal(h_word(h, SH2000_W_REJECT_SEQ), 4);
+	assert_int_equal(h_word(h, SH2000_W_REJECT_REASON), SH2000_REJECT_DROPPED);
+	assert_true(h_word(h, SH2000_W_FAULTS) & SH2000_FAULT_REJECTED);
+	assert_int_equal(h_fill(h), 0);
+}
+
+static void counter_glitch(void **state)
+{
+	struct harness *h = *state;
+
+	h_cycles(h, 10);
+	sh2000_fw_inject(h->fw, SH2000_INJECT_COUNTER_GLITCH, 0, 0);
+	h_cycles(h, 1);
+	assert_true(h_word(h, SH2000_W_AXIS_FAULTS(0)) & SH2000_AXIS_FAULT_COUNTER);
+	assert_false(h_word(h, SH2000_W_AXIS_STATE(0)) & SH2000_AXIS_ENABLED);
+}
+
+static void dac_saturation(void **state)
+{
+	struct harness *h = *state;
+	unsigned int i;
+
+	assert_int_equal(h_set_i(h, 0, SH2000_P_DAC_LIMIT, 50), SH2000_RES_OK);
+	assert_int_equal(h_set_i(h, 0, SH2000_P_FERR_LIMIT, 100000000), SH2000_RES_OK);
+	push_ramp(h, 40);
+	for (i = 0; i < 800 && !h_word(h, SH2000_W_AXIS_FAULTS(0)); i++)
+		h_cycles(h, 1);
+	assert_int_equal(h_word(h, SH2000_W_AXIS_FAULTS(0)), SH2000_AXIS_FAULT_DAC_SAT);
+	assert_false(h_word(h, SH2000_W_AXIS_STATE(0)) & SH2000_AXIS_ENABLED);
+}
+
+static void soft_limit(void **state)
+{
+	struct harness *h = *state;
+	int32_t p[SH2000_AXES] = { 0, 0, 0, 0 };
+	unsigned int i;
+
+	assert_int_equal(h_set_i(h, 0, SH2000_P_SOFT_MAX, 200000), SH2000_RES_OK);
+	for (i = 1; i <= 10; i++) {
+		p[0] = (int32_t)(i * 20000);	/* 100 mm/s up to the limit */
+		h_push(h, p, (uint16_t)i, 0);
+	}
+	/* no END: the underrun stop runs past the soft limit */
+	h_cycles(h, 2000);
+	assert_true(h_word(h, SH2000_W_AXIS_FAULTS(0)) & SH2000_AXIS_FAULT_SOFT_LIMIT);
+	assert_true(h_word(h, SH2000_W_FAULTS) & SH2000_FAULT_UNDERRUN);
+	assert_true(h_word(h, SH2000_W_AXIS_STATE(0)) & SH2000_AXIS_ENABLED);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test_setup_teardown(heartbeat_stop, setup, teardown),
+		cmocka_unit_test_setup_teardown(dsp_stall, setup, teardown),
+		cmocka_unit_test_setup_teardown(ram_flip, setup, teardown),
+		cmocka_unit_test_setup_teardown(jam, setup, teardown),
+		cmocka_unit_test_setup_teardown(limit, setup, teardown),
+		cmocka_unit_test_setup_teardown(drop, setup, teardown),
+		cmocka_unit_test_setup_teardown(counter_glitch, setup, teardown),
+		cmocka_unit_test_setup_teardown(dac_saturation, setup, teardown),
+		cmocka_unit_test_setup_teardown(soft_limit, setup, teardown),
+	};
+
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -13,9 +13,10 @@
  * Usage: ktest stream HOST DSP [--fresh] | multi HOST DSP | signal HOST DSP |
  *	  storm HOST DSP HOST2 | nocard HOST BASE | info HOST BASE |
  *	  sysfs HOST | hold HOST READY GO | twocards H0 D0 H1 D1 |
- *	  dsphold DSP READY GO
+ *	  dsphold DSP READY GO | latency HOST
  */
 #include <fcntl.h>
+#include <sched.h>
 #include <setjmp.h>
 #include <signal.h>
 #include <stdlib.h>
@@ -112,6 +113,49 @@ static void fill(uint8_t *b, long n, unsigned int seed)
 
 static int g_host = -1, g_dsp = -1;
 static struct model g_m;
+/* sh2000_sim's own address counter (sysfs), or empty when not simulated */
+static char g_hwctr[160];
+static int g_hwctr_off;
+
+static long hw_counter(void)
+{
+	char buf[32];
+	FILE *f;
+	long v = -1;
+
+	if (!g_hwctr[0])
+		return -1;
+	f = fopen(g_hwctr, "r");
+	if (!f)
+		return -1;
+	if (fgets(buf, sizeof(buf), f))
+		v = strtol(buf, NULL, 0);
+	fclose(f);
+	return v;
+}
+
+static int hw_counter_set(long v)
+{
+	FILE *f = fopen(g_hwctr, "w");
+	int ret;
+
+	if (!f)
+		return -1;
+	ret = fprintf(f, "%ld\n", v) < 0;
+	return fclose(f) || ret ? -1 : 0;
+}
+
+static void hw_counter_find(const char *dsp)
+{
+	struct stat st;
+
+	snprintf(g_hwctr, sizeof(g_hwctr), "/sys/class/sh2000_dsp/%s/counter",
+		 strrchr(dsp, '/') + 1);
+	if (stat(g_hwctr, &st))
+		g_hwctr[0] = 0;
+	printf("KTEST info simulated address counter: %s\n",
+	       g_hwctr[0] ? g_hwctr : "not available");
+}
 static uint8_t g_shadow[SH2000_RAM_BYTES];
 
 static void model_sync(void)
@@ -143,6 +187,14 @@ static void model_check(const char *what)
 		    (int)c.position, g_m.clears, g_m.incs, g_m.reads,
 		    g_m.writes, g_m.pos);
 		model_from(&g_m, &c);	/* report each divergence once */
+	}
+	/* the card's own counter must be where the driver thinks it is */
+	if (g_hwctr[0] && !g_hwctr_off && c.position != SH2000_POSITION_UNKNOWN) {
+		long hw = hw_counter();
+
+		if (hw != (long)c.position)
+			err("%s: the simulated card's address counter is %ld, the driver says %u",
+			    what, hw, c.position);
 	}
 }
 
@@ -547,6 +599,30 @@ static void t_counters(void)
 	g_m.pos = -1;
 	hpwrite(0, 2, 5, "write at 0 after forget: clear only");
 	report("counters: FORGET_POSITION makes the next access clear first");
+
+	if (!g_hwctr[0])
+		return;
+	begin();
+	{
+		uint8_t w[2];
+
+		hpread(2 * 5, 2, "to word 5");
+		g_hwctr_off = 1;
+		EXPECT(hw_counter_set(100) == 0, "cannot move the simulated counter");
+		/* the driver trusts its position: one increment, lands on 101 */
+		model_xfer(&g_m, 2 * 6, 2, 0);
+		EXPECT(pread(g_host, w, 2, 2 * 6) == 2, "pread word 6");
+		EXPECT(!memcmp(w, g_shadow + 2 * 101, 2),
+		       "with the counter moved to 100, word 6 read %02x%02x, want word 101's %02x%02x",
+		       w[1], w[0], g_shadow[203], g_shadow[202]);
+		model_check("counter moved behind the driver's back");
+		EXPECT(hw_counter() == 101, "card counter %ld, want 101", hw_counter());
+		g_hwctr_off = 0;
+		EXPECT(ioctl(g_host, SH2000_IOC_FORGET_POSITION) == 0, "FORGET_POSITION");
+		g_m.pos = -1;
+		hpread(2 * 6, 2, "after FORGET_POSITION word 6 is word 6 again");
+	}
+	report("counters: a counter moved behind the driver's back is recovered by FORGET_POSITION");
 }
 
 static int sysfs_read(const char *dir, const char *name,
@@ -985,8 +1061,14 @@ static long rnd_len(void)
 	}
 }
 
+struct storm_stats {
+	long xfer_ok;		/* transfers that moved data */
+	long ok;		/* other calls that succeeded */
+	long err[134];		/* failures by errno */
+};
+
 static long storm_worker(const char *host, const char *dsp, const char *host2,
-			 long ops, uint64_t seed)
+			 long ops, uint64_t seed, struct storm_stats *st)
 {
 	static uint8_t buf[8192] __attribute__((aligned(4096)));
 	const char *paths[3] = { host, dsp, host2 };
@@ -1005,10 +1087,12 @@ static long storm_worker(const char *host, const char *dsp, const char *host2,
 		int slot = (int)(rnd() % 6), fd = fds[slot];
 		uint8_t *p = rnd() % 8 ? buf : bad_ptr(buf);
 		long off = rnd_off(), len = rnd_len(), r = 0;
+		unsigned int op = (unsigned int)(rnd() % 12);
 
 		if (len > (long)sizeof(buf) && p == buf)
 			len = sizeof(buf);
-		switch (rnd() % 12) {
+		errno = 0;
+		switch (op) {
 		case 0:
 		case 1:
 			r = pread(fd, p, len, off);
@@ -1068,7 +1152,14 @@ static long storm_worker(const char *host, const char *dsp, const char *host2,
 					 rnd() & 1 ? O_RDWR : O_RDONLY);
 			break;
 		}
-		(void)r;
+		if (op >= 10)
+			continue;
+		if (r < 0)
+			st->err[errno > 0 && errno < 134 ? errno : 0]++;
+		else if (op < 6 && r > 0)
+			st->xfer_ok++;
+		else
+			st->ok++;
 	}
 	for (int i = 0; i < 6; i++)
 		close(fds[i]);
@@ -1083,13 +1174,18 @@ static void t_storm(const char *host, const char *dsp, const char *host2,
 	time_t start = time(NULL);
 	uint8_t a[RAMB], b[RAMB];
 	int fd, dfd;
+	struct storm_stats *st = mmap(NULL, 2 * sizeof(*st),
+				      PROT_READ | PROT_WRITE,
+				      MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+	long xfer = 0, okc = 0, e[134] = { 0 }, fails = 0;
 
 	begin();
+	memset(st, 0, 2 * sizeof(*st));
 	for (int k = 0; k < 2; k++) {
 		p[k] = fork();
 		if (p[k] == 0) {
 			storm_worker(host, dsp, host2, ops / 2,
-				     0xdeadbeefULL + (uint64_t)k * 7919);
+				     0xdeadbeefULL + (uint64_t)k * 7919, &st[k]);
 			_exit(0);
 		}
 	}
@@ -1098,8 +1194,23 @@ static void t_storm(const char *host, const char *dsp, const char *host2,
 		    WEXITSTATUS(status))
 			err("storm worker %d ended with status %#x", k, status);
 	}
-	printf("KTEST info storm: %ld operations in %ld s\n", ops,
-	       (long)(time(NULL) - start));
+	for (int k = 0; k < 2; k++) {
+		xfer += st[k].xfer_ok;
+		okc += st[k].ok;
+		for (int i = 0; i < 134; i++) {
+			e[i] += st[k].err[i];
+			fails += st[k].err[i];
+		}
+	}
+	printf("KTEST info storm: %ld operations in %ld s: %ld transfers moved data, %ld other calls ok, %ld failed (EINVAL %ld, EFAULT %ld, ENOSPC %ld, ENOTTY %ld, EBADF %ld, ENODEV %ld, other %ld)\n",
+	       ops, (long)(time(NULL) - start), xfer, okc, fails, e[EINVAL],
+	       e[EFAULT], e[ENOSPC], e[ENOTTY], e[EBADF], e[ENODEV],
+	       fails - e[EINVAL] - e[EFAULT] - e[ENOSPC] - e[ENOTTY] -
+	       e[EBADF] - e[ENODEV]);
+	/* a storm that only bounces off argument checks tests little */
+	EXPECT(xfer > ops / 10 && e[EINVAL] && e[EFAULT] && e[ENOSPC] &&
+	       e[ENOTTY], "storm too shallow: %ld transfers moved data", xfer);
+	munmap(st, 2 * sizeof(*st));
 	/* the card still works and is consistent */
 	fd = open(host, O_RDWR);
 	dfd = open(dsp, O_RDWR);
@@ -1166,7 +1277,8 @@ static void wait_file(const char *path)
 		usleep(10000);
 }
 
-static void t_hold(const char *host, const char *ready, const char *go)
+static void t_hold(const char *host, const char *ready, const char *go,
+		   const char *name)
 {
 	int fd = open_or_die(host, O_RDWR);
 	uint8_t buf[64] = { 0 };
@@ -1192,7 +1304,7 @@ static void t_hold(const char *host, const char *ready, const char *go)
 	r = ioctl(fd, SH2000_IOC_FORGET_POSITION);
 	r = lseek(fd, 2, SEEK_SET);
 	EXPECT(close(fd) == 0, "close after removal: %s", strerror(errno));
-	report("removal: I/O on a file whose simulated card was removed fails cleanly");
+	report(name);
 }
 
 /* Keep the card side open (and mapped) while the sim module is removed. */
@@ -1218,6 +1330,76 @@ static void t_dsphold(const char *dsp, const char *ready, const char *go)
 	report("removal: card-side file and mapping held across an rmmod attempt");
 }
 
+/* --- latency (information only: TCG timing is noisy) -------------------- */
+
+static long wakeup_latency_us(long ms)
+{
+	struct timespec next, now;
+	long worst = 0, d;
+	struct timespec end;
+
+	clock_gettime(CLOCK_MONOTONIC, &end);
+	end.tv_sec += ms / 1000;
+	end.tv_nsec += (ms % 1000) * 1000000L;
+	if (end.tv_nsec >= 1000000000L) {
+		end.tv_sec++;
+		end.tv_nsec -= 1000000000L;
+	}
+	clock_gettime(CLOCK_MONOTONIC, &next);
+	for (;;) {
+		next.tv_nsec += 500000;
+		if (next.tv_nsec >= 1000000000L) {
+			next.tv_sec++;
+			next.tv_nsec -= 1000000000L;
+		}
+		clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, NULL);
+		clock_gettime(CLOCK_MONOTONIC, &now);
+		d = (now.tv_sec - next.tv_sec) * 1000000L +
+		    (now.tv_nsec - next.tv_nsec) / 1000;
+		if (d > worst)
+			worst = d;
+		if (now.tv_sec > end.tv_sec ||
+		    (now.tv_sec == end.tv_sec && now.tv_nsec > end.tv_nsec))
+			return worst;
+	}
+}
+
+static void t_latency(const char *host)
+{
+	cpu_set_t one;
+	struct sched_param sp = { .sched_priority = 50 };
+	long idle, busy;
+	pid_t hog;
+
+	CPU_ZERO(&one);
+	CPU_SET(0, &one);
+	sched_setaffinity(0, sizeof(one), &one);
+	if (sched_setscheduler(0, SCHED_FIFO, &sp)) {
+		printf("KTEST info latency: SCHED_FIFO unavailable: %s\n",
+		       strerror(errno));
+		return;
+	}
+	idle = wakeup_latency_us(1000);
+	hog = fork();
+	if (hog == 0) {
+		static uint8_t buf[SH2000_RAM_BYTES];
+		struct sched_param nsp = { 0 };
+		int fd = open(host, O_RDWR);
+
+		sched_setscheduler(0, SCHED_OTHER, &nsp);
+		for (;;) {
+			pread(fd, buf, RAMB, 0);
+			pwrite(fd, buf, RAMB, 0);
+		}
+	}
+	usleep(50000);
+	busy = wakeup_latency_us(2000);
+	kill(hog, SIGKILL);
+	waitpid(hog, NULL, 0);
+	printf("KTEST info latency: worst wakeup of a SCHED_FIFO task on the same CPU: %ld us idle, %ld us while another task streams whole-RAM transfers\n",
+	       idle, busy);
+}
+
 int main(int argc, char **argv)
 {
 	setvbuf(stdout, NULL, _IOLBF, 0);
@@ -1228,6 +1410,7 @@ int main(int argc, char **argv)
 	if (!strcmp(argv[1], "stream") && argc >= 4) {
 		g_host = open_or_die(argv[2], O_RDWR);
 		g_dsp = open_or_die(argv[3], O_RDWR);
+		hw_counter_find(argv[3]);
 		t_stream_basic(argc > 4 && !strcmp(argv[4], "--fresh"));
 		t_counters();
 		t_dsp();
@@ -1247,10 +1430,13 @@ int main(int argc, char **argv)
 	} else if (!strcmp(argv[1], "info") && argc >= 4) {
 		t_info(argv[2], strtoul(argv[3], NULL, 0),
 		       strtoul(argv[3], NULL, 0) == 0);
+	} else if (!strcmp(argv[1], "latency")) {
+		t_latency(argv[2]);
 	} else if (!strcmp(argv[1], "sysfs")) {
 		t_sysfs(argv[2]);
 	} else if (!strcmp(argv[1], "hold") && argc >= 5) {
-		t_hold(argv[2], argv[3], argv[4]);
+		t_hold(argv[2], argv[3], argv[4], argc > 5 ? argv[5] :
+		       "removal: I/O on a file whose simulated card was removed fails cleanly");
 	} else if (!strcmp(argv[1], "dsphold") && argc >= 5) {
 		t_dsphold(argv[2], argv[3], argv[4]);
 	} else if (!strcmp(argv[1], "twocards") && argc >= 6) {

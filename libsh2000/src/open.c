@@ -125,6 +125,7 @@ static struct sh2000 *handle_new(const char *device)
 	pthread_cond_init(&h->cmd_cond, NULL);
 	h->fd = -1;
 	h->bus.pos = SH2000_SEEK_UNKNOWN;
+	h->hb_limit_ns = SH2000_HEARTBEAT_LIMIT_NS;
 	snprintf(h->device, sizeof(h->device), "%s", device);
 	return h;
 }

@@ -68,6 +68,7 @@ struct sh2000 {
 	int hb_seen;
 	uint16_t hb_last;
 	uint64_t hb_change_ns;
+	uint64_t hb_limit_ns;
 
 	/* 28-bit counter extension */
 	int act_seen;

@@ -73,7 +73,11 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 
 	memset(st, 0, sizeof(*st));
 	for (tries = 0;; tries++) {
-		r = sh2000_rd(h, 0, SH2000_STATUS_WORDS, w);
+		/* a retry re-reads the snapshot alone: shorter, so more
+		 * likely to fit between two publications */
+		unsigned int from = tries ? SH2000_W_SNAP_SEQ_END : 0;
+
+		r = sh2000_rd(h, from, SH2000_STATUS_WORDS - from, &w[from]);
 		if (r < 0)
 			return r;
 		if (w[SH2000_W_SNAP_SEQ_END] == w[SH2000_W_SNAP_SEQ_BEGIN])
@@ -101,11 +105,11 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 				   "magic word (%u) now reads 0x%04x, expected 0x%04x: card lost its firmware",
 				   SH2000_W_MAGIC, w[SH2000_W_MAGIC],
 				   SH2000_PROTO_MAGIC);
-	if (st->heartbeat_age_ns >= SH2000_HEARTBEAT_LIMIT_NS)
+	if (st->heartbeat_age_ns >= h->hb_limit_ns)
 		return sh2000_fail(h, -SH2000_EHEARTBEAT,
 				   "card heartbeat stuck at %u for %.1f ms (limit %.1f ms; card state %s, snapshot cycle %llu)",
 				   st->heartbeat, st->heartbeat_age_ns / 1e6,
-				   SH2000_HEARTBEAT_LIMIT_NS / 1e6,
+				   h->hb_limit_ns / 1e6,
 				   sh2000_state_name(st->card_state),
 				   (unsigned long long)st->card_cycle);
 	return 0;
@@ -133,6 +137,13 @@ int sh2000_fresh_snapshot(struct sh2000 *h, int timeout_ms)
 		}
 	}
 	return r;
+}
+
+void sh2000_set_heartbeat_limit(struct sh2000 *h, uint64_t ns)
+{
+	pthread_mutex_lock(&h->lock);
+	h->hb_limit_ns = ns ? ns : SH2000_HEARTBEAT_LIMIT_NS;
+	pthread_mutex_unlock(&h->lock);
 }
 
 int sh2000_poll(struct sh2000 *h, struct sh2000_status *st)

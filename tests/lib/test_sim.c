@@ -65,7 +65,7 @@ static void test_costs(void **state)
 		      (unsigned long long)(b[0] + b[1] + b[2] + b[3] -
 					   a[0] - a[1] - a[2] - a[3]));
 	assert_int_equal(b[0] + b[1] + b[2] + b[3] - a[0] - a[1] - a[2] - a[3],
-			 96 + 32 * st.retries);
+			 96 + 71 * st.retries);
 	fpga(h, a);
 	CHECK(sh2000_nop(h));
 	fpga(h, b);

@@ -142,6 +142,9 @@ struct sh2000_status {
 
 /* A card heartbeat unchanged for this long is a stopped DSP. */
 #define SH2000_HEARTBEAT_LIMIT_NS	10000000ull
+/* Change the limit for this handle (0: SH2000_HEARTBEAT_LIMIT_NS), e.g.
+ * for a `sim:NAME` card served on a loaded machine. */
+void sh2000_set_heartbeat_limit(struct sh2000 *h, uint64_t ns);
 /* Torn snapshots re-read before a poll gives up with SH2000_ETORN. */
 #define SH2000_POLL_RETRIES		16
 

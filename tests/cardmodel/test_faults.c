@@ -92,9 +92,11 @@ static void underrun(void **state)
 			    3e7 * 3e7 / (2 * amax) + 1000);
 		(void)vmax_seen;
 	}
-	printf("# underrun at 300 mm/s: stopped %.3f mm past the last record in %.1f ms\n",
+	for (i = start; i < h->trace_len && h->trace[i].state == SH2000_STATE_STOPPING; i++)
+		;
+	printf("# underrun at 300 mm/s: stopped %.3f mm past the last record, decelerating for %.1f ms\n",
 	       (h->trace[h->trace_len - 1].axis[0].fine_cmd - pts[149][0]) / 1e5,
-	       0.1 * (h->trace_len - start));
+	       0.1 * (i - start + 1));
 }
 
 static void estop_latency(void **state)

@@ -5,6 +5,7 @@
  * time otherwise (waits release the lock so other threads get the card).
  */
 #include <errno.h>
+#include <sched.h>
 #include <time.h>
 
 #include "sh2000_internal.h"
@@ -35,8 +36,11 @@ void sh2000_hold_wait(struct sh2000 *h, uint64_t ns)
 {
 	if (h->be->virtual_time) {
 		h->be->wait_ns(h, ns);
-		/* let another thread (an emergency stop) in between steps */
+		/* an emergency stop from another thread goes first: a mutex
+		 * released and retaken at once would starve it */
 		pthread_mutex_unlock(&h->lock);
+		while (__atomic_load_n(&h->urgent, __ATOMIC_ACQUIRE))
+			sched_yield();
 		pthread_mutex_lock(&h->lock);
 		return;
 	}

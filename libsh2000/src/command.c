@@ -200,7 +200,9 @@ int sh2000_estop(struct sh2000 *h, int timeout_ms)
 	uint16_t ack;
 	int r;
 
+	__atomic_add_fetch(&h->urgent, 1, __ATOMIC_ACQ_REL);
 	pthread_mutex_lock(&h->lock);
+	__atomic_sub_fetch(&h->urgent, 1, __ATOMIC_ACQ_REL);
 	/* never behind the command slot or the ring: word 0, at once */
 	h->estop_req++;
 	r = sh2000_wr1(h, SH2000_W_ESTOP_REQ, h->estop_req);

@@ -62,6 +62,7 @@ struct sh2000 {
 	uint16_t head;
 	uint16_t cmd_seq;
 	int cmd_busy;
+	int urgent;			/* atomic: an estop wants the lock */
 	uint64_t segments;		/* records pushed (segment numbers) */
 
 	/* heartbeat watch */

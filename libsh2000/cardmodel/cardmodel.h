@@ -103,6 +103,8 @@ struct sh2000_axis_params {
 
 enum sh2000_home_phase {
 	HOME_NONE = 0,
+	HOME_BACKOFF,		/* started on the switch: leave it first */
+	HOME_BACKSTOP,		/* off the switch: decelerate */
 	HOME_SEEK,		/* towards the switch at HOME_VEL */
 	HOME_STOP1,		/* switch confirmed: decelerate */
 	HOME_CREEP,		/* towards the index at HOME_VEL / 10 */

@@ -472,7 +472,9 @@ static uint16_t cmd_home(struct sh2000_fw *fw, unsigned int axis,
 		return SH2000_RES_BUSY;
 	if (ax->home != HOME_NONE)
 		return SH2000_RES_BUSY;
-	ax->home = HOME_SEEK;
+	/* on the switch already: a reference taken here would depend on
+	 * where the axis happened to be, so leave the switch first */
+	ax->home = (ax->state & SH2000_AXIS_HOME_SW) ? HOME_BACKOFF : HOME_SEEK;
 	ax->home_flags = flags;
 	ax->debounce = 0;
 	ax->state &= (uint16_t)~(SH2000_AXIS_HOMED | SH2000_AXIS_INDEX);
@@ -771,14 +773,33 @@ static void home_step(struct sh2000_fw *fw, unsigned int a, double T)
 		speed = ax->prm.vmax;
 	dir = ax->prm.home_vel < 0 ? -1.0 : 1.0;
 	switch (ax->home) {
+	case HOME_BACKOFF:
+		ramp(ax, -dir * speed, T);
+		ax->debounce = (ax->state & SH2000_AXIS_HOME_SW) ?
+				       0 : ax->debounce + 1;
+		if (ax->debounce >= (unsigned int)ax->prm.home_debounce)
+			ax->home = HOME_BACKSTOP;
+		break;
+	case HOME_BACKSTOP:
+		ramp(ax, 0.0, T);
+		if (ax->cmd_v == 0.0) {
+			ax->debounce = 0;
+			ax->home = HOME_SEEK;
+		}
+		break;
 	case HOME_SEEK:
 		ramp(ax, dir * speed, T);
-		ax->debounce = (ax->state & SH2000_AXIS_HOME_SW) ?
-				       ax->debounce + 1 : 0;
-		if (ax->debounce >= (unsigned int)ax->prm.home_debounce) {
-			ax->home_latch = (double)ax->act;
-			ax->home = HOME_STOP1;
+		if (!(ax->state & SH2000_AXIS_HOME_SW)) {
+			ax->debounce = 0;
+			break;
 		}
+		/* the reference is the edge that starts the run of active
+		 * samples, not where the run is confirmed: it does not
+		 * depend on speed or debounce */
+		if (ax->debounce++ == 0)
+			ax->home_latch = (double)ax->act;
+		if (ax->debounce >= (unsigned int)ax->prm.home_debounce)
+			ax->home = HOME_STOP1;
 		break;
 	case HOME_STOP1:
 		ramp(ax, 0.0, T);

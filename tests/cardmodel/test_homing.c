@@ -39,7 +39,18 @@ static unsigned int home(struct harness *h, uint32_t flags)
 	return n;
 }
 
-static double switch_point(unsigned int debounce)
+static double deepest;
+
+static void track(void *ctx, const struct sh2000_probe *p)
+{
+	(void)ctx;
+	if (p->axis[0].fine_cmd < deepest)
+		deepest = p->axis[0].fine_cmd;
+}
+
+/* Homes with `debounce`; returns the physical reference point (mm) and
+ * how far past it the axis went (mm). */
+static double switch_point(unsigned int debounce, double *overrun)
 {
 	struct harness *h = start(3.0, 0.0);
 	int32_t cmd[SH2000_AXES];
@@ -49,6 +60,8 @@ static double switch_point(unsigned int debounce)
 	assert_int_equal(h_set_i(h, 0, SH2000_P_HOME_OFFSET, 12345), SH2000_RES_OK);
 	assert_int_equal(h_set_i(h, 0, SH2000_P_HOME_DEBOUNCE, (int32_t)debounce),
 			 SH2000_RES_OK);
+	deepest = 1e18;
+	sh2000_fw_set_observer(h->fw, track, NULL);
 	home(h, 0);
 	assert_int_equal(h_word(h, SH2000_W_STATE), SH2000_STATE_IDLE);
 	assert_int_equal(h_word(h, SH2000_W_FAULTS), 0);
@@ -60,18 +73,23 @@ static double switch_point(unsigned int debounce)
 	assert_int_equal(cmd[0], 12345);
 	assert_true(abs(sh2000_counter_delta(act[0], 12345)) <= 2);
 	x = h->fw->ax[0].plant.x_mm;
+	/* deepest set-point in the old coordinates, relative to the latch */
+	*overrun = (h->fw->ax[0].home_latch - deepest) / 1e5;
 	h_fini(h);
 	return x;
 }
 
 static void debounce(void **state)
 {
-	double x10 = switch_point(10), x100 = switch_point(100);
+	double o10, o100, x10 = switch_point(10, &o10), x100 = switch_point(100, &o100);
 
 	(void)state;
-	/* confirmed after N consecutive active cycles at 20 mm/s: 2 um/cycle */
-	assert_true(x10 < 0.0 && x10 > -0.03);
-	assert_true(fabs((x10 - x100) - 90 * 0.002) < 0.005);
+	/* the reference is the switch edge, whatever the debounce */
+	assert_true(x10 <= 0.0 && x10 > -0.003);
+	assert_true(fabs(x10 - x100) < 0.003);
+	/* confirmation needs N consecutive active cycles: at 20 mm/s that is
+	 * 2 um per cycle past the edge before the axis brakes */
+	assert_true(fabs((o100 - o10) - 90 * 0.002) < 0.005);
 }
 
 static void index_pulse(void **state)
@@ -90,6 +108,24 @@ static void index_pulse(void **state)
 	assert_int_equal(cmd[0], 0);
 	/* the index mark below the switch point is at -1 mm */
 	assert_true(fabs(h->fw->ax[0].plant.x_mm + 1.0) < 0.0001);
+	h_fini(h);
+}
+
+static void starts_on_switch(void **state)
+{
+	struct harness *h = start(-1.5, 0.0);	/* on the switch */
+	double x_ref;
+
+	(void)state;
+	home(h, 0);
+	assert_int_equal(h_word(h, SH2000_W_FAULTS), 0);
+	assert_true(h_word(h, SH2000_W_AXIS_STATE(0)) & SH2000_AXIS_HOMED);
+	x_ref = h->fw->ax[0].plant.x_mm;
+	h_fini(h);
+	/* the same reference as when starting off the switch */
+	h = start(3.0, 0.0);
+	home(h, 0);
+	assert_true(fabs(h->fw->ax[0].plant.x_mm - x_ref) < 0.003);
 	h_fini(h);
 }
 
@@ -128,6 +164,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(debounce),
 		cmocka_unit_test(index_pulse),
+		cmocka_unit_test(starts_on_switch),
 		cmocka_unit_test(limit_during_homing),
 		cmocka_unit_test(stop_aborts),
 	};

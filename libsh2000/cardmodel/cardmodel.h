@@ -75,6 +75,7 @@ struct sh2000_plant {
 	int index_seen;		/* an index mark passed in the last step */
 	uint32_t index_latch;	/* counter value latched at that mark */
 	double cache_T, cache_e;	/* exp(-b T / m) for the last T */
+	uint64_t steps;		/* servo periods integrated (switch chatter) */
 };
 
 void sh2000_plant_init(struct sh2000_plant *p,

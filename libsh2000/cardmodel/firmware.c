@@ -1073,6 +1073,7 @@ void sh2000_sim_config_default(struct sh2000_sim_config *cfg)
 		p->home_mm = 0.0;
 		p->index_period_mm = 1.0;
 		p->start_mm = 300.0;
+		p->home_bounce_mm = 0.0;
 	}
 }
 

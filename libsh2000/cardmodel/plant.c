@@ -45,6 +45,7 @@ void sh2000_plant_init(struct sh2000_plant *p,
 	p->index_latch = 0;
 	p->cache_T = -1.0;
 	p->cache_e = 0.0;
+	p->steps = 0;
 }
 
 static uint32_t wrap(int64_t c)
@@ -61,6 +62,7 @@ void sh2000_plant_step(struct sh2000_plant *p, int16_t dac, unsigned int range,
 	double per = p->cfg.index_period_mm;
 
 	p->index_seen = 0;
+	p->steps++;
 	if (p->jammed) {
 		p->v_mm_s = 0.0;
 		return;
@@ -115,5 +117,8 @@ int sh2000_plant_limit_pos(const struct sh2000_plant *p)
 
 int sh2000_plant_home(const struct sh2000_plant *p)
 {
+	/* a mechanical switch chatters near its point: what debounce is for */
+	if (fabs(p->x_mm - p->cfg.home_mm) < p->cfg.home_bounce_mm)
+		return (p->steps / 3u) & 1u;
 	return p->x_mm <= p->cfg.home_mm;
 }

@@ -46,6 +46,9 @@ struct sh2000_plant_config {
 	double home_mm;			/* home switch: active at x <= home_mm */
 	double index_period_mm;		/* encoder index spacing */
 	double start_mm;		/* position at power-up */
+	/* Addition: the home switch chatters (toggles every 3 servo
+	 * periods) while |x - home_mm| < home_bounce_mm; 0 = clean. */
+	double home_bounce_mm;
 };
 
 struct sh2000_sim_config {

@@ -13,11 +13,14 @@
 
 static struct harness hh;
 
+static double bounce_mm;
+
 static struct harness *start(double start_mm, double home_mm)
 {
 	struct sh2000_sim_config cfg;
 
 	sh2000_sim_config_default(&cfg);
+	cfg.axis[0].home_bounce_mm = bounce_mm;
 	cfg.axis[0].start_mm = start_mm;
 	cfg.axis[0].home_mm = home_mm;
 	h_init(&hh, &cfg);
@@ -92,6 +95,22 @@ static void debounce(void **state)
 	assert_true(fabs((o100 - o10) - 90 * 0.002) < 0.005);
 }
 
+static void chattering_switch(void **state)
+{
+	double o, x1, x10;
+
+	(void)state;
+	bounce_mm = 0.05;
+	/* debounce 1 takes the first chatter, 50 um before the switch point */
+	x1 = switch_point(1, &o);
+	/* debounce 10 ignores the chatter (runs of 3) and takes the edge of
+	 * the first steady run, at the far side of the chatter band */
+	x10 = switch_point(10, &o);
+	bounce_mm = 0.0;
+	assert_true(x1 > 0.04 && x1 < 0.0501);
+	assert_true(x10 < -0.045 && x10 > -0.053);
+}
+
 static void index_pulse(void **state)
 {
 	struct harness *h = start(3.0, 0.0);
@@ -163,6 +182,7 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(debounce),
+		cmocka_unit_test(chattering_switch),
 		cmocka_unit_test(index_pulse),
 		cmocka_unit_test(starts_on_switch),
 		cmocka_unit_test(limit_during_homing),

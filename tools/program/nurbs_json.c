@@ -407,12 +407,8 @@ int prog_read_nurbs_json(struct prog_ctx *c, const char *text, size_t len)
 	end = json_tokener_get_parse_end(tok);
 	json_tokener_free(tok);
 	if (!root || jerrc != json_tokener_success) {
-		size_t at = end;
-
-		/* json-c stops just past the offending character */
-		if (jerrc != json_tokener_continue && at > 0)
-			at--;
-		jlinecol(text, jerrc == json_tokener_continue ? len : at, &line, &col);
+		/* json-c stops at the offending character */
+		jlinecol(text, jerrc == json_tokener_continue ? len : end, &line, &col);
 		json_object_put(root);
 		return prog_err(c, SH2000_PD_SYNTAX, line, col, "JSON: %s",
 				jerrc == json_tokener_continue ?

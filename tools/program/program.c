@@ -99,6 +99,23 @@ oom:
 	return -ENOMEM;
 }
 
+static int diag_add(struct prog_ctx *c, enum sh2000_prog_severity sev,
+		    enum sh2000_prog_diag_code code, unsigned int line,
+		    unsigned int col, const char *fmt, ...)
+	__attribute__((format(printf, 6, 7)));
+static int diag_add(struct prog_ctx *c, enum sh2000_prog_severity sev,
+		    enum sh2000_prog_diag_code code, unsigned int line,
+		    unsigned int col, const char *fmt, ...)
+{
+	va_list ap;
+	int ret;
+
+	va_start(ap, fmt);
+	ret = diag_vadd(c, sev, code, line, col, fmt, ap);
+	va_end(ap);
+	return ret;
+}
+
 int prog_diag(struct prog_ctx *c, enum sh2000_prog_severity sev,
 	      enum sh2000_prog_diag_code code, unsigned int line,
 	      unsigned int col, const char *fmt, ...)
@@ -116,9 +133,9 @@ int prog_diag(struct prog_ctx *c, enum sh2000_prog_severity sev,
 	if (sev != SH2000_PROG_ERROR)
 		return 0;
 	if (++c->errors >= c->opt.max_errors) {
-		prog_diag(c, SH2000_PROG_ERROR, SH2000_PD_LIMIT, line, col,
-			  "too many errors (%u), reading stopped", c->errors);
 		c->stop = true;
+		diag_add(c, SH2000_PROG_ERROR, SH2000_PD_LIMIT, line, col,
+			 "too many errors (%u), reading stopped", c->errors);
 	}
 	return -SH2000_PROG_EINVALID;
 }

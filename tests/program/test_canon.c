@@ -1,0 +1,190 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The rs274 canonical-command reader, on canned text in the format of
+ * LinuxCNC's standalone interpreter (src/emc/sai/saicanon.cc: "%5d " output
+ * counter, "N<n>" padded to 7 characters or "N..... ", the call with %.4f
+ * numbers; ARC_FEED(first_end, second_end, first_axis, second_axis,
+ * rotation, axis_end_point, a, b, c)).
+ */
+#include "progtest.h"
+
+static const char job[] =
+	"    1 N..... USE_LENGTH_UNITS(CANON_UNITS_MM)\n"
+	"    2 N..... SET_G5X_OFFSET(1, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+	"    3 N..... SET_G92_OFFSET(0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+	"    4 N..... SET_XY_ROTATION(0.0000)\n"
+	"    5 N..... SET_FEED_REFERENCE(CANON_XYZ)\n"
+	"    6 N..... ON_RESET()\n"
+	"    7 N..... SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, 0.000000)\n"
+	"    8 N..... SET_NAIVECAM_TOLERANCE(0.0000)\n"
+	"    9 N..... SET_FEED_MODE(0, 0)\n"
+	"   10 N..... SET_FEED_RATE(0.0000)\n"
+	"   11 N..... STOP_SPINDLE_TURNING(0)\n"
+	"   12 N..... SET_SPINDLE_MODE(0 0.0000)\n"
+	"   13 N..... ENABLE_FEED_OVERRIDE()\n"
+	"   14 N..... SELECT_PLANE(CANON_PLANE_XY)\n"
+	"   15 N..... COMMENT(\"interpreter: (a, b) comment\")\n"
+	"   16 N10    SET_FEED_RATE(600.0000)\n"
+	"   17 N20    STRAIGHT_TRAVERSE(10.0000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)\n"
+	"   18 N30    STRAIGHT_FEED(10.0000, 0.0000, 0.0000, 1.0000, 0.0000, 0.0000)\n"
+	"   19 N40    ARC_FEED(0.0000, 10.0000, 0.0000, 0.0000, 1, -2.0000, 1.0000, 0.0000, 0.0000)\n"
+	"   20 N50    DWELL(0.5000)\n"
+	"   21 N60    PROGRAM_STOP()\n"
+	"   22 N65    OPTIONAL_PROGRAM_STOP()\n"
+	"   23 N70    FLOOD_OFF()\n"
+	"   24 N70    PROGRAM_END()\n";
+
+static void test_job(void **state)
+{
+	const struct sh2000_prog_block *b;
+
+	(void)state;
+	expect_ok(CANON, job);
+	assert_int_equal(D.count, 0);
+	assert_int_equal(P.count, 8);
+	b = &P.blocks[0];
+	assert_int_equal(b->kind, SH2000_PROG_FEED);
+	assert_near(b->feed, 10, 1e-12);
+	assert_int_equal(b->pos.line, 16);
+	assert_int_equal(b->pos.column, 14);
+	b = &P.blocks[1];
+	assert_int_equal(b->kind, SH2000_PROG_RAPID);
+	assert_pos4(b->end, 10, 0, 5, 0);
+	b = &P.blocks[2];
+	assert_int_equal(b->kind, SH2000_PROG_LINE);
+	assert_pos4(b->end, 10, 0, 0, 1);
+	assert_near(b->feed, 10, 1e-12);
+	b = &P.blocks[3];
+	assert_int_equal(b->kind, SH2000_PROG_ARC);
+	assert_true(b->u.arc.ccw);
+	assert_int_equal(b->u.arc.turns, 1);
+	assert_near(b->u.arc.sweep, M_PI / 2, 1e-9);
+	assert_near(b->u.arc.radius, 10, 1e-9);
+	assert_pos4(b->end, 0, 10, -2, 1);
+	assert_int_equal(P.blocks[4].kind, SH2000_PROG_DWELL);
+	assert_near(P.blocks[4].u.dwell_s, 0.5, 1e-12);
+	assert_int_equal(P.blocks[5].kind, SH2000_PROG_PAUSE);
+	assert_false(P.blocks[5].u.optional);
+	assert_true(P.blocks[6].u.optional);
+	assert_int_equal(P.blocks[7].kind, SH2000_PROG_END);
+	assert_int_equal(P.blocks[7].pos.line, 24);
+}
+
+static void test_units_offsets_planes(void **state)
+{
+	const struct sh2000_prog_block *b;
+
+	(void)state;
+	expect_ok(CANON,
+		  "    1 N..... USE_LENGTH_UNITS(CANON_UNITS_INCHES)\n"
+		  "    2 N..... SET_FEED_RATE(10.0000)\n"
+		  "    3 N..... STRAIGHT_FEED(1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+		  "    4 N..... SET_G5X_OFFSET(2, 1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+		  "    5 N..... SET_G92_OFFSET(0.0000, 2.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+		  "    6 N..... STRAIGHT_TRAVERSE(0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+		  "    7 N..... USE_LENGTH_UNITS(CANON_UNITS_MM)\n"
+		  "    8 N..... STRAIGHT_TRAVERSE(1.0000, 1.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n");
+	assert_near(nth(SH2000_PROG_FEED, 0)->u.feed_mm_min, 254, 1e-9);
+	assert_pos4(nth(SH2000_PROG_LINE, 0)->end, 25.4, 0, 0, 0);
+	assert_pos4(nth(SH2000_PROG_RAPID, 0)->end, 25.4, 50.8, 0, 0);
+	assert_pos4(nth(SH2000_PROG_RAPID, 1)->end, 26.4, 51.8, 0, 0);
+	/* XZ: first is Z, second X, the axis end is Y; rotation -2 is G2 P2 */
+	expect_ok(CANON,
+		  "    1 N..... SET_FEED_RATE(60.0000)\n"
+		  "    2 N..... STRAIGHT_TRAVERSE(0.0000, 0.0000, 10.0000, 0.0000, 0.0000, 0.0000)\n"
+		  "    3 N..... SELECT_PLANE(CANON_PLANE_XZ)\n"
+		  "    4 N..... ARC_FEED(0.0000, 10.0000, 0.0000, 0.0000, 1, 3.0000, 0.0000, 0.0000, 0.0000)\n"
+		  "    5 N..... SELECT_PLANE(CANON_PLANE_YZ)\n"
+		  "    6 N..... ARC_FEED(-3.0000, 0.0000, 0.0000, 5.0000, -2, 10.0000, 0.0000, 0.0000, 0.0000)\n");
+	b = nth(SH2000_PROG_ARC, 0);
+	assert_int_equal(b->u.arc.plane, SH2000_PROG_XZ);
+	assert_pos4(b->end, 10, 3, 0, 0);
+	assert_near(b->u.arc.sweep, M_PI / 2, 1e-9);
+	b = nth(SH2000_PROG_ARC, 1);
+	assert_int_equal(b->u.arc.plane, SH2000_PROG_YZ);
+	assert_false(b->u.arc.ccw);
+	assert_int_equal(b->u.arc.turns, 2);
+	assert_pos4(b->end, 10, -3, 0, 0);
+	/* older rs274 builds print only X Y Z */
+	expect_ok(CANON, "    1 N..... SET_FEED_RATE(60.0000)\n"
+			 "    2 N..... STRAIGHT_FEED(1.0000, 2.0000, 3.0000)\n");
+	assert_pos4(nth(SH2000_PROG_LINE, 0)->end, 1, 2, 3, 0);
+}
+
+static void test_warnings(void **state)
+{
+	(void)state;
+	expect_ok(CANON,
+		  "    1 N..... SET_SPINDLE_SPEED(0, 0.0000)\n"
+		  "    2 N..... SET_SPINDLE_SPEED(0, 1000.0000)\n"
+		  "    3 N..... START_SPINDLE_CLOCKWISE(0)\n"
+		  "    4 N..... START_SPINDLE_COUNTERCLOCKWISE(0)\n"
+		  "    5 N..... FLOOD_ON()\n"
+		  "    6 N..... MIST_ON()\n"
+		  "    7 N..... SELECT_POCKET(1)\n"
+		  "    8 N..... CHANGE_TOOL(1)\n"
+		  "    9 N..... MESSAGE(\"hello, world\")\n"
+		  "   10 N..... SET_SPINDLE_SPEED(0, 2000.0000)\n"
+		  "   11 N..... PROGRAM_END()\n"
+		  "   12 N..... FLOOD_OFF()\n");
+	assert_int_equal(D.errors, 0);
+	assert_int_equal(count_warnings(SH2000_PD_NOT_ACTED), 4);
+	assert_int_equal(count_warnings(SH2000_PD_IGNORED), 2);
+	assert_true(has_message("SET_SPINDLE_SPEED(1000)"));
+	assert_true(has_message("START_SPINDLE_CLOCKWISE (spindle)"));
+	assert_true(has_message("FLOOD_ON (coolant)"));
+	assert_true(has_message("SELECT_POCKET (tool)"));
+	assert_true(has_message("after PROGRAM_END"));
+}
+
+static void test_errors(void **state)
+{
+	(void)state;
+	expect_error(CANON, "    1 N..... NURBS_FEED(5, ...)\n", SH2000_PD_UNSUPPORTED, 1, 14);
+	expect_error(CANON, "    1 N12    STRAIGHT_PROBE(1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n",
+		     SH2000_PD_UNSUPPORTED, 1, 14);
+	expect_error(CANON, "    1 N..... RIGID_TAP(1.0000, 0.0000, 0.0000)\n", SH2000_PD_UNSUPPORTED, 1, 14);
+	expect_error(CANON, "    1 N..... FROBNICATE()\n", SH2000_PD_UNKNOWN, 1, 14);
+	expect_error(CANON, "    1 N..... SET_XY_ROTATION(30.0000)\n", SH2000_PD_UNSUPPORTED, 1, 14);
+	expect_error(CANON, "    1 N..... USE_TOOL_LENGTH_OFFSET(0.0000 0.0000 1.0000, 0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000)\n",
+		     SH2000_PD_UNSUPPORTED, 1, 14);
+	expect_ok(CANON, "    1 N..... USE_TOOL_LENGTH_OFFSET(0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000)\n");
+	expect_error(CANON, "    1 N..... SET_FEED_MODE(0, 1)\n", SH2000_PD_UNSUPPORTED, 1, 14);
+	expect_error(CANON, "    1 N..... SELECT_PLANE(CANON_PLANE_UV)\n", SH2000_PD_UNSUPPORTED, 1, 14);
+	/* B moves */
+	expect_error(CANON, "    1 N..... STRAIGHT_TRAVERSE(1.0000, 0.0000, 0.0000, 0.0000, 2.0000, 0.0000)\n",
+		     SH2000_PD_NO_AXIS, 1, 64);
+	/* feed */
+	expect_error(CANON, "    1 N..... STRAIGHT_FEED(1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n",
+		     SH2000_PD_FEED, 1, 14);
+	expect_error(CANON, "    1 N..... SET_FEED_RATE(-1.0000)\n", SH2000_PD_RANGE, 1, 28);
+	/* geometry */
+	expect_error(CANON, "    1 N..... SET_FEED_RATE(60.0000)\n"
+			    "    2 N..... STRAIGHT_FEED(10.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+			    "    3 N..... ARC_FEED(0.0000, 10.5000, 0.0000, 0.0000, 1, 0.0000, 0.0000, 0.0000, 0.0000)\n",
+		     SH2000_PD_ARC, 3, 14);
+	expect_error(CANON, "    1 N..... SET_FEED_RATE(60.0000)\n"
+			    "    2 N..... ARC_FEED(0.0000, 10.0000, 0.0000, 0.0000, 0, 0.0000, 0.0000, 0.0000, 0.0000)\n",
+		     SH2000_PD_RANGE, 2, 56);
+	/* malformed lines */
+	expect_error(CANON, "garbage\n", SH2000_PD_SYNTAX, 1, 1);
+	expect_error(CANON, "    1 X..... DWELL(1.0)\n", SH2000_PD_SYNTAX, 1, 7);
+	expect_error(CANON, "    1 N..... DWELL 1.0\n", SH2000_PD_SYNTAX, 1, 14);
+	expect_error(CANON, "    1 N..... DWELL(1.0) x\n", SH2000_PD_SYNTAX, 1, 25);
+	expect_error(CANON, "    1 N..... DWELL(abc)\n", SH2000_PD_SYNTAX, 1, 20);
+	expect_error(CANON, "    1 N..... DWELL(1.0, 2.0)\n", SH2000_PD_SYNTAX, 1, 14);
+	expect_error(CANON, "    1 N..... STRAIGHT_TRAVERSE(nan, 0.0000, 0.0000)\n", SH2000_PD_SYNTAX, 1, 32);
+	expect_error(CANON, "    1 N..... USE_LENGTH_UNITS(CANON_UNITS_FURLONG)\n", SH2000_PD_UNKNOWN, 1, 14);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test_setup_teardown(test_job, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_units_offsets_planes, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_warnings, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_errors, setup, teardown),
+	};
+
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,547 @@
+/* SPDX-License-Identifier: MIT */
+/* The built-in G-code reader: every accepted word, modal behaviour, arcs in
+ * every plane, warnings once per kind, every error with its line:column. */
+#include <errno.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include "progtest.h"
+
+static void test_rapid_line_feed_end(void **state)
+{
+	const struct sh2000_prog_block *b;
+
+	(void)state;
+	expect_ok(G, "G21 G90\nG0 X10 Y5\nG1 X20 F600\nM2\n");
+	assert_int_equal(P.count, 4);
+	b = &P.blocks[0];
+	assert_int_equal(b->kind, SH2000_PROG_RAPID);
+	assert_pos4(b->start, 0, 0, 0, 0);
+	assert_pos4(b->end, 10, 5, 0, 0);
+	assert_int_equal(b->pos.line, 2);
+	assert_int_equal(b->pos.column, 1);
+	assert_string_equal(b->pos.file, "t.ngc");
+	assert_near(b->feed, 0, 0);
+	b = &P.blocks[1];
+	assert_int_equal(b->kind, SH2000_PROG_FEED);
+	assert_near(b->u.feed_mm_min, 600, 1e-12);
+	assert_near(b->feed, 10, 1e-12);
+	assert_int_equal(b->pos.line, 3);
+	assert_int_equal(b->pos.column, 8);
+	b = &P.blocks[2];
+	assert_int_equal(b->kind, SH2000_PROG_LINE);
+	assert_pos4(b->start, 10, 5, 0, 0);
+	assert_pos4(b->end, 20, 5, 0, 0);
+	assert_near(b->feed, 10, 1e-12);
+	b = &P.blocks[3];
+	assert_int_equal(b->kind, SH2000_PROG_END);
+	assert_int_equal(b->u.end_code, 2);
+	assert_int_equal(b->pos.column, 1);
+	assert_int_equal(D.count, 0);
+}
+
+static void test_modal_motion_and_axes(void **state)
+{
+	(void)state;
+	expect_ok(G, "G1 X1 F60\nX2\nY3 Z4 A5\nG0 X0\nY1\n");
+	assert_int_equal(count_kind(SH2000_PROG_LINE), 3);
+	assert_int_equal(count_kind(SH2000_PROG_RAPID), 2);
+	assert_pos4(nth(SH2000_PROG_LINE, 2)->end, 2, 3, 4, 5);
+	assert_pos4(nth(SH2000_PROG_RAPID, 1)->end, 0, 1, 4, 5);
+	/* a modal line's block points at its first word */
+	assert_int_equal(nth(SH2000_PROG_LINE, 2)->pos.column, 1);
+	/* G0/G1 alone set the mode and move nothing; F alone sets the feed */
+	expect_ok(G, "G0\nG1 F100\n");
+	assert_int_equal(P.count, 1);
+	assert_int_equal(P.blocks[0].kind, SH2000_PROG_FEED);
+	/* an unchanged F makes no feed block */
+	expect_ok(G, "G1 X1 F100\nX2 F100\nX3 F200\n");
+	assert_int_equal(count_kind(SH2000_PROG_FEED), 2);
+}
+
+static void test_distance_modes(void **state)
+{
+	struct sh2000_prog_options o;
+
+	(void)state;
+	expect_ok(G, "G91 G1 X1 Y1 F60\nX1 A2\nG90 X0\n");
+	assert_pos4(nth(SH2000_PROG_LINE, 0)->end, 1, 1, 0, 0);
+	assert_pos4(nth(SH2000_PROG_LINE, 1)->end, 2, 1, 0, 2);
+	assert_pos4(nth(SH2000_PROG_LINE, 2)->end, 0, 1, 0, 2);
+	/* the machine's start position is where G91 and arcs start */
+	sh2000_prog_options_default(&o);
+	o.start[0] = 1;
+	o.start[1] = 2;
+	o.start[2] = 3;
+	o.start[3] = 4;
+	expect_ok_opt(G, "G91 G0 X1\nG90 Y0\n", &o);
+	assert_pos4(nth(SH2000_PROG_RAPID, 0)->start, 1, 2, 3, 4);
+	assert_pos4(nth(SH2000_PROG_RAPID, 0)->end, 2, 2, 3, 4);
+	assert_pos4(nth(SH2000_PROG_RAPID, 1)->end, 2, 0, 3, 4);
+}
+
+static void test_units(void **state)
+{
+	(void)state;
+	/* every word of a G20 line is in inches, A too (a linear axis) */
+	expect_ok(G, "G20 G1 X1 A0.5 F10\nG21 X10\n");
+	assert_pos4(nth(SH2000_PROG_LINE, 0)->end, 25.4, 0, 0, 12.7);
+	assert_near(nth(SH2000_PROG_FEED, 0)->u.feed_mm_min, 254, 1e-9);
+	assert_near(nth(SH2000_PROG_LINE, 0)->feed, 254.0 / 60, 1e-12);
+	assert_pos4(nth(SH2000_PROG_LINE, 1)->end, 10, 0, 0, 12.7);
+	/* the feed in effect keeps its speed across a units change */
+	expect_ok(G, "G21 F600\nG20\nG1 X1\n");
+	assert_near(nth(SH2000_PROG_LINE, 0)->feed, 10, 1e-12);
+	assert_near(nth(SH2000_PROG_LINE, 0)->end[0], 25.4, 1e-12);
+	/* incremental inches */
+	expect_ok(G, "G20 G91 G0 X1\nX1\n");
+	assert_near(nth(SH2000_PROG_RAPID, 1)->end[0], 50.8, 1e-12);
+}
+
+static void test_lexical(void **state)
+{
+	(void)state;
+	/* N words, comments, lower case, blanks, tabs, CRLF, leading zeros */
+	expect_ok(G, "N10 G0 X1 (a comment) ; rest\r\nn20 (only a comment)\r\n"
+		     "\tg01 x 2.5 f+60.\n  N30G0Y-.5\n");
+	assert_int_equal(count_kind(SH2000_PROG_RAPID), 2);
+	assert_near(nth(SH2000_PROG_LINE, 0)->end[0], 2.5, 1e-12);
+	assert_near(nth(SH2000_PROG_RAPID, 1)->end[1], -0.5, 1e-12);
+	/* G1.0 is G1 */
+	expect_ok(G, "G1.0 X1 F1\n");
+	assert_int_equal(count_kind(SH2000_PROG_LINE), 1);
+	/* % opens and closes a program; what follows is reported, not read */
+	expect_ok(G, "%\nG0 X1\n%\nG0 X2\n");
+	assert_int_equal(count_kind(SH2000_PROG_RAPID), 1);
+	assert_int_equal(count_warnings(SH2000_PD_IGNORED), 1);
+	expect_error(G, "G0 X1\n%\n", SH2000_PD_SYNTAX, 2, 1);
+	expect_error(G, "%\nG0 X1\n", SH2000_PD_SYNTAX, 2, 1);
+}
+
+static void test_noop_and_path_codes(void **state)
+{
+	(void)state;
+	expect_ok(G, "G17 G21 G40 G49 G54 G80 G90 G91.1 G94\nG64 P0.01\nG61\nG61.1\nG0 X1\n");
+	assert_int_equal(P.count, 1);
+	assert_int_equal(count_warnings(SH2000_PD_NOT_ACTED), 1);
+	assert_true(has_message("G64"));
+	assert_int_equal(D.items[0].pos.line, 2);
+	assert_int_equal(D.items[0].pos.column, 1);
+}
+
+static void test_arc_xy(void **state)
+{
+	const struct sh2000_prog_block *b;
+	double p[4];
+
+	(void)state;
+	expect_ok(G, "G0 X10 Y0\nG3 X0 Y10 I-10 J0 F60\nG2 X10 Y0 I0 J-10\n");
+	b = nth(SH2000_PROG_ARC, 0);
+	assert_int_equal(b->u.arc.plane, SH2000_PROG_XY);
+	assert_true(b->u.arc.ccw);
+	assert_int_equal(b->u.arc.turns, 1);
+	assert_near(b->u.arc.centre[0], 0, 1e-12);
+	assert_near(b->u.arc.centre[1], 0, 1e-12);
+	assert_near(b->u.arc.radius, 10, 1e-12);
+	assert_near(b->u.arc.sweep, M_PI / 2, 1e-12);
+	assert_near(b->feed, 1, 1e-12);
+	assert_int_equal(b->pos.line, 2);
+	assert_int_equal(b->pos.column, 1);
+	assert_int_equal(sh2000_prog_block_point(b, 0.5, p), 0);
+	assert_near(p[0], 10 / M_SQRT2, 1e-9);
+	assert_near(p[1], 10 / M_SQRT2, 1e-9);
+	b = nth(SH2000_PROG_ARC, 1);
+	assert_false(b->u.arc.ccw);
+	assert_near(b->u.arc.sweep, -M_PI / 2, 1e-12);
+	assert_pos4(b->end, 10, 0, 0, 0);
+	/* I alone: J is 0 in incremental centre mode */
+	expect_ok(G, "G0 X10\nG2 X-10 I-10 F1\n");
+	assert_near(nth(SH2000_PROG_ARC, 0)->u.arc.sweep, -M_PI, 1e-12);
+	/* the long way round */
+	expect_ok(G, "G0 X10\nG2 X0 Y10 I-10 F1\n");
+	assert_near(nth(SH2000_PROG_ARC, 0)->u.arc.sweep, -3 * M_PI / 2, 1e-12);
+}
+
+static void test_full_circles_and_helix(void **state)
+{
+	const struct sh2000_prog_block *b;
+	double p[4];
+
+	(void)state;
+	expect_ok(G, "G0 X10\nG2 I-10 F60\nG2 I-10 P3\nG3 X10 Y0 Z-5 A2 I-10 J0 P2\n");
+	b = nth(SH2000_PROG_ARC, 0);
+	assert_near(b->u.arc.sweep, -2 * M_PI, 1e-12);
+	assert_pos4(b->end, 10, 0, 0, 0);
+	b = nth(SH2000_PROG_ARC, 1);
+	assert_int_equal(b->u.arc.turns, 3);
+	assert_near(b->u.arc.sweep, -6 * M_PI, 1e-12);
+	b = nth(SH2000_PROG_ARC, 2);
+	assert_true(b->u.arc.ccw);
+	assert_int_equal(b->u.arc.turns, 2);
+	assert_near(b->u.arc.sweep, 4 * M_PI, 1e-12);
+	assert_pos4(b->end, 10, 0, -5, 2);
+	assert_near(b->u.arc.centre[2], 0, 1e-12);
+	assert_int_equal(b->u.arc.axisn, SH2000_PROG_Z);
+	/* a quarter of the way: one half turn, z and a a quarter down */
+	sh2000_prog_block_point(b, 0.25, p);
+	assert_near(p[0], -10, 1e-9);
+	assert_near(p[1], 0, 1e-9);
+	assert_near(p[2], -1.25, 1e-12);
+	assert_near(p[3], 0.5, 1e-12);
+}
+
+static void test_arc_xz_yz(void **state)
+{
+	const struct sh2000_prog_block *b;
+	double p[4];
+
+	(void)state;
+	/* G18: axis1 Z, axis2 X; G3 turns from +Z towards +X (seen from +Y) */
+	expect_ok(G, "G0 Z10\nG18 G3 X10 Z0 I0 K-10 F60\nG0 Z10 X0\nG2 X10 Z0 K-10\n");
+	b = nth(SH2000_PROG_ARC, 0);
+	assert_int_equal(b->u.arc.plane, SH2000_PROG_XZ);
+	assert_int_equal(b->u.arc.axis1, SH2000_PROG_Z);
+	assert_int_equal(b->u.arc.axis2, SH2000_PROG_X);
+	assert_int_equal(b->u.arc.axisn, SH2000_PROG_Y);
+	assert_near(b->u.arc.sweep, M_PI / 2, 1e-12);
+	sh2000_prog_block_point(b, 0.5, p);
+	assert_near(p[0], 10 / M_SQRT2, 1e-9);
+	assert_near(p[2], 10 / M_SQRT2, 1e-9);
+	assert_near(nth(SH2000_PROG_ARC, 1)->u.arc.sweep, -3 * M_PI / 2, 1e-12);
+	/* helix along Y in G18 */
+	expect_ok(G, "G0 Z10\nG18 G3 X10 Z0 Y7 I0 K-10 F60\n");
+	assert_pos4(nth(SH2000_PROG_ARC, 0)->end, 10, 7, 0, 0);
+	/* G19: axis1 Y, axis2 Z */
+	expect_ok(G, "G0 Y10\nG19 G3 Y0 Z10 J-10 K0 X3 F60\n");
+	b = nth(SH2000_PROG_ARC, 0);
+	assert_int_equal(b->u.arc.plane, SH2000_PROG_YZ);
+	assert_int_equal(b->u.arc.axisn, SH2000_PROG_X);
+	assert_near(b->u.arc.sweep, M_PI / 2, 1e-12);
+	assert_pos4(b->end, 3, 0, 10, 0);
+	/* the word for the normal axis' centre is an error */
+	expect_error(G, "G17 G2 X1 I1 K1 F1\n", SH2000_PD_CONFLICT, 1, 14);
+	expect_error(G, "G18 G2 X1 I1 J1 F1\n", SH2000_PD_CONFLICT, 1, 14);
+	expect_error(G, "G19 G2 Y1 I1 J1 F1\n", SH2000_PD_CONFLICT, 1, 11);
+}
+
+static void test_arc_centre_modes(void **state)
+{
+	const struct sh2000_prog_block *b;
+
+	(void)state;
+	expect_ok(G, "G0 X10 Y10\nG90.1 G3 X0 Y20 I0 J10 F60\nG91.1 G2 X10 Y10 I0 J-10\n");
+	b = nth(SH2000_PROG_ARC, 0);
+	assert_near(b->u.arc.centre[0], 0, 1e-12);
+	assert_near(b->u.arc.centre[1], 10, 1e-12);
+	b = nth(SH2000_PROG_ARC, 1);
+	assert_near(b->u.arc.centre[0], 0, 1e-12);
+	assert_near(b->u.arc.centre[1], 10, 1e-12);
+	/* absolute centres in inches */
+	expect_ok(G, "G20 G0 X1\nG90.1 G3 X0 Y1 I0 J0 F1\n");
+	assert_near(nth(SH2000_PROG_ARC, 0)->u.arc.radius, 25.4, 1e-12);
+	/* G90.1 needs both centre words */
+	expect_error(G, "G0 X1\nG90.1 G3 X0 Y1 I0 F1\n", SH2000_PD_MISSING, 2, 7);
+}
+
+static void test_arc_r_format(void **state)
+{
+	const struct sh2000_prog_block *b;
+
+	(void)state;
+	expect_ok(G, "G1 F1\nG2 X10 Y0 R5\n");
+	b = nth(SH2000_PROG_ARC, 0);
+	assert_near(b->u.arc.centre[0], 5, 1e-9);
+	assert_near(b->u.arc.centre[1], 0, 1e-9);
+	assert_near(b->u.arc.sweep, -M_PI, 1e-9);
+	expect_ok(G, "G1 F1\nG2 X10 Y10 R10\nG0 X0 Y0\nG2 X10 Y10 R-10\nG0 X0 Y0\nG3 X10 Y10 R10\n");
+	b = nth(SH2000_PROG_ARC, 0);
+	assert_near(b->u.arc.centre[0], 10, 1e-9);
+	assert_near(b->u.arc.centre[1], 0, 1e-9);
+	assert_near(b->u.arc.sweep, -M_PI / 2, 1e-9);
+	b = nth(SH2000_PROG_ARC, 1);
+	assert_near(b->u.arc.centre[0], 0, 1e-9);
+	assert_near(b->u.arc.centre[1], 10, 1e-9);
+	assert_near(b->u.arc.sweep, -3 * M_PI / 2, 1e-9);
+	b = nth(SH2000_PROG_ARC, 2);
+	assert_near(b->u.arc.centre[0], 0, 1e-9);
+	assert_near(b->u.arc.centre[1], 10, 1e-9);
+	assert_near(b->u.arc.sweep, M_PI / 2, 1e-9);
+	/* cannot reach; no end; no plane axis word */
+	expect_error(G, "G1 F1\nG2 X10 Y0 R4.99\n", SH2000_PD_ARC, 2, 1);
+	expect_error(G, "G1 F1\nG2 X0 Y0 R4\n", SH2000_PD_ARC, 2, 1);
+	expect_error(G, "G1 F1\nG2 Z1 R4\n", SH2000_PD_MISSING, 2, 1);
+	/* R and I/J together, neither */
+	expect_error(G, "G1 F1\nG2 X1 R4 I1\n", SH2000_PD_CONFLICT, 2, 7);
+	expect_error(G, "G1 F1\nG2 X1\n", SH2000_PD_MISSING, 2, 1);
+}
+
+static void test_arc_radius_tolerance(void **state)
+{
+	struct sh2000_prog_options o;
+
+	(void)state;
+	/* within 0.0283 mm and 0.1 % */
+	expect_ok(G, "G0 X10\nG3 X0 Y10.005 I-10 F1\n");
+	assert_near(nth(SH2000_PROG_ARC, 0)->u.arc.end_radius, 10.005, 1e-12);
+	/* 0.015 mm is within the absolute but not the relative tolerance */
+	expect_error(G, "G0 X10\nG3 X0 Y10.015 I-10 F1\n", SH2000_PD_ARC, 2, 1);
+	/* 0.05 mm on a 100 mm radius: relative fine, absolute not */
+	expect_error(G, "G0 X100\nG3 X0 Y100.05 I-100 F1\n", SH2000_PD_ARC, 2, 1);
+	expect_ok(G, "G0 X100\nG3 X0 Y100.02 I-100 F1\n");
+	/* in inches the absolute tolerance is 0.0028 in */
+	expect_ok(G, "G20 G0 X10\nG3 X0 Y10.002 I-10 F1\n");
+	expect_error(G, "G20 G0 X10\nG3 X0 Y10.004 I-10 F1\n", SH2000_PD_ARC, 2, 1);
+	/* a caller's tolerance */
+	sh2000_prog_options_default(&o);
+	o.arc_tolerance_mm = 0.001;
+	assert_int_equal(rd_opt(G, "G0 X100\nG3 X0 Y100.02 I-100 F1\n", &o),
+			 -SH2000_PROG_EINVALID);
+	/* zero radius */
+	expect_error(G, "G0 X1\nG2 I0.0001 J0 F1\n", SH2000_PD_ARC, 2, 1);
+}
+
+static void test_arc_words(void **state)
+{
+	(void)state;
+	/* P turns */
+	expect_error(G, "G2 I1 P1.5 F1\n", SH2000_PD_RANGE, 1, 7);
+	expect_error(G, "G2 I1 P0 F1\n", SH2000_PD_RANGE, 1, 7);
+	/* feed */
+	expect_error(G, "G2 I1\n", SH2000_PD_FEED, 1, 1);
+	expect_error(G, "G1 X1 F0\nG3 I1\n", SH2000_PD_FEED, 1, 1);
+	/* modal arc with axis words, and a full circle needs its G word */
+	expect_ok(G, "G0 X10\nG3 X0 Y10 I-10 F1\nX-10 Y0 J-10\n");
+	assert_int_equal(count_kind(SH2000_PROG_ARC), 2);
+	expect_error(G, "G0 X10\nG3 X0 Y10 I-10 F1\nI5\n", SH2000_PD_CONFLICT, 3, 1);
+}
+
+static void test_dwell_pause_end(void **state)
+{
+	(void)state;
+	expect_ok(G, "G4 P1.5\nG1 X1 F60 M0\nM1\nG0 X0 M30\nG0 X5\n");
+	assert_near(nth(SH2000_PROG_DWELL, 0)->u.dwell_s, 1.5, 1e-12);
+	assert_int_equal(P.blocks[2].kind, SH2000_PROG_LINE);
+	assert_int_equal(P.blocks[3].kind, SH2000_PROG_PAUSE);
+	assert_false(P.blocks[3].u.optional);
+	assert_int_equal(P.blocks[3].pos.column, 11);
+	assert_true(nth(SH2000_PROG_PAUSE, 1)->u.optional);
+	assert_int_equal(nth(SH2000_PROG_END, 0)->u.end_code, 30);
+	assert_pos4(nth(SH2000_PROG_END, 0)->start, 0, 0, 0, 0);
+	/* the line after M30 is not read, and that is said */
+	assert_int_equal(count_kind(SH2000_PROG_RAPID), 1);
+	assert_int_equal(count_warnings(SH2000_PD_IGNORED), 1);
+	assert_int_equal(D.items[0].pos.line, 5);
+	/* G4 with a move: dwell first */
+	expect_ok(G, "G4 P1 G0 X1\n");
+	assert_int_equal(P.blocks[0].kind, SH2000_PROG_DWELL);
+	expect_error(G, "G4\n", SH2000_PD_MISSING, 1, 1);
+	expect_error(G, "G4 P-1\n", SH2000_PD_RANGE, 1, 4);
+	expect_error(G, "G4 G2 I1 P1 F1\n", SH2000_PD_CONFLICT, 1, 10);
+}
+
+static void test_warnings_once_per_kind(void **state)
+{
+	(void)state;
+	expect_ok(G, "S1000 M3\nG0 X1\nS2000 M4\nM5\nT1 M6\nT2 M6\nM8\nM7 M8\nM9\nM2\n");
+	assert_int_equal(D.errors, 0);
+	assert_int_equal(D.warnings, 5);
+	assert_int_equal(count_warnings(SH2000_PD_NOT_ACTED), 5);
+	assert_true(has_message("S1000 (spindle speed) not acted on"));
+	assert_true(has_message("M3 (spindle clockwise) not acted on"));
+	assert_true(has_message("T1 (tool select) not acted on"));
+	assert_true(has_message("M6 (tool change) not acted on"));
+	assert_true(has_message("M8 (coolant flood) not acted on"));
+	/* positions of the first of each kind */
+	for (size_t i = 0; i < D.count; i++) {
+		const struct sh2000_prog_diag *g = &D.items[i];
+
+		if (strstr(g->message, "S1000"))
+			assert_true(g->pos.line == 1 && g->pos.column == 1);
+		if (strstr(g->message, "M3 "))
+			assert_true(g->pos.line == 1 && g->pos.column == 7);
+		if (strstr(g->message, "T1"))
+			assert_true(g->pos.line == 5 && g->pos.column == 1);
+		if (strstr(g->message, "M6"))
+			assert_true(g->pos.line == 5 && g->pos.column == 4);
+		if (strstr(g->message, "M8"))
+			assert_true(g->pos.line == 7 && g->pos.column == 1);
+	}
+	assert_int_equal(count_kind(SH2000_PROG_RAPID), 1);
+	assert_int_equal(count_kind(SH2000_PROG_END), 1);
+	/* a message comment is read as a comment, with one warning */
+	expect_ok(G, "(MSG, hello)\n(msg,again)\n(DEBUG, x)\n");
+	assert_int_equal(count_warnings(SH2000_PD_IGNORED), 1);
+}
+
+static void test_modal_group_conflicts(void **state)
+{
+	(void)state;
+	expect_error(G, "G0 G1 X1\n", SH2000_PD_CONFLICT, 1, 4);
+	expect_error(G, "G1 G2 X1\n", SH2000_PD_CONFLICT, 1, 4);
+	expect_error(G, "G5.2 G1 X1 Y1\n", SH2000_PD_CONFLICT, 1, 6);
+	expect_error(G, "G17 G18\n", SH2000_PD_CONFLICT, 1, 5);
+	expect_error(G, "G20 G21\n", SH2000_PD_CONFLICT, 1, 5);
+	expect_error(G, "G90 G91\n", SH2000_PD_CONFLICT, 1, 5);
+	expect_error(G, "G90.1 G91.1\n", SH2000_PD_CONFLICT, 1, 7);
+	expect_error(G, "G61 G64\n", SH2000_PD_CONFLICT, 1, 5);
+	expect_error(G, "M3 M5\n", SH2000_PD_CONFLICT, 1, 4);
+	expect_error(G, "M0 M2\n", SH2000_PD_CONFLICT, 1, 4);
+	expect_error(G, "M8 M9\n", SH2000_PD_CONFLICT, 1, 4);
+	expect_error(G, "G1 X1 X2 F1\n", SH2000_PD_CONFLICT, 1, 7);
+	expect_error(G, "G1 X1 F1 F2\n", SH2000_PD_CONFLICT, 1, 10);
+	/* words without a user */
+	expect_error(G, "G1 X1 P2 F1\n", SH2000_PD_CONFLICT, 1, 7);
+	expect_error(G, "G1 X1 I2 F1\n", SH2000_PD_CONFLICT, 1, 7);
+	expect_error(G, "G1 X1 R2 F1\n", SH2000_PD_CONFLICT, 1, 7);
+	expect_error(G, "G1 X1 L2 F1\n", SH2000_PD_CONFLICT, 1, 7);
+	/* axis words need a motion mode */
+	expect_error(G, "X1\n", SH2000_PD_MISSING, 1, 1);
+	expect_error(G, "G0 X1\nG80\nY1\n", SH2000_PD_MISSING, 3, 1);
+	expect_error(G, "G80 X1\n", SH2000_PD_CONFLICT, 1, 1);
+}
+
+static void test_unknown_and_unsupported(void **state)
+{
+	(void)state;
+	expect_error(G, "G0 X1\nG12 X1\n", SH2000_PD_UNKNOWN, 2, 1);
+	expect_error(G, "G1.5\n", SH2000_PD_UNKNOWN, 1, 1);
+	expect_error(G, "G0 X1 G41\n", SH2000_PD_UNSUPPORTED, 1, 7);
+	expect_error(G, "G38.2 Z-1\n", SH2000_PD_UNSUPPORTED, 1, 1);
+	expect_error(G, "G5.1 X1 Y1 I1\n", SH2000_PD_UNSUPPORTED, 1, 1);
+	expect_error(G, "G81 Z-1 R1\n", SH2000_PD_UNSUPPORTED, 1, 1);
+	expect_error(G, "G93\n", SH2000_PD_UNSUPPORTED, 1, 1);
+	expect_error(G, "G92 X0\n", SH2000_PD_UNSUPPORTED, 1, 1);
+	expect_error(G, "M98\n", SH2000_PD_UNSUPPORTED, 1, 1);
+	expect_error(G, "M60\n", SH2000_PD_UNSUPPORTED, 1, 1);
+	expect_error(G, "M55\n", SH2000_PD_UNKNOWN, 1, 1);
+	expect_error(G, "M1.5\n", SH2000_PD_UNKNOWN, 1, 1);
+	expect_error(G, "G0 B1\n", SH2000_PD_NO_AXIS, 1, 4);
+	expect_error(G, "G0 X1 C1\n", SH2000_PD_NO_AXIS, 1, 7);
+	expect_error(G, "G0 U1\n", SH2000_PD_NO_AXIS, 1, 4);
+	expect_error(G, "G41 D1\n", SH2000_PD_UNSUPPORTED, 1, 1);
+	expect_error(G, "G0 X1 H1\n", SH2000_PD_UNSUPPORTED, 1, 7);
+	expect_error(G, "#1=5\n", SH2000_PD_UNSUPPORTED, 1, 1);
+	expect_error(G, "G0 X#1\n", SH2000_PD_UNSUPPORTED, 1, 5);
+	expect_error(G, "G0 X[1+2]\n", SH2000_PD_UNSUPPORTED, 1, 5);
+	expect_error(G, "O100 sub\n", SH2000_PD_UNSUPPORTED, 1, 1);
+	expect_error(G, "/G0 X1\n", SH2000_PD_UNSUPPORTED, 1, 1);
+}
+
+static void test_syntax_errors(void **state)
+{
+	(void)state;
+	expect_error(G, "G0 X\n", SH2000_PD_SYNTAX, 1, 4);
+	expect_error(G, "G0 X-\n", SH2000_PD_SYNTAX, 1, 4);
+	expect_error(G, "G0 X1 $\n", SH2000_PD_SYNTAX, 1, 7);
+	expect_error(G, "G0 X1 \x01\n", SH2000_PD_SYNTAX, 1, 7);
+	expect_error(G, "G0 X1 (unclosed\n", SH2000_PD_SYNTAX, 1, 7);
+	expect_error(G, "(a (b) )\n", SH2000_PD_SYNTAX, 1, 4);
+	expect_error(G, "G0 N5 X1\n", SH2000_PD_SYNTAX, 1, 4);
+	expect_error(G, "G0 X1e3\n", SH2000_PD_UNSUPPORTED, 1, 6);
+	expect_error(G, "G1 X1 F-5\n", SH2000_PD_RANGE, 1, 7);
+	expect_error(G, "G1 X1\n", SH2000_PD_FEED, 1, 1);
+	{
+		/* a number too large for a double */
+		char text[700] = "G0 X";
+
+		memset(text + 4, '9', 400);
+		strcpy(text + 404, "\n");
+		expect_error(G, text, SH2000_PD_RANGE, 1, 4);
+	}
+}
+
+static void test_errors_everywhere_nothing_moves(void **state)
+{
+	char text[2000] = "";
+
+	(void)state;
+	/* every bad line is reported, with its line */
+	assert_int_equal(rd(G, "G0 X1\nG0 B1\nG0 X2\nG0 Q1\nM2\n"), -SH2000_PROG_EINVALID);
+	assert_int_equal(D.errors, 2);
+	assert_int_equal(D.items[0].pos.line, 2);
+	assert_int_equal(D.items[1].pos.line, 4);
+	assert_int_equal(P.count, 0);
+	/* and reading stops after max_errors */
+	for (int i = 0; i < 30; i++)
+		strcat(text, "G0 B1\n");
+	assert_int_equal(rd(G, text), -SH2000_PROG_EINVALID);
+	assert_int_equal(D.errors, 21);
+	assert_int_equal(D.items[20].code, SH2000_PD_LIMIT);
+	/* an arc error leaves the position at the programmed end */
+	assert_int_equal(rd(G, "G0 X10\nG3 X0 Y10.5 I-10 F1\nG3 X-10 Y0 J-10\n"),
+			 -SH2000_PROG_EINVALID);
+	assert_int_equal(D.errors, 2);	/* the next arc is also off */
+}
+
+static void test_diag_format_and_files(void **state)
+{
+	char buf[256];
+	int ret;
+
+	(void)state;
+	expect_error(G, "G0 X1\nG0 B1\n", SH2000_PD_NO_AXIS, 2, 4);
+	sh2000_prog_diag_format(first_error(), buf, sizeof(buf));
+	assert_string_equal(buf, "t.ngc:2:4: error: the SH-2000TH has no B axis (its axes are X, Y, Z and the linear A)");
+	/* files */
+	sh2000_prog_diags_free(&D);
+	ret = sh2000_program_read_file(&P, SH2000_PROG_AUTO, "/nonexistent/x.ngc",
+				       NULL, &D);
+	assert_int_equal(ret, -ENOENT);
+	assert_int_equal(D.errors, 1);
+	sh2000_prog_diag_format(&D.items[0], buf, sizeof(buf));
+	assert_string_equal(buf, "/nonexistent/x.ngc: error: cannot read: No such file or directory");
+	{
+		char path[] = "/tmp/sh2000-prog-XXXXXX.ngc";
+		int fd = mkstemps(path, 4);
+		FILE *f = fdopen(fd, "w");
+
+		assert_non_null(f);
+		fputs("G0 X3\nM2\n", f);
+		fclose(f);
+		sh2000_prog_diags_free(&D);
+		assert_int_equal(sh2000_program_read_file(&P, SH2000_PROG_AUTO, path,
+							  NULL, &D), 0);
+		assert_int_equal(P.count, 2);
+		assert_string_equal(P.blocks[0].pos.file, path);
+		unlink(path);
+	}
+	assert_int_equal(sh2000_prog_format_guess("a/b.NGC"), SH2000_PROG_GCODE);
+	assert_int_equal(sh2000_prog_format_guess("x.canon"), SH2000_PROG_CANON);
+	assert_int_equal(sh2000_prog_format_guess("x.csv"), SH2000_PROG_CSV);
+	assert_int_equal(sh2000_prog_format_guess("x.json"), SH2000_PROG_NURBS_JSON);
+	assert_int_equal(sh2000_prog_format_guess("x.d/noext"), SH2000_PROG_AUTO);
+	sh2000_prog_diags_free(&D);
+	assert_int_equal(sh2000_program_read(&P, SH2000_PROG_AUTO, "noext", "", 0,
+					     NULL, &D), -SH2000_PROG_EFORMAT);
+	assert_string_equal(sh2000_prog_strerror(-SH2000_PROG_EINVALID),
+			    "the program has errors");
+	assert_string_equal(sh2000_prog_strerror(-ENOMEM), strerror(ENOMEM));
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test_setup_teardown(test_rapid_line_feed_end, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_modal_motion_and_axes, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_distance_modes, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_units, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_lexical, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_noop_and_path_codes, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_arc_xy, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_circles_and_helix, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_arc_xz_yz, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_arc_centre_modes, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_arc_r_format, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_arc_radius_tolerance, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_arc_words, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_dwell_pause_end, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_warnings_once_per_kind, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_modal_group_conflicts, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_unknown_and_unsupported, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_syntax_errors, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_errors_everywhere_nothing_moves, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_diag_format_and_files, setup, teardown),
+	};
+
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -162,8 +162,38 @@ struct sh2000_fw {
 	void *observer_ctx;
 };
 
-/* firmware.c, for inject.c */
+static inline int sh2000_axis_enabled(const struct sh2000_fw_axis *ax)
+{
+	return (ax->state & SH2000_AXIS_ENABLED) != 0;
+}
+
+/* RUNNING, STOPPING or HOMING: what "while moving" means everywhere. */
+static inline int sh2000_fw_in_motion(const struct sh2000_fw *fw)
+{
+	return fw->state == SH2000_STATE_RUNNING ||
+	       fw->state == SH2000_STATE_STOPPING ||
+	       fw->state == SH2000_STATE_HOMING;
+}
+
+/* firmware.c */
 void sh2000_fw_publish_words(struct sh2000_fw *fw);
 double sh2000_fw_servo_s(const struct sh2000_fw *fw);
+/* Set-point of axis a becomes x, at rest; the window holds x. */
+void sh2000_fw_hold_at(struct sh2000_fw *fw, unsigned int a, double x);
+/* The FPGA counter preset: the axis reads `pos` here from now on. */
+void sh2000_fw_set_position(struct sh2000_fw *fw, unsigned int a, int64_t pos);
+
+/* params.c: results are SH2000_RES_* */
+uint16_t sh2000_fw_get_param(struct sh2000_fw *fw, unsigned int axis,
+			    unsigned int id, uint32_t *out);
+uint16_t sh2000_fw_set_param(struct sh2000_fw *fw, unsigned int axis,
+			    unsigned int id, uint32_t bits);
+void sh2000_fw_default_params(struct sh2000_fw *fw);
+
+/* homing.c */
+uint16_t sh2000_home_start(struct sh2000_fw *fw, unsigned int axis,
+			   uint32_t flags);
+void sh2000_home_cycle(struct sh2000_fw *fw, double T);
+void sh2000_home_abort(struct sh2000_fw_axis *ax);
 
 #endif /* SH2000_CARDMODEL_H */

@@ -16,24 +16,14 @@
  */
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "cardmodel.h"
 
 #define RD(fw, w)	sh2000_dpram_read((fw)->ram, (w))
 #define WR(fw, w, v)	sh2000_dpram_write((fw)->ram, (w), (uint16_t)(v))
 
-static int is_enabled(const struct sh2000_fw_axis *ax)
-{
-	return (ax->state & SH2000_AXIS_ENABLED) != 0;
-}
-
-static int in_motion(const struct sh2000_fw *fw)
-{
-	return fw->state == SH2000_STATE_RUNNING ||
-	       fw->state == SH2000_STATE_STOPPING ||
-	       fw->state == SH2000_STATE_HOMING;
-}
+#define is_enabled	sh2000_axis_enabled
+#define in_motion	sh2000_fw_in_motion
 
 double sh2000_fw_servo_s(const struct sh2000_fw *fw)
 {
@@ -48,7 +38,7 @@ uint64_t sh2000_fw_servo_period_ns(const struct sh2000_fw *fw)
 /* ---- holding, stopping ---- */
 
 /* Set-point of axis a becomes x, at rest; the window holds x. */
-static void hold_at(struct sh2000_fw *fw, unsigned int a, double x)
+void sh2000_fw_hold_at(struct sh2000_fw *fw, unsigned int a, double x)
 {
 	struct sh2000_fw_axis *ax = &fw->ax[a];
 
@@ -64,20 +54,14 @@ static void discard_ring(struct sh2000_fw *fw)
 	WR(fw, SH2000_W_TAIL, fw->tail);
 }
 
-static void abort_homing(struct sh2000_fw_axis *ax)
-{
-	ax->home = HOME_NONE;
-	ax->state &= (uint16_t)~SH2000_AXIS_HOMING;
-}
-
 /* The motion is over: every axis holds where its set-point is. */
 static void settle(struct sh2000_fw *fw)
 {
 	unsigned int a;
 
 	for (a = 0; a < SH2000_AXES; a++) {
-		abort_homing(&fw->ax[a]);
-		hold_at(fw, a, fw->ax[a].cmd);
+		sh2000_home_abort(&fw->ax[a]);
+		sh2000_fw_hold_at(fw, a, fw->ax[a].cmd);
 	}
 	fw->ending = 0;
 	fw->pad_left = 0;
@@ -106,7 +90,7 @@ static void begin_stop(struct sh2000_fw *fw)
 	for (a = 0; a < SH2000_AXES; a++) {
 		struct sh2000_fw_axis *ax = &fw->ax[a];
 
-		abort_homing(ax);
+		sh2000_home_abort(ax);
 		if (is_enabled(ax) && fabs(ax->cmd_v) / ax->prm.amax > tstop)
 			tstop = fabs(ax->cmd_v) / ax->prm.amax;
 	}
@@ -155,10 +139,10 @@ static void disable_axis(struct sh2000_fw *fw, unsigned int a)
 	struct sh2000_fw_axis *ax = &fw->ax[a];
 
 	ax->state &= (uint16_t)~(SH2000_AXIS_ENABLED | SH2000_AXIS_MOVING);
-	abort_homing(ax);
+	sh2000_home_abort(ax);
 	ax->dac = 0;
 	sh2000_pid_reset(&ax->pid);
-	hold_at(fw, a, (double)ax->act);
+	sh2000_fw_hold_at(fw, a, (double)ax->act);
 }
 
 static void axis_fault(struct sh2000_fw *fw, unsigned int a, uint16_t bit,
@@ -179,8 +163,8 @@ static void estop(struct sh2000_fw *fw)
 	for (a = 0; a < SH2000_AXES; a++) {
 		struct sh2000_fw_axis *ax = &fw->ax[a];
 
-		abort_homing(ax);
-		hold_at(fw, a, (double)ax->act);
+		sh2000_home_abort(ax);
+		sh2000_fw_hold_at(fw, a, (double)ax->act);
 		/* keep the accumulated output, forget the error history:
 		 * no derivative kick from the jump of the set-point */
 		ax->pid.e1 = 0.0;
@@ -276,147 +260,6 @@ static void host_watchdog(struct sh2000_fw *fw)
 		card_fault(fw, SH2000_FAULT_HOST_TIMEOUT);
 }
 
-/* ---- parameters ---- */
-
-static uint32_t f32_bits(double v)
-{
-	float f = (float)v;
-	uint32_t b;
-
-	memcpy(&b, &f, sizeof(b));
-	return b;
-}
-
-static double f32_value(uint32_t b)
-{
-	float f;
-
-	memcpy(&f, &b, sizeof(f));
-	return (double)f;
-}
-
-static double *axis_f(struct sh2000_axis_params *p, unsigned int id)
-{
-	switch (id) {
-	case SH2000_P_SCALE: return &p->scale;
-	case SH2000_P_KP: return &p->kp;
-	case SH2000_P_TI: return &p->ti;
-	case SH2000_P_TD: return &p->td;
-	case SH2000_P_KVFF: return &p->kvff;
-	case SH2000_P_KAFF: return &p->kaff;
-	case SH2000_P_VMAX: return &p->vmax;
-	case SH2000_P_AMAX: return &p->amax;
-	case SH2000_P_HOME_VEL: return &p->home_vel;
-	default: return NULL;
-	}
-}
-
-static int32_t *axis_i(struct sh2000_axis_params *p, unsigned int id)
-{
-	switch (id) {
-	case SH2000_P_DAC_RANGE: return &p->dac_range;
-	case SH2000_P_DAC_LIMIT: return &p->dac_limit;
-	case SH2000_P_FERR_LIMIT: return &p->ferr_limit;
-	case SH2000_P_SOFT_MIN: return &p->soft_min;
-	case SH2000_P_SOFT_MAX: return &p->soft_max;
-	case SH2000_P_HOME_DEBOUNCE: return &p->home_debounce;
-	case SH2000_P_HOME_OFFSET: return &p->home_offset;
-	default: return NULL;
-	}
-}
-
-static int32_t *global_i(struct sh2000_fw *fw, unsigned int id)
-{
-	switch (id) {
-	case SH2000_GP_COARSE_PERIOD_US: return &fw->coarse_us;
-	case SH2000_GP_FINE_STEPS: return &fw->fine_steps;
-	case SH2000_GP_HOST_TIMEOUT_MS: return &fw->host_timeout_ms;
-	case SH2000_GP_STATUS_PERIOD: return &fw->status_period;
-	default: return NULL;
-	}
-}
-
-/* Parameters that may change while the card moves: the loop gains and
- * limits that do not change the meaning of queued records. */
-static int live_param(unsigned int id)
-{
-	switch (id) {
-	case SH2000_P_KP: case SH2000_P_TI: case SH2000_P_TD:
-	case SH2000_P_KVFF: case SH2000_P_KAFF: case SH2000_P_FERR_LIMIT:
-	case SH2000_GP_HOST_TIMEOUT_MS: case SH2000_GP_STATUS_PERIOD:
-		return 1;
-	default:
-		return 0;
-	}
-}
-
-static int timing_ok(int64_t coarse_us, int64_t fine)
-{
-	int64_t ns = coarse_us * 1000;
-
-	return ns % fine == 0 && ns / fine >= (int64_t)SH2000_FW_MIN_SERVO_NS;
-}
-
-static uint16_t get_param(struct sh2000_fw *fw, unsigned int axis,
-			  unsigned int id, uint32_t *out)
-{
-	const struct sh2000_param_info *pi = sh2000_param_lookup(id);
-
-	if (!pi)
-		return SH2000_RES_BAD_PARAM;
-	if (id >= SH2000_GP_FIRST) {
-		if (axis != SH2000_AXIS_GLOBAL)
-			return SH2000_RES_BAD_AXIS;
-		*out = (uint32_t)*global_i(fw, id);
-		return SH2000_RES_OK;
-	}
-	if (axis >= SH2000_AXES)
-		return SH2000_RES_BAD_AXIS;
-	if (pi->type == SH2000_PT_F32)
-		*out = f32_bits(*axis_f(&fw->ax[axis].prm, id));
-	else
-		*out = (uint32_t)*axis_i(&fw->ax[axis].prm, id);
-	return SH2000_RES_OK;
-}
-
-static uint16_t set_param(struct sh2000_fw *fw, unsigned int axis,
-			  unsigned int id, uint32_t bits)
-{
-	const struct sh2000_param_info *pi = sh2000_param_lookup(id);
-	double v;
-
-	if (!pi)
-		return SH2000_RES_BAD_PARAM;
-	if (id >= SH2000_GP_FIRST ? axis != SH2000_AXIS_GLOBAL :
-				    axis >= SH2000_AXES)
-		return SH2000_RES_BAD_AXIS;
-	v = pi->type == SH2000_PT_F32 ? f32_value(bits) :
-					(double)(int32_t)bits;
-	if (sh2000_param_in_range(pi, v))
-		return SH2000_RES_BAD_VALUE;
-	if (in_motion(fw) && !live_param(id))
-		return SH2000_RES_BUSY;
-	if (id >= SH2000_GP_FIRST) {
-		if (id == SH2000_GP_COARSE_PERIOD_US &&
-		    !timing_ok((int64_t)v, fw->fine_steps))
-			return SH2000_RES_BAD_VALUE;
-		if (id == SH2000_GP_FINE_STEPS &&
-		    !timing_ok(fw->coarse_us, (int64_t)v))
-			return SH2000_RES_BAD_VALUE;
-		*global_i(fw, id) = (int32_t)v;
-		return SH2000_RES_OK;
-	}
-	if (id == SH2000_P_SOFT_MIN && !(v < fw->ax[axis].prm.soft_max))
-		return SH2000_RES_BAD_VALUE;
-	if (id == SH2000_P_SOFT_MAX && !(v > fw->ax[axis].prm.soft_min))
-		return SH2000_RES_BAD_VALUE;
-	if (pi->type == SH2000_PT_F32)
-		*axis_f(&fw->ax[axis].prm, id) = v;
-	else
-		*axis_i(&fw->ax[axis].prm, id) = (int32_t)v;
-	return SH2000_RES_OK;
-}
-
 /* ---- commands ---- */
 
 static uint16_t cmd_enable(struct sh2000_fw *fw, uint32_t mask, int on)
@@ -447,40 +290,10 @@ static uint16_t cmd_enable(struct sh2000_fw *fw, uint32_t mask, int on)
 		if (!(mask & (1u << a)) || is_enabled(ax))
 			continue;
 		sh2000_pid_reset(&ax->pid);
-		hold_at(fw, a, (double)ax->act);
+		sh2000_fw_hold_at(fw, a, (double)ax->act);
 		ax->sat_cycles = 0;
 		ax->state |= SH2000_AXIS_ENABLED;
 	}
-	return SH2000_RES_OK;
-}
-
-static uint16_t cmd_home(struct sh2000_fw *fw, unsigned int axis,
-			 uint32_t flags)
-{
-	struct sh2000_fw_axis *ax;
-
-	if (axis >= SH2000_AXES)
-		return SH2000_RES_BAD_AXIS;
-	if (flags & ~SH2000_HOME_F_INDEX)
-		return SH2000_RES_BAD_VALUE;
-	if (fw->faults)
-		return SH2000_RES_FAULTED;
-	ax = &fw->ax[axis];
-	if (!is_enabled(ax))
-		return SH2000_RES_DISABLED;
-	if (fw->state != SH2000_STATE_IDLE && fw->state != SH2000_STATE_HOMING)
-		return SH2000_RES_BUSY;
-	if (ax->home != HOME_NONE)
-		return SH2000_RES_BUSY;
-	/* on the switch already: a reference taken here would depend on
-	 * where the axis happened to be, so leave the switch first */
-	ax->home = (ax->state & SH2000_AXIS_HOME_SW) ? HOME_BACKOFF : HOME_SEEK;
-	ax->home_flags = flags;
-	ax->debounce = 0;
-	ax->state &= (uint16_t)~(SH2000_AXIS_HOMED | SH2000_AXIS_INDEX);
-	ax->state |= SH2000_AXIS_HOMING;
-	fw->state = SH2000_STATE_HOMING;
-	fw->host_hb_cycles = 0;
 	return SH2000_RES_OK;
 }
 
@@ -493,9 +306,9 @@ static void reset(struct sh2000_fw *fw)
 
 		ax->faults = 0;
 		ax->sat_cycles = 0;
-		abort_homing(ax);
+		sh2000_home_abort(ax);
 		sh2000_pid_reset(&ax->pid);
-		hold_at(fw, a, (double)ax->act);
+		sh2000_fw_hold_at(fw, a, (double)ax->act);
 	}
 	fw->faults = 0;
 	discard_ring(fw);
@@ -508,7 +321,7 @@ static void reset(struct sh2000_fw *fw)
 }
 
 /* The FPGA's counter preset: the axis reads `pos` from now on. */
-static void set_position(struct sh2000_fw *fw, unsigned int a, int64_t pos)
+void sh2000_fw_set_position(struct sh2000_fw *fw, unsigned int a, int64_t pos)
 {
 	struct sh2000_fw_axis *ax = &fw->ax[a];
 
@@ -518,7 +331,7 @@ static void set_position(struct sh2000_fw *fw, unsigned int a, int64_t pos)
 	ax->act = pos;
 	ax->pid.e1 = 0.0;
 	ax->pid.e2 = 0.0;
-	hold_at(fw, a, (double)pos);
+	sh2000_fw_hold_at(fw, a, (double)pos);
 }
 
 static uint16_t execute(struct sh2000_fw *fw, uint16_t op, uint16_t axis,
@@ -533,11 +346,11 @@ static uint16_t execute(struct sh2000_fw *fw, uint16_t op, uint16_t axis,
 	case SH2000_CMD_DISABLE:
 		return cmd_enable(fw, arg, 0);
 	case SH2000_CMD_SET_PARAM:
-		return set_param(fw, axis, param, arg);
+		return sh2000_fw_set_param(fw, axis, param, arg);
 	case SH2000_CMD_GET_PARAM:
-		return get_param(fw, axis, param, value);
+		return sh2000_fw_get_param(fw, axis, param, value);
 	case SH2000_CMD_HOME:
-		return cmd_home(fw, axis, arg);
+		return sh2000_home_start(fw, axis, arg);
 	case SH2000_CMD_STOP:
 		if (in_motion(fw))
 			begin_stop(fw);
@@ -552,7 +365,7 @@ static uint16_t execute(struct sh2000_fw *fw, uint16_t op, uint16_t axis,
 			return SH2000_RES_BAD_AXIS;
 		if (in_motion(fw))
 			return SH2000_RES_BUSY;
-		set_position(fw, axis, (int32_t)arg);
+		sh2000_fw_set_position(fw, axis, (int32_t)arg);
 		return SH2000_RES_OK;
 	default:
 		return SH2000_RES_BAD_OP;
@@ -728,128 +541,6 @@ static void reject_all(struct sh2000_fw *fw)
 	reject(fw, seq, SH2000_REJECT_STATE);
 }
 
-/* ---- homing (seed 003) ---- */
-
-/* Set-point velocity towards vt within AMAX; position integrated. */
-static void ramp(struct sh2000_fw_axis *ax, double vt, double T)
-{
-	double dv = ax->prm.amax * T, v = ax->cmd_v;
-
-	if (v < vt)
-		v = v + dv < vt ? v + dv : vt;
-	else
-		v = v - dv > vt ? v - dv : vt;
-	ax->cmd += 0.5 * (ax->cmd_v + v) * T;
-	ax->cmd_a = (v - ax->cmd_v) / T;
-	ax->cmd_v = v;
-}
-
-/* Towards `target` with |v| <= vcap within AMAX; 1 when there. */
-static int move_to(struct sh2000_fw_axis *ax, double target, double vcap,
-		   double T)
-{
-	double d = target - ax->cmd, am = ax->prm.amax, vd;
-
-	if (fabs(d) <= am * T * T + 0.5 && fabs(ax->cmd_v) <= 2.0 * am * T) {
-		ax->cmd = target;
-		ax->cmd_v = 0.0;
-		ax->cmd_a = 0.0;
-		return 1;
-	}
-	vd = sqrt(2.0 * am * fabs(d));
-	if (vd > vcap)
-		vd = vcap;
-	ramp(ax, d > 0 ? vd : -vd, T);
-	return 0;
-}
-
-static void home_step(struct sh2000_fw *fw, unsigned int a, double T)
-{
-	struct sh2000_fw_axis *ax = &fw->ax[a];
-	double speed = fabs(ax->prm.home_vel), dir;
-	int64_t delta;
-
-	if (speed > ax->prm.vmax)
-		speed = ax->prm.vmax;
-	dir = ax->prm.home_vel < 0 ? -1.0 : 1.0;
-	switch (ax->home) {
-	case HOME_BACKOFF:
-		ramp(ax, -dir * speed, T);
-		ax->debounce = (ax->state & SH2000_AXIS_HOME_SW) ?
-				       0 : ax->debounce + 1;
-		if (ax->debounce >= (unsigned int)ax->prm.home_debounce)
-			ax->home = HOME_BACKSTOP;
-		break;
-	case HOME_BACKSTOP:
-		ramp(ax, 0.0, T);
-		if (ax->cmd_v == 0.0) {
-			ax->debounce = 0;
-			ax->home = HOME_SEEK;
-		}
-		break;
-	case HOME_SEEK:
-		ramp(ax, dir * speed, T);
-		if (!(ax->state & SH2000_AXIS_HOME_SW)) {
-			ax->debounce = 0;
-			break;
-		}
-		/* the reference is the edge that starts the run of active
-		 * samples, not where the run is confirmed: it does not
-		 * depend on speed or debounce */
-		if (ax->debounce++ == 0)
-			ax->home_latch = (double)ax->act;
-		if (ax->debounce >= (unsigned int)ax->prm.home_debounce)
-			ax->home = HOME_STOP1;
-		break;
-	case HOME_STOP1:
-		ramp(ax, 0.0, T);
-		if (ax->cmd_v == 0.0)
-			ax->home = (ax->home_flags & SH2000_HOME_F_INDEX) ?
-					   HOME_CREEP : HOME_RETURN;
-		break;
-	case HOME_CREEP:
-		ramp(ax, dir * speed / SH2000_FW_HOME_CREEP_DIV, T);
-		if (ax->plant.index_seen) {
-			ax->home_latch = (double)(ax->act +
-				sh2000_counter_delta(ax->plant.index_latch,
-						     ax->counter));
-			ax->home = HOME_STOP2;
-		}
-		break;
-	case HOME_STOP2:
-		ramp(ax, 0.0, T);
-		if (ax->cmd_v == 0.0)
-			ax->home = HOME_RETURN;
-		break;
-	case HOME_RETURN:
-		if (!move_to(ax, ax->home_latch, speed, T))
-			break;
-		delta = (int64_t)ax->prm.home_offset - (int64_t)ax->home_latch;
-		set_position(fw, a, ax->act + delta);
-		ax->cmd = (double)ax->prm.home_offset;
-		sh2000_interp_hold(&fw->ip, a, ax->cmd);
-		ax->home = HOME_NONE;
-		ax->state &= (uint16_t)~SH2000_AXIS_HOMING;
-		ax->state |= SH2000_AXIS_HOMED;
-		break;
-	default:
-		break;
-	}
-}
-
-static void homing(struct sh2000_fw *fw, double T)
-{
-	unsigned int a, busy = 0;
-
-	for (a = 0; a < SH2000_AXES; a++)
-		if (fw->ax[a].home != HOME_NONE) {
-			home_step(fw, a, T);
-			busy |= fw->ax[a].home != HOME_NONE;
-		}
-	if (!busy && fw->state == SH2000_STATE_HOMING)
-		fw->state = SH2000_STATE_IDLE;
-}
-
 /* ---- motion by state ---- */
 
 static void motion(struct sh2000_fw *fw, double T)
@@ -876,7 +567,7 @@ static void motion(struct sh2000_fw *fw, double T)
 		stop_step(fw, T);
 		break;
 	case SH2000_STATE_HOMING:
-		homing(fw, T);
+		sh2000_home_cycle(fw, T);
 		break;
 	case SH2000_STATE_FAULT:
 	case SH2000_STATE_ESTOP:
@@ -901,7 +592,7 @@ static void servo(struct sh2000_fw *fw, double T)
 
 		if (!is_enabled(ax)) {
 			ax->dac = 0;
-			hold_at(fw, a, (double)ax->act);
+			sh2000_fw_hold_at(fw, a, (double)ax->act);
 			continue;
 		}
 		if (ax->cmd_v != 0.0)
@@ -1077,25 +768,6 @@ void sh2000_sim_config_default(struct sh2000_sim_config *cfg)
 	}
 }
 
-static void default_params(struct sh2000_fw *fw)
-{
-	unsigned int a, id;
-
-	for (a = 0; a < SH2000_AXES; a++)
-		for (id = 0; id < SH2000_AXIS_PARAMS; id++) {
-			const struct sh2000_param_info *pi =
-				sh2000_param_lookup(id);
-
-			if (pi->type == SH2000_PT_F32)
-				*axis_f(&fw->ax[a].prm, id) =
-					(double)(float)pi->def;
-			else
-				*axis_i(&fw->ax[a].prm, id) = (int32_t)pi->def;
-		}
-	for (id = SH2000_GP_FIRST; id < SH2000_GP_END; id++)
-		*global_i(fw, id) = (int32_t)sh2000_param_lookup(id)->def;
-}
-
 int sh2000_fw_create(struct sh2000_fw **out, uint16_t *ram,
 		     const struct sh2000_sim_config *cfg)
 {
@@ -1114,7 +786,7 @@ int sh2000_fw_create(struct sh2000_fw **out, uint16_t *ram,
 		return -12;	/* -ENOMEM */
 	fw->ram = ram;
 	WR(fw, SH2000_W_STATE, SH2000_STATE_BOOT);
-	default_params(fw);
+	sh2000_fw_default_params(fw);
 	for (a = 0; a < SH2000_AXES; a++) {
 		struct sh2000_fw_axis *ax = &fw->ax[a];
 
@@ -1122,7 +794,7 @@ int sh2000_fw_create(struct sh2000_fw **out, uint16_t *ram,
 		ax->counter = sh2000_plant_counter(&ax->plant);
 		ax->act = ax->counter;
 		ax->prev_limit = 0;
-		hold_at(fw, a, (double)ax->act);
+		sh2000_fw_hold_at(fw, a, (double)ax->act);
 	}
 	/* Whatever the host left in its words is history, not a request. */
 	fw->estop_ack = RD(fw, SH2000_W_ESTOP_REQ);

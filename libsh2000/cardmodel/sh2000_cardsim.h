@@ -94,6 +94,10 @@ struct sh2000_probe {
 
 struct sh2000_fw;	/* fixed size; allocated once by sh2000_fw_create() */
 
+/* Only the RAM is shared: sh2000_fw_inject(), _probe() and _set_observer()
+ * touch the firmware's own state, so call them from the thread that runs
+ * sh2000_fw_cycle() or with the cycles held off (a lock around both). */
+
 int sh2000_fw_create(struct sh2000_fw **out, uint16_t *ram,
 		     const struct sh2000_sim_config *cfg);
 void sh2000_fw_destroy(struct sh2000_fw *fw);

@@ -104,7 +104,7 @@ static void estop_latency(void **state)
 	struct harness *h = *state;
 	unsigned int next = 0, i;
 	const struct sh2000_probe *p;
-	double frozen;
+	double frozen, over = 0.0;
 
 	long_move();
 	h_trace(h, 100000);
@@ -126,6 +126,15 @@ static void estop_latency(void **state)
 	h_cycles(h, 500);
 	for (i = h->trace_len - 500; i < h->trace_len; i++)
 		assert_true(h->trace[i].axis[0].fine_cmd == frozen);
+	/* braking from speed to the frozen point latches no axis fault */
+	assert_int_equal(h_word(h, SH2000_W_AXIS_FAULTS(0)), 0);
+	assert_int_equal(h_word(h, SH2000_W_FAULTS), SH2000_FAULT_ESTOP);
+	for (i = h->trace_len - 500; i < h->trace_len; i++)
+		if (h->trace[i].axis[0].actual - frozen > over)
+			over = h->trace[i].axis[0].actual - frozen;
+	printf("# estop at %.0f mm/s: braked to rest %.3f mm past the frozen point, back within %.0f counts after 50 ms\n",
+	       p->axis[0].velocity / 1e5, over / 1e5,
+	       fabs(h->trace[h->trace_len - 1].axis[0].actual - frozen));
 	/* no record is consumed while in ESTOP; pushing one is rejected */
 	h_push(h, pts[next], 999, 0);
 	h_cycles(h, 1);

@@ -111,8 +111,8 @@ static void test_json_curve(void **state)
 	o.start[2] = 5;
 	o.start[3] = 6;
 	expect_ok_opt(JSON, curve, &o);
-	/* rapid from (0,0,5,6)? no: the curve starts at its first control
-	 * point, which takes z and a from the start position */
+	/* no rapid: the curve starts at its first control point, which
+	 * takes z and a from the start position */
 	assert_int_equal(P.count, 2);
 	assert_int_equal(P.blocks[0].kind, SH2000_PROG_FEED);
 	assert_near(P.blocks[0].feed, 5, 0);
@@ -157,6 +157,7 @@ static void test_json_curves(void **state)
 		  "]}\n");
 	assert_int_equal(count_kind(SH2000_PROG_NURBS), 2);
 	assert_int_equal(count_kind(SH2000_PROG_RAPID), 0);
+	assert_int_equal(count_kind(SH2000_PROG_FEED), 2);
 	assert_near(nth(SH2000_PROG_NURBS, 0)->feed, 2, 0);
 	assert_near(nth(SH2000_PROG_NURBS, 1)->feed, 4, 0);
 	assert_int_equal(nth(SH2000_PROG_NURBS, 1)->pos.line, 3);
@@ -168,6 +169,7 @@ static void test_json_curves(void **state)
 		  " {\"degree\": 1, \"knots\": [0,0,1,1], \"points\": [[0,0],[5,0]]},\n"
 		  " {\"degree\": 1, \"knots\": [0,0,1,1], \"points\": [[6,0],[6,5]]}]}\n");
 	assert_int_equal(count_kind(SH2000_PROG_RAPID), 1);
+	assert_int_equal(count_kind(SH2000_PROG_FEED), 1);
 }
 
 static const char bad_weight[] =

@@ -126,6 +126,7 @@ struct jctx {
 	const char *text;
 	size_t len;
 	long curve;		/* index in "curves", or -1 */
+	double last_feed;	/* of the last FEED block, mm/s */
 	char prefix[32];	/* "curves[2]." or "" */
 };
 
@@ -361,13 +362,16 @@ static int read_curve(struct jctx *j, struct json_object *cv, double feed)
 		if (j->curve >= 0)
 			jlinecol(j->text, jlocate(j->text, j->len, 0, path, 2),
 				 &line, &col);
-		b = prog_push(c, SH2000_PROG_FEED, line, col);
-		if (!b) {
-			ret = -ENOMEM;
-			goto fail;
+		if (feed != j->last_feed) {
+			b = prog_push(c, SH2000_PROG_FEED, line, col);
+			if (!b) {
+				ret = -ENOMEM;
+				goto fail;
+			}
+			b->feed = feed;
+			b->u.feed_mm_min = feed * 60;
+			j->last_feed = feed;
 		}
-		b->feed = feed;
-		b->u.feed_mm_min = feed * 60;
 		b = prog_push(c, SH2000_PROG_NURBS, line, col);
 		if (!b) {
 			ret = -ENOMEM;

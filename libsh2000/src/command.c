@@ -458,6 +458,14 @@ int sh2000_param_set(struct sh2000 *h, int axis, unsigned int id, double v)
 	r = set_locked(h, axis, id, word);
 	if (!r && id == SH2000_P_SCALE)
 		h->scale[axis] = v;
+	if (!r && (id == SH2000_GP_COARSE_PERIOD_US ||
+		   id == SH2000_GP_FINE_STEPS)) {
+		if (id == SH2000_GP_COARSE_PERIOD_US)
+			h->coarse_us = word;
+		else
+			h->fine_steps = word;
+		sh2000_timing_changed(h);
+	}
 out:
 	pthread_mutex_unlock(&h->lock);
 	return r;

@@ -100,6 +100,17 @@ static int card_hello(struct sh2000 *h, char *msg, size_t len)
 		}
 	}
 
+	r = sh2000_command_locked(h, SH2000_CMD_GET_PARAM, SH2000_AXIS_GLOBAL,
+				  SH2000_GP_COARSE_PERIOD_US, 0, &h->coarse_us,
+				  SH2000_CMD_TIMEOUT_MS);
+	if (!r)
+		r = sh2000_command_locked(h, SH2000_CMD_GET_PARAM,
+					  SH2000_AXIS_GLOBAL, SH2000_GP_FINE_STEPS,
+					  0, &h->fine_steps,
+					  SH2000_CMD_TIMEOUT_MS);
+	if (r < 0)
+		return sh2000_msg(msg, len, r, "%s", h->err);
+	sh2000_timing_changed(h);
 	for (a = 0; a < SH2000_AXES; a++) {
 		int32_t v;
 		float f;

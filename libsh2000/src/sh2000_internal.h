@@ -70,6 +70,9 @@ struct sh2000 {
 	uint16_t hb_last;
 	uint64_t hb_change_ns;
 	uint64_t hb_limit_ns;
+	uint64_t hb_limit_user;		/* set by the caller, 0: derived */
+	uint64_t servo_ns;		/* coarse period / fine steps */
+	int32_t coarse_us, fine_steps;
 
 	/* 28-bit counter extension */
 	int act_seen;
@@ -110,6 +113,8 @@ void sh2000_hold_wait(struct sh2000 *h, uint64_t ns);
 uint64_t sh2000_now_locked(struct sh2000 *h);
 
 /* status.c, with the lock held */
+/* Heartbeat limit from the servo period (or the caller's choice). */
+void sh2000_timing_changed(struct sh2000 *h);
 /* Wait until the card publishes its next snapshot. */
 int sh2000_fresh_snapshot(struct sh2000 *h, int timeout_ms);
 uint64_t sh2000_hb_note(struct sh2000 *h, uint16_t hb, uint64_t now);

@@ -139,10 +139,25 @@ int sh2000_fresh_snapshot(struct sh2000 *h, int timeout_ms)
 	return r;
 }
 
+void sh2000_timing_changed(struct sh2000 *h)
+{
+	if (h->coarse_us > 0 && h->fine_steps > 0)
+		h->servo_ns = (uint64_t)h->coarse_us * 1000u /
+			      (uint64_t)h->fine_steps;
+	/* 10 ms, or 5 servo periods when those are longer (docs/protocol.md
+	 * section 5: a slow servo must not look like a stalled DSP) */
+	h->hb_limit_ns = SH2000_HEARTBEAT_LIMIT_NS;
+	if (5 * h->servo_ns > h->hb_limit_ns)
+		h->hb_limit_ns = 5 * h->servo_ns;
+	if (h->hb_limit_user)
+		h->hb_limit_ns = h->hb_limit_user;
+}
+
 void sh2000_set_heartbeat_limit(struct sh2000 *h, uint64_t ns)
 {
 	pthread_mutex_lock(&h->lock);
-	h->hb_limit_ns = ns ? ns : SH2000_HEARTBEAT_LIMIT_NS;
+	h->hb_limit_user = ns;
+	sh2000_timing_changed(h);
 	pthread_mutex_unlock(&h->lock);
 }
 

@@ -140,10 +140,11 @@ struct sh2000_status {
 	struct sh2000_axis_status axis[SH2000_AXES];
 };
 
-/* A card heartbeat unchanged for this long is a stopped DSP. */
+/* A card heartbeat unchanged for this long is a stopped DSP (or five
+ * servo periods, when the card is set to run slower than 500 Hz). */
 #define SH2000_HEARTBEAT_LIMIT_NS	10000000ull
-/* Change the limit for this handle (0: SH2000_HEARTBEAT_LIMIT_NS), e.g.
- * for a `sim:NAME` card served on a loaded machine. */
+/* Change the limit for this handle (0: back to the rule above), e.g. for
+ * a `sim:NAME` card served on a loaded machine. */
 void sh2000_set_heartbeat_limit(struct sh2000 *h, uint64_t ns);
 /* Torn snapshots re-read before a poll gives up with SH2000_ETORN. */
 #define SH2000_POLL_RETRIES		16

@@ -1167,7 +1167,7 @@ static long storm_worker(const char *host, const char *dsp, const char *host2,
 }
 
 static void t_storm(const char *host, const char *dsp, const char *host2,
-		    long ops)
+		    long ops, unsigned long long seed)
 {
 	pid_t p[2];
 	int status;
@@ -1185,7 +1185,8 @@ static void t_storm(const char *host, const char *dsp, const char *host2,
 		p[k] = fork();
 		if (p[k] == 0) {
 			storm_worker(host, dsp, host2, ops / 2,
-				     0xdeadbeefULL + (uint64_t)k * 7919, &st[k]);
+				     0xdeadbeefULL * seed + (uint64_t)k * 7919,
+				     &st[k]);
 			_exit(0);
 		}
 	}
@@ -1202,8 +1203,8 @@ static void t_storm(const char *host, const char *dsp, const char *host2,
 			fails += st[k].err[i];
 		}
 	}
-	printf("KTEST info storm: %ld operations in %ld s: %ld transfers moved data, %ld other calls ok, %ld failed (EINVAL %ld, EFAULT %ld, ENOSPC %ld, ENOTTY %ld, EBADF %ld, ENODEV %ld, other %ld)\n",
-	       ops, (long)(time(NULL) - start), xfer, okc, fails, e[EINVAL],
+	printf("KTEST info storm (seed %llu): %ld operations in %ld s: %ld transfers moved data, %ld other calls ok, %ld failed (EINVAL %ld, EFAULT %ld, ENOSPC %ld, ENOTTY %ld, EBADF %ld, ENODEV %ld, other %ld)\n",
+	       seed, ops, (long)(time(NULL) - start), xfer, okc, fails, e[EINVAL],
 	       e[EFAULT], e[ENOSPC], e[ENOTTY], e[EBADF], e[ENODEV],
 	       fails - e[EINVAL] - e[EFAULT] - e[ENOSPC] - e[ENOTTY] -
 	       e[EBADF] - e[ENODEV]);
@@ -1396,7 +1397,7 @@ static void t_latency(const char *host)
 	busy = wakeup_latency_us(2000);
 	kill(hog, SIGKILL);
 	waitpid(hog, NULL, 0);
-	printf("KTEST info latency: worst wakeup of a SCHED_FIFO task on the same CPU: %ld us idle, %ld us while another task streams whole-RAM transfers\n",
+	printf("KTEST info latency (TCG timers, indicative only): worst wakeup of a SCHED_FIFO task on the same CPU: %ld us idle, %ld us while another task streams whole-RAM transfers\n",
 	       idle, busy);
 }
 
@@ -1424,7 +1425,8 @@ int main(int argc, char **argv)
 		t_signal();
 	} else if (!strcmp(argv[1], "storm") && argc >= 5) {
 		t_storm(argv[2], argv[3], argv[4],
-			argc > 5 ? atol(argv[5]) : 100000);
+			argc > 5 ? atol(argv[5]) : 100000,
+			argc > 6 ? strtoull(argv[6], NULL, 0) : 1);
 	} else if (!strcmp(argv[1], "nocard")) {
 		t_nocard(argv[2]);
 	} else if (!strcmp(argv[1], "info") && argc >= 4) {

@@ -177,6 +177,37 @@ static void test_errors(void **state)
 	expect_error(CANON, "    1 N..... USE_LENGTH_UNITS(CANON_UNITS_FURLONG)\n", SH2000_PD_UNKNOWN, 1, 14);
 }
 
+/* the older format (saicanon before 2.6, canterp.cc's example): three or
+ * six axes, no spindle numbers, SET_ORIGIN_OFFSETS; M30 prints
+ * PALLET_SHUTTLE before PROGRAM_END */
+static void test_older_format(void **state)
+{
+	(void)state;
+	expect_ok(CANON,
+		  "1 N..... USE_LENGTH_UNITS(CANON_UNITS_MM)\n"
+		  "2 N..... SET_ORIGIN_OFFSETS(1.0000, 0.0000, 0.0000)\n"
+		  "3 N..... SET_FEED_REFERENCE(CANON_XYZ)\n"
+		  "7 N..... COMMENT(\"Assumes 4\"x4\"x2\" finished stock)\")\n"
+		  "10 N0080  MIST_OFF()\n"
+		  "12 N0090  USE_TOOL_LENGTH_OFFSET(0.0000)\n"
+		  "13 N0110  STRAIGHT_TRAVERSE(0.0000, 0.0000, 3.0000)\n"
+		  "14 N0140  SET_FEED_RATE(16.0000)\n"
+		  "15 N0140  SET_SPINDLE_SPEED(3500.0000)\n"
+		  "16 N0140  START_SPINDLE_CLOCKWISE()\n"
+		  "21 N0180  STRAIGHT_FEED(0.0000, 3.9150, 1.6875)\n"
+		  "281 N..... STOP_SPINDLE_TURNING()\n"
+		  "282 N..... SET_ORIGIN_OFFSETS(0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+		  "285 N..... PALLET_SHUTTLE()\n"
+		  "286 N..... PROGRAM_END()\n");
+	assert_pos4(nth(SH2000_PROG_RAPID, 0)->end, 1, 0, 3, 0);
+	assert_pos4(nth(SH2000_PROG_LINE, 0)->end, 1, 3.915, 1.6875, 0);
+	assert_int_equal(nth(SH2000_PROG_END, 0)->u.end_code, 30);
+	assert_int_equal(count_warnings(SH2000_PD_NOT_ACTED), 2);
+	expect_error(CANON, "12 N0090  USE_TOOL_LENGTH_OFFSET(1.0000)\n",
+		     SH2000_PD_UNSUPPORTED, 1, 11);
+	expect_error(CANON, "    1 N..... DWELL(1.0\n", SH2000_PD_SYNTAX, 1, 19);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -184,6 +215,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_units_offsets_planes, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_warnings, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_errors, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_older_format, setup, teardown),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -27,6 +27,7 @@ struct cstate {
 	double feed_mm_min;
 	double g5x[SH2000_PROG_AXES], g92[SH2000_PROG_AXES];	/* mm */
 	bool ended;
+	bool pallet;		/* PALLET_SHUTTLE: M30 is ending the program */
 };
 
 struct carg {
@@ -68,7 +69,7 @@ static const char *const ignored[] = {
 	"STOP_SPEED_FEED_SYNCH", "STOP_SPINDLE_TURNING", "FLOOD_OFF",
 	"MIST_OFF", "SET_SPINDLE_MODE", "TURN_PROBE_OFF", "USE_NO_SPINDLE_FORCE",
 	"SET_TOOL_TABLE_ENTRY", "ON_RESET", "INIT_CANON", "SET_BLOCK_DELETE",
-	"SET_OPTIONAL_PROGRAM_STOP", "COMMENT", "SET_FEED_MODE_OK",
+	"SET_OPTIONAL_PROGRAM_STOP", "COMMENT", "CHANGE_TOOL_NUMBER",
 	NULL,
 };
 
@@ -76,7 +77,7 @@ static const char *const ignored[] = {
  * cannot: errors. */
 static const char *const unsupported[] = {
 	"STRAIGHT_PROBE", "RIGID_TAP", "CLAMP_AXIS", "UNCLAMP_AXIS",
-	"PALLET_SHUTTLE", "SPINDLE_RETRACT", "SPINDLE_RETRACT_TRAVERSE",
+	"SPINDLE_RETRACT", "SPINDLE_RETRACT_TRAVERSE",
 	"TURN_PROBE_ON", "SYSTEM", "START_SPEED_FEED_SYNCH",
 	"SET_MOTION_OUTPUT_BIT", "CLEAR_MOTION_OUTPUT_BIT",
 	"SET_AUX_OUTPUT_BIT", "CLEAR_AUX_OUTPUT_BIT", "SET_MOTION_OUTPUT_VALUE",
@@ -123,15 +124,15 @@ static int parse_line(struct prog_ctx *c, const char *s, size_t n,
 				"expected COMMAND(...)");
 	open = i;
 	close = n;
-	while (close > open && s[close - 1] != ')') {
-		if (!isspace((unsigned char)s[close - 1]))
-			return prog_err(c, SH2000_PD_SYNTAX, line, (unsigned)close,
-					"text after the command's ')'");
+	while (close > open + 1 && s[close - 1] != ')')
 		close--;
-	}
-	if (close <= open + 0 || s[close - 1] != ')')
+	if (s[close - 1] != ')')
 		return prog_err(c, SH2000_PD_SYNTAX, line, (unsigned)open + 1,
 				"'(' without ')'");
+	for (k = close; k < n; k++)
+		if (!isspace((unsigned char)s[k]))
+			return prog_err(c, SH2000_PD_SYNTAX, line, (unsigned)k + 1,
+					"text after the command's ')'");
 	close--;		/* at ')' */
 	l->raw = s + open + 1;
 	l->nraw = close - open - 1;
@@ -361,8 +362,13 @@ static int do_line(struct prog_ctx *c, struct cstate *st, struct cline *l)
 		b = prog_push(c, SH2000_PROG_END, l->line, l->col);
 		if (!b)
 			return -ENOMEM;
-		b->u.end_code = 2;
+		b->u.end_code = st->pallet ? 30 : 2;
 		st->ended = true;
+		return 0;
+	}
+	if (name_is(l, "PALLET_SHUTTLE")) {
+		/* rs274 prints it for M30, just before PROGRAM_END */
+		st->pallet = true;
 		return 0;
 	}
 	if (name_is(l, "SET_G5X_OFFSET") || name_is(l, "SET_G92_OFFSET") ||
@@ -445,7 +451,7 @@ static int do_line(struct prog_ctx *c, struct cstate *st, struct cline *l)
 		return 0;
 	}
 	if (name_is(l, "CHANGE_TOOL") || name_is(l, "SELECT_TOOL") ||
-	    name_is(l, "SELECT_POCKET") || name_is(l, "CHANGE_TOOL_NUMBER")) {
+	    name_is(l, "SELECT_POCKET")) {
 		prog_warn_once(c, PW_TOOL, SH2000_PD_NOT_ACTED, l->line, l->col,
 			       "%s (tool) not acted on: the SH-2000TH has no tool changer; later tool commands are not reported",
 			       l->name);

@@ -289,12 +289,12 @@ static int lex_line(struct prog_ctx *c, const char *s, size_t n,
 						"N word (line number) must begin the line");
 			continue;
 		case 'G': {
-			long code = lround(v * 10);
+			long code = fabs(v) < 1000 ? lround(v * 10) : -1;
 			int grp;
 			char nb[16];
 
-			if (fabs(v * 10 - (double)code) > 1e-4 || code < 0 ||
-			    code > 9999)
+			if (code < 0 || code > 9999 ||
+			    fabs(v * 10 - (double)code) > 1e-4)
 				return prog_err(c, SH2000_PD_UNKNOWN, line, col,
 						"G%g is not a G code", v);
 			grp = g_group((int)code);
@@ -320,10 +320,10 @@ static int lex_line(struct prog_ctx *c, const char *s, size_t n,
 			break;
 		}
 		case 'M': {
-			long code = lround(v);
+			long code = fabs(v) < 10000 ? lround(v) : -1;
 			int grp;
 
-			if (fabs(v - (double)code) > 1e-6 || code < 0 || code > 9999)
+			if (code < 0 || code > 9999 || fabs(v - (double)code) > 1e-6)
 				return prog_err(c, SH2000_PD_UNKNOWN, line, col,
 						"M%g is not an M code", v);
 			grp = m_group((int)code);

@@ -78,7 +78,9 @@ struct sh2000 {
 	int act_seen;
 	uint32_t act_last[SH2000_AXES];
 	int64_t act_ext[SH2000_AXES];
-	uint32_t card_cycle_hi;		/* not used in v1: card time is 32 bit */
+	int cycle_seen;			/* 32-bit snapshot time extended */
+	uint32_t cycle_last;
+	uint64_t cycle_ext;
 
 	double scale[SH2000_AXES];	/* counts per mm, as last read/set */
 

@@ -27,7 +27,14 @@ static void decode(struct sh2000 *h, const uint16_t *w,
 	st->reject_seq = w[SH2000_W_REJECT_SEQ];
 	st->reject_reason = w[SH2000_W_REJECT_REASON];
 	st->reject_count = w[SH2000_W_REJECT_COUNT];
-	st->card_cycle = (uint32_t)sh2000_w32(&w[SH2000_W_SNAP_TIME_LO]);
+	{
+		uint32_t c = (uint32_t)sh2000_w32(&w[SH2000_W_SNAP_TIME_LO]);
+
+		h->cycle_ext = h->cycle_seen ? h->cycle_ext + (uint32_t)(c - h->cycle_last) : c;
+		h->cycle_last = c;
+		h->cycle_seen = 1;
+		st->card_cycle = h->cycle_ext;
+	}
 	st->snap_seq = w[SH2000_W_SNAP_SEQ_END];
 	for (a = 0; a < SH2000_AXES; a++) {
 		const uint16_t *s = &w[SH2000_W_SNAP_AXIS(a)];

@@ -9,6 +9,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <unistd.h>
+#include <linux/capability.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
 
 #include "simtest.h"
 
@@ -409,11 +412,31 @@ static void test_open_errors(void **state)
 	h = NULL;
 	assert_true(sh2000_open(&h, NULL, msg, sizeof(msg)) < 0);
 	assert_non_null(strstr(msg, SH2000_DEFAULT_DEVICE));
-	/* io: needs CAP_SYS_RAWIO: without it the message says so */
-	if (geteuid() != 0) {
-		assert_int_equal(sh2000_open(&h, "io:0x300", msg, sizeof(msg)),
-				 -EPERM);
-		assert_non_null(strstr(msg, "CAP_SYS_RAWIO"));
+	/* io: needs CAP_SYS_RAWIO: without it the message says so. A child
+	 * drops the capability (even root), so no port is ever touched. */
+	{
+		pid_t pid = fork();
+		int status = 0;
+
+		assert_true(pid >= 0);
+		if (pid == 0) {
+			struct __user_cap_header_struct hd = {
+				_LINUX_CAPABILITY_VERSION_3, 0 };
+			struct __user_cap_data_struct d[2];
+			int r;
+
+			memset(d, 0, sizeof(d));
+			syscall(SYS_capget, &hd, d);
+			d[CAP_SYS_RAWIO / 32].effective &= ~(1u << (CAP_SYS_RAWIO % 32));
+			if (syscall(SYS_capset, &hd, d) < 0)
+				_exit(2);
+			r = sh2000_open(&h, "io:0x300", msg, sizeof(msg));
+			_exit(r == -EPERM && strstr(msg, "needs CAP_SYS_RAWIO") &&
+			      strstr(msg, "io:0x300") ? 0 : 1);
+		}
+		assert_int_equal(waitpid(pid, &status, 0), pid);
+		assert_true(WIFEXITED(status));
+		assert_int_equal(WEXITSTATUS(status), 0);
 	}
 }
 

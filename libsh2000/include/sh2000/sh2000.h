@@ -131,7 +131,8 @@ struct sh2000_status {
 	unsigned int queue_free;
 	uint16_t heartbeat;		/* card heartbeat word */
 	uint64_t heartbeat_age_ns;	/* host time since it last changed */
-	uint64_t card_cycle;		/* servo cycle of the snapshot (32 bit) */
+	uint64_t card_cycle;		/* servo cycle of the snapshot, the
+					 * card's 32 bits extended to 64 */
 	uint16_t snap_seq;		/* snapshot sequence (SNAP_SEQ_*) */
 	uint16_t estop_req, estop_ack;
 	uint16_t reject_seq, reject_reason, reject_count;

@@ -218,6 +218,9 @@ static void test_json_errors(void **state)
 		     SH2000_PD_RANGE, 1, 68);
 	expect_error(JSON, "{\"degree\": 1, \"knots\": [0,0,1,1], \"weights\": [1], \"points\": [[0,0],[1,1]], \"feed\": 1}",
 		     SH2000_PD_NURBS, 1, 46);
+	expect_error(JSON, "{\"degree\": 1, \"knots\": [0,0,1,1], \"points\": [[0,0],[1,1e999]], \"feed\": 1}",
+		     SH2000_PD_SYNTAX, 1, 55);
+	assert_true(has_message("points[1][1]: must be a finite number"));
 	/* the curve would break, or has no domain */
 	expect_error(JSON, "{\"degree\": 1, \"knots\": [0,0,1,1,2,2], \"points\": [[0,0],[1,0],[1,1],[2,2]], \"feed\": 1}",
 		     SH2000_PD_NURBS, 1, 24);

@@ -218,6 +218,22 @@ static void test_arc_xz_yz(void **state)
 	assert_int_equal(b->u.arc.axisn, SH2000_PROG_X);
 	assert_near(b->u.arc.sweep, M_PI / 2, 1e-12);
 	assert_pos4(b->end, 3, 0, 10, 0);
+	/* full circles and helices in G18 and G19 */
+	expect_ok(G, "G0 X10\nG18 G2 I-10 Y4 P2 F60\nG19 G0 X0 Y10\nG3 J-10 X-3\n");
+	b = nth(SH2000_PROG_ARC, 0);
+	assert_near(b->u.arc.sweep, -4 * M_PI, 1e-12);
+	assert_pos4(b->end, 10, 4, 0, 0);
+	sh2000_prog_block_point(b, 0.125, p);	/* a quarter turn, from +X */
+	/* G2 seen from +Y (Z right, X up): clockwise, +X towards +Z */
+	assert_near(p[2], 10, 1e-9);
+	assert_near(p[0], 0, 1e-9);
+	assert_near(p[1], 0.5, 1e-12);
+	b = nth(SH2000_PROG_ARC, 1);
+	assert_near(b->u.arc.sweep, 2 * M_PI, 1e-12);
+	assert_pos4(b->end, -3, 10, 0, 0);
+	sh2000_prog_block_point(b, 0.25, p);	/* from +Y towards +Z */
+	assert_near(p[1], 0, 1e-9);
+	assert_near(p[2], 10, 1e-9);
 	/* the word for the normal axis' centre is an error */
 	expect_error(G, "G17 G2 X1 I1 K1 F1\n", SH2000_PD_CONFLICT, 1, 14);
 	expect_error(G, "G18 G2 X1 I1 J1 F1\n", SH2000_PD_CONFLICT, 1, 14);

@@ -294,11 +294,20 @@ static void test_arc_r_format(void **state)
 static void test_arc_radius_tolerance(void **state)
 {
 	struct sh2000_prog_options o;
+	const struct sh2000_prog_block *b;
 
 	(void)state;
 	/* within 0.0283 mm and 0.1 % */
 	expect_ok(G, "G0 X10\nG3 X0 Y10.005 I-10 F1\n");
-	assert_near(nth(SH2000_PROG_ARC, 0)->u.arc.end_radius, 10.005, 1e-12);
+	b = nth(SH2000_PROG_ARC, 0);
+	assert_near(b->u.arc.end_radius, 10.005, 1e-12);
+	/* the fitted circle goes through both ends, near the centre */
+	assert_near(hypot(10 - b->u.arc.fit_centre[0], 0 - b->u.arc.fit_centre[1]),
+		    b->u.arc.fit_radius, 1e-12);
+	assert_near(hypot(0 - b->u.arc.fit_centre[0], 10.005 - b->u.arc.fit_centre[1]),
+		    b->u.arc.fit_radius, 1e-12);
+	assert_true(hypot(b->u.arc.fit_centre[0], b->u.arc.fit_centre[1]) < 0.005);
+	assert_near(b->u.arc.fit_centre[2], 0, 0);
 	/* 0.015 mm is within the absolute but not the relative tolerance */
 	expect_error(G, "G0 X10\nG3 X0 Y10.015 I-10 F1\n", SH2000_PD_ARC, 2, 1);
 	/* 0.05 mm on a 100 mm radius: relative fine, absolute not */

@@ -464,6 +464,19 @@ int prog_arc_fill(struct prog_ctx *c, struct sh2000_prog_block *b,
 	a->turns = turns;
 	a->radius = r1;
 	a->end_radius = r2;
+	memcpy(a->fit_centre, a->centre, sizeof(a->fit_centre));
+	a->fit_radius = r1;
+	if (hypot(e1 - s1, e2 - s2) > 1e-9) {
+		double len = hypot(e1 - s1, e2 - s2);
+		double u1 = -(e2 - s2) / len, u2 = (e1 - s1) / len;
+		double m1 = (s1 + e1) / 2, m2 = (s2 + e2) / 2;
+		double t = (c1 - m1) * u1 + (c2 - m2) * u2;
+
+		a->fit_centre[a->axis1] = m1 + t * u1;
+		a->fit_centre[a->axis2] = m2 + t * u2;
+		a->fit_radius = hypot(s1 - a->fit_centre[a->axis1],
+				      s2 - a->fit_centre[a->axis2]);
+	}
 	a0 = atan2(s2 - c2, s1 - c1);
 	a1 = atan2(e2 - c2, e1 - c1);
 	d = a1 - a0;

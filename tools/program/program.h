@@ -133,6 +133,14 @@ struct sh2000_prog_arc {
 	double radius;		/* centre to start, mm */
 	double end_radius;	/* centre to end, mm (within the tolerance) */
 	/*
+	 * For planners that need a true circle: the point of the
+	 * perpendicular bisector of start and end (in the plane) nearest to
+	 * the programmed centre, and its radius, equal at both ends. The
+	 * programmed centre itself for a full circle.
+	 */
+	double fit_centre[3];
+	double fit_radius;
+	/*
 	 * Total signed angle in radians, counter-clockwise positive,
 	 * including the extra full turns: (0, 2 pi * turns] for G3. An end
 	 * equal to the start in the plane is a full circle.

@@ -208,6 +208,54 @@ static void test_params_rejected(void **state)
 	sh2000_close(h);
 }
 
+/*
+ * Every parameter: just outside its protocol range and NaN are refused by
+ * the library with no port write; the range's own edges are accepted by
+ * the library and by the card (one table for both sides).
+ */
+static void test_param_table_edges(void **state)
+{
+	struct sh2000 *h = simtest_open();
+	unsigned int id;
+
+	(void)state;
+	for (id = 0; id < SH2000_GP_END; id++) {
+		const struct sh2000_param_info *p = sh2000_param_lookup(id);
+		int axis = id >= SH2000_GP_FIRST ? SH2000_GLOBAL : 1;
+		double k = 1.0, lo, hi;
+		int scaled;
+		uint64_t w0;
+
+		if (!p)
+			continue;
+		scaled = strstr(sh2000_param_unit(id), "mm") &&
+			 id != SH2000_P_SCALE;
+		if (scaled)
+			CHECK(sh2000_param_get(h, 1, SH2000_P_SCALE, &k));
+		lo = p->min_exclusive ? p->min : p->min - 1.0 - fabs(p->min) * 0.01;
+		hi = p->max + 1.0 + fabs(p->max) * 0.01;
+		w0 = writes(h);
+		assert_int_equal(sh2000_param_set(h, axis, id, NAN), -SH2000_EPARAM);
+		if (id != SH2000_P_HOME_VEL) {
+			assert_int_equal(sh2000_param_set(h, axis, id, lo / k),
+					 -SH2000_EPARAM);
+			assert_non_null(strstr(sh2000_last_error(h), p->name));
+		}
+		assert_int_equal(sh2000_param_set(h, axis, id, hi / k), -SH2000_EPARAM);
+		assert_int_equal(writes(h), w0);
+		/* edges, where no other parameter's rule interferes */
+		if (id == SH2000_P_SCALE || id == SH2000_P_SOFT_MIN ||
+		    id == SH2000_P_SOFT_MAX || id == SH2000_GP_COARSE_PERIOD_US ||
+		    id == SH2000_GP_FINE_STEPS)
+			continue;
+		if (!p->min_exclusive && id != SH2000_P_HOME_VEL)
+			CHECK(sh2000_param_set(h, axis, id, p->min / k));
+		CHECK(sh2000_param_set(h, axis, id, p->max / k));
+		CHECK(sh2000_param_set(h, axis, id, p->def / k));
+	}
+	sh2000_close(h);
+}
+
 static void test_move(void **state)
 {
 	struct sh2000 *h = simtest_open();
@@ -447,6 +495,7 @@ int main(void)
 		cmocka_unit_test(test_costs),
 		cmocka_unit_test(test_params_round_trip),
 		cmocka_unit_test(test_params_rejected),
+		cmocka_unit_test(test_param_table_edges),
 		cmocka_unit_test(test_move),
 		cmocka_unit_test(test_estop_latency),
 		cmocka_unit_test(test_underrun),

@@ -294,6 +294,40 @@ static void t_info(const char *host, unsigned long base, int simulated)
 	close(fd);
 }
 
+/* A buffer that ends in an unmapped page: the transfer stops at the fault. */
+static void t_efault(void)
+{
+	uint8_t *two = mmap(NULL, 8192, PROT_READ | PROT_WRITE,
+			    MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+	uint8_t *p = two + 4096 - 1024;	/* 1024 good bytes, then a hole */
+	long r;
+
+	begin();
+	munmap(two + 4096, 4096);
+	model_sync();
+	hpwrite(0, RAMB, 555, "setup");
+	r = pread(g_host, p, RAMB, 0);
+	EXPECT(r == -1 ? errno == EFAULT : r > 0 && r <= 1024 && r % 2 == 0,
+	       "pread into a half-mapped buffer = %ld (%s)", r, strerror(errno));
+	if (r > 0)
+		EXPECT(!memcmp(p, g_shadow, r), "partial read data differ");
+	fill(p, 1024, 556);
+	r = pwrite(g_host, p, RAMB, 0);
+	EXPECT(r == -1 ? errno == EFAULT : r > 0 && r <= 1024 && r % 2 == 0,
+	       "pwrite from a half-mapped buffer = %ld (%s)", r, strerror(errno));
+	if (r > 0)
+		memcpy(g_shadow, p, r);
+	dsp_check("after a faulting write: written prefix only");
+	EXPECT(lseek(g_host, 0, SEEK_SET) == 0, "lseek");
+	r = read(g_host, p, RAMB);
+	EXPECT(r == -1 || lseek(g_host, 0, SEEK_CUR) == r,
+	       "read() = %ld moved the position to %ld", r,
+	       (long)lseek(g_host, 0, SEEK_CUR));
+	munmap(two, 4096);
+	model_sync();
+	report("stream: a buffer ending in an unmapped page: EFAULT or the bytes before the fault, card intact");
+}
+
 static void t_ioctl_misc(void)
 {
 	struct sh2000_counters c;
@@ -1415,6 +1449,7 @@ int main(int argc, char **argv)
 		t_stream_basic(argc > 4 && !strcmp(argv[4], "--fresh"));
 		t_counters();
 		t_dsp();
+		t_efault();
 		t_ioctl_misc();
 	} else if (!strcmp(argv[1], "multi") && argc >= 3) {
 		t_multi(argv[2], 0);

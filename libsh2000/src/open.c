@@ -203,6 +203,7 @@ int sh2000_open(struct sh2000 **out, const char *device, char *msg,
 		handle_free(h);
 		return r;
 	}
+	sh2000_timing_changed(h);
 	return finish_open(h, out, msg, msglen);
 }
 

@@ -154,6 +154,9 @@ void sh2000_timing_changed(struct sh2000 *h)
 	/* 10 ms, or 5 servo periods when those are longer (docs/protocol.md
 	 * section 5: a slow servo must not look like a stalled DSP) */
 	h->hb_limit_ns = SH2000_HEARTBEAT_LIMIT_NS;
+	/* a served model is an ordinary process: allow for scheduling */
+	if (h->be && h->be->kind == SH2000_BACKEND_SHM)
+		h->hb_limit_ns = SH2000_HEARTBEAT_LIMIT_SHM_NS;
 	if (5 * h->servo_ns > h->hb_limit_ns)
 		h->hb_limit_ns = 5 * h->servo_ns;
 	if (h->hb_limit_user)

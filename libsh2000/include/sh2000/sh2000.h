@@ -144,6 +144,8 @@ struct sh2000_status {
 /* A card heartbeat unchanged for this long is a stopped DSP (or five
  * servo periods, when the card is set to run slower than 500 Hz). */
 #define SH2000_HEARTBEAT_LIMIT_NS	10000000ull
+/* The same for `sim:NAME`, whose DSP is an ordinary process. */
+#define SH2000_HEARTBEAT_LIMIT_SHM_NS	100000000ull
 /* Change the limit for this handle (0: back to the rule above), e.g. for
  * a `sim:NAME` card served on a loaded machine. */
 void sh2000_set_heartbeat_limit(struct sh2000 *h, uint64_t ns);

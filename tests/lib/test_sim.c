@@ -42,6 +42,15 @@ static void test_open_and_status(void **state)
 		assert_int_equal(st.axis[a].pos_counts, 0);
 		assert_int_equal(st.axis[a].faults, 0);
 	}
+	assert_int_equal(sh2000_queue_free(h), SH2000_RING_RECORDS);
+	{
+		uint16_t w[8];
+
+		CHECK(sh2000_ram_read(h, SH2000_W_MAGIC, 2, w));
+		assert_int_equal(w[0], SH2000_PROTO_MAGIC);
+		assert_int_equal(sh2000_ram_read(h, 1020, 8, w), -EINVAL);
+		assert_non_null(strstr(sh2000_last_error(h), "outside the RAM"));
+	}
 	/* the library's count of its port cycles is the FPGA's */
 	CHECK(sh2000_port_counters(h, &pc));
 	fpga(h, c);

@@ -126,7 +126,8 @@ static void test_warnings(void **state)
 		  "    9 N..... MESSAGE(\"hello, world\")\n"
 		  "   10 N..... SET_SPINDLE_SPEED(0, 2000.0000)\n"
 		  "   11 N..... PROGRAM_END()\n"
-		  "   12 N..... FLOOD_OFF()\n");
+		  "   12 N..... ON_RESET()\n"
+		  "   13 N..... STRAIGHT_TRAVERSE(1.0000, 0.0000, 0.0000)\n");
 	assert_int_equal(D.errors, 0);
 	assert_int_equal(count_warnings(SH2000_PD_NOT_ACTED), 4);
 	assert_int_equal(count_warnings(SH2000_PD_IGNORED), 2);

@@ -67,8 +67,8 @@ static void test_weights_order_units(void **state)
 
 	(void)state;
 	/* P without X Y on the opening line weighs the start point; L4 is a
-	 * cubic; points default to weight 1; Z and A stay */
-	expect_ok(G, "G0 X1 Y1 Z3 A4\nG1 F60\nG5.2 P3 L4\nX2 Y1\nX3 Y2 P0.5\nG5.2 X4 Y1\nG5.3\n");
+	 * cubic; Z and A stay */
+	expect_ok(G, "G0 X1 Y1 Z3 A4\nG1 F60\nG5.2 P3 L4\nX2 Y1 P1\nX3 Y2 P0.5\nG5.2 X4 Y1 P1\nG5.3\n");
 	n = &nth(SH2000_PROG_NURBS, 0)->u.nurbs;
 	assert_int_equal(n->degree, 3);
 	assert_int_equal(n->npoints, 4);
@@ -83,7 +83,9 @@ static void test_weights_order_units(void **state)
 		assert_near(n->knots[i], i < 4 ? 0 : 1, 0);
 	assert_pos4(nth(SH2000_PROG_NURBS, 0)->end, 4, 1, 3, 4);
 	/* inches */
-	expect_ok(G, "G20 F1\nG5.2 X1 Y0\nX1 Y1\nG5.3\n");
+	expect_ok(G, "G20 F1\nG5.2 X1 Y0 P1\nX1 Y1 P1\nG5.3\n");
+	/* without P on the opening line the start point weighs 1 */
+	assert_near(nth(SH2000_PROG_NURBS, 0)->u.nurbs.weights[0], 1, 0);
 	n = &nth(SH2000_PROG_NURBS, 0)->u.nurbs;
 	assert_near(n->points[2][1], 25.4, 1e-12);
 	assert_int_equal(n->degree, 2);
@@ -93,30 +95,34 @@ static void test_nurbs_errors(void **state)
 {
 	(void)state;
 	/* not closed; closed without opening; too few points */
-	expect_error(G, "F1\nG5.2 X1 Y1\nX2 Y2\n", SH2000_PD_NURBS, 2, 1);
+	expect_error(G, "F1\nG5.2 X1 Y1 P1\nX2 Y2 P1\n", SH2000_PD_NURBS, 2, 1);
 	expect_error(G, "G5.3\n", SH2000_PD_NURBS, 1, 1);
-	expect_error(G, "F1\nG5.2 X1 Y1\nG5.3\n", SH2000_PD_NURBS, 3, 1);
-	expect_error(G, "F1\nG5.2 X1 Y1 L4\nX2 Y2\nG5.3\n", SH2000_PD_NURBS, 4, 1);
+	expect_error(G, "F1\nG5.2 X1 Y1 P1\nG5.3\n", SH2000_PD_NURBS, 3, 1);
+	expect_error(G, "F1\nG5.2 X1 Y1 L4 P1\nX2 Y2 P1\nG5.3\n", SH2000_PD_NURBS, 4, 1);
 	/* other words inside the block */
-	expect_error(G, "F1\nG5.2 X1 Y1\nG1 X2\nG5.3\n", SH2000_PD_NURBS, 3, 1);
-	expect_error(G, "F1\nG5.2 X1 Y1\nX2 Y2 F5\nG5.3\n", SH2000_PD_NURBS, 3, 7);
-	expect_error(G, "F1\nG5.2 X1 Y1\nM0\nG5.3\n", SH2000_PD_NURBS, 3, 1);
-	expect_error(G, "F1\nG5.2 X1 Y1\nX2 Y2 Z1\nG5.3\n", SH2000_PD_NURBS, 3, 7);
+	expect_error(G, "F1\nG5.2 X1 Y1 P1\nG1 X2\nG5.3\n", SH2000_PD_NURBS, 3, 1);
+	expect_error(G, "F1\nG5.2 X1 Y1 P1\nX2 Y2 F5\nG5.3\n", SH2000_PD_NURBS, 3, 7);
+	expect_error(G, "F1\nG5.2 X1 Y1 P1\nM0\nG5.3\n", SH2000_PD_NURBS, 3, 1);
+	expect_error(G, "F1\nG5.2 X1 Y1 P1\nX2 Y2 Z1\nG5.3\n", SH2000_PD_NURBS, 3, 7);
 	/* words */
 	expect_error(G, "F1\nG5.2 X1\n", SH2000_PD_MISSING, 2, 6);
 	expect_error(G, "F1\nG5.2 X1 Y1 P0\n", SH2000_PD_RANGE, 2, 12);
 	expect_error(G, "F1\nG5.2 X1 Y1 P-1\n", SH2000_PD_RANGE, 2, 12);
-	expect_error(G, "F1\nG5.2 X1 Y1 L2\n", SH2000_PD_RANGE, 2, 12);
-	expect_error(G, "F1\nG5.2 X1 Y1 L3.5\n", SH2000_PD_RANGE, 2, 12);
-	expect_error(G, "F1\nG5.2 X1 Y1\nP2\nX2 Y2\nG5.3\n", SH2000_PD_CONFLICT, 3, 1);
-	expect_error(G, "F1\nG5.2 X1 Y1\nG5.2 P2\nX2 Y2\nG5.3\n", SH2000_PD_NURBS, 3, 6);
+	expect_error(G, "F1\nG5.2 X1 Y1 P1 L2\n", SH2000_PD_RANGE, 2, 15);
+	expect_error(G, "F1\nG5.2 X1 Y1 P1 L3.5\n", SH2000_PD_RANGE, 2, 15);
+	expect_error(G, "F1\nG5.2 X1 Y1 P1\nP2\nX2 Y2 P1\nG5.3\n", SH2000_PD_CONFLICT, 3, 1);
+	expect_error(G, "F1\nG5.2 X1 Y1 P1\nG5.2 P2\nX2 Y2 P1\nG5.3\n", SH2000_PD_NURBS, 3, 6);
 	expect_error(G, "F1\nG5.3 X1 Y1\n", SH2000_PD_CONFLICT, 2, 1);
+	/* every control point needs its weight, as LinuxCNC's interpreter
+	 * demands (its manual says 1 by default) */
+	expect_error(G, "F1\nG5.2 X1 Y1\n", SH2000_PD_MISSING, 2, 6);
+	expect_error(G, "F1\nG5.2 X1 Y1 P1\nX2 Y2\nG5.3\n", SH2000_PD_MISSING, 3, 1);
 	/* modes */
-	expect_error(G, "G5.2 X1 Y1\n", SH2000_PD_FEED, 1, 1);
-	expect_error(G, "F1 G18\nG5.2 X1 Y1\n", SH2000_PD_UNSUPPORTED, 2, 1);
-	expect_error(G, "F1 G91\nG5.2 X1 Y1\n", SH2000_PD_UNSUPPORTED, 2, 1);
+	expect_error(G, "G5.2 X1 Y1 P1\n", SH2000_PD_FEED, 1, 1);
+	expect_error(G, "F1 G18\nG5.2 X1 Y1 P1\n", SH2000_PD_UNSUPPORTED, 2, 1);
+	expect_error(G, "F1 G91\nG5.2 X1 Y1 P1\n", SH2000_PD_UNSUPPORTED, 2, 1);
 	/* after G5.3 there is no motion mode */
-	expect_error(G, "F1\nG5.2 X1 Y1\nX2 Y2\nG5.3\nX3 Y3\n", SH2000_PD_MISSING, 5, 1);
+	expect_error(G, "F1\nG5.2 X1 Y1 P1\nX2 Y2 P1\nG5.3\nX3 Y3\n", SH2000_PD_MISSING, 5, 1);
 }
 
 static void test_eval_rational_circle(void **state)

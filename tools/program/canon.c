@@ -70,6 +70,7 @@ static const char *const ignored[] = {
 	"MIST_OFF", "SET_SPINDLE_MODE", "TURN_PROBE_OFF", "USE_NO_SPINDLE_FORCE",
 	"SET_TOOL_TABLE_ENTRY", "ON_RESET", "INIT_CANON", "SET_BLOCK_DELETE",
 	"SET_OPTIONAL_PROGRAM_STOP", "COMMENT", "CHANGE_TOOL_NUMBER",
+	"START_CHANGE",
 	NULL,
 };
 
@@ -483,13 +484,17 @@ int prog_read_canon(struct prog_ctx *c, const char *text, size_t len)
 			i++;
 		if (i == n)
 			continue;
-		if (st.ended) {
-			prog_warn_once(c, PW_AFTER_END, SH2000_PD_IGNORED, line, 1,
-				       "commands after PROGRAM_END are not read");
-			continue;
-		}
 		if (parse_line(c, s, n, line, &l))
 			continue;
+		if (st.ended) {
+			/* rs274 resets (ON_RESET) after the end: no matter */
+			if (!in_list(l.name, ignored))
+				prog_warn_once(c, PW_AFTER_END, SH2000_PD_IGNORED,
+					       line, l.col,
+					       "%s and anything else after PROGRAM_END is not read",
+					       l.name);
+			continue;
+		}
 		do_line(c, &st, &l);
 	}
 	return c->errors ? -SH2000_PROG_EINVALID : 0;

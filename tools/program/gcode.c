@@ -440,6 +440,12 @@ static int do_nurbs_point(struct prog_ctx *c, struct gstate *st,
 	if (HAS(l, 'P') && !(VAL(l, 'P') > 0))
 		return prog_err(c, SH2000_PD_RANGE, l->line, COL(l, 'P'),
 				"P (control point weight) must be > 0");
+	/* LinuxCNC's manual says P defaults to 1; its interpreter (2.9)
+	 * rejects a control point without P (or, on the opening line,
+	 * takes -1): require it, as the interpreter does */
+	if (xy && !HAS(l, 'P'))
+		return prog_err(c, SH2000_PD_MISSING, l->line, COL(l, 'X'),
+				"control point without P (weight): LinuxCNC requires a positive weight on every G5.2 control point");
 	if (HAS(l, 'L')) {
 		double L = VAL(l, 'L');
 
@@ -469,7 +475,7 @@ static int do_nurbs_point(struct prog_ctx *c, struct gstate *st,
 	if (HAS(l, 'L'))
 		st->nurbs_order = (unsigned int)VAL(l, 'L');
 	if (xy && !nurbs_push(c, st, VAL(l, 'X') * unit, VAL(l, 'Y') * unit,
-			      HAS(l, 'P') ? VAL(l, 'P') : 1.0))
+			      VAL(l, 'P')))
 		return -ENOMEM;
 	st->motion = MOT_G52;
 	return 0;
@@ -717,14 +723,20 @@ static int exec_line(struct prog_ctx *c, struct gstate *st, struct gline *l)
 	if (ret)
 		return ret;
 
-	/* units first: this reader reads every word of a line in the units
-	 * the line selects (docs/programs.md) */
-	if (l->g[GRP_UNITS] >= 0)
-		st->inch = l->g[GRP_UNITS] == 200;
-	unit = st->inch ? PROG_MM_PER_INCH : 1.0;
-
 	if (HAS(l, 'F')) {
+		/* LinuxCNC sets F (step 4 of its order of execution) before
+		 * it changes units (step 16): F is in the units before the
+		 * line's G20/G21 */
 		double f = VAL(l, 'F');
+		double funit = st->inch ? PROG_MM_PER_INCH : 1.0;
+
+		unit = funit;
+		if (l->g[GRP_UNITS] >= 0 && (l->g[GRP_UNITS] == 200) != st->inch)
+			prog_warn_once(c, PW_UNITS_F, SH2000_PD_ORDER, l->line,
+				       COL(l, 'F'),
+				       "F%g is read in %s, the units before this line's %s, as LinuxCNC does (it sets the feed before it changes units); put G20/G21 on a line of its own (later cases are not reported)",
+				       f, st->inch ? "inches" : "mm",
+				       l->g[GRP_UNITS] == 200 ? "G20" : "G21");
 
 		if (f < 0)
 			return prog_err(c, SH2000_PD_RANGE, l->line, COL(l, 'F'),
@@ -740,6 +752,9 @@ static int exec_line(struct prog_ctx *c, struct gstate *st, struct gline *l)
 			b->feed = feed_mm_s(st);
 		}
 	}
+	if (l->g[GRP_UNITS] >= 0)
+		st->inch = l->g[GRP_UNITS] == 200;
+	unit = st->inch ? PROG_MM_PER_INCH : 1.0;
 	warn_not_acted(c, l);
 	if (l->g[GRP_NONMODAL] == 40) {
 		struct sh2000_prog_block *b;

@@ -28,7 +28,7 @@ enum prog_warn_kind {
 	PW_PATHMODE = 1u << 5,	/* G61 G61.1 G64 */
 	PW_MESSAGE = 1u << 6,	/* (MSG,...) and friends */
 	PW_AFTER_END = 1u << 7,	/* text after M2/M30 or % */
-	PW_SPINDLE_ORIENT = 1u << 8,
+	PW_UNITS_F = 1u << 8,	/* F next to a units change */
 };
 
 struct prog_ctx {

@@ -77,6 +77,8 @@ enum sh2000_prog_diag_code {
 	SH2000_PD_NOT_ACTED,	/* warning: accepted, not acted on (S, M3...) */
 	SH2000_PD_IGNORED,	/* warning: text after the end, messages */
 	SH2000_PD_LIMIT,	/* too many errors: reading stopped */
+	SH2000_PD_ORDER,	/* warning: read as LinuxCNC does, which may
+				 * not be what the line seems to say */
 };
 
 struct sh2000_prog_diag {

@@ -83,13 +83,18 @@ static void test_distance_modes(void **state)
 static void test_units(void **state)
 {
 	(void)state;
-	/* axis words of a G20 line are in inches, A too (a linear axis) */
-	expect_ok(G, "G20\nG1 X1 A0.5 F10\nG21 X10\n");
-	assert_pos4(nth(SH2000_PROG_LINE, 0)->end, 25.4, 0, 0, 12.7);
+	/* axis words of a G20 line are in inches, except A, which LinuxCNC
+	 * never scales: mm, with one warning */
+	expect_ok(G, "G20\nG1 X1 A0.5 F10\nG21 X10\nG20 A1\n");
+	assert_pos4(nth(SH2000_PROG_LINE, 0)->end, 25.4, 0, 0, 0.5);
 	assert_near(nth(SH2000_PROG_FEED, 0)->u.feed_mm_min, 254, 1e-9);
 	assert_near(nth(SH2000_PROG_LINE, 0)->feed, 254.0 / 60, 1e-12);
-	assert_pos4(nth(SH2000_PROG_LINE, 1)->end, 10, 0, 0, 12.7);
-	assert_int_equal(D.count, 0);
+	assert_pos4(nth(SH2000_PROG_LINE, 1)->end, 10, 0, 0, 0.5);
+	assert_pos4(nth(SH2000_PROG_LINE, 2)->end, 10, 0, 0, 1);
+	assert_int_equal(D.count, 1);
+	assert_int_equal(D.items[0].code, SH2000_PD_ORDER);
+	assert_int_equal(D.items[0].pos.line, 2);
+	assert_int_equal(D.items[0].pos.column, 7);
 	/* but F on the line of a units change is in the old units, as
 	 * LinuxCNC sets the feed before the units; that is warned once */
 	expect_ok(G, "G20 G1 X1 F10\nG21 F600 X2\nG20 F10\n");

@@ -7,7 +7,8 @@
  *
  * (output counter, the source's N word or "N.....", the call). This reads
  * that text into the same representation as the built-in G-code reader.
- * Values are in the program's units (USE_LENGTH_UNITS) relative to the
+ * Values are in the program's units (USE_LENGTH_UNITS; A always in mm)
+ * relative to the
  * active G5x and G92 origins, which are added back.
  */
 #include <ctype.h>
@@ -218,7 +219,9 @@ static int no_bc(struct prog_ctx *c, const struct cline *l, int first,
 
 static double mpos(const struct cstate *st, int axis, double v)
 {
-	return v * st->unit + st->g5x[axis] + st->g92[axis];
+	/* rs274 prints A as written: LinuxCNC never scales A by G20 */
+	return v * (axis == SH2000_PROG_A ? 1 : st->unit) + st->g5x[axis] +
+	       st->g92[axis];
 }
 
 static int need_feed(struct prog_ctx *c, const struct cstate *st,
@@ -383,7 +386,8 @@ static int do_line(struct prog_ctx *c, struct cstate *st, struct cline *l)
 			return ret;
 		for (int a = 0; a < SH2000_PROG_AXES; a++)
 			if (first + a < l->nargs)
-				off[a] = v[first + a] * st->unit;
+				off[a] = v[first + a] *
+					 (a == SH2000_PROG_A ? 1 : st->unit);
 		return 0;
 	}
 	if (name_is(l, "SET_XY_ROTATION")) {

@@ -756,6 +756,10 @@ static int exec_line(struct prog_ctx *c, struct gstate *st, struct gline *l)
 		st->inch = l->g[GRP_UNITS] == 200;
 	unit = st->inch ? PROG_MM_PER_INCH : 1.0;
 	warn_not_acted(c, l);
+	if (HAS(l, 'A') && st->inch)
+		prog_warn_once(c, PW_A_INCH, SH2000_PD_ORDER, l->line, COL(l, 'A'),
+			       "A%g is read in mm although the program is in inches: G20 does not scale A, as in LinuxCNC (later cases are not reported)",
+			       VAL(l, 'A'));
 	if (l->g[GRP_NONMODAL] == 40) {
 		struct sh2000_prog_block *b;
 
@@ -806,8 +810,11 @@ static int exec_line(struct prog_ctx *c, struct gstate *st, struct gline *l)
 
 		for (int a = 0; a < SH2000_PROG_AXES; a++) {
 			target[a] = c->pos[a];
+			/* A is mm even under G20: LinuxCNC never scales A,
+			 * so a program means the same to rs274 */
 			if (HAS(l, axes[a]))
-				target[a] = VAL(l, axes[a]) * unit +
+				target[a] = VAL(l, axes[a]) *
+					    (a == SH2000_PROG_A ? 1 : unit) +
 					    (st->incremental ? c->pos[a] : 0);
 			if (!isfinite(target[a]))
 				return prog_err(c, SH2000_PD_RANGE, l->line,

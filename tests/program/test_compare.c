@@ -1,0 +1,116 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * One program through both readers: data/compare.ngc by the built-in
+ * parser, and data/compare.canon, the output of LinuxCNC 2.9's standalone
+ * rs274 (Debian bookworm's linuxcnc-uspace) for the same file, by the
+ * canonical-command reader. They must move the same way, to rs274's 4
+ * printed decimals. data/nurbs_doc.* is LinuxCNC's G5.2 example: rs274
+ * prints only "NURBS_FEED(5, ...)", which the canonical reader refuses.
+ */
+#include <stdlib.h>
+
+#include "progtest.h"
+
+static struct sh2000_program Q;
+
+static int rdf(struct sh2000_program *p, enum sh2000_prog_format fmt,
+	       const char *name)
+{
+	char path[512];
+
+	snprintf(path, sizeof(path), "%s/%s", PROGRAM_TEST_DATA, name);
+	return sh2000_program_read_file(p, fmt, path, NULL, &D);
+}
+
+static bool compared(const struct sh2000_prog_block *b)
+{
+	return b->kind != SH2000_PROG_FEED;
+}
+
+static void test_same_motion(void **state)
+{
+	size_t i = 0, j = 0, n = 0;
+
+	(void)state;
+	sh2000_program_init(&Q);
+	assert_int_equal(rdf(&P, G, "compare.ngc"), 0);
+	assert_int_equal(rdf(&Q, CANON, "compare.canon"), 0);
+	assert_int_equal(D.errors, 0);
+	for (;;) {
+		const struct sh2000_prog_block *a, *b;
+		double e = 0;
+
+		while (i < P.count && !compared(&P.blocks[i]))
+			i++;
+		while (j < Q.count && !compared(&Q.blocks[j]))
+			j++;
+		if (i == P.count || j == Q.count)
+			break;
+		a = &P.blocks[i++];
+		b = &Q.blocks[j++];
+		n++;
+		assert_int_equal(a->kind, b->kind);
+		for (int k = 0; k < 4; k++) {
+			e = fmax(e, fabs(a->start[k] - b->start[k]));
+			e = fmax(e, fabs(a->end[k] - b->end[k]));
+		}
+		/* feeds to 4 decimals of in/min or mm/min, in mm/s */
+		assert_near(a->feed, b->feed, 1e-4 * 25.4 / 60);
+		switch (a->kind) {
+		case SH2000_PROG_ARC:
+			assert_int_equal(a->u.arc.plane, b->u.arc.plane);
+			assert_int_equal(a->u.arc.ccw, b->u.arc.ccw);
+			assert_int_equal(a->u.arc.turns, b->u.arc.turns);
+			for (int k = 0; k < 3; k++)
+				e = fmax(e, fabs(a->u.arc.centre[k] - b->u.arc.centre[k]));
+			assert_near(a->u.arc.sweep, b->u.arc.sweep, 1e-4);
+			break;
+		case SH2000_PROG_DWELL:
+			assert_near(a->u.dwell_s, b->u.dwell_s, 1e-4);
+			break;
+		case SH2000_PROG_PAUSE:
+			assert_int_equal(a->u.optional, b->u.optional);
+			break;
+		case SH2000_PROG_END:
+			assert_int_equal(a->u.end_code, b->u.end_code);
+			break;
+		default:
+			break;
+		}
+		if (e > 0.5e-4 * 25.4 + 1e-9)
+			fail_msg("compare.ngc line %u and compare.canon line %u differ by %g mm",
+				 a->pos.line, b->pos.line, e);
+	}
+	assert_int_equal(i, P.count);
+	assert_int_equal(j, Q.count);
+	assert_int_equal(n, 23);
+	/* the F600 beside G21, read in inches by both */
+	assert_near(nth(SH2000_PROG_FEED, 2)->u.feed_mm_min, 600 * 25.4, 1e-9);
+	sh2000_program_free(&Q);
+}
+
+static void test_nurbs_example(void **state)
+{
+	const struct sh2000_prog_diag *e;
+
+	(void)state;
+	assert_int_equal(rdf(&P, G, "nurbs_doc.ngc"), 0);
+	assert_int_equal(count_kind(SH2000_PROG_NURBS), 1);
+	assert_int_equal(rdf(&P, CANON, "nurbs_doc.canon"), -SH2000_PROG_EINVALID);
+	e = first_error();
+	assert_non_null(e);
+	assert_int_equal(e->code, SH2000_PD_UNSUPPORTED);
+	assert_int_equal(e->pos.line, 11);
+	assert_int_equal(e->pos.column, 14);
+	assert_non_null(strstr(e->message, "G5.2"));
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test_setup_teardown(test_same_motion, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_nurbs_example, setup, teardown),
+	};
+
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -11,6 +11,7 @@
 #include "sh2000_internal.h"
 
 #define WAIT_POLL_NS	100000ull
+#define WAIT_MAX_NS	5000000ull
 /* A waiting host still beats: the card stops a motion whose host is
  * silent for SH2000_GP_HOST_TIMEOUT_MS (keep that >= 10 ms). */
 #define KEEPALIVE_NS	1000000ull
@@ -185,6 +186,24 @@ int sh2000_queue_free(struct sh2000 *h)
 	return r;
 }
 
+/*
+ * How long to sleep before looking again: half the time the card needs to
+ * consume `records` (so a streaming host wakes a few times per batch, not
+ * every 100 us), within 100 us..5 ms (well inside the heartbeat limit and
+ * the host timeout).
+ */
+static uint64_t wait_step(struct sh2000 *h, unsigned int records)
+{
+	uint64_t ns = (uint64_t)records * (uint64_t)(h->coarse_us > 0 ?
+						     h->coarse_us : 0) * 500u;
+
+	if (ns < WAIT_POLL_NS)
+		ns = WAIT_POLL_NS;
+	if (ns > WAIT_MAX_NS)
+		ns = WAIT_MAX_NS;
+	return ns;
+}
+
 static int wait_for(struct sh2000 *h, unsigned int n, int idle, int timeout_ms)
 {
 	unsigned int fill, state;
@@ -212,7 +231,8 @@ static int wait_for(struct sh2000 *h, unsigned int n, int idle, int timeout_ms)
 					timeout_ms, sh2000_state_name(state), fill);
 			break;
 		}
-		sh2000_hold_wait(h, WAIT_POLL_NS);
+		sh2000_hold_wait(h, wait_step(h, idle ? fill :
+					      n - (SH2000_RING_RECORDS - fill)));
 	}
 	pthread_mutex_unlock(&h->lock);
 	return r;

@@ -11,6 +11,9 @@
 
 #include "sh2000_internal.h"
 
+/* Pause between re-reads once the immediate ones are spent. */
+#define TORN_WAIT_NS	20000ull
+
 static void decode(struct sh2000 *h, const uint16_t *w,
 		   struct sh2000_status *st)
 {
@@ -75,7 +78,7 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 {
 	uint16_t w[SH2000_STATUS_WORDS];
 	unsigned int tries;
-	uint64_t now;
+	uint64_t now, t0 = 0;
 	int r;
 
 	memset(st, 0, sizeof(*st));
@@ -90,10 +93,22 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 		if (w[SH2000_W_SNAP_SEQ_END] == w[SH2000_W_SNAP_SEQ_BEGIN])
 			break;
 		if (tries == SH2000_POLL_RETRIES)
+			t0 = sh2000_now_locked(h);
+		if (tries < SH2000_POLL_RETRIES)
+			continue;
+		/*
+		 * Still torn: the card was interrupted inside a publication
+		 * (a served model descheduled, a DSP stalled mid-write). Give
+		 * it a tenth of the heartbeat limit before calling it torn.
+		 */
+		if (sh2000_now_locked(h) - t0 >= h->hb_limit_ns / 10)
 			return sh2000_fail(h, -SH2000_ETORN,
-					   "status snapshot torn %u times in a row (seq end %u, begin %u)",
-					   tries + 1, w[SH2000_W_SNAP_SEQ_END],
+					   "status snapshot torn %u times in a row over %.1f ms (seq end %u, begin %u)",
+					   tries + 1,
+					   (sh2000_now_locked(h) - t0) / 1e6,
+					   w[SH2000_W_SNAP_SEQ_END],
 					   w[SH2000_W_SNAP_SEQ_BEGIN]);
+		sh2000_hold_wait(h, TORN_WAIT_NS);
 	}
 	h->host_hb++;
 	r = sh2000_wr1(h, SH2000_W_HOST_HEARTBEAT, h->host_hb);
@@ -218,7 +233,12 @@ int sh2000_status_error_locked(struct sh2000 *h,
 		return sh2000_fail(h, -SH2000_EFAULTED,
 				   "axis %u: unknown fault bits 0x%04x", a, af);
 	}
-	if (f & SH2000_FAULT_REJECTED) {
+	/* a record refused because the card had already stopped is a
+	 * consequence: report the cause first */
+	if ((f & SH2000_FAULT_REJECTED) &&
+	    (st->reject_reason != SH2000_REJECT_STATE ||
+	     !(f & (SH2000_FAULT_HOST_TIMEOUT | SH2000_FAULT_UNDERRUN |
+		    SH2000_FAULT_PROTOCOL)))) {
 		uint64_t last = h->segments ? h->segments - 1 : 0;
 		uint64_t seg = last - (uint16_t)((uint16_t)last - st->reject_seq);
 

@@ -392,6 +392,9 @@ static void test_fault_errors(void **state)
 		{ SH2000_STATE_FAULT, SH2000_FAULT_AXIS, SH2000_AXIS_FAULT_COUNTER, -SH2000_ECOUNTER },
 		{ SH2000_STATE_FAULT, SH2000_FAULT_AXIS, SH2000_AXIS_FAULT_HOME, -SH2000_EHOME },
 		{ SH2000_STATE_FAULT, 0, 0, -SH2000_EFAULTED },
+		/* refused for "not ready" after an underrun: the cause wins */
+		{ SH2000_STATE_FAULT, SH2000_FAULT_REJECTED | SH2000_FAULT_UNDERRUN,
+		  0xffff, -SH2000_EUNDERRUN },
 	};
 	int32_t pts[1][SH2000_AXES] = { { 0 } };
 	unsigned int i;
@@ -404,15 +407,19 @@ static void test_fault_errors(void **state)
 		fakecard_boot(f);
 		f->ram[SH2000_W_STATE] = (uint16_t)cases[i].state;
 		f->ram[SH2000_W_FAULTS] = (uint16_t)cases[i].faults;
-		f->ram[SH2000_W_AXIS_FAULTS(2)] = (uint16_t)cases[i].axis_faults;
 		f->ram[SH2000_W_REJECT_SEQ] = 77;
 		f->ram[SH2000_W_REJECT_REASON] = SH2000_REJECT_VELOCITY;
+		if (cases[i].axis_faults == 0xffff)
+			f->ram[SH2000_W_REJECT_REASON] = SH2000_REJECT_STATE;
+		else
+			f->ram[SH2000_W_AXIS_FAULTS(2)] =
+				(uint16_t)cases[i].axis_faults;
 		f->h.segments = 100;
 		assert_int_equal(sh2000_push_counts(&f->h, pts, 1, 0), cases[i].code);
 		fakecard_counts(f, c);
 		assert_int_equal(f->ram[SH2000_W_HEAD], 0);	/* nothing published */
 		assert_int_equal(sh2000_wait_idle(&f->h, 10), cases[i].code);
-		if (cases[i].axis_faults)
+		if (cases[i].axis_faults && cases[i].axis_faults != 0xffff)
 			assert_non_null(strstr(f->h.err, "axis 2"));
 		if (cases[i].code == -SH2000_EREJECTED)
 			assert_non_null(strstr(f->h.err, "segment 77"));

@@ -149,7 +149,9 @@ struct sh2000_status {
 /* Change the limit for this handle (0: back to the rule above), e.g. for
  * a `sim:NAME` card served on a loaded machine. */
 void sh2000_set_heartbeat_limit(struct sh2000 *h, uint64_t ns);
-/* Torn snapshots re-read before a poll gives up with SH2000_ETORN. */
+/* Torn snapshots re-read at once; after these a poll keeps re-reading
+ * every 20 us for a tenth of the heartbeat limit, then gives up with
+ * SH2000_ETORN. */
 #define SH2000_POLL_RETRIES		16
 
 /*

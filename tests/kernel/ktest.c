@@ -13,7 +13,8 @@
  * Usage: ktest stream HOST DSP [--fresh] | multi HOST DSP | signal HOST DSP |
  *	  storm HOST DSP HOST2 | nocard HOST BASE | info HOST BASE |
  *	  sysfs HOST | hold HOST READY GO | twocards H0 D0 H1 D1 |
- *	  dsphold DSP READY GO | latency HOST
+ *	  dsphold DSP READY GO | latency HOST | interleave HOST |
+ *	  hammer HOST [PROCS]
  */
 #include <fcntl.h>
 #include <sched.h>
@@ -927,6 +928,112 @@ static void t_multi(const char *host, int shared)
 	munmap(t, 8 * sizeof(*t));
 }
 
+/*
+ * 8 processes on the same words: 4 write the whole RAM with their own
+ * value, 4 read it. Every word read must be a value some writer wrote.
+ */
+static void t_interleave(const char *host)
+{
+	struct tally *t = mmap(NULL, 8 * sizeof(*t), PROT_READ | PROT_WRITE,
+			       MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+	pid_t pids[8];
+	int k, status;
+	long uniform = 0, reads = 0;
+
+	begin();
+	memset(t, 0, 8 * sizeof(*t));
+	for (k = 0; k < 8; k++) {
+		pids[k] = fork();
+		if (pids[k] == 0) {
+			uint16_t w[RAMW];
+			int fd = open(host, O_RDWR);
+
+			alarm(120);
+			for (int it = 0; it < 150; it++) {
+				if (k < 4) {
+					for (long i = 0; i < RAMW; i++)
+						w[i] = (uint16_t)(0x1111 * (k + 1));
+					if (pwrite(fd, w, RAMB, 0) != RAMB)
+						t[k].errors++;
+					continue;
+				}
+				if (pread(fd, w, RAMB, 0) != RAMB) {
+					t[k].errors++;
+					continue;
+				}
+				t[k].words_read++;
+				for (long i = 0; i < RAMW; i++) {
+					if (w[i] == 0 || w[i] % 0x1111 ||
+					    w[i] / 0x1111 > 4) {
+						t[k].errors++;
+						snprintf(t[k].msg, sizeof(t[k].msg),
+							 "word %ld read %#x, no process wrote it",
+							 i, w[i]);
+						break;
+					}
+				}
+				long same = 1;
+
+				for (long i = 1; i < RAMW; i++)
+					same &= w[i] == w[0];
+				t[k].words_written += same;	/* uniform reads */
+			}
+			_exit(0);
+		}
+	}
+	for (k = 0; k < 8; k++) {
+		if (waitpid(pids[k], &status, 0) != pids[k] ||
+		    !WIFEXITED(status) || WEXITSTATUS(status))
+			err("process %d ended with status %#x (deadlock?)", k, status);
+		if (t[k].errors)
+			err("process %d: %s (%ld errors)", k,
+			    t[k].msg[0] ? t[k].msg : "transfer failed", t[k].errors);
+		reads += t[k].words_read;
+		uniform += t[k].words_written;
+	}
+	printf("KTEST info interleave: %ld of %ld whole-RAM reads saw one writer's data only\n",
+	       uniform, reads);
+	report("multi: 8 processes on the same words: every word read is a value some process wrote");
+	munmap(t, 8 * sizeof(*t));
+}
+
+/* Hammer a card until it goes away; ENODEV is the only acceptable end. */
+static void t_hammer(const char *host, int procs)
+{
+	pid_t pids[8];
+	int status;
+
+	begin();
+	for (int k = 0; k < procs; k++) {
+		pids[k] = fork();
+		if (pids[k] == 0) {
+			uint8_t buf[RAMB];
+			struct sh2000_counters c;
+			int fd = open(host, O_RDWR);
+			long r = 0;
+
+			alarm(60);
+			for (long it = 0;; it++) {
+				switch (it % 3) {
+				case 0: r = pread(fd, buf, RAMB, 0); break;
+				case 1: r = pwrite(fd, buf, RAMB, 0); break;
+				default: r = ioctl(fd, SH2000_IOC_GET_COUNTERS, &c); break;
+				}
+				if (r < 0)
+					break;
+			}
+			_exit(errno == ENODEV ? 0 : 10 + (errno & 0x7f));
+		}
+	}
+	for (int k = 0; k < procs; k++) {
+		if (waitpid(pids[k], &status, 0) != pids[k] || !WIFEXITED(status) ||
+		    WEXITSTATUS(status))
+			err("process %d ended with status %#x (want exit on ENODEV)",
+			    k, status);
+	}
+	report("removal: processes busy on the card when it is removed end with ENODEV");
+}
+
 /* --- signals ------------------------------------------------------------ */
 
 static volatile sig_atomic_t g_ticks;
@@ -1467,6 +1574,10 @@ int main(int argc, char **argv)
 	} else if (!strcmp(argv[1], "info") && argc >= 4) {
 		t_info(argv[2], strtoul(argv[3], NULL, 0),
 		       strtoul(argv[3], NULL, 0) == 0);
+	} else if (!strcmp(argv[1], "interleave")) {
+		t_interleave(argv[2]);
+	} else if (!strcmp(argv[1], "hammer")) {
+		t_hammer(argv[2], argc > 3 ? atoi(argv[3]) : 4);
 	} else if (!strcmp(argv[1], "latency")) {
 		t_latency(argv[2]);
 	} else if (!strcmp(argv[1], "sysfs")) {

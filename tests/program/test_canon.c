@@ -83,7 +83,7 @@ static void test_units_offsets_planes(void **state)
 		  "    5 N..... SET_G92_OFFSET(0.0000, 2.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n"
 		  "    6 N..... STRAIGHT_TRAVERSE(0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n"
 		  "    7 N..... USE_LENGTH_UNITS(CANON_UNITS_MM)\n"
-		  "    8 N..... STRAIGHT_TRAVERSE(1.0000, 1.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n");
+		  "    8 N..... STRAIGHT_TRAVERSE(1.0000, 1.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n" "  999 N..... PROGRAM_END()\n");
 	assert_near(nth(SH2000_PROG_FEED, 0)->u.feed_mm_min, 254, 1e-9);
 	assert_pos4(nth(SH2000_PROG_LINE, 0)->end, 25.4, 0, 0, 0);
 	assert_pos4(nth(SH2000_PROG_RAPID, 0)->end, 25.4, 50.8, 0, 0);
@@ -95,7 +95,7 @@ static void test_units_offsets_planes(void **state)
 		  "    3 N..... SELECT_PLANE(CANON_PLANE_XZ)\n"
 		  "    4 N..... ARC_FEED(0.0000, 10.0000, 0.0000, 0.0000, 1, 3.0000, 0.0000, 0.0000, 0.0000)\n"
 		  "    5 N..... SELECT_PLANE(CANON_PLANE_YZ)\n"
-		  "    6 N..... ARC_FEED(-3.0000, 0.0000, 0.0000, 5.0000, -2, 10.0000, 0.0000, 0.0000, 0.0000)\n");
+		  "    6 N..... ARC_FEED(-3.0000, 0.0000, 0.0000, 5.0000, -2, 10.0000, 0.0000, 0.0000, 0.0000)\n" "  999 N..... PROGRAM_END()\n");
 	b = nth(SH2000_PROG_ARC, 0);
 	assert_int_equal(b->u.arc.plane, SH2000_PROG_XZ);
 	assert_pos4(b->end, 10, 3, 0, 0);
@@ -107,7 +107,7 @@ static void test_units_offsets_planes(void **state)
 	assert_pos4(b->end, 10, -3, 0, 0);
 	/* older rs274 builds print only X Y Z */
 	expect_ok(CANON, "    1 N..... SET_FEED_RATE(60.0000)\n"
-			 "    2 N..... STRAIGHT_FEED(1.0000, 2.0000, 3.0000)\n");
+			 "    2 N..... STRAIGHT_FEED(1.0000, 2.0000, 3.0000)\n" "  999 N..... PROGRAM_END()\n");
 	assert_pos4(nth(SH2000_PROG_LINE, 0)->end, 1, 2, 3, 0);
 }
 
@@ -149,7 +149,7 @@ static void test_errors(void **state)
 	expect_error(CANON, "    1 N..... SET_XY_ROTATION(30.0000)\n", SH2000_PD_UNSUPPORTED, 1, 14);
 	expect_error(CANON, "    1 N..... USE_TOOL_LENGTH_OFFSET(0.0000 0.0000 1.0000, 0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000)\n",
 		     SH2000_PD_UNSUPPORTED, 1, 14);
-	expect_ok(CANON, "    1 N..... USE_TOOL_LENGTH_OFFSET(0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000)\n");
+	expect_ok(CANON, "    1 N..... USE_TOOL_LENGTH_OFFSET(0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000)\n" "  999 N..... PROGRAM_END()\n");
 	expect_error(CANON, "    1 N..... SET_FEED_MODE(0, 1)\n", SH2000_PD_UNSUPPORTED, 1, 14);
 	expect_error(CANON, "    1 N..... SELECT_PLANE(CANON_PLANE_UV)\n", SH2000_PD_UNSUPPORTED, 1, 14);
 	/* B moves */
@@ -167,6 +167,10 @@ static void test_errors(void **state)
 	expect_error(CANON, "    1 N..... SET_FEED_RATE(60.0000)\n"
 			    "    2 N..... ARC_FEED(0.0000, 10.0000, 0.0000, 0.0000, 0, 0.0000, 0.0000, 0.0000, 0.0000)\n",
 		     SH2000_PD_RANGE, 2, 56);
+	/* rs274 stops printing at an error: no PROGRAM_END, no run */
+	expect_error(CANON, "    1 N..... SET_FEED_RATE(60.0000)\n"
+			    "    2 N..... STRAIGHT_FEED(1.0000, 0.0000, 0.0000)\n",
+		     SH2000_PD_MISSING, 2, 1);
 	/* malformed lines */
 	expect_error(CANON, "garbage\n", SH2000_PD_SYNTAX, 1, 1);
 	expect_error(CANON, "    1 X..... DWELL(1.0)\n", SH2000_PD_SYNTAX, 1, 7);

@@ -43,7 +43,7 @@ static void test_rapid_line_feed_end(void **state)
 static void test_modal_motion_and_axes(void **state)
 {
 	(void)state;
-	expect_ok(G, "G1 X1 F60\nX2\nY3 Z4 A5\nG0 X0\nY1\n");
+	expect_ok(G, "G1 X1 F60\nX2\nY3 Z4 A5\nG0 X0\nY1\n" "M2\n");
 	assert_int_equal(count_kind(SH2000_PROG_LINE), 3);
 	assert_int_equal(count_kind(SH2000_PROG_RAPID), 2);
 	assert_pos4(nth(SH2000_PROG_LINE, 2)->end, 2, 3, 4, 5);
@@ -51,11 +51,11 @@ static void test_modal_motion_and_axes(void **state)
 	/* a modal line's block points at its first word */
 	assert_int_equal(nth(SH2000_PROG_LINE, 2)->pos.column, 1);
 	/* G0/G1 alone set the mode and move nothing; F alone sets the feed */
-	expect_ok(G, "G0\nG1 F100\n");
-	assert_int_equal(P.count, 1);
+	expect_ok(G, "G0\nG1 F100\n" "M2\n");
+	assert_int_equal(P.count, 2);
 	assert_int_equal(P.blocks[0].kind, SH2000_PROG_FEED);
 	/* an unchanged F makes no feed block */
-	expect_ok(G, "G1 X1 F100\nX2 F100\nX3 F200\n");
+	expect_ok(G, "G1 X1 F100\nX2 F100\nX3 F200\n" "M2\n");
 	assert_int_equal(count_kind(SH2000_PROG_FEED), 2);
 }
 
@@ -64,7 +64,7 @@ static void test_distance_modes(void **state)
 	struct sh2000_prog_options o;
 
 	(void)state;
-	expect_ok(G, "G91 G1 X1 Y1 F60\nX1 A2\nG90 X0\n");
+	expect_ok(G, "G91 G1 X1 Y1 F60\nX1 A2\nG90 X0\n" "M2\n");
 	assert_pos4(nth(SH2000_PROG_LINE, 0)->end, 1, 1, 0, 0);
 	assert_pos4(nth(SH2000_PROG_LINE, 1)->end, 2, 1, 0, 2);
 	assert_pos4(nth(SH2000_PROG_LINE, 2)->end, 0, 1, 0, 2);
@@ -74,7 +74,7 @@ static void test_distance_modes(void **state)
 	o.start[1] = 2;
 	o.start[2] = 3;
 	o.start[3] = 4;
-	expect_ok_opt(G, "G91 G0 X1\nG90 Y0\n", &o);
+	expect_ok_opt(G, "G91 G0 X1\nG90 Y0\n" "M2\n", &o);
 	assert_pos4(nth(SH2000_PROG_RAPID, 0)->start, 1, 2, 3, 4);
 	assert_pos4(nth(SH2000_PROG_RAPID, 0)->end, 2, 2, 3, 4);
 	assert_pos4(nth(SH2000_PROG_RAPID, 1)->end, 2, 0, 3, 4);
@@ -85,7 +85,7 @@ static void test_units(void **state)
 	(void)state;
 	/* axis words of a G20 line are in inches, except A, which LinuxCNC
 	 * never scales: mm, with one warning */
-	expect_ok(G, "G20\nG1 X1 A0.5 F10\nG21 X10\nG20 A1\n");
+	expect_ok(G, "G20\nG1 X1 A0.5 F10\nG21 X10\nG20 A1\n" "M2\n");
 	assert_pos4(nth(SH2000_PROG_LINE, 0)->end, 25.4, 0, 0, 0.5);
 	assert_near(nth(SH2000_PROG_FEED, 0)->u.feed_mm_min, 254, 1e-9);
 	assert_near(nth(SH2000_PROG_LINE, 0)->feed, 254.0 / 60, 1e-12);
@@ -97,7 +97,7 @@ static void test_units(void **state)
 	assert_int_equal(D.items[0].pos.column, 7);
 	/* but F on the line of a units change is in the old units, as
 	 * LinuxCNC sets the feed before the units; that is warned once */
-	expect_ok(G, "G20 G1 X1 F10\nG21 F600 X2\nG20 F10\n");
+	expect_ok(G, "G20 G1 X1 F10\nG21 F600 X2\nG20 F10\n" "M2\n");
 	assert_pos4(nth(SH2000_PROG_LINE, 0)->end, 25.4, 0, 0, 0);
 	assert_near(nth(SH2000_PROG_FEED, 0)->u.feed_mm_min, 10, 1e-9);
 	assert_near(nth(SH2000_PROG_FEED, 1)->u.feed_mm_min, 600 * 25.4, 1e-9);
@@ -106,14 +106,14 @@ static void test_units(void **state)
 	assert_int_equal(D.items[0].pos.line, 1);
 	assert_int_equal(D.items[0].pos.column, 11);
 	/* no warning when the line keeps the units */
-	expect_ok(G, "G21 F600\n");
+	expect_ok(G, "G21 F600\n" "M2\n");
 	assert_int_equal(D.count, 0);
 	/* the feed in effect keeps its speed across a units change */
-	expect_ok(G, "G21 F600\nG20\nG1 X1\n");
+	expect_ok(G, "G21 F600\nG20\nG1 X1\n" "M2\n");
 	assert_near(nth(SH2000_PROG_LINE, 0)->feed, 10, 1e-12);
 	assert_near(nth(SH2000_PROG_LINE, 0)->end[0], 25.4, 1e-12);
 	/* incremental inches */
-	expect_ok(G, "G20 G91 G0 X1\nX1\n");
+	expect_ok(G, "G20 G91 G0 X1\nX1\n" "M2\n");
 	assert_near(nth(SH2000_PROG_RAPID, 1)->end[0], 50.8, 1e-12);
 }
 
@@ -122,12 +122,12 @@ static void test_lexical(void **state)
 	(void)state;
 	/* N words, comments, lower case, blanks, tabs, CRLF, leading zeros */
 	expect_ok(G, "N10 G0 X1 (a comment) ; rest\r\nn20 (only a comment)\r\n"
-		     "\tg01 x 2.5 f+60.\n  N30G0Y-.5\n");
+		     "\tg01 x 2.5 f+60.\n  N30G0Y-.5\n" "M2\n");
 	assert_int_equal(count_kind(SH2000_PROG_RAPID), 2);
 	assert_near(nth(SH2000_PROG_LINE, 0)->end[0], 2.5, 1e-12);
 	assert_near(nth(SH2000_PROG_RAPID, 1)->end[1], -0.5, 1e-12);
 	/* G1.0 is G1 */
-	expect_ok(G, "G1.0 X1 F1\n");
+	expect_ok(G, "G1.0 X1 F1\n" "M2\n");
 	assert_int_equal(count_kind(SH2000_PROG_LINE), 1);
 	/* % opens and closes a program; what follows is reported, not read */
 	expect_ok(G, "%\nG0 X1\n%\nG0 X2\n");
@@ -140,8 +140,8 @@ static void test_lexical(void **state)
 static void test_noop_and_path_codes(void **state)
 {
 	(void)state;
-	expect_ok(G, "G17 G21 G40 G49 G54 G80 G90 G91.1 G94\nG64 P0.01\nG61\nG61.1\nG0 X1\n");
-	assert_int_equal(P.count, 1);
+	expect_ok(G, "G17 G21 G40 G49 G54 G80 G90 G91.1 G94\nG64 P0.01\nG61\nG61.1\nG0 X1\n" "M2\n");
+	assert_int_equal(P.count, 2);
 	assert_int_equal(count_warnings(SH2000_PD_NOT_ACTED), 1);
 	assert_true(has_message("G64"));
 	assert_int_equal(D.items[0].pos.line, 2);
@@ -154,7 +154,7 @@ static void test_arc_xy(void **state)
 	double p[4];
 
 	(void)state;
-	expect_ok(G, "G0 X10 Y0\nG3 X0 Y10 I-10 J0 F60\nG2 X10 Y0 I0 J-10\n");
+	expect_ok(G, "G0 X10 Y0\nG3 X0 Y10 I-10 J0 F60\nG2 X10 Y0 I0 J-10\n" "M2\n");
 	b = nth(SH2000_PROG_ARC, 0);
 	assert_int_equal(b->u.arc.plane, SH2000_PROG_XY);
 	assert_true(b->u.arc.ccw);
@@ -174,10 +174,10 @@ static void test_arc_xy(void **state)
 	assert_near(b->u.arc.sweep, -M_PI / 2, 1e-12);
 	assert_pos4(b->end, 10, 0, 0, 0);
 	/* I alone: J is 0 in incremental centre mode */
-	expect_ok(G, "G0 X10\nG2 X-10 I-10 F1\n");
+	expect_ok(G, "G0 X10\nG2 X-10 I-10 F1\n" "M2\n");
 	assert_near(nth(SH2000_PROG_ARC, 0)->u.arc.sweep, -M_PI, 1e-12);
 	/* the long way round */
-	expect_ok(G, "G0 X10\nG2 X0 Y10 I-10 F1\n");
+	expect_ok(G, "G0 X10\nG2 X0 Y10 I-10 F1\n" "M2\n");
 	assert_near(nth(SH2000_PROG_ARC, 0)->u.arc.sweep, -3 * M_PI / 2, 1e-12);
 }
 
@@ -187,7 +187,7 @@ static void test_full_circles_and_helix(void **state)
 	double p[4];
 
 	(void)state;
-	expect_ok(G, "G0 X10\nG2 I-10 F60\nG2 I-10 P3\nG3 X10 Y0 Z-5 A2 I-10 J0 P2\n");
+	expect_ok(G, "G0 X10\nG2 I-10 F60\nG2 I-10 P3\nG3 X10 Y0 Z-5 A2 I-10 J0 P2\n" "M2\n");
 	b = nth(SH2000_PROG_ARC, 0);
 	assert_near(b->u.arc.sweep, -2 * M_PI, 1e-12);
 	assert_pos4(b->end, 10, 0, 0, 0);
@@ -216,7 +216,7 @@ static void test_arc_xz_yz(void **state)
 
 	(void)state;
 	/* G18: axis1 Z, axis2 X; G3 turns from +Z towards +X (seen from +Y) */
-	expect_ok(G, "G0 Z10\nG18 G3 X10 Z0 I0 K-10 F60\nG0 Z10 X0\nG2 X10 Z0 K-10\n");
+	expect_ok(G, "G0 Z10\nG18 G3 X10 Z0 I0 K-10 F60\nG0 Z10 X0\nG2 X10 Z0 K-10\n" "M2\n");
 	b = nth(SH2000_PROG_ARC, 0);
 	assert_int_equal(b->u.arc.plane, SH2000_PROG_XZ);
 	assert_int_equal(b->u.arc.axis1, SH2000_PROG_Z);
@@ -228,17 +228,17 @@ static void test_arc_xz_yz(void **state)
 	assert_near(p[2], 10 / M_SQRT2, 1e-9);
 	assert_near(nth(SH2000_PROG_ARC, 1)->u.arc.sweep, -3 * M_PI / 2, 1e-12);
 	/* helix along Y in G18 */
-	expect_ok(G, "G0 Z10\nG18 G3 X10 Z0 Y7 I0 K-10 F60\n");
+	expect_ok(G, "G0 Z10\nG18 G3 X10 Z0 Y7 I0 K-10 F60\n" "M2\n");
 	assert_pos4(nth(SH2000_PROG_ARC, 0)->end, 10, 7, 0, 0);
 	/* G19: axis1 Y, axis2 Z */
-	expect_ok(G, "G0 Y10\nG19 G3 Y0 Z10 J-10 K0 X3 F60\n");
+	expect_ok(G, "G0 Y10\nG19 G3 Y0 Z10 J-10 K0 X3 F60\n" "M2\n");
 	b = nth(SH2000_PROG_ARC, 0);
 	assert_int_equal(b->u.arc.plane, SH2000_PROG_YZ);
 	assert_int_equal(b->u.arc.axisn, SH2000_PROG_X);
 	assert_near(b->u.arc.sweep, M_PI / 2, 1e-12);
 	assert_pos4(b->end, 3, 0, 10, 0);
 	/* full circles and helices in G18 and G19 */
-	expect_ok(G, "G0 X10\nG18 G2 I-10 Y4 P2 F60\nG19 G0 X0 Y10\nG3 J-10 X-3\n");
+	expect_ok(G, "G0 X10\nG18 G2 I-10 Y4 P2 F60\nG19 G0 X0 Y10\nG3 J-10 X-3\n" "M2\n");
 	b = nth(SH2000_PROG_ARC, 0);
 	assert_near(b->u.arc.sweep, -4 * M_PI, 1e-12);
 	assert_pos4(b->end, 10, 4, 0, 0);
@@ -264,7 +264,7 @@ static void test_arc_centre_modes(void **state)
 	const struct sh2000_prog_block *b;
 
 	(void)state;
-	expect_ok(G, "G0 X10 Y10\nG90.1 G3 X0 Y20 I0 J10 F60\nG91.1 G2 X10 Y10 I0 J-10\n");
+	expect_ok(G, "G0 X10 Y10\nG90.1 G3 X0 Y20 I0 J10 F60\nG91.1 G2 X10 Y10 I0 J-10\n" "M2\n");
 	b = nth(SH2000_PROG_ARC, 0);
 	assert_near(b->u.arc.centre[0], 0, 1e-12);
 	assert_near(b->u.arc.centre[1], 10, 1e-12);
@@ -272,7 +272,7 @@ static void test_arc_centre_modes(void **state)
 	assert_near(b->u.arc.centre[0], 0, 1e-12);
 	assert_near(b->u.arc.centre[1], 10, 1e-12);
 	/* absolute centres in inches */
-	expect_ok(G, "G20 G0 X1\nG90.1 G3 X0 Y1 I0 J0 F1\n");
+	expect_ok(G, "G20 G0 X1\nG90.1 G3 X0 Y1 I0 J0 F1\n" "M2\n");
 	assert_near(nth(SH2000_PROG_ARC, 0)->u.arc.radius, 25.4, 1e-12);
 	/* G90.1 needs both centre words */
 	expect_error(G, "G0 X1\nG90.1 G3 X0 Y1 I0 F1\n", SH2000_PD_MISSING, 2, 7);
@@ -283,12 +283,12 @@ static void test_arc_r_format(void **state)
 	const struct sh2000_prog_block *b;
 
 	(void)state;
-	expect_ok(G, "G1 F1\nG2 X10 Y0 R5\n");
+	expect_ok(G, "G1 F1\nG2 X10 Y0 R5\n" "M2\n");
 	b = nth(SH2000_PROG_ARC, 0);
 	assert_near(b->u.arc.centre[0], 5, 1e-9);
 	assert_near(b->u.arc.centre[1], 0, 1e-9);
 	assert_near(b->u.arc.sweep, -M_PI, 1e-9);
-	expect_ok(G, "G1 F1\nG2 X10 Y10 R10\nG0 X0 Y0\nG2 X10 Y10 R-10\nG0 X0 Y0\nG3 X10 Y10 R10\n");
+	expect_ok(G, "G1 F1\nG2 X10 Y10 R10\nG0 X0 Y0\nG2 X10 Y10 R-10\nG0 X0 Y0\nG3 X10 Y10 R10\n" "M2\n");
 	b = nth(SH2000_PROG_ARC, 0);
 	assert_near(b->u.arc.centre[0], 10, 1e-9);
 	assert_near(b->u.arc.centre[1], 0, 1e-9);
@@ -317,7 +317,7 @@ static void test_arc_radius_tolerance(void **state)
 
 	(void)state;
 	/* within 0.0283 mm and 0.1 % */
-	expect_ok(G, "G0 X10\nG3 X0 Y10.005 I-10 F1\n");
+	expect_ok(G, "G0 X10\nG3 X0 Y10.005 I-10 F1\n" "M2\n");
 	b = nth(SH2000_PROG_ARC, 0);
 	assert_near(b->u.arc.end_radius, 10.005, 1e-12);
 	/* the fitted circle goes through both ends, near the centre */
@@ -327,18 +327,24 @@ static void test_arc_radius_tolerance(void **state)
 		    b->u.arc.fit_radius, 1e-12);
 	assert_true(hypot(b->u.arc.fit_centre[0], b->u.arc.fit_centre[1]) < 0.005);
 	assert_near(b->u.arc.fit_centre[2], 0, 0);
-	/* 0.015 mm is within the absolute but not the relative tolerance */
-	expect_error(G, "G0 X10\nG3 X0 Y10.015 I-10 F1\n", SH2000_PD_ARC, 2, 1);
-	/* 0.05 mm on a 100 mm radius: relative fine, absolute not */
-	expect_error(G, "G0 X100\nG3 X0 Y100.05 I-100 F1\n", SH2000_PD_ARC, 2, 1);
-	expect_ok(G, "G0 X100\nG3 X0 Y100.02 I-100 F1\n");
-	/* in inches the absolute tolerance is 0.0028 in */
-	expect_ok(G, "G20 G0 X10\nG3 X0 Y10.002 I-10 F1\n");
-	expect_error(G, "G20 G0 X10\nG3 X0 Y10.004 I-10 F1\n", SH2000_PD_ARC, 2, 1);
+	/* LinuxCNC 2.9's rule (each case checked with Debian's rs274): an
+	 * error past 0.0283 mm and 0.1 % of the radius at once ... */
+	expect_ok(G, "G0 X10\nG3 X0 Y10.025 I-10 F1\nM2\n");
+	expect_error(G, "G0 X10\nG3 X0 Y10.03 I-10 F1\nM2\n", SH2000_PD_ARC, 2, 1);
+	expect_ok(G, "G0 X100\nG3 X0 Y100.05 I-100 F1\nM2\n");
+	expect_error(G, "G0 X100\nG3 X0 Y100.2 I-100 F1\nM2\n", SH2000_PD_ARC, 2, 1);
+	/* ... or past 100 times 0.0283 mm */
+	expect_ok(G, "G0 X10000\nG3 X0 Y10002.8 I-10000 F1\nM2\n");
+	expect_error(G, "G0 X10000\nG3 X0 Y10002.9 I-10000 F1\nM2\n", SH2000_PD_ARC, 2, 1);
+	/* in inches the tolerance is 0.0028 in */
+	expect_ok(G, "G20 G0 X1\nG3 X0 Y1.0027 I-1 F1\nM2\n");
+	expect_error(G, "G20 G0 X1\nG3 X0 Y1.003 I-1 F1\nM2\n", SH2000_PD_ARC, 2, 1);
+	expect_ok(G, "G20 G0 X10\nG3 X0 Y10.004 I-10 F1\nM2\n");
 	/* a caller's tolerance */
 	sh2000_prog_options_default(&o);
 	o.arc_tolerance_mm = 0.001;
-	assert_int_equal(rd_opt(G, "G0 X100\nG3 X0 Y100.02 I-100 F1\n", &o),
+	expect_ok(G, "G0 X10\nG3 X0 Y10.015 I-10 F1\nM2\n");
+	assert_int_equal(rd_opt(G, "G0 X10\nG3 X0 Y10.015 I-10 F1\nM2\n", &o),
 			 -SH2000_PROG_EINVALID);
 	/* zero radius */
 	expect_error(G, "G0 X1\nG2 I0.0001 J0 F1\n", SH2000_PD_ARC, 2, 1);
@@ -354,7 +360,7 @@ static void test_arc_words(void **state)
 	expect_error(G, "G2 I1\n", SH2000_PD_FEED, 1, 1);
 	expect_error(G, "G1 X1 F0\nG3 I1\n", SH2000_PD_FEED, 1, 1);
 	/* modal arc with axis words, and a full circle needs its G word */
-	expect_ok(G, "G0 X10\nG3 X0 Y10 I-10 F1\nX-10 Y0 J-10\n");
+	expect_ok(G, "G0 X10\nG3 X0 Y10 I-10 F1\nX-10 Y0 J-10\n" "M2\n");
 	assert_int_equal(count_kind(SH2000_PROG_ARC), 2);
 	expect_error(G, "G0 X10\nG3 X0 Y10 I-10 F1\nI5\n", SH2000_PD_CONFLICT, 3, 1);
 }
@@ -376,7 +382,7 @@ static void test_dwell_pause_end(void **state)
 	assert_int_equal(count_warnings(SH2000_PD_IGNORED), 1);
 	assert_int_equal(D.items[0].pos.line, 5);
 	/* G4 with a move: dwell first */
-	expect_ok(G, "G4 P1 G0 X1\n");
+	expect_ok(G, "G4 P1 G0 X1\n" "M2\n");
 	assert_int_equal(P.blocks[0].kind, SH2000_PROG_DWELL);
 	expect_error(G, "G4\n", SH2000_PD_MISSING, 1, 1);
 	expect_error(G, "G4 P-1\n", SH2000_PD_RANGE, 1, 4);
@@ -386,7 +392,7 @@ static void test_dwell_pause_end(void **state)
 static void test_warnings_once_per_kind(void **state)
 {
 	(void)state;
-	expect_ok(G, "S1000 M3\nG0 X1\nS2000 M4\nM5\nT1 M6\nT2 M6\nM8\nM7 M8\nM9\nM2\n");
+	expect_ok(G, "S1000 M3\nG0 X1\nS2000 M4\nM5\nT1 M6\nT2 M6\nM8\nM7\nM9\nM2\n");
 	assert_int_equal(D.errors, 0);
 	assert_int_equal(D.warnings, 5);
 	assert_int_equal(count_warnings(SH2000_PD_NOT_ACTED), 5);
@@ -413,7 +419,7 @@ static void test_warnings_once_per_kind(void **state)
 	assert_int_equal(count_kind(SH2000_PROG_RAPID), 1);
 	assert_int_equal(count_kind(SH2000_PROG_END), 1);
 	/* a message comment is read as a comment, with one warning */
-	expect_ok(G, "(MSG, hello)\n(msg,again)\n(DEBUG, x)\n");
+	expect_ok(G, "(MSG, hello)\n(msg,again)\n(DEBUG, x)\n" "M2\n");
 	assert_int_equal(count_warnings(SH2000_PD_IGNORED), 1);
 }
 
@@ -431,6 +437,8 @@ static void test_modal_group_conflicts(void **state)
 	expect_error(G, "M3 M5\n", SH2000_PD_CONFLICT, 1, 4);
 	expect_error(G, "M0 M2\n", SH2000_PD_CONFLICT, 1, 4);
 	expect_error(G, "M8 M9\n", SH2000_PD_CONFLICT, 1, 4);
+	/* LinuxCNC's manual allows M7 with M8; its 2.9 interpreter does not */
+	expect_error(G, "M7 M8\n", SH2000_PD_CONFLICT, 1, 4);
 	expect_error(G, "G1 X1 X2 F1\n", SH2000_PD_CONFLICT, 1, 7);
 	expect_error(G, "G1 X1 F1 F2\n", SH2000_PD_CONFLICT, 1, 10);
 	/* words without a user */
@@ -512,9 +520,12 @@ static void test_errors_everywhere_nothing_moves(void **state)
 	assert_int_equal(D.errors, 21);
 	assert_int_equal(D.items[20].code, SH2000_PD_LIMIT);
 	/* an arc error leaves the position at the programmed end */
-	assert_int_equal(rd(G, "G0 X10\nG3 X0 Y10.5 I-10 F1\nG3 X-10 Y0 J-10\n"),
+	assert_int_equal(rd(G, "G0 X10\nG3 X0 Y10.5 I-10 F1\nG3 X-10.5 Y0 J-10.5\n" "M2\n"),
 			 -SH2000_PROG_EINVALID);
-	assert_int_equal(D.errors, 2);	/* the next arc is also off */
+	assert_int_equal(D.errors, 1);	/* the next arc starts at Y10.5 */
+	/* a file that stops without M2/M30 may be cut short: as LinuxCNC */
+	expect_error(G, "G0 X1\nG0 X2\n", SH2000_PD_MISSING, 2, 1);
+	expect_error(G, "", SH2000_PD_MISSING, 1, 1);
 }
 
 static void test_diag_format_and_files(void **state)

@@ -68,7 +68,7 @@ static void test_weights_order_units(void **state)
 	(void)state;
 	/* P without X Y on the opening line weighs the start point; L4 is a
 	 * cubic; Z and A stay */
-	expect_ok(G, "G0 X1 Y1 Z3 A4\nG1 F60\nG5.2 P3 L4\nX2 Y1 P1\nX3 Y2 P0.5\nG5.2 X4 Y1 P1\nG5.3\n");
+	expect_ok(G, "G0 X1 Y1 Z3 A4\nG1 F60\nG5.2 P3 L4\nX2 Y1 P1\nX3 Y2 P0.5\nG5.2 X4 Y1 P1\nG5.3\n" "M2\n");
 	n = &nth(SH2000_PROG_NURBS, 0)->u.nurbs;
 	assert_int_equal(n->degree, 3);
 	assert_int_equal(n->npoints, 4);
@@ -83,7 +83,7 @@ static void test_weights_order_units(void **state)
 		assert_near(n->knots[i], i < 4 ? 0 : 1, 0);
 	assert_pos4(nth(SH2000_PROG_NURBS, 0)->end, 4, 1, 3, 4);
 	/* inches */
-	expect_ok(G, "G20 F1\nG5.2 X1 Y0 P1\nX1 Y1 P1\nG5.3\n");
+	expect_ok(G, "G20 F1\nG5.2 X1 Y0 P1\nX1 Y1 P1\nG5.3\n" "M2\n");
 	/* without P on the opening line the start point weighs 1 */
 	assert_near(nth(SH2000_PROG_NURBS, 0)->u.nurbs.weights[0], 1, 0);
 	n = &nth(SH2000_PROG_NURBS, 0)->u.nurbs;

@@ -501,5 +501,9 @@ int prog_read_canon(struct prog_ctx *c, const char *text, size_t len)
 		}
 		do_line(c, &st, &l);
 	}
+	/* rs274 stops printing at the first error in the program */
+	if (!st.ended && !c->stop)
+		prog_err(c, SH2000_PD_MISSING, line ? line : 1, 1,
+			 "no PROGRAM_END(): rs274 stopped early (an error in the G-code?) or the file is cut short");
 	return c->errors ? -SH2000_PROG_EINVALID : 0;
 }

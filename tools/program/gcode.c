@@ -50,7 +50,6 @@ struct gline {
 	unsigned int gcol[GRP_COUNT];
 	int m[MGRP_COUNT];
 	unsigned int mcol[MGRP_COUNT];
-	int m2;				/* M8 next to M7 */
 	bool has[26];
 	double val[26];
 	unsigned int col[26];
@@ -225,7 +224,6 @@ static int lex_line(struct prog_ctx *c, const char *s, size_t n,
 		l->g[g] = -1;
 	for (int g = 0; g < MGRP_COUNT; g++)
 		l->m[g] = -1;
-	l->m2 = -1;
 	while (i < n && is_blank(s[i]))
 		i++;
 	if (i < n && s[i] == '/')
@@ -334,13 +332,7 @@ static int lex_line(struct prog_ctx *c, const char *s, size_t n,
 				return prog_err(c, SH2000_PD_UNSUPPORTED, line, col,
 						"M%ld is not in the built-in parser's subset", code);
 			if (l->m[grp] >= 0) {
-				/* LinuxCNC allows M7 and M8 together */
-				if (grp == MGRP_COOLANT && l->m2 < 0 &&
-				    ((l->m[grp] == 7 && code == 8) ||
-				     (l->m[grp] == 8 && code == 7))) {
-					l->m2 = (int)code;
-					break;
-				}
+				/* M7 M8 too: LinuxCNC 2.9 rejects the pair */
 				return prog_err(c, SH2000_PD_CONFLICT, line, col,
 						"M%d and M%ld on one line: both are in the same modal group",
 						l->m[grp], code);
@@ -960,6 +952,10 @@ int prog_read_gcode(struct prog_ctx *c, const char *text, size_t len)
 	if (st.percent && !st.ended && !c->stop)
 		prog_err(c, SH2000_PD_SYNTAX, line ? line : 1, 1,
 			 "program starts with '%%' but has no closing '%%'");
+	/* as LinuxCNC: a file that just stops may have been cut short */
+	else if (!st.ended && !c->stop)
+		prog_err(c, SH2000_PD_MISSING, line ? line : 1, 1,
+			 "the file ends without M2 or M30 (or a closing '%%'): it may be cut short");
 	free(st.pts);
 	free(st.w);
 	return c->errors ? -SH2000_PROG_EINVALID : 0;

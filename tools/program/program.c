@@ -450,13 +450,16 @@ int prog_arc_fill(struct prog_ctx *c, struct sh2000_prog_block *b,
 				"zero-radius arc: r1=%.4f mm r2=%.4f mm", r1, r2);
 	abs_err = fabs(r1 - r2);
 	rel_err = abs_err / fmax(r1, r2);
-	if (abs_err > tol_mm || rel_err > PROG_SPIRAL_REL_TOL)
+	/* LinuxCNC 2.9 (checked against Debian's rs274): an error past 100
+	 * times the tolerance, or past the tolerance and 0.1 % at once */
+	if (abs_err > 100 * tol_mm ||
+	    (abs_err > tol_mm && rel_err > PROG_SPIRAL_REL_TOL))
 		return prog_err(c, SH2000_PD_ARC, line, col,
-				"radius to end of arc differs from radius to start: start=(%c%.4f,%c%.4f) centre=(%c%.4f,%c%.4f) end=(%c%.4f,%c%.4f) r1=%.4f r2=%.4f mm (allowed %.4f mm and %.1f%%)",
+				"radius to end of arc differs from radius to start: start=(%c%.4f,%c%.4f) centre=(%c%.4f,%c%.4f) end=(%c%.4f,%c%.4f) r1=%.4f r2=%.4f mm (allowed: %.4f mm, or %.1f%% of the radius up to %.4f mm)",
 				"XYZA"[a->axis1], s1, "XYZA"[a->axis2], s2,
 				"XYZA"[a->axis1], c1, "XYZA"[a->axis2], c2,
 				"XYZA"[a->axis1], e1, "XYZA"[a->axis2], e2,
-				r1, r2, tol_mm, PROG_SPIRAL_REL_TOL * 100);
+				r1, r2, tol_mm, PROG_SPIRAL_REL_TOL * 100, 100 * tol_mm);
 	a->centre[a->axis1] = c1;
 	a->centre[a->axis2] = c2;
 	a->centre[a->axisn] = b->start[a->axisn];

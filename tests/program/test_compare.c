@@ -6,6 +6,10 @@
  * canonical-command reader. They must move the same way, to rs274's 4
  * printed decimals. data/nurbs_doc.* is LinuxCNC's G5.2 example: rs274
  * prints only "NURBS_FEED(5, ...)", which the canonical reader refuses.
+ * data/nurbs_*.points are the points LinuxCNC's own NURBS evaluation
+ * gives for G5.2 blocks (its Python gcode module, as its preview draws
+ * them: "line x y" in inches at u = k * umax / (15 * points)); the
+ * built-in parser's NURBS must go through them.
  */
 #include <stdlib.h>
 
@@ -105,11 +109,45 @@ static void test_nurbs_example(void **state)
 	assert_non_null(strstr(e->message, "G5.2"));
 }
 
+static void nurbs_points(const char *ngc, const char *points, int expect)
+{
+	const struct sh2000_prog_nurbs *n;
+	char path[512];
+	FILE *f;
+	double x, y, umax, q[4], worst = 0;
+	int line, k = 0, div;
+
+	assert_int_equal(rdf(&P, G, ngc), 0);
+	n = &nth(SH2000_PROG_NURBS, 0)->u.nurbs;
+	umax = n->knots[n->npoints];
+	div = (int)n->npoints * 15;
+	snprintf(path, sizeof(path), "%s/%s", PROGRAM_TEST_DATA, points);
+	f = fopen(path, "r");
+	assert_non_null(f);
+	while (fscanf(f, "%d %lf %lf", &line, &x, &y) == 3) {
+		k++;
+		sh2000_prog_nurbs_eval(n, k < div ? umax * k / div : umax, q);
+		worst = fmax(worst, fmax(fabs(q[0] - x * 25.4), fabs(q[1] - y * 25.4)));
+	}
+	fclose(f);
+	assert_int_equal(k, expect);
+	assert_true(worst < 1e-9);
+}
+
+static void test_nurbs_like_linuxcnc(void **state)
+{
+	(void)state;
+	nurbs_points("nurbs_doc.ngc", "nurbs_doc.points", 75);
+	nurbs_points("nurbs_l4.ngc", "nurbs_l4.points", 91);
+	assert_int_equal(nth(SH2000_PROG_NURBS, 0)->u.nurbs.degree, 3);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test_setup_teardown(test_same_motion, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_nurbs_example, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_nurbs_like_linuxcnc, setup, teardown),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

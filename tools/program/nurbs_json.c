@@ -227,6 +227,8 @@ static int read_curve(struct jctx *j, struct json_object *cv, double feed)
 				    "must be a number > 0 (mm/s)");
 	}
 	if (!(feed > 0))
+		feed = c->opt.feed_mm_s;
+	if (!(feed > 0))
 		return jerr(j, SH2000_PD_FEED, NULL, -1, -1,
 			    "no feed: give \"feed\" in mm/s");
 	if (!json_object_object_get_ex(cv, "degree", &deg))

@@ -52,6 +52,26 @@ int sh2000_prog_diag_format(const struct sh2000_prog_diag *g, char *buf,
 			g->pos.line, g->pos.column, sev, g->message);
 }
 
+int sh2000_prog_diags_print(const struct sh2000_prog_diags *d, void *f)
+{
+	FILE *out = f;
+
+	for (size_t i = 0; i < d->count; i++) {
+		const struct sh2000_prog_diag *g = &d->items[i];
+		const char *sev = g->severity == SH2000_PROG_ERROR ? "error" :
+				  "warning";
+		int n = g->pos.line ?
+			fprintf(out, "%s:%u:%u: %s: %s\n", g->pos.file,
+				g->pos.line, g->pos.column, sev, g->message) :
+			fprintf(out, "%s: %s: %s\n", g->pos.file, sev,
+				g->message);
+
+		if (n < 0)
+			return -EIO;
+	}
+	return (int)d->count;
+}
+
 static int diag_vadd(struct prog_ctx *c, enum sh2000_prog_severity sev,
 		     enum sh2000_prog_diag_code code, unsigned int line,
 		     unsigned int col, const char *fmt, va_list ap)

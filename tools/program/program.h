@@ -100,6 +100,9 @@ void sh2000_prog_diags_free(struct sh2000_prog_diags *d);
 /* "file:line:column: error: message" into buf; returns snprintf's length. */
 int sh2000_prog_diag_format(const struct sh2000_prog_diag *g, char *buf,
 			    size_t size);
+/* Every diagnostic, one a line, in that form; returns the count printed
+ * or -errno. f is a FILE *, void here to keep stdio out of this header. */
+int sh2000_prog_diags_print(const struct sh2000_prog_diags *d, void *f);
 
 /* ---- blocks ----------------------------------------------------------- */
 
@@ -207,7 +210,8 @@ struct sh2000_prog_options {
 	/* Where the machine is when the program starts, mm. G-code moves
 	 * and arcs start there, CSV and JSON files rapid from there. */
 	double start[SH2000_PROG_AXES];
-	/* CSV feed in mm/s when the file has no feed column; 0: none. */
+	/* Feed in mm/s for CSV files without a feed column and JSON curves
+	 * without "feed"; 0: none (a feed move without one is an error). */
 	double feed_mm_s;
 	/* Allowed difference of an arc's start and end radius in mm;
 	 * 0: LinuxCNC's default for the active units (docs/programs.md). */

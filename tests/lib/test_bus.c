@@ -427,6 +427,43 @@ static void test_fault_errors(void **state)
 	}
 }
 
+/* What the library's port-cycle costs rely on in the protocol's layout. */
+static void test_layout(void **state)
+{
+	(void)state;
+	/* estop: clear + write from anywhere */
+	assert_int_equal(SH2000_W_ESTOP_REQ, 0);
+	/* a poll streams 0..46 and the host heartbeat is the next word */
+	assert_int_equal(SH2000_W_HOST_HEARTBEAT, SH2000_STATUS_WORDS);
+	/* push: HOST_HEARTBEAT and HEAD published in one 2-word stream */
+	assert_int_equal(SH2000_W_HEAD, SH2000_W_HOST_HEARTBEAT + 1);
+	/* push check: HEARTBEAT..TAIL in one 5-word read */
+	assert_int_equal(SH2000_W_HEARTBEAT + 1, SH2000_W_ESTOP_ACK);
+	assert_int_equal(SH2000_W_ESTOP_ACK + 1, SH2000_W_STATE);
+	assert_int_equal(SH2000_W_STATE + 1, SH2000_W_FAULTS);
+	assert_int_equal(SH2000_W_FAULTS + 1, SH2000_W_TAIL);
+	/* command: OP..SEQ one upward stream with SEQ last; the answer
+	 * ACK..VALUE_HI one read with ACK first */
+	assert_int_equal(SH2000_W_CMD_AXIS, SH2000_W_CMD_OP + 1);
+	assert_int_equal(SH2000_W_CMD_PARAM, SH2000_W_CMD_OP + 2);
+	assert_int_equal(SH2000_W_CMD_ARG_LO, SH2000_W_CMD_OP + 3);
+	assert_int_equal(SH2000_W_CMD_ARG_HI, SH2000_W_CMD_OP + 4);
+	assert_int_equal(SH2000_W_CMD_CHECK, SH2000_W_CMD_OP + 5);
+	assert_int_equal(SH2000_W_CMD_SEQ, SH2000_W_CMD_OP + 6);
+	assert_int_equal(SH2000_W_CMD_RESULT, SH2000_W_CMD_ACK + 1);
+	assert_int_equal(SH2000_W_CMD_VALUE_LO, SH2000_W_CMD_ACK + 2);
+	assert_int_equal(SH2000_W_CMD_VALUE_HI, SH2000_W_CMD_ACK + 3);
+	/* snapshot read upwards: END, body, BEGIN, BEGIN the last status word */
+	assert_true(SH2000_W_SNAP_SEQ_END < SH2000_W_SNAP_AXIS(0));
+	assert_true(SH2000_W_SNAP_TIME_HI < SH2000_W_SNAP_SEQ_BEGIN);
+	assert_int_equal(SH2000_W_SNAP_SEQ_BEGIN, SH2000_STATUS_WORDS - 1);
+	/* ring: inside the RAM, slots of whole records, 16-bit counters */
+	assert_true(SH2000_W_RING_BASE > SH2000_W_CMD_SEQ);
+	assert_true(SH2000_W_RING_END <= SH2000_RAM_WORDS);
+	assert_int_equal(65536 % SH2000_RING_RECORDS, 0);
+	assert_int_equal(SH2000_REC_CHECK, SH2000_RECORD_WORDS - 1);
+}
+
 static void test_strerror(void **state)
 {
 	int e;
@@ -461,6 +498,7 @@ int main(void)
 		cmocka_unit_test(test_heartbeat_loss),
 		cmocka_unit_test(test_counter_extension),
 		cmocka_unit_test(test_fault_errors),
+		cmocka_unit_test(test_layout),
 		cmocka_unit_test(test_strerror),
 	};
 

@@ -125,6 +125,11 @@ static void test_nurbs_errors(void **state)
 	assert_int_equal(rd(G, "F1 G18\nG5.2 X1 Y1 P1\nX2 Y2 P1\nX3 Y3 P1\nG5.3\nG17 G0 X0\nM2\n"),
 			 -SH2000_PROG_EINVALID);
 	assert_int_equal(D.errors, 1);
+	/* ... but a G5.3 after other motion is an error again */
+	assert_int_equal(rd(G, "F1 G18\nG5.2 X1 Y1 P1\nG1 X2\nG5.3\nM2\n"),
+			 -SH2000_PROG_EINVALID);
+	assert_int_equal(D.errors, 2);
+	assert_int_equal(D.items[1].pos.line, 4);
 	/* after G5.3 there is no motion mode */
 	expect_error(G, "F1\nG5.2 X1 Y1 P1\nX2 Y2 P1\nG5.3\nX3 Y3\n", SH2000_PD_MISSING, 5, 1);
 }

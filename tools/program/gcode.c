@@ -786,6 +786,8 @@ static int exec_line(struct prog_ctx *c, struct gstate *st, struct gline *l)
 
 	if (mword >= 0 && mword != MOT_G53)
 		st->motion = mword == MOT_G80 ? MOT_NONE : mword;
+	if (mword >= 0 && mword != MOT_G52 && mword != MOT_G53)
+		st->nurbs_failed = false;
 	if (motion == MOT_G52 && st->motion != MOT_G52)
 		st->motion = MOT_G52;
 	if (mword == MOT_G53 && st->nurbs_failed) {

@@ -7,7 +7,8 @@
  *
  * A program is an array of blocks. Every motion block carries its absolute
  * start and end points in mm for the four axes X Y Z A (A is the card's
- * fourth *linear* axis, written "A" in every format), its feed in mm/s and
+ * fourth *linear* axis, written "A" in every format and always in mm: G20
+ * does not scale it, as LinuxCNC never scales A), its feed in mm/s and
  * its source position, so a consumer needs no modal state: units, distance
  * modes and relative arc centres are resolved by the reader.
  *
@@ -50,7 +51,8 @@ const char *sh2000_prog_strerror(int code);
 
 /* ---- source positions and diagnostics -------------------------------- */
 
-/* line and column count from 1; column is a byte column (a tab is one). */
+/* line and column count from 1 (line 0: the file as a whole, e.g. it
+ * cannot be read); column is a byte column (a tab is one). */
 struct sh2000_prog_pos {
 	const char *file;	/* owned by the program (or diags list) */
 	unsigned int line;

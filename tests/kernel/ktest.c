@@ -713,7 +713,23 @@ static void t_sysfs(const char *host)
 		EXPECT(v[3] == c.data_writes, "sysfs data_writes %llu"
 		       " ioctl %llu", v[3], c.data_writes);
 	}
-	report("sysfs: counters equal GET_COUNTERS");
+	{
+		char path[200], buf[32] = "";
+		FILE *f;
+
+		snprintf(path, sizeof(path), "%s/position", dir);
+		f = fopen(path, "r");
+		if (!f || !fgets(buf, sizeof(buf), f))
+			err("%s unreadable", path);
+		else if (c.position == SH2000_POSITION_UNKNOWN)
+			EXPECT(!strncmp(buf, "unknown", 7), "position '%s', want unknown", buf);
+		else
+			EXPECT(strtoul(buf, NULL, 0) == c.position,
+			       "sysfs position '%s', ioctl %u", buf, c.position);
+		if (f)
+			fclose(f);
+	}
+	report("sysfs: counters and position equal GET_COUNTERS");
 	close(fd);
 }
 
@@ -782,6 +798,85 @@ static void t_dsp(void)
 	if (map != MAP_FAILED)
 		munmap(map, 4096);
 	report("dsp: mmap sees host writes and host sees stores; out-of-range mmap refused");
+}
+
+/*
+ * The card side stores two patterns into every word through the mapping
+ * while the host reads, and the other way round: a word is never torn.
+ */
+static void t_torn(void)
+{
+	uint16_t *map = mmap(NULL, 4096, PROT_READ | PROT_WRITE, MAP_SHARED,
+			     g_dsp, 0);
+	uint16_t w[RAMW];
+	long torn = 0, reads = 0;
+	pid_t p;
+	int status;
+
+	begin();
+	if (map == MAP_FAILED) {
+		err("mmap: %s", strerror(errno));
+		report("dsp: concurrent card-side stores and host transfers never tear a word");
+		return;
+	}
+	for (long i = 0; i < RAMW; i++)
+		map[i] = 0x12cd;
+	p = fork();
+	if (p == 0) {
+		volatile uint16_t *v = map;
+
+		alarm(60);
+		for (;;)
+			for (long i = 0; i < RAMW; i++)
+				v[i] = v[i] == 0x12cd ? 0xab34 : 0x12cd;
+	}
+	for (int it = 0; it < 300; it++) {
+		if (pread(g_host, w, RAMB, 0) != RAMB) {
+			err("pread: %s", strerror(errno));
+			break;
+		}
+		reads++;
+		for (long i = 0; i < RAMW; i++)
+			torn += w[i] != 0x12cd && w[i] != 0xab34;
+	}
+	kill(p, SIGKILL);
+	waitpid(p, &status, 0);
+	EXPECT(torn == 0, "%ld torn words in %ld whole-RAM host reads", torn, reads);
+	torn = 0;
+
+	/* host writes, card side loads */
+	p = fork();
+	if (p == 0) {
+		uint16_t a[RAMW], b[RAMW];
+
+		alarm(60);
+		for (long i = 0; i < RAMW; i++) {
+			a[i] = 0x00ff;
+			b[i] = 0xff00;
+		}
+		for (;;) {
+			pwrite(g_host, a, RAMB, 0);
+			pwrite(g_host, b, RAMB, 0);
+		}
+	}
+	for (int it = 0; it < 2000; it++) {
+		volatile uint16_t *v = map;
+
+		for (long i = 0; i < RAMW; i++) {
+			uint16_t x = v[i];
+
+			torn += x != 0x00ff && x != 0xff00 && x != 0x12cd &&
+				x != 0xab34;
+		}
+	}
+	kill(p, SIGKILL);
+	waitpid(p, &status, 0);
+	EXPECT(torn == 0, "%ld torn words seen by the card side", torn);
+	munmap(map, 4096);
+	/* the host RAM is now unknown to the shadow: resync */
+	pread(g_dsp, g_shadow, RAMB, 0);
+	model_sync();
+	report("dsp: concurrent card-side stores and host transfers never tear a word");
 }
 
 static void t_twocards(const char *h0, const char *d0, const char *h1,
@@ -942,6 +1037,15 @@ static void t_interleave(const char *host)
 
 	begin();
 	memset(t, 0, 8 * sizeof(*t));
+	{
+		uint16_t w[RAMW];
+		int fd = open_or_die(host, O_RDWR);
+
+		for (long i = 0; i < RAMW; i++)
+			w[i] = 0x1111;
+		EXPECT(pwrite(fd, w, RAMB, 0) == RAMB, "setup write");
+		close(fd);
+	}
 	for (k = 0; k < 8; k++) {
 		pids[k] = fork();
 		if (pids[k] == 0) {
@@ -1556,6 +1660,7 @@ int main(int argc, char **argv)
 		t_stream_basic(argc > 4 && !strcmp(argv[4], "--fresh"));
 		t_counters();
 		t_dsp();
+		t_torn();
 		t_efault();
 		t_ioctl_misc();
 	} else if (!strcmp(argv[1], "multi") && argc >= 3) {

@@ -1,0 +1,77 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Shared code of the SH-2000 command-line tools (sh2000ctl, sh2000-sim,
+ * sh2000-upload): the device option, one message format, one set of exit
+ * codes, axis and number parsing. Static library `sh2000_toolcommon`.
+ *
+ * Messages go to stderr as "<tool>: <device>: <reason>", for example
+ *     sh2000ctl: sim: axis 2 parameter kp: -1.5 is negative
+ *     sh2000ctl: sim:shop: no card served at /sh2000-shop: ... (start sh2000-sim first)
+ * Call sh2000_tool_init() first with the tool's name (the only state this
+ * library keeps; a tool is one program, so that is not the library rule's
+ * "global mutable state" of libsh2000).
+ */
+#ifndef SH2000_TOOLCOMMON_H
+#define SH2000_TOOLCOMMON_H
+
+#include <stdarg.h>
+
+#include <sh2000/sh2000.h>
+
+/* Exit codes every tool uses (documented in each man page). */
+enum sh2000_tool_exit {
+	SH2000_EXIT_OK = 0,	/* done */
+	SH2000_EXIT_CARD = 1,	/* the card or the library refused or failed
+				 * (command error, timeout, bad file, I/O) */
+	SH2000_EXIT_USAGE = 2,	/* bad command line */
+	SH2000_EXIT_DEVICE = 3,	/* the device cannot be opened */
+	SH2000_EXIT_FAULT = 4,	/* a fault or emergency stop is latched */
+};
+
+/* Set the tool name used as the prefix of every message. */
+void sh2000_tool_init(const char *name);
+const char *sh2000_tool_name(void);
+
+/* "<tool>: <fmt...>\n" on stderr. */
+void sh2000_tool_msg(const char *fmt, ...)
+	__attribute__((format(printf, 1, 2)));
+void sh2000_tool_vmsg(const char *fmt, va_list ap);
+
+/* A usage error: "<tool>: <fmt...>" and "Try '<tool> --help'." (or
+ * "<tool> <sub> --help" when sub is not NULL) on stderr; returns
+ * SH2000_EXIT_USAGE so callers can `return sh2000_tool_usage(...)`. */
+int sh2000_tool_usage(const char *sub, const char *fmt, ...)
+	__attribute__((format(printf, 2, 3)));
+
+/* The device string a tool uses: the -d/--device argument if not NULL or
+ * empty, else $SH2000_DEVICE if set and not empty, else /dev/sh2000-0. */
+const char *sh2000_tool_device(const char *arg);
+
+/* Open the device (as sh2000_tool_device() resolves it). On failure prints
+ * the library's message ("<tool>: <device>: <reason>") and returns
+ * SH2000_EXIT_DEVICE; 0 on success. */
+int sh2000_tool_open(struct sh2000 **h, const char *device_arg);
+
+/* The exit code for a library error: SH2000_EXIT_FAULT for latched faults
+ * and emergency stop (-SH2000_EESTOP..-SH2000_EHOME, ECMD_FAULTED),
+ * SH2000_EXIT_CARD for every other negative code, 0 for code >= 0. */
+int sh2000_tool_exit_code(int code);
+
+/* Report a failed library call on h: "<tool>: <detail>" where detail is
+ * sh2000_last_error(h) when it is set (it names the device), else
+ * "<device>: <what>: <sh2000_strerror(code)>". Returns
+ * sh2000_tool_exit_code(code). what may be NULL. */
+int sh2000_tool_fail(struct sh2000 *h, int code, const char *what);
+
+/* Axis names: "x" "y" "z" "a" (any case) or "0".."3" -> 0..3; -1 else. */
+int sh2000_tool_axis(const char *s);
+/* "x", "x,y", "xyz", "all" -> mask of bits 0..3; -1 if any part is bad. */
+int sh2000_tool_axes(const char *s);
+/* Lower-case letter of axis 0..3 ('?' otherwise). */
+char sh2000_tool_axis_name(unsigned int axis);
+
+/* Whole string is a finite number / an integer in [min, max]: 0, else -1. */
+int sh2000_tool_double(const char *s, double *v);
+int sh2000_tool_long(const char *s, long min, long max, long *v);
+
+#endif /* SH2000_TOOLCOMMON_H */

@@ -1,0 +1,344 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * sh2000-sim: serve a simulated SH-2000TH card.
+ *
+ *   sh2000-sim [options] NAME          card for `sim:NAME` devices, over
+ *                                      POSIX shared memory /sh2000-NAME
+ *   sh2000-sim [options] --attach PATH card model on the DSP side of a
+ *                                      kernel sh2000_sim card
+ *                                      (/dev/sh2000-dsp-N) or on any file
+ *                                      of 2048+ bytes (tests)
+ *
+ * Runs in the foreground until SIGINT/SIGTERM; see sh2000-sim(1). Kept to
+ * libc + libsh2000 so that it links with -static for the VM's initramfs.
+ */
+#include <errno.h>
+#include <fcntl.h>
+#include <getopt.h>
+#include <signal.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <sh2000/sim.h>
+#include <sh2000_hw.h>
+
+#include "toolcommon.h"
+
+#ifndef SH2000_TOOLS_VERSION
+#define SH2000_TOOLS_VERSION "0.0.0"
+#endif
+
+/* Set by the signal handlers; the server only needs a flag. */
+static volatile sig_atomic_t stop_requested;
+static struct sh2000_sim_server *volatile served;
+
+static void on_signal(int sig)
+{
+	(void)sig;
+	stop_requested = 1;
+	if (served)
+		sh2000_sim_server_stop(served);
+}
+
+static int install_signals(void)
+{
+	struct sigaction sa;
+
+	memset(&sa, 0, sizeof(sa));
+	sa.sa_handler = on_signal;
+	sigemptyset(&sa.sa_mask);
+	/* no SA_RESTART: the sleeps return EINTR and see the flag */
+	if (sigaction(SIGINT, &sa, NULL) < 0 ||
+	    sigaction(SIGTERM, &sa, NULL) < 0)
+		return -errno;
+	signal(SIGPIPE, SIG_IGN);
+	return 0;
+}
+
+static void usage(FILE *f)
+{
+	fprintf(f,
+"Usage: sh2000-sim [OPTION]... NAME\n"
+"       sh2000-sim [OPTION]... --attach PATH\n"
+"Serve a simulated SH-2000TH card until SIGINT or SIGTERM.\n"
+"\n"
+"  NAME               serve the card for the device string sim:NAME\n"
+"                     (shared memory /sh2000-NAME; a stale object left by a\n"
+"                     dead server is replaced, a live server's name refused)\n"
+"  -a, --attach PATH  run the card model on PATH instead: the DSP side of a\n"
+"                     kernel simulated card (/dev/sh2000-dsp-N) or any file\n"
+"                     of at least 2048 bytes\n"
+"  -F, --free-run     run servo cycles back to back (faster than real time)\n"
+"                     instead of one per servo period\n"
+"  -r, --ready-fd FD  write \"ready\\n\" to file descriptor FD once serving,\n"
+"                     then close it\n"
+"  -q, --quiet        print nothing on stdout (errors still go to stderr)\n"
+"  -h, --help         this help\n"
+"  -V, --version      versions of the tool, the library and the protocol\n"
+"\n"
+"Prints where it serves, then a line \"ready\" on stdout (unless --quiet).\n"
+"Exit status: 0 stopped by a signal, 1 failure while serving, 2 usage\n"
+"error, 3 the name or PATH cannot be served.\n");
+}
+
+static void print_ready(int quiet, int ready_fd)
+{
+	if (!quiet) {
+		printf("ready\n");
+		fflush(stdout);
+	}
+	if (ready_fd >= 0) {
+		static const char r[] = "ready\n";
+		ssize_t n;
+
+		do
+			n = write(ready_fd, r, sizeof(r) - 1);
+		while (n < 0 && errno == EINTR);
+		close(ready_fd);
+	}
+}
+
+static int serve_name(const char *name, unsigned int flags, int quiet,
+		      int ready_fd)
+{
+	struct sh2000_sim_server *s;
+	char path[256], msg[512];
+	struct stat sb;
+	int stale, r;
+
+	/* the library replaces a dead owner's object silently: say so */
+	snprintf(path, sizeof(path), "/dev/shm/sh2000-%s", name);
+	stale = stat(path, &sb) == 0;
+	msg[0] = '\0';
+	r = sh2000_sim_server_create(&s, name, NULL, flags, msg, sizeof(msg));
+	if (r < 0) {
+		sh2000_tool_msg("%s", msg[0] ? msg : sh2000_strerror(r));
+		return SH2000_EXIT_DEVICE;
+	}
+	served = s;
+	if (stale)
+		sh2000_tool_msg("sim:%s: replaced %s left by a server that is gone",
+				name, sh2000_sim_server_shm_name(s));
+	if (!quiet) {
+		printf("sh2000-sim: serving sim:%s at %s (pid %d, %s)\n", name,
+		       sh2000_sim_server_shm_name(s), (int)getpid(),
+		       (flags & SH2000_SIM_SERVER_FREE_RUN) ? "free-running" :
+							      "real time");
+		fflush(stdout);
+	}
+	print_ready(quiet, ready_fd);
+	if (!stop_requested)
+		r = sh2000_sim_server_run(s);
+	if (!quiet) {
+		printf("sh2000-sim: stopped after %llu servo cycles, %s removed\n",
+		       (unsigned long long)sh2000_sim_server_cycles(s),
+		       sh2000_sim_server_shm_name(s));
+		fflush(stdout);
+	}
+	served = NULL;
+	sh2000_sim_server_destroy(s);
+	return r < 0 ? SH2000_EXIT_CARD : SH2000_EXIT_OK;
+}
+
+static void ts_add(struct timespec *t, uint64_t ns)
+{
+	t->tv_sec += (time_t)(ns / 1000000000ull);
+	t->tv_nsec += (long)(ns % 1000000000ull);
+	if (t->tv_nsec >= 1000000000L) {
+		t->tv_nsec -= 1000000000L;
+		t->tv_sec++;
+	}
+}
+
+static uint64_t mono_ns(void)
+{
+	struct timespec t;
+
+	clock_gettime(CLOCK_MONOTONIC, &t);
+	return (uint64_t)t.tv_sec * 1000000000ull + (uint64_t)t.tv_nsec;
+}
+
+/* The card model on a RAM someone else owns: the kernel simulated card's
+ * DSP page (one page, MAP_SHARED only) or a plain file. */
+static int serve_attach(const char *path, unsigned int flags, int quiet,
+			int ready_fd)
+{
+	long page = sysconf(_SC_PAGESIZE);
+	size_t maplen = page > 0 ? (size_t)page : 4096;
+	struct sh2000_fw *fw;
+	struct timespec next;
+	struct stat sb;
+	uint64_t cycles = 0;
+	uint16_t *ram;
+	int fd, r;
+
+	if (maplen < SH2000_RAM_BYTES)
+		maplen = SH2000_RAM_BYTES;
+	fd = open(path, O_RDWR | O_CLOEXEC);
+	if (fd < 0) {
+		sh2000_tool_msg("%s: cannot open: %s", path, strerror(errno));
+		return SH2000_EXIT_DEVICE;
+	}
+	if (fstat(fd, &sb) < 0) {
+		sh2000_tool_msg("%s: stat: %s", path, strerror(errno));
+		close(fd);
+		return SH2000_EXIT_DEVICE;
+	}
+	if (S_ISREG(sb.st_mode) && sb.st_size < SH2000_RAM_BYTES) {
+		sh2000_tool_msg("%s: %lld bytes, the RAM needs %u",
+				path, (long long)sb.st_size,
+				SH2000_RAM_BYTES);
+		close(fd);
+		return SH2000_EXIT_DEVICE;
+	}
+	if (!S_ISREG(sb.st_mode) && !S_ISCHR(sb.st_mode)) {
+		sh2000_tool_msg("%s: not a file or a character device", path);
+		close(fd);
+		return SH2000_EXIT_DEVICE;
+	}
+	ram = mmap(NULL, maplen, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+	if (ram == MAP_FAILED) {
+		sh2000_tool_msg("%s: mmap of %zu bytes: %s", path, maplen,
+				strerror(errno));
+		close(fd);
+		return SH2000_EXIT_DEVICE;
+	}
+	close(fd);
+	/* a card that boots shows no firmware until it is ready */
+	sh2000_dpram_write(ram, SH2000_W_MAGIC, 0);
+	r = sh2000_fw_create(&fw, ram, NULL);
+	if (r < 0) {
+		sh2000_tool_msg("%s: card model: %s", path, sh2000_strerror(r));
+		munmap(ram, maplen);
+		return SH2000_EXIT_CARD;
+	}
+	if (!quiet) {
+		printf("sh2000-sim: card model attached to %s (pid %d, %s)\n",
+		       path, (int)getpid(),
+		       (flags & SH2000_SIM_SERVER_FREE_RUN) ? "free-running" :
+							      "real time");
+		fflush(stdout);
+	}
+	print_ready(quiet, ready_fd);
+	clock_gettime(CLOCK_MONOTONIC, &next);
+	while (!stop_requested) {
+		uint64_t period, due, now;
+
+		sh2000_fw_cycle(fw);
+		cycles++;
+		if (flags & SH2000_SIM_SERVER_FREE_RUN)
+			continue;
+		period = sh2000_fw_servo_period_ns(fw);
+		ts_add(&next, period);
+		/* far behind (stopped, overloaded): go on from now rather than
+		 * run a burst of cycles, as the shared-memory server does */
+		due = (uint64_t)next.tv_sec * 1000000000ull +
+		      (uint64_t)next.tv_nsec;
+		now = mono_ns();
+		if (now > due + 100 * period) {
+			next.tv_sec = (time_t)(now / 1000000000ull);
+			next.tv_nsec = (long)(now % 1000000000ull);
+		}
+		while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next,
+				       NULL) == EINTR && !stop_requested)
+			;
+	}
+	/* the card goes away: hosts see "no firmware", not a stalled DSP */
+	sh2000_dpram_write(ram, SH2000_W_MAGIC, 0);
+	sh2000_fw_destroy(fw);
+	munmap(ram, maplen);
+	if (!quiet) {
+		printf("sh2000-sim: stopped after %llu servo cycles, %s detached\n",
+		       (unsigned long long)cycles, path);
+		fflush(stdout);
+	}
+	return SH2000_EXIT_OK;
+}
+
+int main(int argc, char **argv)
+{
+	static const struct option opts[] = {
+		{ "attach", required_argument, NULL, 'a' },
+		{ "free-run", no_argument, NULL, 'F' },
+		{ "ready-fd", required_argument, NULL, 'r' },
+		{ "quiet", no_argument, NULL, 'q' },
+		{ "help", no_argument, NULL, 'h' },
+		{ "version", no_argument, NULL, 'V' },
+		{ NULL, 0, NULL, 0 },
+	};
+	const char *attach = NULL;
+	unsigned int flags = 0;
+	int quiet = 0, ready_fd = -1, c, r;
+	long l;
+
+	sh2000_tool_init("sh2000-sim");
+	opterr = 0;
+	while ((c = getopt_long(argc, argv, "+a:Fr:qhV", opts, NULL)) != -1) {
+		switch (c) {
+		case 'a':
+			attach = optarg;
+			break;
+		case 'F':
+			flags |= SH2000_SIM_SERVER_FREE_RUN;
+			break;
+		case 'r':
+			if (sh2000_tool_long(optarg, 0, 1 << 20, &l) < 0)
+				return sh2000_tool_usage(NULL,
+					"--ready-fd: '%s' is not a file descriptor",
+					optarg);
+			if (fcntl((int)l, F_GETFD) < 0)
+				return sh2000_tool_usage(NULL,
+					"--ready-fd: %ld is not open", l);
+			ready_fd = (int)l;
+			break;
+		case 'q':
+			quiet = 1;
+			break;
+		case 'h':
+			usage(stdout);
+			return SH2000_EXIT_OK;
+		case 'V':
+			printf("sh2000-sim %s (libsh2000 %s, protocol %u.%u)\n",
+			       SH2000_TOOLS_VERSION, SH2000_TOOLS_VERSION,
+			       SH2000_PROTO_MAJOR, SH2000_PROTO_MINOR);
+			return SH2000_EXIT_OK;
+		case '?':
+		default:
+			if (optopt && optopt != '?')
+				return sh2000_tool_usage(NULL,
+					"option -%c: unknown or missing its argument",
+					optopt);
+			return sh2000_tool_usage(NULL, "unknown option '%s'",
+						 argv[optind - 1]);
+		}
+	}
+	if (attach && optind != argc)
+		return sh2000_tool_usage(NULL,
+			"--attach takes no NAME (got '%s')", argv[optind]);
+	if (!attach && optind == argc)
+		return sh2000_tool_usage(NULL, "missing NAME (or --attach PATH)");
+	if (!attach && argc - optind > 1)
+		return sh2000_tool_usage(NULL, "one NAME only (got '%s' too)",
+					 argv[optind + 1]);
+	if (!attach) {
+		const char *n = argv[optind];
+
+		if (!*n || strlen(n) > 64 || strchr(n, '/'))
+			return sh2000_tool_usage(NULL,
+				"bad NAME '%s': 1..64 characters, no '/'", n);
+	}
+	r = install_signals();
+	if (r < 0) {
+		sh2000_tool_msg("sigaction: %s", strerror(-r));
+		return SH2000_EXIT_CARD;
+	}
+	if (attach)
+		return serve_attach(attach, flags, quiet, ready_fd);
+	return serve_name(argv[optind], flags, quiet, ready_fd);
+}

@@ -29,6 +29,7 @@ struct cstate {
 	double g5x[SH2000_PROG_AXES], g92[SH2000_PROG_AXES];	/* mm */
 	bool ended;
 	bool pallet;		/* PALLET_SHUTTLE: M30 is ending the program */
+	double res_mm;		/* rounding of the position as last printed */
 };
 
 struct carg {
@@ -257,6 +258,7 @@ static int do_line(struct prog_ctx *c, struct cstate *st, struct cline *l)
 		if (feed)
 			b->feed = st->feed_mm_min / 60;
 		memcpy(c->pos, b->end, sizeof(c->pos));
+		st->res_mm = 0.5e-4 * st->unit;
 		return 0;
 	}
 	if (name_is(l, "ARC_FEED")) {
@@ -287,9 +289,17 @@ static int do_line(struct prog_ctx *c, struct cstate *st, struct cline *l)
 		tol = c->opt.arc_tolerance_mm > 0 ? c->opt.arc_tolerance_mm :
 		      st->unit == PROG_MM_PER_INCH ? PROG_CENTER_TOL_INCH_MM :
 		      PROG_CENTER_TOL_MM;
+		/* rs274 checked the arc before rounding it to 4 decimals */
+		tol += 4 * (0.5e-4 * st->unit + st->res_mm);
+		/* rs274 prints 4 decimals: a full circle's end may miss its
+		 * start by the rounding of both prints (the start's maybe in
+		 * other units) */
 		ret = prog_arc_fill(c, b, st->plane, mpos(st, (int)a1, v[2]),
 				    mpos(st, (int)a2, v[3]), rot > 0,
-				    (unsigned int)abs(rot), tol, l->line, l->col);
+				    (unsigned int)abs(rot), tol,
+				    M_SQRT2 * (0.5e-4 * st->unit + st->res_mm) + 1e-9,
+				    l->line, l->col);
+		st->res_mm = 0.5e-4 * st->unit;
 		memcpy(c->pos, end, sizeof(c->pos));
 		if (ret)
 			c->prog->count--;

@@ -602,7 +602,7 @@ static int do_arc(struct prog_ctx *c, struct gstate *st, const struct gline *l,
 	b->feed = feed_mm_s(st);
 	tol = c->opt.arc_tolerance_mm > 0 ? c->opt.arc_tolerance_mm :
 	      st->inch ? PROG_CENTER_TOL_INCH_MM : PROG_CENTER_TOL_MM;
-	ret = prog_arc_fill(c, b, st->plane, c1, c2, ccw, turns, tol, l->line,
+	ret = prog_arc_fill(c, b, st->plane, c1, c2, ccw, turns, tol, 0, l->line,
 			    bcol);
 	if (ret) {
 		c->prog->count--;

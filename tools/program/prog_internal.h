@@ -66,10 +66,11 @@ struct sh2000_prog_block *prog_push(struct prog_ctx *c,
 
 /* Fill b->u.arc of an ARC block whose start and end are set, from the
  * centre (c1, c2) in the plane's (axis1, axis2) coordinates; checks the
- * radii against tol_mm (absolute) and the relative tolerance. */
+ * radii against tol_mm (absolute) and the relative tolerance. An end
+ * closer than same_mm to the start (in the plane) makes a full circle. */
 int prog_arc_fill(struct prog_ctx *c, struct sh2000_prog_block *b,
 		  enum sh2000_prog_plane plane, double c1, double c2,
-		  bool ccw, unsigned int turns, double tol_mm,
+		  bool ccw, unsigned int turns, double tol_mm, double same_mm,
 		  unsigned int line, unsigned int col);
 void prog_plane_axes(enum sh2000_prog_plane plane, unsigned int *a1,
 		     unsigned int *a2, unsigned int *an);

@@ -448,7 +448,7 @@ void prog_plane_axes(enum sh2000_prog_plane plane, unsigned int *a1,
 
 int prog_arc_fill(struct prog_ctx *c, struct sh2000_prog_block *b,
 		  enum sh2000_prog_plane plane, double c1, double c2,
-		  bool ccw, unsigned int turns, double tol_mm,
+		  bool ccw, unsigned int turns, double tol_mm, double same_mm,
 		  unsigned int line, unsigned int col)
 {
 	struct sh2000_prog_arc *a = &b->u.arc;
@@ -489,7 +489,7 @@ int prog_arc_fill(struct prog_ctx *c, struct sh2000_prog_block *b,
 	a->end_radius = r2;
 	memcpy(a->fit_centre, a->centre, sizeof(a->fit_centre));
 	a->fit_radius = r1;
-	if (hypot(e1 - s1, e2 - s2) > 1e-9) {
+	if (hypot(e1 - s1, e2 - s2) >= fmax(same_mm, 1e-9)) {
 		double len = hypot(e1 - s1, e2 - s2);
 		double u1 = -(e2 - s2) / len, u2 = (e1 - s1) / len;
 		double m1 = (s1 + e1) / 2, m2 = (s2 + e2) / 2;
@@ -504,7 +504,7 @@ int prog_arc_fill(struct prog_ctx *c, struct sh2000_prog_block *b,
 	a1 = atan2(e2 - c2, e1 - c1);
 	d = a1 - a0;
 	/* an end equal to the start (to rounding) is a full circle */
-	if (hypot(e1 - s1, e2 - s2) < 1e-9)
+	if (hypot(e1 - s1, e2 - s2) < fmax(same_mm, 1e-9))
 		d = 0;
 	if (ccw) {
 		while (d <= 0)

@@ -1,0 +1,193 @@
+// SPDX-License-Identifier: MIT
+/*
+ * B-spline compensation as a stream: control points P with
+ * P[i-1] + 4 P[i] + P[i+1] = 6 Q[i], so that the card's uniform cubic
+ * B-spline, whose value at a knot is (P[i-1] + 4 P[i] + P[i+1]) / 6, passes
+ * through every planned point Q.
+ *
+ * The inverse of the tridiagonal operator is the symmetric filter
+ * P[n] = sqrt(3) * sum_k (-r)^|k| Q[n+k], r = 2 - sqrt(3) ~ 0.268: a
+ * point's influence decays as r^k, so a half-window of 12 points leaves a
+ * relative error below 1e-7 (the truncated weights are renormalised so a
+ * constant stays exact).
+ *
+ * A motion from rest to rest is Q extended by its start point X before and
+ * its end point E after. The card starts from a window of X (start from
+ * rest: [X, X, X, P1]) and pads with E after END. So the filter runs over
+ * the extended sequence: the control points before the first planned point
+ * (they differ from X by less than a micrometre; those that differ by less
+ * than COMP_EPS are left out) and after the last one are emitted too, and
+ * the last record is E exactly. Both ends are then exact to COMP_EPS.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "planner.h"
+
+/* mm: a control point this close to the rest point is the rest point */
+#define COMP_EPS 1e-7
+
+struct sh2000_bscomp {
+	unsigned int half, naxes, len;	/* len = 2 half + 1 */
+	double *w;		/* weights, index 0..half (|k|) */
+	double *q;		/* ring of len points */
+	unsigned int head;	/* oldest */
+	double *x0, *last;	/* rest point at start, last Q */
+	int emitting;		/* a point has left: no more skipping */
+	/* flush */
+	int flushing;
+	double *tail;		/* up to len points */
+	unsigned int ntail, itail;
+};
+
+int sh2000_bscomp_create(struct sh2000_bscomp **out, unsigned int half,
+			 unsigned int naxes)
+{
+	struct sh2000_bscomp *c;
+	double r = 2.0 - sqrt(3.0), sum = 0.0, w = sqrt(3.0);
+	unsigned int k;
+
+	*out = NULL;
+	if (half < 1 || half > 64 || naxes < 1 || naxes > 16)
+		return -EINVAL;
+	c = calloc(1, sizeof(*c));
+	if (!c)
+		return -ENOMEM;
+	c->half = half;
+	c->naxes = naxes;
+	c->len = 2 * half + 1;
+	c->w = calloc(half + 1, sizeof(double));
+	c->q = calloc((size_t)c->len * naxes, sizeof(double));
+	c->x0 = calloc(naxes, sizeof(double));
+	c->last = calloc(naxes, sizeof(double));
+	c->tail = calloc((size_t)c->len * naxes, sizeof(double));
+	if (!c->w || !c->q || !c->x0 || !c->last || !c->tail) {
+		sh2000_bscomp_destroy(c);
+		return -ENOMEM;
+	}
+	for (k = 0; k <= half; k++) {
+		c->w[k] = w;
+		sum += k ? 2.0 * w : w;
+		w *= -r;
+	}
+	for (k = 0; k <= half; k++)
+		c->w[k] /= sum;
+	*out = c;
+	return 0;
+}
+
+void sh2000_bscomp_destroy(struct sh2000_bscomp *c)
+{
+	if (!c)
+		return;
+	free(c->w);
+	free(c->q);
+	free(c->x0);
+	free(c->last);
+	free(c->tail);
+	free(c);
+}
+
+void sh2000_bscomp_start(struct sh2000_bscomp *c, const double *x)
+{
+	unsigned int i;
+
+	for (i = 0; i < c->len; i++)
+		memcpy(c->q + (size_t)i * c->naxes, x, c->naxes * sizeof(double));
+	memcpy(c->x0, x, c->naxes * sizeof(double));
+	memcpy(c->last, x, c->naxes * sizeof(double));
+	c->head = 0;
+	c->emitting = 0;
+	c->flushing = 0;
+	c->ntail = c->itail = 0;
+}
+
+/* P at the centre of the window. */
+static void centre(const struct sh2000_bscomp *c, double *p)
+{
+	unsigned int ax, k;
+
+	for (ax = 0; ax < c->naxes; ax++) {
+		double s = 0.0;
+
+		for (k = 0; k < c->len; k++) {
+			unsigned int d = k > c->half ? k - c->half : c->half - k;
+
+			s += c->w[d] * c->q[(size_t)((c->head + k) % c->len) *
+					    c->naxes + ax];
+		}
+		p[ax] = s;
+	}
+}
+
+static void shift_in(struct sh2000_bscomp *c, const double *q)
+{
+	memcpy(c->q + (size_t)c->head * c->naxes, q, c->naxes * sizeof(double));
+	c->head = (c->head + 1) % c->len;
+}
+
+static double dist_inf(const struct sh2000_bscomp *c, const double *a,
+		       const double *b)
+{
+	double m = 0.0;
+	unsigned int ax;
+
+	for (ax = 0; ax < c->naxes; ax++)
+		m = fmax(m, fabs(a[ax] - b[ax]));
+	return m;
+}
+
+int sh2000_bscomp_push(struct sh2000_bscomp *c, const double *q, double *p)
+{
+	shift_in(c, q);
+	memcpy(c->last, q, c->naxes * sizeof(double));
+	centre(c, p);
+	if (!c->emitting) {
+		if (dist_inf(c, p, c->x0) <= COMP_EPS)
+			return 0;
+		c->emitting = 1;
+	}
+	return 1;
+}
+
+int sh2000_bscomp_flush(struct sh2000_bscomp *c, double *p, int *last)
+{
+	unsigned int i, n = 0;
+
+	if (!c->flushing) {
+		/* the P that still depend on a Q other than E */
+		double *e = c->last;
+
+		c->flushing = 1;
+		for (i = 0; i < c->len - 1; i++) {
+			double *t = c->tail + (size_t)i * c->naxes;
+
+			shift_in(c, e);
+			centre(c, t);
+			if (dist_inf(c, t, e) > COMP_EPS)
+				n = i + 1;
+		}
+		/* nothing ever left the rest point: skip to E */
+		if (!c->emitting && n == 0 && dist_inf(c, e, c->x0) <= COMP_EPS)
+			n = 0;
+		c->ntail = n;
+		c->itail = 0;
+		/* the tail's last entry is E itself */
+		memcpy(c->tail + (size_t)n * c->naxes, e,
+		       c->naxes * sizeof(double));
+		c->ntail = n + 1;
+	}
+	if (c->flushing == 2 || c->itail >= c->ntail)
+		return 0;
+	memcpy(p, c->tail + (size_t)c->itail * c->naxes,
+	       c->naxes * sizeof(double));
+	*last = 0;
+	if (++c->itail == c->ntail) {
+		*last = 1;
+		c->flushing = 2;
+	}
+	c->emitting = 1;
+	return 1;
+}

@@ -1,0 +1,609 @@
+// SPDX-License-Identifier: MIT
+/*
+ * The controller: moves along the queued blocks in time, one coarse period
+ * at a time, and hands the points out.
+ *
+ * Each period is cut into a few substeps. In each substep the controller
+ * picks the largest jerk (S-curve) or acceleration (trapezoid) that keeps
+ * it able to honour every speed limit ahead: the current block's, each
+ * later block's entry speed from the backward pass (corners, slower
+ * blocks) and a stop at the end of what is queued. "Able" is exact: the
+ * time-optimal transition from the state reached to the limit's speed must
+ * fit in the distance left before it (profile.c). So the motion accelerates
+ * across blocks, never reaches cruise on a short move, always can stop at
+ * the end of the window, and a lower override or a pause (speed limit 0)
+ * is met by the same transitions: within the limits by construction.
+ * When no choice is safe (a limit just dropped), it follows the transition
+ * to the lowest violated speed exactly.
+ *
+ * Samples on a NURBS go through seed 001's parameter predictor
+ * u(i+1) = 2.5 u(i) - 2 u(i-1) + 0.5 u(i-2) and a Newton corrector that
+ * makes the chord of each step equal to the planned step.
+ */
+#include <errno.h>
+#include <math.h>
+#include <string.h>
+
+#include "planner.h"
+
+#define V_EPS 1e-9
+
+void pl_block_pos(const struct pl_block *b, double s, double pos[NAX])
+{
+	double f = b->L > 0.0 ? s / b->L : 1.0;
+	unsigned int a;
+
+	if (f <= 0.0) {
+		memcpy(pos, b->p0, sizeof(b->p0));
+		return;
+	}
+	if (f >= 1.0) {
+		memcpy(pos, b->p1, sizeof(b->p1));
+		return;
+	}
+	switch (b->type) {
+	case BLK_LINE:
+		for (a = 0; a < NAX; a++)
+			pos[a] = b->p0[a] + b->g.line.d[a] * s;
+		break;
+	case BLK_ARC: {
+		double th = b->g.arc.th0 + b->g.arc.dth * f;
+		double r = b->g.arc.r0 + (b->g.arc.r1 - b->g.arc.r0) * f;
+
+		for (a = 0; a < NAX; a++)
+			pos[a] = b->p0[a] + (b->p1[a] - b->p0[a]) * f;
+		pos[b->g.arc.i] = b->g.arc.c[0] + r * cos(th);
+		pos[b->g.arc.j] = b->g.arc.c[1] + r * sin(th);
+		break;
+	}
+	default:
+		pl_nurbs_eval(b->g.nurbs.nb, b->g.nurbs.u0 +
+			      (b->g.nurbs.u1 - b->g.nurbs.u0) * f, pos, NULL,
+			      NULL);
+		break;
+	}
+}
+
+/* ---- one substep ------------------------------------------------------- */
+
+struct ctl {
+	const struct pl_limits *lim;
+	int trap;
+	double h, v, a, vcur;
+	const double *cons;	/* pairs (distance, speed) */
+	unsigned int n;
+};
+
+static void step_state(const struct ctl *c, double j, double *s, double *v,
+		       double *a)
+{
+	*s = 0.0;
+	*v = c->v;
+	*a = c->trap ? j : c->a;
+	pl_integrate(s, v, a, c->trap ? 0.0 : j, c->h);
+}
+
+/* Never backwards: higher j is better here. */
+static int lower_ok(const struct ctl *c, double j)
+{
+	double s, v, a;
+
+	step_state(c, j, &s, &v, &a);
+	if (v < -V_EPS)
+		return 0;
+	if (!c->trap && a < -c->lim->A * (1.0 + 1e-12))
+		return 0;
+	if (!c->trap) {
+		if (j > 0.0 && c->a < 0.0 && -c->a / j < c->h &&
+		    c->v - c->a * c->a / (2.0 * j) < -V_EPS)
+			return 0;
+		if (a < 0.0 && v - a * a / (2.0 * c->lim->J) < -V_EPS)
+			return 0;
+	}
+	return 1;
+}
+
+static int cons_ok(const struct ctl *c, double s, double v, double a);
+
+/* Every limit ahead can still be met: lower j is better here. */
+static int upper_ok(const struct ctl *c, double j)
+{
+	double s, v, a, pk, J = c->lim->J;
+
+	step_state(c, j, &s, &v, &a);
+	if (!c->trap && a > c->lim->A * (1.0 + 1e-12))
+		return 0;
+	pk = fmax(c->v, v);
+	if (!c->trap && c->a > 0.0 && a < 0.0)
+		pk = fmax(pk, c->v + c->a * c->a / (2.0 * fabs(j)));
+	if (pk > c->vcur + V_EPS)
+		return 0;
+	if (!c->trap && a > 0.0 && v + a * a / (2.0 * J) > c->vcur + V_EPS)
+		return 0;
+	return cons_ok(c, s, v, a);
+}
+
+/* The limits ahead, from the state reached after advancing s. */
+static int cons_ok(const struct ctl *c, double s, double v, double a)
+{
+	double J = c->lim->J;
+	unsigned int i;
+
+	for (i = 0; i < c->n; i++) {
+		double d = c->cons[2 * i] - s, V = c->cons[2 * i + 1];
+
+		if (d <= 0.0) {
+			if (v > V + V_EPS)
+				return 0;
+			if (!c->trap && a > 0.0 &&
+			    v + a * a / (2.0 * J) > V + V_EPS)
+				return 0;
+		} else if (pl_brake_dist(c->lim, v, c->trap ? 0.0 : a, V) >
+			   d + 1e-12) {
+			return 0;
+		}
+	}
+	return 1;
+}
+
+/* The speed of the limit that binds: the current one if it is exceeded,
+ * else the one ahead with the least room left (the braking curve the
+ * controller is riding). */
+static double danger(const struct ctl *c)
+{
+	double vt = c->vcur, slack = INFINITY;
+	unsigned int i;
+
+	if (c->v > c->vcur + V_EPS || (!c->trap && c->a > 0.0 &&
+	    c->v + c->a * c->a / (2.0 * c->lim->J) > c->vcur + V_EPS))
+		return c->vcur;
+	for (i = 0; i < c->n; i++) {
+		double r = c->cons[2 * i] -
+			   pl_brake_dist(c->lim, c->v, c->trap ? 0.0 : c->a,
+					 c->cons[2 * i + 1]);
+
+		if (r < slack) {
+			slack = r;
+			vt = fmin(c->vcur, c->cons[2 * i + 1]);
+		}
+	}
+	return vt;
+}
+
+/* Follow the exact time-optimal transition to speed vt for one substep. */
+static void follow(const struct ctl *c, double vt, double *ds, double *v,
+		   double *a)
+{
+	struct pl_trans tr;
+	double t = c->h;
+	unsigned int i;
+
+	*ds = 0.0;
+	*v = c->v;
+	*a = c->trap ? 0.0 : c->a;
+	pl_trans_plan(c->lim, c->v, *a, vt, &tr);
+	for (i = 0; i < (unsigned int)tr.n && t > 0.0; i++) {
+		double dt = fmin(t, tr.dur[i]);
+
+		if (c->trap)
+			*a = tr.acc[i];
+		pl_integrate(ds, v, a, tr.jerk[i], dt);
+		t -= dt;
+		if (dt == tr.dur[i] && i + 1 == (unsigned int)tr.n) {
+			*v = vt;
+			*a = 0.0;
+		}
+	}
+	if (t > 0.0) {
+		*a = 0.0;
+		pl_integrate(ds, v, a, 0.0, t);
+	}
+	if (c->trap)
+		*a = 0.0;
+}
+
+static void pop_head(struct sh2000_path *p)
+{
+	struct pl_block *b = &p->blk[p->head];
+
+	if (b->type == BLK_NURBS)
+		pl_nurbs_put(p, b->g.nurbs.nb);
+	p->head = (p->head + 1) % p->cap;
+	p->count--;
+	if (p->pending)
+		pl_nurbs_expand(p);
+}
+
+static struct pl_block *head(struct sh2000_path *p)
+{
+	return &p->blk[p->head];
+}
+
+/* One substep; returns 1 when the motion has come to rest. */
+static int substep(struct sh2000_path *p, double h)
+{
+	struct pl_block *b = head(p);
+	const struct pl_limits *lim = &p->lim;
+	int trap = isinf(lim->J), halt = p->paused || p->stopping;
+	double J = trap ? lim->A : lim->J, vup, dh, d, ds, v, a, jl, jh, level, zone;
+	struct ctl c;
+	unsigned int i, n = 0;
+
+	c.lim = lim;
+	c.trap = trap;
+	c.h = h;
+	c.v = p->v;
+	c.a = p->a;
+	c.vcur = halt ? 0.0 : pl_cap(p, b);
+	zone = 2.0 * p->cfg.period_s;
+	if (b->corner && p->s < zone * b->vb)
+		c.vcur = fmin(c.vcur, b->vb);
+	/* limits further away than any stop from here cannot matter */
+	vup = p->v + lim->A * h;
+	dh = vup * h + pl_brake_dist(lim, vup, trap ? 0.0 : lim->A, 0.0) +
+	     1e-9;
+	/* Only a descending staircase of limits matters: one that is no
+	 * lower than a nearer one (or the current block's) is met by
+	 * meeting that one and holding the speed. Nor does a limit above
+	 * any speed this substep can lead to. */
+	level = fmin(c.vcur, vup + (trap ? 0.0 : lim->A * lim->A / (2.0 * J)));
+	d = b->L - p->s;
+	for (i = 1; i < p->count && d <= dh; i++) {
+		struct pl_block *k = &p->blk[(p->head + i) % p->cap];
+		double V = halt ? 0.0 : k->vb;
+
+		if (V < level) {
+			/* the card's spline spans two periods either side
+			 * of a corner: the corner speed holds over them */
+			p->cons[2 * n] = k->corner ? d - zone * V : d;
+			p->cons[2 * n + 1] = V;
+			n++;
+			level = V;
+		}
+		d += k->L;
+	}
+	if (i == p->count && d <= dh && level > 0.0) {
+		p->cons[2 * n] = d;
+		p->cons[2 * n + 1] = 0.0;
+		n++;
+	}
+	c.cons = p->cons;
+	c.n = n;
+	/* at rest a hair before a stop (exact stop, end of the queue): the
+	 * transitions land within rounding of it; step onto it */
+	if (n && p->cons[2 * n - 1] == 0.0 && p->cons[2 * n - 2] < 1e-6 &&
+	    p->v < 1e-4 && !halt) {
+		p->s += fmax(p->cons[2 * n - 2], 0.0);
+		p->dist_now += fmax(p->cons[2 * n - 2], 0.0);
+		p->v = p->a = 0.0;
+		goto moved;
+	}
+
+	/* the lowest jerk that does not run backwards ... */
+	jl = -J;
+	if (!lower_ok(&c, jl)) {
+		double lo = -J, hi = J;
+
+		for (i = 0; i < 24; i++) {
+			double m = 0.5 * (lo + hi);
+
+			if (lower_ok(&c, m))
+				hi = m;
+			else
+				lo = m;
+		}
+		jl = hi;
+	}
+	/* ... and the highest that keeps every limit reachable */
+	if (upper_ok(&c, J)) {
+		jh = J;
+	} else if (!upper_ok(&c, jl)) {
+		jh = NAN;
+	} else {
+		double lo = jl, hi = J;
+
+		for (i = 0; i < 24; i++) {
+			double m = 0.5 * (lo + hi);
+
+			if (upper_ok(&c, m))
+				lo = m;
+			else
+				hi = m;
+		}
+		jh = lo;
+	}
+	if (isnan(jh) || !lower_ok(&c, jh)) {
+		follow(&c, danger(&c), &ds, &v, &a);
+	} else if (jh < J && c.v <= c.vcur + V_EPS &&
+		   (follow(&c, c.vcur, &ds, &v, &a), cons_ok(&c, ds, v, a))) {
+		/* only the current limit binds: reach it exactly, no
+		 * chattering around the cruise speed */
+	} else {
+		step_state(&c, jh, &ds, &v, &a);
+		if (trap)
+			a = jh;
+	}
+	if (v < 0.0)
+		v = 0.0;
+	if (ds < 0.0)
+		ds = 0.0;
+	p->s += ds;
+	p->v = v;
+	p->a = a;
+	p->dist_now += ds;
+moved:
+	while (p->s >= b->L) {
+		if (p->count > 1) {
+			p->s -= b->L;
+			pop_head(p);
+			b = head(p);
+		} else {
+			p->s = b->L;
+			break;
+		}
+	}
+	if (p->v <= 1e-12 && fabs(p->a) <= 1e-9) {
+		if (p->count == 1 && p->s >= b->L) {
+			p->v = p->a = 0.0;
+			return 1;
+		}
+		if (halt) {
+			p->v = p->a = 0.0;
+			return 1;
+		}
+	}
+	return 0;
+}
+
+/* ---- sampling ----------------------------------------------------------- */
+
+static double norm(const double *x)
+{
+	double s = 0.0;
+	unsigned int a;
+
+	for (a = 0; a < NAX; a++)
+		s += x[a] * x[a];
+	return sqrt(s);
+}
+
+static void sample_nurbs(struct sh2000_path *p, struct pl_block *b,
+			 double ds, double q[NAX])
+{
+	struct pl_nurbs *nb = b->g.nurbs.nb;
+	double u, c[NAX], d1[NAX], diff[NAX], *hu = p->hist_u;
+	unsigned int a, it;
+
+	if (p->hist_id == nb->id && p->hist_n >= 1) {
+		if (p->hist_n >= 3)
+			u = 2.5 * hu[0] - 2.0 * hu[1] + 0.5 * hu[2];
+		else if (p->hist_n == 2)
+			u = 2.0 * hu[0] - hu[1];
+		else
+			u = hu[0] + (b->g.nurbs.u1 - b->g.nurbs.u0) * ds / b->L;
+		u = fmin(fmax(u, hu[0]), nb->umax);
+		if (ds > 1e-12) {
+			double chord, w[NAX], e[NAX], m[NAX], wp = 0.0, sag;
+
+			for (it = 0; it < 12; it++) {
+				double f, fp = 0.0, ch;
+
+				pl_nurbs_eval(nb, u, c, d1, NULL);
+				for (a = 0; a < NAX; a++)
+					diff[a] = c[a] - p->hist_c[a];
+				ch = norm(diff);
+				f = ch - ds;
+				if (fabs(f) < 1e-12)
+					break;
+				for (a = 0; a < NAX; a++)
+					fp += diff[a] * d1[a];
+				fp = ch > 0.0 ? fp / ch : norm(d1);
+				if (fp <= 0.0)
+					fp = norm(d1);
+				if (fp <= 0.0)
+					break;
+				u = fmin(fmax(u - f / fp, hu[0]), nb->umax);
+				if (u == nb->umax && f < 0.0)
+					break;
+			}
+			pl_nurbs_eval(nb, u, c, NULL, NULL);
+			for (a = 0; a < NAX; a++)
+				diff[a] = c[a] - p->hist_c[a];
+			chord = norm(diff);
+			if (u < nb->umax && ds > 1e-6)
+				p->feed_fluct = fmax(p->feed_fluct,
+						     fabs(chord - ds) / ds);
+			/* sagitta at the middle parameter */
+			if (chord > 0.0) {
+				pl_nurbs_eval(nb, 0.5 * (u + hu[0]), m, NULL,
+					      NULL);
+				for (a = 0; a < NAX; a++) {
+					e[a] = diff[a] / chord;
+					w[a] = m[a] - p->hist_c[a];
+					wp += w[a] * e[a];
+				}
+				for (a = 0; a < NAX; a++)
+					w[a] -= wp * e[a];
+				sag = norm(w);
+				p->chord_err = fmax(p->chord_err, sag);
+			}
+			p->nurbs_steps++;
+		} else {
+			u = hu[0];
+			pl_nurbs_eval(nb, u, c, NULL, NULL);
+		}
+	} else {
+		/* entering the curve: invert the arc length in the block */
+		double s = fmin(fmax(p->s, 0.0), b->L);
+
+		u = b->g.nurbs.u0 + (b->g.nurbs.u1 - b->g.nurbs.u0) * s / b->L;
+		for (it = 0; it < 4; it++) {
+			double l = pl_nurbs_length(nb, b->g.nurbs.u0, u);
+
+			pl_nurbs_eval(nb, u, c, d1, NULL);
+			if (norm(d1) <= 0.0)
+				break;
+			u = fmin(fmax(u + (s - l) / norm(d1), b->g.nurbs.u0),
+				 b->g.nurbs.u1);
+		}
+		pl_nurbs_eval(nb, u, c, NULL, NULL);
+	}
+	/* the planner's distance follows the curve's arc length */
+	if (u <= b->g.nurbs.u1)
+		p->s = pl_nurbs_length(nb, b->g.nurbs.u0, u);
+	else
+		p->s = b->L + pl_nurbs_length(nb, b->g.nurbs.u1, u);
+	if (p->hist_id != nb->id)
+		p->hist_n = 0;
+	hu[2] = hu[1];
+	hu[1] = hu[0];
+	hu[0] = u;
+	if (p->hist_n < 3)
+		p->hist_n++;
+	p->hist_id = nb->id;
+	memcpy(p->hist_c, c, sizeof(c));
+	memcpy(q, c, sizeof(c));
+}
+
+/* ---- output ------------------------------------------------------------ */
+
+static int sink_point(struct sh2000_path *p, const double x[NAX],
+		      unsigned int flags)
+{
+	struct sh2000_path_point pt;
+	unsigned int a;
+	int r;
+
+	memset(&pt, 0, sizeof(pt));
+	for (a = 0; a < NAX; a++) {
+		pt.mm[a] = x[a];
+		if (p->cfg.counts_per_mm[a] > 0.0)
+			pt.counts[a] = (int32_t)llround(x[a] *
+							p->cfg.counts_per_mm[a]);
+	}
+	pt.flags = flags;
+	pt.seq = p->count ? head(p)->seq : p->seq;
+	pt.index = p->points;
+	p->points++;
+	if (flags & SH2000_PATH_F_END)
+		p->motions++;
+	r = p->sink(p->ctx, &pt);
+	if (r < 0) {
+		p->fail = r;
+		return pl_err(p, r, "the sink failed: %d", r);
+	}
+	return 0;
+}
+
+static int emit(struct sh2000_path *p, const double q[NAX], int end)
+{
+	double P[NAX];
+	int r = 0, last;
+
+	if (!p->comp)
+		return sink_point(p, q, end ? SH2000_PATH_F_END : 0);
+	if (sh2000_bscomp_push(p->comp, q, P))
+		r = sink_point(p, P, 0);
+	while (!r && end && sh2000_bscomp_flush(p->comp, P, &last))
+		r = sink_point(p, P, last ? SH2000_PATH_F_END : 0);
+	return r;
+}
+
+int pl_period(struct sh2000_path *p)
+{
+	double h = p->cfg.period_s / p->substeps, q[NAX], ds;
+	unsigned int k;
+	int rest = 0, r;
+
+	if (p->fail)
+		return pl_err(p, p->fail, "the sink failed (%d); reset the planner",
+			      p->fail);
+	if (!p->moving) {
+		if (p->pending)
+			pl_nurbs_expand(p);
+		if (p->stopping) {
+			pl_stopped(p);
+			return 1;
+		}
+		if (p->count == 0 || p->paused)
+			return 1;
+		p->moving = 1;
+		p->v = p->a = 0.0;
+		p->dist_now = 0.0;
+		if (p->comp)
+			sh2000_bscomp_start(p->comp, p->pos);
+	}
+	for (k = 0; k < p->substeps && !rest; k++)
+		rest = substep(p, h);
+	ds = p->dist_now;
+	p->dist_now = 0.0;
+	if (rest && p->count == 1 && p->s >= head(p)->L) {
+		memcpy(q, head(p)->p1, sizeof(q));
+		pop_head(p);
+		p->s = 0.0;
+		p->hist_id = 0;
+	} else if (head(p)->type == BLK_NURBS) {
+		sample_nurbs(p, head(p), ds, q);
+	} else {
+		pl_block_pos(head(p), p->s, q);
+		p->hist_id = 0;
+	}
+	memcpy(p->pos, q, sizeof(q));
+	r = emit(p, q, rest);
+	if (r)
+		return r;
+	if (rest) {
+		p->moving = 0;
+		if (p->stopping)
+			pl_stopped(p);
+		return 1;
+	}
+	return 0;
+}
+
+int pl_make_room(struct sh2000_path *p)
+{
+	while (p->count == p->cap) {
+		int r = pl_period(p);
+
+		if (r < 0)
+			return r;
+		if (r == 1 && p->count == p->cap)
+			return pl_err(p, -EAGAIN,
+				      "the look-ahead window is full and the planner is paused");
+	}
+	return 0;
+}
+
+int sh2000_path_run(struct sh2000_path *p, unsigned int max_points)
+{
+	uint64_t p0 = p->points;
+
+	while (p->points - p0 < max_points) {
+		int r = pl_period(p);
+
+		if (r < 0)
+			return r;
+		if (r == 1)
+			break;
+	}
+	return (int)(p->points - p0);
+}
+
+int sh2000_path_finish(struct sh2000_path *p)
+{
+	for (;;) {
+		int r = pl_period(p);
+
+		if (r < 0)
+			return r;
+		if (r == 1) {
+			if (p->count == 0 && !p->pending)
+				return 0;
+			if (p->paused)
+				return pl_err(p, -EAGAIN,
+					      "paused with %u blocks left; resume and finish again",
+					      p->count);
+		}
+	}
+}

@@ -1,0 +1,183 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The planner's internal interface: blocks, the NURBS evaluator, the
+ * profile arithmetic and the controller. path.h is the public side.
+ */
+#ifndef SH2000_PLANNER_H
+#define SH2000_PLANNER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sh2000/path.h"
+
+#define NAX SH2000_PATH_AXES
+
+/* ---- NURBS ---------------------------------------------------------- */
+
+struct pl_nurbs {
+	unsigned int p;		/* degree */
+	unsigned int n;		/* control points */
+	double *U;		/* n + p + 1 knots */
+	double *Pw;		/* n * 5: w*x0..w*x3, w */
+	double *scratch;	/* basis-function work space */
+	double umin, umax;
+	uint64_t id;		/* for the predictor's history */
+	unsigned int refs;	/* blocks in the window that use it */
+	unsigned int span;	/* expansion: next knot span ... */
+	unsigned int sub;	/* ... and next subdivision in it */
+	int expanded;		/* every block of it has been queued */
+	size_t bytes;
+};
+
+/* Sub-blocks per non-empty knot span. */
+#define PL_NURBS_SUBDIV 16u
+
+/* C, C' and C'' at u (d1, d2 may be NULL). */
+void pl_nurbs_eval(struct pl_nurbs *nb, double u, double c[NAX],
+		   double d1[NAX], double d2[NAX]);
+/* Arc length between u0 and u1 (Gauss-Legendre). */
+double pl_nurbs_length(struct pl_nurbs *nb, double u0, double u1);
+/* Curvature and unit tangent at u; returns |C'(u)|. */
+double pl_nurbs_frame(struct pl_nurbs *nb, double u, double t[NAX],
+		      double *kappa);
+
+/* ---- blocks ----------------------------------------------------------- */
+
+enum { BLK_LINE = 1, BLK_ARC = 2, BLK_NURBS = 3 };
+
+struct pl_block {
+	int type;
+	uint32_t seq;
+	double L;		/* length along the path, mm */
+	double vlim;		/* what the geometry and axes allow, mm/s */
+	double feed;		/* programmed, mm/s (may be INFINITY) */
+	double vj;		/* limit at the junction into this block */
+	double vb;		/* backward pass: max speed at the start */
+	int stop_after;		/* exact stop at the end (point-to-point) */
+	int corner;		/* the junction into it is a corner */
+	double t0[NAX], t1[NAX];	/* unit tangents at start and end */
+	double p0[NAX], p1[NAX];	/* exact start and end points */
+	union {
+		struct {
+			double d[NAX];	/* unit direction */
+		} line;
+		struct {
+			unsigned int i, j;	/* plane axes */
+			double c[2];		/* centre */
+			double r0, r1;		/* start and end radius */
+			double th0, dth;	/* start angle, signed sweep */
+		} arc;
+		struct {
+			struct pl_nurbs *nb;
+			double u0, u1;
+		} nurbs;
+	} g;
+};
+
+/* Position at distance s (0..L) into the block. NURBS blocks map s to u by
+ * linear interpolation only; the controller refines it. */
+void pl_block_pos(const struct pl_block *b, double s, double pos[NAX]);
+
+/* ---- profile arithmetic (path coordinate) ------------------------------ */
+
+struct pl_limits {
+	double A, J;		/* J = INFINITY: trapezoid */
+};
+
+/* Piecewise-constant-jerk transition from (v, a) to (v1, 0). */
+struct pl_trans {
+	int n;
+	double dur[3];
+	double jerk[3];		/* trapezoid: 0, the acceleration is acc[] */
+	double acc[3];		/* acceleration at the start of each phase */
+};
+
+void pl_trans_plan(const struct pl_limits *lim, double v, double a,
+		   double v1, struct pl_trans *tr);
+/* Distance to reach a speed <= vt from (v, a), a ending at 0. */
+double pl_brake_dist(const struct pl_limits *lim, double v, double a,
+		     double vt);
+/* Largest start speed (a = 0) that can slow to v1 (a = 0) within L. */
+double pl_reach_back(const struct pl_limits *lim, double v1, double L);
+/* Advance (s, v, a) by dt with constant jerk j. */
+void pl_integrate(double *s, double *v, double *a, double j, double dt);
+
+/* ---- the planner ------------------------------------------------------ */
+
+struct sh2000_bscomp;
+
+struct sh2000_path {
+	struct sh2000_path_config cfg;
+	sh2000_path_sink_fn sink;
+	void *ctx;
+	char err[256];
+
+	/* limits in path terms */
+	struct pl_limits lim;
+	double amin;		/* smallest axis acceleration */
+	unsigned int substeps;
+
+	/* the look-ahead window: a ring of blocks */
+	struct pl_block *blk;
+	unsigned int cap, head, count;
+	struct pl_nurbs *pending;	/* NURBS still being expanded */
+	double pending_feed;
+	double *cons;		/* controller scratch: (distance, speed) */
+	double qend[NAX];	/* end of the queued primitives */
+	double tend[NAX];	/* tangent there (0: none / after a stop) */
+	int stop_next;		/* next block starts from rest */
+	uint32_t seq;
+	uint64_t nurbs_ids;
+
+	/* controller */
+	double s, v, a;		/* in the head block */
+	double override;
+	int paused, stopping, moving;
+	int fail;
+	double pos[NAX];	/* last sampled point */
+	double dist;		/* path distance at the last sample */
+	double dist_now;	/* path distance travelled so far */
+
+	/* NURBS predictor history (same curve only) */
+	uint64_t hist_id;
+	unsigned int hist_n;
+	double hist_u[3];
+	double hist_c[NAX];
+
+	/* output */
+	struct sh2000_bscomp *comp;
+	int comp_started;
+	uint64_t points, motions, blocks;
+	double chord_err, feed_fluct;
+	uint64_t nurbs_steps;
+	size_t mem, mem_peak;
+};
+
+int pl_err(struct sh2000_path *p, int code, const char *fmt, ...)
+	__attribute__((format(printf, 3, 4)));
+void *pl_alloc(struct sh2000_path *p, size_t n);
+void pl_free(struct sh2000_path *p, void *ptr, size_t n);
+
+/* Queue a validated block (the ring has room). */
+void pl_push_block(struct sh2000_path *p, struct pl_block *b);
+/* Make room for one block: runs the controller. 0 or negative errno. */
+int pl_make_room(struct sh2000_path *p);
+/* One coarse period. Returns 1 if the motion is at rest with nothing
+ * (more) to do, 0 otherwise, negative on a sink error. */
+int pl_period(struct sh2000_path *p);
+/* Recompute every block's backward-pass speed (override changed). */
+void pl_backward_all(struct sh2000_path *p);
+/* A stop has come to rest: drop the rest of the program. */
+void pl_stopped(struct sh2000_path *p);
+double pl_cap(const struct sh2000_path *p, const struct pl_block *b);
+/* Expand as much of the pending NURBS as fits; 1 when fully queued. */
+int pl_nurbs_expand(struct sh2000_path *p);
+void pl_nurbs_put(struct sh2000_path *p, struct pl_nurbs *nb);
+/* Speed limit at a point of a curve: axis speeds for the tangent t, and
+ * for curvature kappa the centripetal share, the chord tolerance and the
+ * jerk. */
+double pl_curve_vlim(const struct sh2000_path *p, const double t[NAX],
+		     double kappa);
+
+#endif /* SH2000_PLANNER_H */

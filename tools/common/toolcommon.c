@@ -104,9 +104,10 @@ int sh2000_tool_fail(struct sh2000 *h, int code, const char *what)
 	detail[0] = '\0';
 	if (h)
 		sh2000_last_error_copy(h, detail, sizeof(detail));
-	if (detail[0] && !strncmp(detail, dev, strlen(dev)))
-		sh2000_tool_msg("%s%s%s", what ? what : "", what ? ": " : "",
-				detail);
+	if (detail[0] && !strncmp(detail, dev, strlen(dev)) &&
+	    !strncmp(detail + strlen(dev), ": ", 2))
+		sh2000_tool_msg("%s: %s%s%s", dev, what ? what : "",
+				what ? ": " : "", detail + strlen(dev) + 2);
 	else if (detail[0])
 		sh2000_tool_msg("%s: %s%s%s", dev, what ? what : "",
 				what ? ": " : "", detail);

@@ -57,10 +57,11 @@ int sh2000_tool_open(struct sh2000 **h, const char *device_arg);
  * SH2000_EXIT_CARD for every other negative code, 0 for code >= 0. */
 int sh2000_tool_exit_code(int code);
 
-/* Report a failed library call on h: "<tool>: <detail>" where detail is
- * sh2000_last_error(h) when it is set (it names the device), else
- * "<device>: <what>: <sh2000_strerror(code)>". Returns
- * sh2000_tool_exit_code(code). what may be NULL. */
+/* Report a failed library call on h on stderr as
+ * "<tool>: <device>: <what>: <reason>", the reason being
+ * sh2000_last_error(h) (without its leading device) when set, else
+ * sh2000_strerror(code). what may be NULL. Returns
+ * sh2000_tool_exit_code(code). */
 int sh2000_tool_fail(struct sh2000 *h, int code, const char *what);
 
 /* Axis names: "x" "y" "z" "a" (any case) or "0".."3" -> 0..3; -1 else. */

@@ -1,0 +1,249 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * sh2000ctl: operate and commission an SH-2000TH card (status, parameters,
+ * enable, jog, move, home, stop, estop, reset, RAM dump). sh2000ctl(1) is
+ * the manual; this file holds the command table, the global options and
+ * the "+" that chains subcommands on one handle.
+ */
+#include <ctype.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ctl.h"
+
+#ifndef SH2000_TOOLS_VERSION
+#define SH2000_TOOLS_VERSION "0.0.0"
+#endif
+
+#include <uapi/sh2000.h>
+
+static const struct ctl_cmd cmds[] = {
+	{ "info", ctl_info, "",
+	  "Show the device, the card's protocol version, its timing, each axis'\n"
+	  "scale, the port cycles of this handle and the versions involved.\n" },
+	{ "status", ctl_status, "[--json] [--watch [SECONDS]] [--count N]",
+	  "Show the card state, latched faults, queue and each axis' position,\n"
+	  "set-point, following error, DAC code, state bits and faults.\n"
+	  "  --json            one JSON object (with --watch: one per line)\n"
+	  "  --watch [SECONDS] repeat every SECONDS (default 1) until SIGINT\n"
+	  "  --count N         with --watch: stop after N reports\n"
+	  "Exit status 4 when a fault or an emergency stop is latched.\n" },
+	{ "params", ctl_params,
+	  "[AXIS|global [NAME[=VALUE]]...] | load FILE | save FILE",
+	  "Get and set parameters in user units (mm, mm/s, mm/s^2, s, card\n"
+	  "units). AXIS is x, y, z, a (or 0..3); 'global' the card-wide ones.\n"
+	  "  params                   every parameter of every axis, and globals\n"
+	  "  params x                 every parameter of axis x\n"
+	  "  params x kp vmax         those values, one per line\n"
+	  "  params x kp=0.5 vmax=300 set them: all are checked first, nothing\n"
+	  "                           is sent if any is bad\n"
+	  "  params global host_timeout_ms=200\n"
+	  "  params save FILE         write every parameter to FILE ('-': stdout)\n"
+	  "  params load FILE         check the whole FILE, then set it; an error\n"
+	  "                           names FILE:LINE and nothing is set\n"
+	  "FILE format: lines 'name = value', sections [x] [y] [z] [a] [global],\n"
+	  "'#' or ';' comments (see sh2000ctl(1)).\n" },
+	{ "enable", ctl_enable, "AXES...",
+	  "Close the servo loop of AXES: x y z a, lists like x,y or xyz, or all.\n" },
+	{ "disable", ctl_disable, "AXES...",
+	  "Open the servo loop of AXES (DAC 0): x y z a, x,y, xyz or all.\n" },
+	{ "jog", ctl_jog,
+	  "AXIS DISTANCE [--speed MM/S] | AXIS --velocity MM/S --time SECONDS",
+	  "Move one enabled axis relative to where it is: DISTANCE mm (signed)\n"
+	  "at --speed (default: as fast as vmax and amax allow), or at a signed\n"
+	  "--velocity for --time seconds. The motion is planned within the\n"
+	  "axis' vmax, amax and soft limits and ends at rest.\n" },
+	{ "move", ctl_move, "AXIS=POS... [--feed MM/S]",
+	  "Move the named enabled axes to the absolute positions POS (mm) on one\n"
+	  "straight line, starting and ending at rest, at --feed mm/s along the\n"
+	  "path (default: as fast as the axes allow). Targets outside the soft\n"
+	  "limits are refused before anything moves.\n" },
+	{ "home", ctl_home, "AXIS [--index] [--no-wait] [--timeout SECONDS]",
+	  "Home one enabled axis on its home switch (--index: finish on the\n"
+	  "encoder index) and wait until it is done (default up to 120 s of card\n"
+	  "time); --no-wait returns once the card has accepted the command.\n" },
+	{ "stop", ctl_stop, "[--no-wait]",
+	  "Controlled stop: the card decelerates within amax and discards its\n"
+	  "queue; waits until it is at rest unless --no-wait.\n" },
+	{ "estop", ctl_estop, "",
+	  "Emergency stop: latched at once (set-points frozen) until 'reset'.\n" },
+	{ "reset", ctl_reset, "",
+	  "Clear latched faults and a latched emergency stop; the card goes idle.\n"
+	  "Enabled axes stay enabled; axes a fault disabled stay disabled.\n" },
+	{ "dump", ctl_dump, "[RANGE...]",
+	  "Print dual-port RAM words as hex, 8 per line after the word offset\n"
+	  "(hex). RANGE: N, N-M (inclusive), N+COUNT or all; numbers decimal\n"
+	  "or 0x hex, words 0..1023. Default: all.\n" },
+};
+
+#define NCMDS (sizeof(cmds) / sizeof(cmds[0]))
+
+static const struct ctl_cmd *find_cmd(const char *name)
+{
+	for (size_t i = 0; i < NCMDS; i++)
+		if (!strcmp(cmds[i].name, name))
+			return &cmds[i];
+	return NULL;
+}
+
+void ctl_print_help(const char *name, FILE *f)
+{
+	const struct ctl_cmd *c = find_cmd(name);
+
+	if (!c)
+		return;
+	fprintf(f, "Usage: sh2000ctl [-d DEVICE] %s%s%s\n%s", c->name,
+		c->synopsis[0] ? " " : "", c->synopsis, c->help);
+}
+
+int ctl_want_help(int argc, char **argv)
+{
+	for (int i = 1; i < argc; i++) {
+		if (!strcmp(argv[i], "--"))
+			break;
+		if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
+			ctl_print_help(argv[0], stdout);
+			return 1;
+		}
+	}
+	return 0;
+}
+
+int ctl_is_option(const char *a)
+{
+	return a[0] == '-' && (isalpha((unsigned char)a[1]) ||
+			       (a[1] == '-' && a[2]));
+}
+
+int ctl_opt_value(int argc, char **argv, int *i, const char *lng, char shrt,
+		  const char **val)
+{
+	const char *a = argv[*i];
+	size_t n = strlen(lng);
+
+	if (!strncmp(a, lng, n) && a[n] == '=') {
+		*val = a + n + 1;
+		return 1;
+	}
+	if (strcmp(a, lng) && !(shrt && a[0] == '-' && a[1] == shrt && !a[2]))
+		return 0;
+	if (*i + 1 >= argc) {
+		sh2000_tool_usage(argv[0], "%s: option %s needs a value", argv[0],
+				  a);
+		return -1;
+	}
+	*val = argv[++*i];
+	return 1;
+}
+
+int ctl_open(struct ctl *c)
+{
+	if (c->h)
+		return 0;
+	return sh2000_tool_open(&c->h, c->device_arg);
+}
+
+static void usage(FILE *f)
+{
+	fprintf(f,
+"Usage: sh2000ctl [-d DEVICE] COMMAND [ARGS...] [+ COMMAND [ARGS...]]...\n"
+"Operate an SH-2000TH motion card.\n"
+"\n"
+"  -d, --device DEVICE  /dev/sh2000-N, io:0xNNN, sim or sim:NAME\n"
+"                       (default $SH2000_DEVICE, else /dev/sh2000-0)\n"
+"  -h, --help           this help ('sh2000ctl COMMAND --help' for one)\n"
+"  -V, --version        tool, library, protocol and driver ABI versions\n"
+"\n"
+"Commands:\n");
+	for (size_t i = 0; i < NCMDS; i++)
+		fprintf(f, "  %-8s %s\n", cmds[i].name, cmds[i].synopsis);
+	fprintf(f,
+"\n"
+"A '+' chains commands on one open card, e.g. for the in-process 'sim'\n"
+"card, which is new at every invocation:\n"
+"  sh2000ctl -d sim enable x + move x=310 + status\n"
+"\n"
+"Exit status: 0 ok, 1 the card or a command failed, 2 usage error,\n"
+"3 the device cannot be opened, 4 a fault or emergency stop is latched.\n");
+}
+
+static void version(void)
+{
+	printf("sh2000ctl %s\n"
+	       "libsh2000 %s\n"
+	       "protocol %u.%u\n"
+	       "driver ABI %u\n",
+	       SH2000_TOOLS_VERSION, SH2000_TOOLS_VERSION, SH2000_PROTO_MAJOR,
+	       SH2000_PROTO_MINOR, (unsigned int)SH2000_ABI_VERSION);
+}
+
+int main(int argc, char **argv)
+{
+	struct ctl c = { 0 };
+	int i = 1, rc = SH2000_EXIT_OK;
+
+	sh2000_tool_init("sh2000ctl");
+	/* global options, up to the first command */
+	while (i < argc && argv[i][0] == '-') {
+		const char *a = argv[i], *v;
+		int k;
+
+		if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+			usage(stdout);
+			return SH2000_EXIT_OK;
+		}
+		if (!strcmp(a, "-V") || !strcmp(a, "--version")) {
+			version();
+			return SH2000_EXIT_OK;
+		}
+		if (!strcmp(a, "--")) {
+			i++;
+			break;
+		}
+		k = ctl_opt_value(argc, argv, &i, "--device", 'd', &v);
+		if (k < 0)
+			return SH2000_EXIT_USAGE;
+		if (k == 0)
+			return sh2000_tool_usage(NULL, "unknown option '%s'", a);
+		if (!*v)
+			return sh2000_tool_usage(NULL, "--device: empty device string");
+		c.device_arg = v;
+		i++;
+	}
+	if (i >= argc)
+		return sh2000_tool_usage(NULL, "missing COMMAND");
+	if (!strcmp(argv[i], "help")) {
+		if (i + 1 < argc && find_cmd(argv[i + 1]))
+			ctl_print_help(argv[i + 1], stdout);
+		else if (i + 1 < argc)
+			return sh2000_tool_usage(NULL, "unknown command '%s'",
+						 argv[i + 1]);
+		else
+			usage(stdout);
+		return SH2000_EXIT_OK;
+	}
+	/* check every command name of a chain before running any */
+	for (int j = i, first = 1; j < argc; j++) {
+		if (first && !find_cmd(argv[j]))
+			return sh2000_tool_usage(NULL, "unknown command '%s'",
+						 argv[j]);
+		first = !strcmp(argv[j], "+");
+		if (first && j + 1 == argc)
+			return sh2000_tool_usage(NULL, "'+' at the end: a command must follow");
+	}
+	while (i < argc && rc == SH2000_EXIT_OK) {
+		int end = i;
+		const struct ctl_cmd *cmd = find_cmd(argv[i]);
+
+		while (end < argc && strcmp(argv[end], "+"))
+			end++;
+		argv[end < argc ? end : argc] = NULL;
+		rc = cmd->fn(&c, end - i, argv + i);
+		fflush(stdout);
+		i = end + 1;
+	}
+	if (c.h)
+		sh2000_close(c.h);
+	return rc;
+}

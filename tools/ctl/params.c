@@ -1,0 +1,536 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * sh2000ctl params: get and set parameters in user units, from the command
+ * line or a parameter file. Both go through one plan: collect every value,
+ * check all of them against the protocol's ranges (in the scale they will
+ * be converted with) and the card's cross rules, and only then send; so a
+ * bad value or a bad file line sets nothing.
+ *
+ * File format (also what `params save` writes):
+ *     # comment            ; comment too
+ *     [global]
+ *     host_timeout_ms = 100
+ *     [x]                  (x y z a, or 0..3)
+ *     kp = 0.5
+ *     vmax = 400           (mm/s; units as `sh2000ctl params` shows them)
+ */
+#include <errno.h>
+#include <float.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ctl.h"
+
+#define NGLOBAL (SH2000_GP_END - SH2000_GP_FIRST)
+#define SECT_GLOBAL SH2000_AXES	/* index of the global section */
+
+struct plan {
+	const char *file;	/* NULL: command line */
+	int set[SH2000_AXES + 1][SH2000_GP_END];
+	double v[SH2000_AXES + 1][SH2000_GP_END];
+	int line[SH2000_AXES + 1][SH2000_GP_END];
+	int errors;
+};
+
+int ctl_param_is_mm(unsigned int id)
+{
+	const char *u = sh2000_param_unit(id);
+
+	return u && !strncmp(u, "mm", 2);
+}
+
+static const char *sect_name(unsigned int s)
+{
+	static const char *const n[] = { "x", "y", "z", "a", "global" };
+
+	return s <= SECT_GLOBAL ? n[s] : "?";
+}
+
+/* A shortest text that reads back as exactly v. */
+static void fmt_value(char *buf, size_t len, double v)
+{
+	for (int prec = 1; prec <= 17; prec++) {
+		snprintf(buf, len, "%.*g", prec, v);
+		if (strtod(buf, NULL) == v)
+			return;
+	}
+}
+
+static void plan_error(struct plan *p, int line, const char *fmt, ...)
+	__attribute__((format(printf, 3, 4)));
+
+static void plan_error(struct plan *p, int line, const char *fmt, ...)
+{
+	char msg[512];
+	va_list ap;
+
+	va_start(ap, fmt);
+	vsnprintf(msg, sizeof(msg), fmt, ap);
+	va_end(ap);
+	if (p->file)
+		sh2000_tool_msg("%s:%d: %s", p->file, line, msg);
+	else
+		sh2000_tool_msg("params: %s", msg);
+	p->errors++;
+}
+
+/* One "name=value" into the plan for section s. */
+static void plan_add(struct plan *p, unsigned int s, const char *name,
+		     const char *value, int line)
+{
+	int id = sh2000_param_id(name);
+	double v;
+
+	if (id < 0) {
+		plan_error(p, line, "unknown parameter '%s'", name);
+		return;
+	}
+	if ((s == SECT_GLOBAL) != (id >= SH2000_GP_FIRST)) {
+		plan_error(p, line, "%s is %s parameter, not one of [%s]", name,
+			   id >= SH2000_GP_FIRST ? "a global" : "an axis",
+			   sect_name(s));
+		return;
+	}
+	if (sh2000_tool_double(value, &v) < 0) {
+		plan_error(p, line, "%s: '%s' is not a number", name, value);
+		return;
+	}
+	if (p->set[s][id]) {
+		if (p->file)
+			plan_error(p, line, "%s of [%s] already set on line %d",
+				   name, sect_name(s), p->line[s][id]);
+		else
+			plan_error(p, line, "%s given twice", name);
+		return;
+	}
+	p->set[s][id] = 1;
+	p->v[s][id] = v;
+	p->line[s][id] = line;
+}
+
+static char *trim(char *s)
+{
+	char *e;
+
+	while (*s == ' ' || *s == '\t')
+		s++;
+	e = s + strlen(s);
+	while (e > s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r' ||
+			 e[-1] == '\n'))
+		*--e = '\0';
+	return s;
+}
+
+static int plan_read_file(struct plan *p, const char *path)
+{
+	FILE *f = strcmp(path, "-") ? fopen(path, "r") : stdin;
+	char *buf = NULL;
+	size_t cap = 0;
+	int line = 0, sect = -1;
+
+	p->file = strcmp(path, "-") ? path : "<stdin>";
+	if (!f) {
+		sh2000_tool_msg("%s: cannot open: %s", path, strerror(errno));
+		return -1;
+	}
+	while (getline(&buf, &cap, f) >= 0) {
+		char *s = buf, *eq, *c;
+
+		line++;
+		c = strpbrk(s, "#;");
+		if (c)
+			*c = '\0';
+		s = trim(s);
+		if (!*s)
+			continue;
+		if (*s == '[') {
+			char *e = strchr(s, ']');
+			int a;
+
+			if (!e || e[1]) {
+				plan_error(p, line, "bad section header '%s'", s);
+				continue;
+			}
+			*e = '\0';
+			s = trim(s + 1);
+			a = sh2000_tool_axis(s);
+			if (!strcmp(s, "global"))
+				sect = SECT_GLOBAL;
+			else if (a >= 0)
+				sect = a;
+			else {
+				plan_error(p, line,
+					   "unknown section [%s] (x, y, z, a or global)", s);
+				sect = -2;
+			}
+			continue;
+		}
+		eq = strchr(s, '=');
+		if (!eq) {
+			plan_error(p, line, "expected 'name = value' or '[section]', got '%s'", s);
+			continue;
+		}
+		*eq = '\0';
+		if (sect == -1) {
+			plan_error(p, line, "'%s' before any [section]", trim(s));
+			continue;
+		}
+		if (sect == -2)
+			continue;	/* already reported */
+		plan_add(p, (unsigned int)sect, trim(s), trim(eq + 1), line);
+	}
+	if (ferror(f)) {
+		sh2000_tool_msg("%s: read error: %s", path, strerror(errno));
+		p->errors++;
+	}
+	free(buf);
+	if (f != stdin)
+		fclose(f);
+	return p->errors ? -1 : 0;
+}
+
+/* Card units of a user value, as the library converts it; 0 if it fits
+ * the parameter, else a message in *why. */
+static int check_value(const struct sh2000_param_info *pi, double v,
+		       double scale, double *card, char *why, size_t len)
+{
+	double c = ctl_param_is_mm(pi->id) ? v * scale : v;
+	double k = ctl_param_is_mm(pi->id) ? scale : 1.0;
+	const char *u = sh2000_param_unit(pi->id);
+
+	if (pi->type == SH2000_PT_F32) {
+		if (!isfinite(c) || fabs(c) > FLT_MAX) {
+			snprintf(why, len, "%g %s does not fit a 32-bit float", v, u);
+			return -1;
+		}
+		c = (float)c;
+	} else {
+		double rc = nearbyint(c);
+
+		if (!ctl_param_is_mm(pi->id) && rc != c) {
+			snprintf(why, len, "%g is not an integer", v);
+			return -1;
+		}
+		c = rc;
+	}
+	if (sh2000_param_in_range(pi, c) != 0) {
+		if (c >= pi->min && c <= pi->max && !(pi->min_exclusive && c == pi->min))
+			snprintf(why, len, "%g %s is not representable on the card", v, u);
+		else
+			snprintf(why, len, "%g %s is outside %s%g..%g %s", v, u,
+				 pi->min_exclusive ? "(exclusive) " : "",
+				 pi->min / k, pi->max / k, u);
+		return -1;
+	}
+	*card = c;
+	return 0;
+}
+
+/* Check the plan against the card's current values; nothing is sent. */
+static int plan_check(struct ctl *c, struct plan *p,
+		      double cur[SH2000_AXES + 1][SH2000_GP_END])
+{
+	char why[256];
+	int r;
+
+	for (unsigned int s = 0; s <= SECT_GLOBAL; s++) {
+		unsigned int lo = s == SECT_GLOBAL ? SH2000_GP_FIRST : 0;
+		unsigned int hi = s == SECT_GLOBAL ? SH2000_GP_END : SH2000_AXIS_PARAMS;
+		double scale, card[SH2000_GP_END];
+		int any = 0;
+
+		for (unsigned int id = lo; id < hi; id++)
+			any |= p->set[s][id];
+		if (!any)
+			continue;
+		for (unsigned int id = lo; id < hi; id++) {
+			r = sh2000_param_get(c->h, s == SECT_GLOBAL ? SH2000_GLOBAL : (int)s,
+					     id, &cur[s][id]);
+			if (r < 0)
+				return sh2000_tool_fail(c->h, r, "get parameter");
+		}
+		scale = p->set[s][SH2000_P_SCALE] && s != SECT_GLOBAL ?
+			p->v[s][SH2000_P_SCALE] : cur[s][SH2000_P_SCALE];
+		if (s == SECT_GLOBAL)
+			scale = 1.0;
+		for (unsigned int id = lo; id < hi; id++) {
+			const struct sh2000_param_info *pi = sh2000_param_lookup(id);
+
+			if (!pi)
+				continue;
+			if (!p->set[s][id]) {
+				/* the card keeps counts: unchanged ones stay */
+				double k = ctl_param_is_mm(id) ? cur[s][SH2000_P_SCALE] : 1.0;
+
+				card[id] = nearbyint(cur[s][id] * k);
+				if (pi->type == SH2000_PT_F32)
+					card[id] = cur[s][id] * k;
+				continue;
+			}
+			if (check_value(pi, p->v[s][id], scale, &card[id], why,
+					sizeof(why)) < 0)
+				plan_error(p, p->line[s][id], "%s%s%s: %s",
+					   s == SECT_GLOBAL ? "" : sect_name(s),
+					   s == SECT_GLOBAL ? "" : " ", pi->name, why);
+		}
+		if (p->errors)
+			continue;
+		if (s != SECT_GLOBAL &&
+		    (p->set[s][SH2000_P_SOFT_MIN] || p->set[s][SH2000_P_SOFT_MAX]) &&
+		    card[SH2000_P_SOFT_MIN] >= card[SH2000_P_SOFT_MAX]) {
+			int l = p->line[s][SH2000_P_SOFT_MIN] > p->line[s][SH2000_P_SOFT_MAX] ?
+				p->line[s][SH2000_P_SOFT_MIN] : p->line[s][SH2000_P_SOFT_MAX];
+
+			plan_error(p, l, "%s soft_min %g mm must be below soft_max %g mm",
+				   sect_name(s), card[SH2000_P_SOFT_MIN] / scale,
+				   card[SH2000_P_SOFT_MAX] / scale);
+		}
+		if (s == SECT_GLOBAL &&
+		    (p->set[s][SH2000_GP_COARSE_PERIOD_US] || p->set[s][SH2000_GP_FINE_STEPS])) {
+			double cp = card[SH2000_GP_COARSE_PERIOD_US];
+			double fs = card[SH2000_GP_FINE_STEPS];
+			long long ns = (long long)cp * 1000;
+			int l = p->line[s][SH2000_GP_COARSE_PERIOD_US] > p->line[s][SH2000_GP_FINE_STEPS] ?
+				p->line[s][SH2000_GP_COARSE_PERIOD_US] : p->line[s][SH2000_GP_FINE_STEPS];
+
+			if (ns % (long long)fs || ns / (long long)fs < SH2000_FW_MIN_SERVO_NS)
+				plan_error(p, l,
+					   "coarse_period_us %g with fine_steps %g: the servo period must be a whole number of ns >= %u ns",
+					   cp, fs, SH2000_FW_MIN_SERVO_NS);
+		}
+	}
+	return p->errors ? SH2000_EXIT_CARD : 0;
+}
+
+static int set_one(struct ctl *c, int axis, unsigned int id, double v)
+{
+	int r = sh2000_param_set(c->h, axis, id, v);
+
+	return r < 0 ? sh2000_tool_fail(c->h, r, "set parameter") : 0;
+}
+
+/* Send a checked plan: globals, then each axis (scale first, the soft
+ * limits in the order that keeps soft_min < soft_max on the card). */
+static int plan_apply(struct ctl *c, struct plan *p,
+		      double cur[SH2000_AXES + 1][SH2000_GP_END])
+{
+	struct sh2000_status st;
+	int r;
+
+	r = sh2000_poll(c->h, &st);
+	if (r < 0)
+		return sh2000_tool_fail(c->h, r, "status");
+	if (st.card_state == SH2000_STATE_RUNNING ||
+	    st.card_state == SH2000_STATE_STOPPING ||
+	    st.card_state == SH2000_STATE_HOMING) {
+		int live_only = 1;
+
+		for (unsigned int s = 0; s <= SECT_GLOBAL; s++)
+			for (unsigned int id = 0; id < SH2000_GP_END; id++)
+				if (p->set[s][id] &&
+				    !(id == SH2000_P_KP || id == SH2000_P_TI ||
+				      id == SH2000_P_TD || id == SH2000_P_KVFF ||
+				      id == SH2000_P_KAFF || id == SH2000_P_FERR_LIMIT ||
+				      id == SH2000_GP_HOST_TIMEOUT_MS ||
+				      id == SH2000_GP_STATUS_PERIOD))
+					live_only = 0;
+		if (!live_only) {
+			sh2000_tool_msg("%s: card is %s: only live parameters (kp ti td kvff kaff ferr_limit host_timeout_ms status_period) may change now; nothing set",
+					sh2000_device(c->h), sh2000_state_name(st.card_state));
+			return SH2000_EXIT_CARD;
+		}
+	}
+	if (p->set[SECT_GLOBAL][SH2000_GP_COARSE_PERIOD_US] &&
+	    p->set[SECT_GLOBAL][SH2000_GP_FINE_STEPS]) {
+		/* the card checks each against the other's current value */
+		long long ns = (long long)p->v[SECT_GLOBAL][SH2000_GP_COARSE_PERIOD_US] * 1000;
+		long long fs = (long long)cur[SECT_GLOBAL][SH2000_GP_FINE_STEPS];
+		int coarse_first = !(ns % fs) && ns / fs >= SH2000_FW_MIN_SERVO_NS;
+		unsigned int a = coarse_first ? SH2000_GP_COARSE_PERIOD_US : SH2000_GP_FINE_STEPS;
+		unsigned int b = coarse_first ? SH2000_GP_FINE_STEPS : SH2000_GP_COARSE_PERIOD_US;
+
+		if ((r = set_one(c, SH2000_GLOBAL, a, p->v[SECT_GLOBAL][a])) ||
+		    (r = set_one(c, SH2000_GLOBAL, b, p->v[SECT_GLOBAL][b])))
+			return r;
+		p->set[SECT_GLOBAL][a] = p->set[SECT_GLOBAL][b] = 0;
+	}
+	for (unsigned int id = SH2000_GP_FIRST; id < SH2000_GP_END; id++)
+		if (p->set[SECT_GLOBAL][id] &&
+		    (r = set_one(c, SH2000_GLOBAL, id, p->v[SECT_GLOBAL][id])))
+			return r;
+	for (unsigned int a = 0; a < SH2000_AXES; a++) {
+		unsigned int order[SH2000_AXIS_PARAMS], n = 0;
+		int min_first;
+
+		for (unsigned int id = 0; id < SH2000_AXIS_PARAMS; id++)
+			if (id != SH2000_P_SOFT_MIN && id != SH2000_P_SOFT_MAX)
+				order[n++] = id;
+		/* new min below the current max: min first, else max first */
+		min_first = !p->set[a][SH2000_P_SOFT_MIN] ||
+			    p->v[a][SH2000_P_SOFT_MIN] < cur[a][SH2000_P_SOFT_MAX];
+		order[n++] = min_first ? SH2000_P_SOFT_MIN : SH2000_P_SOFT_MAX;
+		order[n++] = min_first ? SH2000_P_SOFT_MAX : SH2000_P_SOFT_MIN;
+		for (unsigned int k = 0; k < n; k++)
+			if (p->set[a][order[k]] &&
+			    (r = set_one(c, (int)a, order[k], p->v[a][order[k]])))
+				return r;
+	}
+	return 0;
+}
+
+/* "[x]\nname = value  # unit" for every parameter of section s. */
+static int print_section(struct ctl *c, FILE *f, unsigned int s)
+{
+	unsigned int lo = s == SECT_GLOBAL ? SH2000_GP_FIRST : 0;
+	unsigned int hi = s == SECT_GLOBAL ? SH2000_GP_END : SH2000_AXIS_PARAMS;
+
+	fprintf(f, "[%s]\n", sect_name(s));
+	for (unsigned int id = lo; id < hi; id++) {
+		char val[64], lhs[160];
+		double v;
+		int r;
+
+		if (!sh2000_param_lookup(id))
+			continue;
+		r = sh2000_param_get(c->h, s == SECT_GLOBAL ? SH2000_GLOBAL : (int)s,
+				     id, &v);
+		if (r < 0)
+			return sh2000_tool_fail(c->h, r, "get parameter");
+		fmt_value(val, sizeof(val), v);
+		snprintf(lhs, sizeof(lhs), "%s = %s", sh2000_param_name(id), val);
+		fprintf(f, "%-32s # %s\n", lhs, sh2000_param_unit(id));
+	}
+	return 0;
+}
+
+static int params_save(struct ctl *c, const char *path)
+{
+	FILE *f = strcmp(path, "-") ? fopen(path, "w") : stdout;
+	int r = 0;
+
+	if (!f) {
+		sh2000_tool_msg("%s: cannot create: %s", path, strerror(errno));
+		return SH2000_EXIT_CARD;
+	}
+	fprintf(f, "# SH-2000 parameters of %s (sh2000ctl params save)\n"
+		   "# units: lengths mm, velocities mm/s, accelerations mm/s^2\n",
+		sh2000_device(c->h));
+	for (unsigned int s = 0; !r && s <= SECT_GLOBAL; s++) {
+		unsigned int sec = s == 0 ? SECT_GLOBAL : s - 1;
+
+		fprintf(f, "\n");
+		r = print_section(c, f, sec);
+	}
+	if (f != stdout) {
+		if (fclose(f) != 0 && !r) {
+			sh2000_tool_msg("%s: write error: %s", path, strerror(errno));
+			r = SH2000_EXIT_CARD;
+		}
+		if (r)
+			remove(path);
+	}
+	return r;
+}
+
+int ctl_params(struct ctl *c, int argc, char **argv)
+{
+	double cur[SH2000_AXES + 1][SH2000_GP_END];
+	struct plan *p;
+	int r, sect, nset = 0, nget = 0;
+
+	if (ctl_want_help(argc, argv))
+		return 0;
+	if (argc >= 2 && (!strcmp(argv[1], "load") || !strcmp(argv[1], "save"))) {
+		if (argc != 3)
+			return sh2000_tool_usage(argv[0], "params %s: needs one FILE",
+						 argv[1]);
+		if (!strcmp(argv[1], "save")) {
+			r = ctl_open(c);
+			return r ? r : params_save(c, argv[2]);
+		}
+		p = calloc(1, sizeof(*p));
+		if (!p)
+			return SH2000_EXIT_CARD;
+		/* the file is read before the card is opened: a bad file never
+		 * touches it */
+		r = plan_read_file(p, argv[2]);
+		if (!r)
+			r = ctl_open(c);
+		else
+			r = SH2000_EXIT_CARD;
+		if (!r)
+			r = plan_check(c, p, cur);
+		if (!r)
+			r = plan_apply(c, p, cur);
+		else if (p->errors)
+			sh2000_tool_msg("%s: nothing set", argv[2]);
+		free(p);
+		return r;
+	}
+	if (argc == 1) {
+		r = ctl_open(c);
+		return r ? r : params_save(c, "-");
+	}
+	sect = !strcmp(argv[1], "global") ? (int)SECT_GLOBAL : sh2000_tool_axis(argv[1]);
+	if (sect < 0)
+		return sh2000_tool_usage(argv[0],
+			"params: '%s' is not an axis (x y z a), 'global', 'load' or 'save'",
+			argv[1]);
+	for (int i = 2; i < argc; i++) {
+		if (strchr(argv[i], '=')) {
+			nset++;
+			continue;
+		}
+		nget++;
+		if (sh2000_param_id(argv[i]) < 0)
+			return sh2000_tool_usage(argv[0], "params: unknown parameter '%s'",
+						 argv[i]);
+	}
+	if (nset && nget)
+		return sh2000_tool_usage(argv[0],
+			"params: either get (NAME...) or set (NAME=VALUE...), not both");
+	if (nget == 0 && nset == 0) {
+		r = ctl_open(c);
+		return r ? r : print_section(c, stdout, (unsigned int)sect);
+	}
+	if (nget) {
+		r = ctl_open(c);
+		for (int i = 2; !r && i < argc; i++) {
+			int id = sh2000_param_id(argv[i]);
+			char val[64];
+			double v;
+
+			if ((sect == SECT_GLOBAL) != (id >= SH2000_GP_FIRST))
+				return sh2000_tool_usage(argv[0], "params: %s is %s parameter",
+					argv[i], id >= SH2000_GP_FIRST ?
+					"a global (use 'params global')" : "an axis");
+			r = sh2000_param_get(c->h, sect == SECT_GLOBAL ? SH2000_GLOBAL : sect,
+					     (unsigned int)id, &v);
+			if (r < 0)
+				return sh2000_tool_fail(c->h, r, "get parameter");
+			fmt_value(val, sizeof(val), v);
+			printf("%s = %s\n", argv[i], val);
+		}
+		return r;
+	}
+	p = calloc(1, sizeof(*p));
+	if (!p)
+		return SH2000_EXIT_CARD;
+	for (int i = 2; i < argc; i++) {
+		char *name = strdup(argv[i]), *eq = strchr(name, '=');
+
+		*eq = '\0';
+		plan_add(p, (unsigned int)sect, name, eq + 1, 0);
+		free(name);
+	}
+	r = p->errors ? SH2000_EXIT_USAGE : ctl_open(c);
+	if (!r)
+		r = plan_check(c, p, cur);
+	if (!r)
+		r = plan_apply(c, p, cur);
+	free(p);
+	return r;
+}

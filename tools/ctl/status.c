@@ -1,0 +1,418 @@
+/* SPDX-License-Identifier: MIT */
+/* sh2000ctl info, status (table, JSON, watch) and dump. */
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/ioctl.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <json-c/json.h>
+
+#include <sh2000_hw.h>
+#include <uapi/sh2000.h>
+
+#include "ctl.h"
+
+#ifndef SH2000_TOOLS_VERSION
+#define SH2000_TOOLS_VERSION "0.0.0"
+#endif
+
+static const char *backend_name(enum sh2000_backend_kind k)
+{
+	switch (k) {
+	case SH2000_BACKEND_DEV:
+		return "dev (kernel driver)";
+	case SH2000_BACKEND_IO:
+		return "io (direct port I/O)";
+	case SH2000_BACKEND_SIM:
+		return "sim (in-process card model, virtual time)";
+	case SH2000_BACKEND_SHM:
+		return "sim:NAME (served card model, real time)";
+	}
+	return "?";
+}
+
+static int get_global(struct ctl *c, unsigned int id, double *v)
+{
+	int r = sh2000_param_get(c->h, SH2000_GLOBAL, id, v);
+
+	if (r < 0)
+		return sh2000_tool_fail(c->h, r, "get parameter");
+	return 0;
+}
+
+int ctl_info(struct ctl *c, int argc, char **argv)
+{
+	struct sh2000_port_counters pc;
+	double coarse, fine, hto, sp, scale;
+	unsigned int v;
+	int r;
+
+	if (ctl_want_help(argc, argv))
+		return 0;
+	if (argc > 1)
+		return sh2000_tool_usage(argv[0], "info: unexpected '%s'", argv[1]);
+	r = ctl_open(c);
+	if (r)
+		return r;
+	v = sh2000_card_version(c->h);
+	printf("device           %s\n", sh2000_device(c->h));
+	printf("backend          %s\n", backend_name(sh2000_backend(c->h)));
+	printf("card protocol    %u.%u\n", SH2000_PROTO_VERSION_MAJOR(v),
+	       SH2000_PROTO_VERSION_MINOR(v));
+	printf("library          libsh2000 %s, protocol %u.%u\n",
+	       SH2000_TOOLS_VERSION, SH2000_PROTO_MAJOR, SH2000_PROTO_MINOR);
+	if (sh2000_backend(c->h) == SH2000_BACKEND_DEV) {
+		struct sh2000_info di;
+		int fd = open(sh2000_device(c->h), O_RDONLY | O_CLOEXEC);
+
+		memset(&di, 0, sizeof(di));
+		if (fd >= 0 && ioctl(fd, SH2000_IOC_GET_INFO, &di) == 0)
+			printf("driver           %.*s, ABI %u (tools built for %u)%s\n",
+			       (int)sizeof(di.driver_version), di.driver_version,
+			       di.abi_version, (unsigned int)SH2000_ABI_VERSION,
+			       (di.flags & SH2000_INFO_SIMULATED) ?
+			       ", simulated card" : "");
+		if (fd >= 0)
+			close(fd);
+	} else {
+		printf("driver           not used (tools built for ABI %u)\n",
+		       (unsigned int)SH2000_ABI_VERSION);
+	}
+	if ((r = get_global(c, SH2000_GP_COARSE_PERIOD_US, &coarse)) ||
+	    (r = get_global(c, SH2000_GP_FINE_STEPS, &fine)) ||
+	    (r = get_global(c, SH2000_GP_HOST_TIMEOUT_MS, &hto)) ||
+	    (r = get_global(c, SH2000_GP_STATUS_PERIOD, &sp)))
+		return r;
+	printf("timing           coarse period %.0f us, %.0f fine steps, servo period %.3f us\n",
+	       coarse, fine, coarse / fine);
+	printf("host timeout     %.0f ms%s, status every %.0f servo cycles\n",
+	       hto, hto == 0 ? " (off)" : "", sp);
+	printf("scale            ");
+	for (unsigned int a = 0; a < SH2000_AXES; a++) {
+		r = sh2000_param_get(c->h, (int)a, SH2000_P_SCALE, &scale);
+		if (r < 0)
+			return sh2000_tool_fail(c->h, r, "get scale");
+		printf("%s%c %g", a ? ", " : "", sh2000_tool_axis_name(a), scale);
+	}
+	printf(" counts/mm\n");
+	r = sh2000_port_counters(c->h, &pc);
+	if (r < 0)
+		return sh2000_tool_fail(c->h, r, "port counters");
+	printf("port cycles      %llu clears, %llu increments, %llu reads, %llu writes\n",
+	       (unsigned long long)pc.clears,
+	       (unsigned long long)pc.increments,
+	       (unsigned long long)pc.data_reads,
+	       (unsigned long long)pc.data_writes);
+	return 0;
+}
+
+/* ---- status ------------------------------------------------------------ */
+
+static void bits_text(char *buf, size_t len, unsigned int bits,
+		      const char *(*name)(unsigned int))
+{
+	size_t n = 0;
+
+	buf[0] = '\0';
+	for (unsigned int b = 1; b && b <= 0x8000; b <<= 1)
+		if (bits & b)
+			n += (size_t)snprintf(buf + n, n < len ? len - n : 0,
+					      "%s%s", n ? "," : "", name(b));
+	if (!n)
+		snprintf(buf, len, "-");
+}
+
+static const char *axis_state_name(unsigned int bit)
+{
+	switch (bit) {
+	case SH2000_AXIS_ENABLED: return "enabled";
+	case SH2000_AXIS_HOMED: return "homed";
+	case SH2000_AXIS_HOMING: return "homing";
+	case SH2000_AXIS_MOVING: return "moving";
+	case SH2000_AXIS_LIMIT_POS: return "limit+";
+	case SH2000_AXIS_LIMIT_NEG: return "limit-";
+	case SH2000_AXIS_HOME_SW: return "home-switch";
+	case SH2000_AXIS_INDEX: return "index";
+	}
+	return "?";
+}
+
+static json_object *bits_json(unsigned int bits,
+			      const char *(*name)(unsigned int))
+{
+	json_object *a = json_object_new_array();
+
+	for (unsigned int b = 1; b && b <= 0x8000; b <<= 1)
+		if (bits & b)
+			json_object_array_add(a, json_object_new_string(name(b)));
+	return a;
+}
+
+static void status_table(struct ctl *c, const struct sh2000_status *st)
+{
+	char f[256], s[256];
+
+	bits_text(f, sizeof(f), st->card_faults, sh2000_fault_name);
+	printf("device  %s\n", sh2000_device(c->h));
+	printf("state   %s   faults %s   queue %u/%u   cycle %llu   heartbeat age %.3f ms\n",
+	       sh2000_state_name(st->card_state), f, st->queue_fill,
+	       st->queue_fill + st->queue_free,
+	       (unsigned long long)st->card_cycle,
+	       st->heartbeat_age_ns / 1e6);
+	if (st->reject_count)
+		printf("last rejection: record %u, %s (%u so far)\n",
+		       st->reject_seq, sh2000_reject_name(st->reject_reason),
+		       st->reject_count);
+	printf("axis  %14s %14s %11s %7s  %-24s %s\n", "position mm",
+	       "set-point mm", "ferr mm", "dac", "state", "faults");
+	for (unsigned int a = 0; a < SH2000_AXES; a++) {
+		const struct sh2000_axis_status *ax = &st->axis[a];
+
+		bits_text(s, sizeof(s), ax->state, axis_state_name);
+		bits_text(f, sizeof(f), ax->faults, sh2000_axis_fault_name);
+		printf("%-4c  %14.6f %14.6f %11.6f %7d  %-24s %s\n",
+		       sh2000_tool_axis_name(a), ax->pos_mm, ax->cmd_mm,
+		       ax->ferr_mm, ax->dac, s, f);
+	}
+}
+
+static void status_json(struct ctl *c, const struct sh2000_status *st,
+			const char *error)
+{
+	json_object *o = json_object_new_object();
+	json_object *axes = json_object_new_array();
+
+	json_object_object_add(o, "device",
+			       json_object_new_string(sh2000_device(c->h)));
+	json_object_object_add(o, "state",
+			       json_object_new_string(sh2000_state_name(st->card_state)));
+	json_object_object_add(o, "state_code", json_object_new_int((int)st->card_state));
+	json_object_object_add(o, "faults", bits_json(st->card_faults, sh2000_fault_name));
+	json_object_object_add(o, "fault_bits", json_object_new_int((int)st->card_faults));
+	json_object_object_add(o, "error", error ? json_object_new_string(error) : NULL);
+	json_object_object_add(o, "queue_fill", json_object_new_int((int)st->queue_fill));
+	json_object_object_add(o, "queue_free", json_object_new_int((int)st->queue_free));
+	json_object_object_add(o, "card_cycle", json_object_new_int64((int64_t)st->card_cycle));
+	json_object_object_add(o, "heartbeat_age_s",
+			       json_object_new_double(st->heartbeat_age_ns / 1e9));
+	json_object_object_add(o, "estop_req", json_object_new_int(st->estop_req));
+	json_object_object_add(o, "estop_ack", json_object_new_int(st->estop_ack));
+	json_object_object_add(o, "reject_count", json_object_new_int(st->reject_count));
+	json_object_object_add(o, "reject_seq", json_object_new_int(st->reject_seq));
+	json_object_object_add(o, "reject_reason",
+			       json_object_new_string(sh2000_reject_name(st->reject_reason)));
+	for (unsigned int a = 0; a < SH2000_AXES; a++) {
+		const struct sh2000_axis_status *ax = &st->axis[a];
+		json_object *x = json_object_new_object();
+		char n[2] = { sh2000_tool_axis_name(a), 0 };
+
+		json_object_object_add(x, "axis", json_object_new_string(n));
+		json_object_object_add(x, "enabled",
+				       json_object_new_boolean(!!(ax->state & SH2000_AXIS_ENABLED)));
+		json_object_object_add(x, "homed",
+				       json_object_new_boolean(!!(ax->state & SH2000_AXIS_HOMED)));
+		json_object_object_add(x, "pos_mm", json_object_new_double(ax->pos_mm));
+		json_object_object_add(x, "cmd_mm", json_object_new_double(ax->cmd_mm));
+		json_object_object_add(x, "ferr_mm", json_object_new_double(ax->ferr_mm));
+		json_object_object_add(x, "pos_counts", json_object_new_int64(ax->pos_counts));
+		json_object_object_add(x, "cmd_counts", json_object_new_int64(ax->cmd_counts));
+		json_object_object_add(x, "dac", json_object_new_int(ax->dac));
+		json_object_object_add(x, "state", bits_json(ax->state, axis_state_name));
+		json_object_object_add(x, "faults", bits_json(ax->faults, sh2000_axis_fault_name));
+		json_object_array_add(axes, x);
+	}
+	json_object_object_add(o, "axes", axes);
+	printf("%s\n", json_object_to_json_string_ext(o, JSON_C_TO_STRING_PLAIN |
+						      JSON_C_TO_STRING_NOSLASHESCAPE));
+	json_object_put(o);
+}
+
+static volatile sig_atomic_t watch_stop;
+
+static void on_sigint(int sig)
+{
+	(void)sig;
+	watch_stop = 1;
+}
+
+int ctl_status(struct ctl *c, int argc, char **argv)
+{
+	int json = 0, watch = 0, rc = 0;
+	double interval = 1.0;
+	long count = -1;
+
+	if (ctl_want_help(argc, argv))
+		return 0;
+	for (int i = 1; i < argc; i++) {
+		const char *v;
+		int k;
+
+		if (!strcmp(argv[i], "--json")) {
+			json = 1;
+			continue;
+		}
+		if (!strncmp(argv[i], "--watch", 7) &&
+		    (argv[i][7] == '\0' || argv[i][7] == '=')) {
+			watch = 1;
+			v = argv[i][7] == '=' ? argv[i] + 8 :
+			    (i + 1 < argc && !ctl_is_option(argv[i + 1])) ?
+			    argv[++i] : NULL;
+			if (v && (sh2000_tool_double(v, &interval) < 0 ||
+				  interval < 0.01 || interval > 3600))
+				return sh2000_tool_usage(argv[0],
+					"status: --watch: '%s' is not an interval in seconds (0.01..3600)",
+					v);
+			continue;
+		}
+		k = ctl_opt_value(argc, argv, &i, "--count", 'n', &v);
+		if (k < 0)
+			return SH2000_EXIT_USAGE;
+		if (k > 0) {
+			if (sh2000_tool_long(v, 1, 1000000000L, &count) < 0)
+				return sh2000_tool_usage(argv[0],
+					"status: --count: '%s' is not a positive integer", v);
+			continue;
+		}
+		return sh2000_tool_usage(argv[0], "status: unexpected '%s'", argv[i]);
+	}
+	if (count > 0 && !watch)
+		return sh2000_tool_usage(argv[0], "status: --count needs --watch");
+	rc = ctl_open(c);
+	if (rc)
+		return rc;
+	if (watch) {
+		struct sigaction sa;
+
+		memset(&sa, 0, sizeof(sa));
+		sa.sa_handler = on_sigint;
+		sigaction(SIGINT, &sa, NULL);
+		sigaction(SIGTERM, &sa, NULL);
+	}
+	for (long n = 0; !watch_stop; n++) {
+		struct sh2000_status st;
+		char err[512] = "";
+		int r = sh2000_poll(c->h, &st), e;
+
+		if (r < 0)
+			return sh2000_tool_fail(c->h, r, "status");
+		e = sh2000_status_error(c->h, &st);
+		if (e < 0)
+			sh2000_last_error_copy(c->h, err, sizeof(err));
+		if (json) {
+			status_json(c, &st, e < 0 ? err : NULL);
+		} else {
+			if (n)
+				printf("\n");
+			status_table(c, &st);
+			if (e < 0)
+				printf("error   %s: %s\n", sh2000_strerror(e), err);
+		}
+		fflush(stdout);
+		rc = sh2000_tool_exit_code(e);
+		if (!watch || (count > 0 && n + 1 >= count))
+			break;
+		/* real time even for `sim`: a watch is for people */
+		{
+			struct timespec ts = {
+				.tv_sec = (time_t)interval,
+				.tv_nsec = (long)((interval - floor(interval)) * 1e9),
+			};
+
+			if (sh2000_backend(c->h) == SH2000_BACKEND_SIM)
+				sh2000_sleep_ns(c->h, (uint64_t)(interval * 1e9));
+			else
+				nanosleep(&ts, NULL);
+		}
+	}
+	return rc;
+}
+
+/* ---- dump -------------------------------------------------------------- */
+
+static int parse_word(const char *s, size_t n, long *v)
+{
+	char buf[32];
+
+	if (n == 0 || n >= sizeof(buf))
+		return -1;
+	memcpy(buf, s, n);
+	buf[n] = '\0';
+	return sh2000_tool_long(buf, 0, SH2000_RAM_WORDS - 1, v);
+}
+
+int ctl_dump(struct ctl *c, int argc, char **argv)
+{
+	unsigned int from[64], to[64], nr = 0;
+	static uint16_t buf[SH2000_RAM_WORDS];
+	int r;
+
+	if (ctl_want_help(argc, argv))
+		return 0;
+	for (int i = 1; i < argc; i++) {
+		const char *a = argv[i], *sep;
+		long x, y;
+
+		if (nr == 64)
+			return sh2000_tool_usage(argv[0], "dump: at most 64 ranges");
+		if (!strcmp(a, "all")) {
+			from[nr] = 0;
+			to[nr++] = SH2000_RAM_WORDS - 1;
+			continue;
+		}
+		sep = strpbrk(a, "-+");
+		if (!sep) {
+			if (parse_word(a, strlen(a), &x) < 0)
+				goto bad;
+			from[nr] = to[nr] = (unsigned int)x;
+			nr++;
+			continue;
+		}
+		if (parse_word(a, (size_t)(sep - a), &x) < 0)
+			goto bad;
+		if (*sep == '-') {
+			if (parse_word(sep + 1, strlen(sep + 1), &y) < 0 || y < x)
+				goto bad;
+		} else {
+			long n;
+
+			if (sh2000_tool_long(sep + 1, 1, SH2000_RAM_WORDS, &n) < 0 ||
+			    x + n > SH2000_RAM_WORDS)
+				goto bad;
+			y = x + n - 1;
+		}
+		from[nr] = (unsigned int)x;
+		to[nr++] = (unsigned int)y;
+		continue;
+bad:
+		return sh2000_tool_usage(argv[0],
+			"dump: bad range '%s' (N, N-M, N+COUNT or all; words 0..%u)",
+			a, SH2000_RAM_WORDS - 1);
+	}
+	if (!nr) {
+		from[0] = 0;
+		to[nr++] = SH2000_RAM_WORDS - 1;
+	}
+	r = ctl_open(c);
+	if (r)
+		return r;
+	for (unsigned int k = 0; k < nr; k++) {
+		unsigned int n = to[k] - from[k] + 1;
+
+		r = sh2000_ram_read(c->h, from[k], n, buf);
+		if (r < 0)
+			return sh2000_tool_fail(c->h, r, "dump");
+		for (unsigned int w = 0; w < n; w++) {
+			if (w % 8 == 0)
+				printf("%s0x%03x:", w ? "\n" : "", from[k] + w);
+			printf(" %04x", buf[w]);
+		}
+		printf("\n");
+	}
+	return 0;
+}

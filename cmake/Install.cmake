@@ -1,0 +1,183 @@
+# Installation of everything user space and the driver sources, the
+# pkg-config file, the CMake package config and the Debian packages (CPack).
+# docs/install.md is the user's side. Included by the root CMakeLists.txt
+# after all targets exist; every version below is PROJECT_VERSION.
+#
+# Components, one Debian package each:
+#   runtime -> libsh2000       libsh2000.so.0 (+ the real file)
+#   dev     -> libsh2000-dev   headers, libsh2000.a, libsh2000.so, sh2000.pc,
+#                              lib/cmake/sh2000/
+#   tools   -> sh2000-tools    sh2000ctl, sh2000-sim, sh2000-upload, man pages
+#   dkms    -> sh2000-dkms     driver sources in src/sh2000-<ver>/ with
+#                              dkms.conf, the udev rule, the modprobe example
+
+include(GNUInstallDirs)
+include(CMakePackageConfigHelpers)
+
+set(SH2000_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/sh2000)
+set(SH2000_PKGCONFIGDIR ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+set(SH2000_DKMS_SRCDIR src/sh2000-${PROJECT_VERSION})
+set(SH2000_PKG_VERSION ${PROJECT_VERSION})
+
+# Everything install() below needs built: `cmake --build B --target
+# sh2000_installables` is enough for `cmake --install` and cpack when the
+# tree was configured with -DCMAKE_SKIP_INSTALL_ALL_DEPENDENCY=ON (the
+# packaging test does that to skip building the tests).
+add_custom_target(sh2000_installables)
+
+# ---- versions: one project version ----------------------------------------
+# The library's VERSION is set in libsh2000/src and the driver's in
+# driver/sh2000_core.h; they must say the same as project().
+if(TARGET sh2000)
+  get_target_property(_sh2000_libver sh2000 VERSION)
+  if(NOT _sh2000_libver STREQUAL PROJECT_VERSION)
+    message(WARNING "libsh2000 VERSION ${_sh2000_libver} != project version ${PROJECT_VERSION}")
+  endif()
+endif()
+file(STRINGS ${PROJECT_SOURCE_DIR}/driver/sh2000_core.h _sh2000_drv
+  REGEX "^#define[ \t]+SH2000_DRIVER_VERSION[ \t]")
+string(REGEX REPLACE ".*\"(.*)\".*" "\\1" _sh2000_drv "${_sh2000_drv}")
+if(NOT _sh2000_drv STREQUAL PROJECT_VERSION)
+  message(WARNING "driver SH2000_DRIVER_VERSION \"${_sh2000_drv}\" != project version ${PROJECT_VERSION}")
+endif()
+
+# ---- the library ----------------------------------------------------------
+# libsh2000/src gives the library targets the source tree's include
+# directories. Installed consumers get only <prefix>/include (headers are
+# included as <sh2000/...>), so the build paths are kept for the build only.
+foreach(t sh2000 sh2000_static)
+  if(NOT TARGET ${t})
+    continue()
+  endif()
+  get_target_property(_dirs ${t} INTERFACE_INCLUDE_DIRECTORIES)
+  set(_wrapped)
+  foreach(d IN LISTS _dirs)
+    if(d MATCHES "^\\$<")
+      list(APPEND _wrapped "${d}")
+    else()
+      list(APPEND _wrapped "$<BUILD_INTERFACE:${d}>")
+    endif()
+  endforeach()
+  list(APPEND _wrapped "$<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>")
+  set_property(TARGET ${t} PROPERTY INTERFACE_INCLUDE_DIRECTORIES "${_wrapped}")
+  add_dependencies(sh2000_installables ${t})
+endforeach()
+
+if(TARGET sh2000)
+  set_target_properties(sh2000 PROPERTIES EXPORT_NAME sh2000)
+  install(TARGETS sh2000 EXPORT sh2000Targets
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+      COMPONENT runtime
+      NAMELINK_COMPONENT dev)
+endif()
+if(TARGET sh2000_static)
+  set_target_properties(sh2000_static PROPERTIES EXPORT_NAME sh2000_static)
+  install(TARGETS sh2000_static EXPORT sh2000Targets
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev)
+endif()
+
+# Public headers, all in include/sh2000/. sh2000.h includes
+# "sh2000_protocol.h" and sim.h includes "sh2000_cardsim.h": both are found
+# beside the includer. The driver's ioctl ABI is there too for programs that
+# talk to /dev/sh2000-N themselves (#include <sh2000/uapi/sh2000.h>).
+file(GLOB _sh2000_public_headers ${PROJECT_SOURCE_DIR}/libsh2000/include/sh2000/*.h)
+install(FILES
+  ${_sh2000_public_headers}
+  ${PROJECT_SOURCE_DIR}/libsh2000/protocol/sh2000_protocol.h
+  ${PROJECT_SOURCE_DIR}/libsh2000/cardmodel/sh2000_cardsim.h
+  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/sh2000 COMPONENT dev)
+install(FILES ${PROJECT_SOURCE_DIR}/driver/uapi/sh2000.h
+  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/sh2000/uapi COMPONENT dev)
+
+# pkg-config: the shared library; `pkg-config --static` adds what
+# libsh2000.a needs.
+configure_file(${CMAKE_CURRENT_LIST_DIR}/sh2000.pc.in
+  ${PROJECT_BINARY_DIR}/sh2000.pc @ONLY)
+install(FILES ${PROJECT_BINARY_DIR}/sh2000.pc
+  DESTINATION ${SH2000_PKGCONFIGDIR} COMPONENT dev)
+
+# CMake: find_package(sh2000) gives sh2000::sh2000 (shared) and
+# sh2000::sh2000_static.
+if(TARGET sh2000)
+  install(EXPORT sh2000Targets NAMESPACE sh2000::
+    DESTINATION ${SH2000_CMAKEDIR} COMPONENT dev)
+  configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/sh2000Config.cmake.in
+    ${PROJECT_BINARY_DIR}/sh2000Config.cmake
+    INSTALL_DESTINATION ${SH2000_CMAKEDIR})
+  # Same major: compatible (SONAME rule in docs/install.md). While the
+  # major is 0, a minor is a new ABI too.
+  if(PROJECT_VERSION_MAJOR EQUAL 0)
+    set(_sh2000_compat SameMinorVersion)
+  else()
+    set(_sh2000_compat SameMajorVersion)
+  endif()
+  write_basic_package_version_file(${PROJECT_BINARY_DIR}/sh2000ConfigVersion.cmake
+    VERSION ${PROJECT_VERSION} COMPATIBILITY ${_sh2000_compat})
+  install(FILES
+    ${PROJECT_BINARY_DIR}/sh2000Config.cmake
+    ${PROJECT_BINARY_DIR}/sh2000ConfigVersion.cmake
+    DESTINATION ${SH2000_CMAKEDIR} COMPONENT dev)
+endif()
+
+install(FILES ${PROJECT_SOURCE_DIR}/docs/library.md ${PROJECT_SOURCE_DIR}/docs/protocol.md
+  DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/doc/libsh2000-dev COMPONENT dev)
+
+# ---- the tools ------------------------------------------------------------
+# Whatever tools exist when configuring (they arrive one by one).
+set(SH2000_TOOLS sh2000ctl sh2000-sim sh2000-upload)
+set(SH2000_TOOLS_INSTALLED)
+foreach(t IN LISTS SH2000_TOOLS)
+  if(TARGET ${t})
+    install(TARGETS ${t} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT tools)
+    add_dependencies(sh2000_installables ${t})
+    list(APPEND SH2000_TOOLS_INSTALLED ${t})
+  endif()
+endforeach()
+
+# Man pages, compressed as Debian ships them (gzip -n: reproducible).
+file(GLOB _sh2000_man1 ${PROJECT_SOURCE_DIR}/tools/*/*.1)
+set(_sh2000_mangz)
+foreach(m IN LISTS _sh2000_man1)
+  get_filename_component(_n ${m} NAME)
+  set(_gz ${PROJECT_BINARY_DIR}/man/${_n}.gz)
+  add_custom_command(OUTPUT ${_gz}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/man
+    COMMAND gzip -9nc ${m} > ${_gz}
+    DEPENDS ${m} VERBATIM)
+  list(APPEND _sh2000_mangz ${_gz})
+endforeach()
+if(_sh2000_mangz)
+  add_custom_target(sh2000_man ALL DEPENDS ${_sh2000_mangz})
+  add_dependencies(sh2000_installables sh2000_man)
+  install(FILES ${_sh2000_mangz}
+    DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT tools)
+endif()
+
+# ---- the driver: DKMS sources, udev rule, modprobe example ----------------
+# The sources DKMS builds: the root Kbuild, driver/ (sources only, never
+# what a Kbuild run left there) and dkms.conf with the project version.
+file(READ ${PROJECT_SOURCE_DIR}/dkms.conf _sh2000_dkms)
+string(REGEX REPLACE "PACKAGE_VERSION=\"[^\"]*\"" "PACKAGE_VERSION=\"${PROJECT_VERSION}\""
+  _sh2000_dkms "${_sh2000_dkms}")
+file(CONFIGURE OUTPUT ${PROJECT_BINARY_DIR}/dkms/dkms.conf CONTENT "${_sh2000_dkms}" @ONLY)
+install(FILES ${PROJECT_BINARY_DIR}/dkms/dkms.conf ${PROJECT_SOURCE_DIR}/Kbuild
+  DESTINATION ${SH2000_DKMS_SRCDIR} COMPONENT dkms)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/driver/
+  DESTINATION ${SH2000_DKMS_SRCDIR}/driver COMPONENT dkms
+  FILES_MATCHING
+    PATTERN "*.c" PATTERN "*.h" PATTERN "Kbuild"
+    PATTERN "*.mod.c" EXCLUDE
+    PATTERN ".*" EXCLUDE)
+
+# udev rules.d under the prefix: /usr/lib/udev/rules.d for the packages
+# (the same directory as /lib/udev/rules.d on Debian 12's merged /usr),
+# /usr/local/lib/udev/rules.d for a default source install (udev reads both).
+install(FILES ${PROJECT_SOURCE_DIR}/udev/60-sh2000.rules
+  DESTINATION lib/udev/rules.d COMPONENT dkms)
+install(FILES ${PROJECT_SOURCE_DIR}/driver/sh2000.modprobe.conf
+  DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/doc/sh2000-dkms/examples
+  RENAME sh2000.conf COMPONENT dkms)
+install(FILES ${PROJECT_SOURCE_DIR}/docs/driver.md
+  DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/doc/sh2000-dkms COMPONENT dkms)
+
+include(${CMAKE_CURRENT_LIST_DIR}/Packaging.cmake)

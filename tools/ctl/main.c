@@ -59,10 +59,11 @@ static const struct ctl_cmd cmds[] = {
 	  "straight line, starting and ending at rest, at --feed mm/s along the\n"
 	  "path (default: as fast as the axes allow). Targets outside the soft\n"
 	  "limits are refused before anything moves.\n" },
-	{ "home", ctl_home, "AXIS [--index] [--no-wait] [--timeout SECONDS]",
+	{ "home", ctl_home, "AXIS [--index] [--timeout SECONDS]",
 	  "Home one enabled axis on its home switch (--index: finish on the\n"
-	  "encoder index) and wait until it is done (default up to 120 s of card\n"
-	  "time); --no-wait returns once the card has accepted the command.\n" },
+	  "encoder index) and wait until it is done, up to --timeout seconds\n"
+	  "(default 120). The card needs a polling host while it homes, so the\n"
+	  "command always waits.\n" },
 	{ "stop", ctl_stop, "[--no-wait]",
 	  "Controlled stop: the card decelerates within amax and discards its\n"
 	  "queue; waits until it is at rest unless --no-wait.\n" },
@@ -201,6 +202,8 @@ int main(int argc, char **argv)
 			i++;
 			break;
 		}
+		if ((!strcmp(a, "-d") || !strcmp(a, "--device")) && i + 1 >= argc)
+			return sh2000_tool_usage(NULL, "option %s needs a DEVICE", a);
 		k = ctl_opt_value(argc, argv, &i, "--device", 'd', &v);
 		if (k < 0)
 			return SH2000_EXIT_USAGE;

@@ -140,7 +140,7 @@ int ctl_home(struct ctl *c, int argc, char **argv)
 {
 	unsigned int flags = 0;
 	double timeout = 120.0;
-	int axis = -1, nowait = 0, r;
+	int axis = -1, r;
 
 	if (ctl_want_help(argc, argv))
 		return 0;
@@ -150,10 +150,6 @@ int ctl_home(struct ctl *c, int argc, char **argv)
 
 		if (!strcmp(argv[i], "--index")) {
 			flags |= SH2000_HOME_F_INDEX;
-			continue;
-		}
-		if (!strcmp(argv[i], "--no-wait")) {
-			nowait = 1;
 			continue;
 		}
 		k = ctl_opt_value(argc, argv, &i, "--timeout", 't', &v);
@@ -179,8 +175,6 @@ int ctl_home(struct ctl *c, int argc, char **argv)
 	r = sh2000_home(c->h, (unsigned int)axis, flags);
 	if (r < 0)
 		return sh2000_tool_fail(c->h, r, "home");
-	if (nowait)
-		return 0;
 	r = sh2000_wait_idle(c->h, (int)(timeout * 1000));
 	if (r < 0)
 		return sh2000_tool_fail(c->h, r, "home");

@@ -29,6 +29,7 @@
 
 struct plan {
 	const char *file;	/* NULL: command line */
+	const char *dev;	/* device, once open (command-line messages) */
 	int set[SH2000_AXES + 1][SH2000_GP_END];
 	double v[SH2000_AXES + 1][SH2000_GP_END];
 	int line[SH2000_AXES + 1][SH2000_GP_END];
@@ -49,14 +50,30 @@ static const char *sect_name(unsigned int s)
 	return s <= SECT_GLOBAL ? n[s] : "?";
 }
 
-/* A shortest text that reads back as exactly v. */
-static void fmt_value(char *buf, size_t len, double v)
+/* A shortest text that reads back as v: exactly, or for a binary32
+ * parameter as the same float (the card keeps floats); no exponent for
+ * whole numbers that have one. */
+static void fmt_value(char *buf, size_t len, double v, int f32)
 {
-	for (int prec = 1; prec <= 17; prec++) {
+	int prec = 1;
+
+	if (fabs(v) >= 1 && fabs(v) < 1e17)
+		prec = (int)floor(log10(fabs(v))) + 1;
+	for (; prec <= 17; prec++) {
+		double back;
+
 		snprintf(buf, len, "%.*g", prec, v);
-		if (strtod(buf, NULL) == v)
+		back = strtod(buf, NULL);
+		if (back == v || (f32 && (float)back == (float)v))
 			return;
 	}
+}
+
+static int is_f32(unsigned int id)
+{
+	const struct sh2000_param_info *pi = sh2000_param_lookup(id);
+
+	return pi && pi->type == SH2000_PT_F32;
 }
 
 static void plan_error(struct plan *p, int line, const char *fmt, ...)
@@ -72,6 +89,8 @@ static void plan_error(struct plan *p, int line, const char *fmt, ...)
 	va_end(ap);
 	if (p->file)
 		sh2000_tool_msg("%s:%d: %s", p->file, line, msg);
+	else if (p->dev)
+		sh2000_tool_msg("%s: params: %s", p->dev, msg);
 	else
 		sh2000_tool_msg("params: %s", msg);
 	p->errors++;
@@ -236,11 +255,12 @@ static int plan_check(struct ctl *c, struct plan *p,
 	char why[256];
 	int r;
 
+	p->dev = sh2000_device(c->h);
 	for (unsigned int s = 0; s <= SECT_GLOBAL; s++) {
 		unsigned int lo = s == SECT_GLOBAL ? SH2000_GP_FIRST : 0;
 		unsigned int hi = s == SECT_GLOBAL ? SH2000_GP_END : SH2000_AXIS_PARAMS;
 		double scale, card[SH2000_GP_END];
-		int any = 0;
+		int any = 0, errors = p->errors;
 
 		for (unsigned int id = lo; id < hi; id++)
 			any |= p->set[s][id];
@@ -276,7 +296,7 @@ static int plan_check(struct ctl *c, struct plan *p,
 					   s == SECT_GLOBAL ? "" : sect_name(s),
 					   s == SECT_GLOBAL ? "" : " ", pi->name, why);
 		}
-		if (p->errors)
+		if (p->errors != errors)
 			continue;
 		if (s != SECT_GLOBAL &&
 		    (p->set[s][SH2000_P_SOFT_MIN] || p->set[s][SH2000_P_SOFT_MAX]) &&
@@ -399,9 +419,13 @@ static int print_section(struct ctl *c, FILE *f, unsigned int s)
 				     id, &v);
 		if (r < 0)
 			return sh2000_tool_fail(c->h, r, "get parameter");
-		fmt_value(val, sizeof(val), v);
+		fmt_value(val, sizeof(val), v, is_f32(id));
 		snprintf(lhs, sizeof(lhs), "%s = %s", sh2000_param_name(id), val);
-		fprintf(f, "%-32s # %s\n", lhs, sh2000_param_unit(id));
+		if (id == SH2000_P_DAC_RANGE)
+			fprintf(f, "%-32s # 0: 0..5 V, 1: 0..10 V, 2: +-5 V, 3: +-10 V\n",
+				lhs);
+		else
+			fprintf(f, "%-32s # %s\n", lhs, sh2000_param_unit(id));
 	}
 	return 0;
 }
@@ -511,7 +535,7 @@ int ctl_params(struct ctl *c, int argc, char **argv)
 					     (unsigned int)id, &v);
 			if (r < 0)
 				return sh2000_tool_fail(c->h, r, "get parameter");
-			fmt_value(val, sizeof(val), v);
+			fmt_value(val, sizeof(val), v, is_f32((unsigned int)id));
 			printf("%s = %s\n", argv[i], val);
 		}
 		return r;

@@ -23,8 +23,7 @@
 #include "plcheck.h"
 
 #ifdef BENCH_WITH_CARD
-#include "sh2000/sh2000.h"
-#include "sh2000/sim.h"
+#include "plcard.h"
 #endif
 
 static double cpu_s(void)
@@ -310,92 +309,35 @@ static double throughput(int what, int raw)
 /* ---- through the card model -------------------------------------------- */
 
 #ifdef BENCH_WITH_CARD
-struct card_run {
-	struct sh2000 *h;
-	double batch[SH2000_RING_RECORDS][SH2000_AXES];
-	unsigned int nb;
-	int err;
-	/* observer */
+struct card_acc {
 	struct exact *ex;
-	double scale;
-	int record;
-	double emax, esum2;
-	uint64_t en;
-	double fmax_ferr, fsum2;
-	uint64_t fn;
+	double emax, esum2, fmax, fsum2;
+	uint64_t n;
 	double prev[2][4];
-	uint64_t cycles;
-	double vmax_fine, amax_fine, h_s;
+	double vf, af, h;
 };
 
-static int card_flush(struct card_run *cr, int end)
+static void card_fn(void *ctx, const double x[4], const double act[4])
 {
-	int r;
-
-	if (!cr->nb)
-		return 0;
-	r = sh2000_wait_space(cr->h, cr->nb, 5000);
-	if (r >= 0)
-		r = sh2000_push_mm(cr->h, (const double (*)[4])cr->batch,
-				   cr->nb, end ? SH2000_PUSH_END : 0);
-	cr->nb = 0;
-	if (r < 0) {
-		cr->err = r;
-		return r;
-	}
-	return 0;
-}
-
-static int card_sink(void *ctx, const struct sh2000_path_point *pt)
-{
-	struct card_run *cr = ctx;
-	int end = (pt->flags & SH2000_PATH_F_END) != 0;
-
-	memcpy(cr->batch[cr->nb++], pt->mm, sizeof(pt->mm));
-	if (end || cr->nb == 16)
-		return card_flush(cr, end);
-	return 0;
-}
-
-static void card_obs(void *ctx, const struct sh2000_probe *pr)
-{
-	struct card_run *cr = ctx;
-	double x[4], act[4];
+	struct card_acc *c = ctx;
+	double d = exact_dist(c->ex, x);
+	double fe = hypot(x[0] - act[0], x[1] - act[1]);
 	unsigned int a;
 
-	for (a = 0; a < 4; a++) {
-		x[a] = pr->axis[a].fine_cmd / cr->scale;
-		act[a] = pr->axis[a].actual / cr->scale;
-	}
-	if (cr->record) {
-		double d = exact_dist(cr->ex, x);
-		double fe = hypot(x[0] - act[0], x[1] - act[1]);
-
-		cr->emax = fmax(cr->emax, d);
-		cr->esum2 += d * d;
-		cr->en++;
-		cr->fmax_ferr = fmax(cr->fmax_ferr, fe);
-		cr->fsum2 += fe * fe;
-		cr->fn++;
-		if (cr->cycles >= 2)
-			for (a = 0; a < 2; a++) {
-				double v = fabs(x[a] - cr->prev[1][a]) / cr->h_s;
-				double ac = fabs(x[a] - 2 * cr->prev[1][a] +
-						 cr->prev[0][a]) /
-					    (cr->h_s * cr->h_s);
-
-				cr->vmax_fine = fmax(cr->vmax_fine, v);
-				cr->amax_fine = fmax(cr->amax_fine, ac);
-			}
-		cr->cycles++;
-	}
-	memcpy(cr->prev[0], cr->prev[1], sizeof(cr->prev[0]));
-	memcpy(cr->prev[1], x, sizeof(cr->prev[1]));
+	c->emax = fmax(c->emax, d);
+	c->esum2 += d * d;
+	c->fmax = fmax(c->fmax, fe);
+	c->fsum2 += fe * fe;
+	if (c->n >= 2)
+		for (a = 0; a < 2; a++) {
+			c->vf = fmax(c->vf, fabs(x[a] - c->prev[1][a]) / c->h);
+			c->af = fmax(c->af, fabs(x[a] - 2 * c->prev[1][a] +
+						 c->prev[0][a]) / (c->h * c->h));
+		}
+	memcpy(c->prev[0], c->prev[1], sizeof(c->prev[0]));
+	memcpy(c->prev[1], x, sizeof(c->prev[1]));
+	c->n++;
 }
-
-#define CTRY(call) do { int r_ = (call); if (r_ < 0) { \
-	fprintf(stderr, "bench_planner: %s: %s (%s)\n", #call, \
-		sh2000_strerror(r_), sh2000_last_error(h)); return -1; } } while (0)
 
 /* One shape through the `sim` card; 0 or -1 (then the card part is left
  * out). */
@@ -403,62 +345,42 @@ static int card_contour(enum shape s, int raw, int ff, double *emax,
 			double *erms, double *ferr_max, double *ferr_rms,
 			double *vfine, double *afine)
 {
-	static struct card_run cr;
-	struct sh2000 *h = NULL;
-	struct sh2000_status st;
+	static struct plcard pc;
 	struct sh2000_path_config c;
 	struct sh2000_path *p;
+	struct card_acc acc;
 	struct exact ex;
-	char msg[256];
 	double o[4];
-	unsigned int a;
 
-	memset(&cr, 0, sizeof(cr));
-	if (sh2000_sim_open(&h, NULL, msg, sizeof(msg)) < 0) {
-		fprintf(stderr, "bench_planner: sim: %s\n", msg);
+	sh2000_path_config_default(&c);
+	if (plcard_open(&pc, c.vmax, c.amax, ff, o)) {
+		fprintf(stderr, "bench_planner: card: %s\n", pc.msg);
 		return -1;
 	}
-	CTRY(sh2000_param_set(h, SH2000_GLOBAL, SH2000_GP_COARSE_PERIOD_US, 2000));
-	CTRY(sh2000_param_set(h, SH2000_GLOBAL, SH2000_GP_FINE_STEPS, 20));
-	for (a = 0; a < 4; a++) {
-		CTRY(sh2000_param_set(h, a, SH2000_P_VMAX, 500));
-		CTRY(sh2000_param_set(h, a, SH2000_P_AMAX, 50000));
-		if (!ff) {
-			CTRY(sh2000_param_set(h, a, SH2000_P_KVFF, 0));
-			CTRY(sh2000_param_set(h, a, SH2000_P_KAFF, 0));
-		}
-	}
-	CTRY(sh2000_enable(h, 0xf));
-	CTRY(sh2000_poll(h, &st));
-	for (a = 0; a < 4; a++)
-		o[a] = st.axis[a].cmd_mm;
-	cr.h = h;
-	cr.scale = 100000.0;
-	cr.h_s = 0.002 / 20;
-	exact_init(&ex, s, o);
-	cr.ex = &ex;
-	CTRY(sh2000_sim_set_observer(h, card_obs, &cr));
 	config(&c, raw, o);
-	if (sh2000_path_create(&p, &c, card_sink, &cr, msg, sizeof(msg))) {
-		fprintf(stderr, "bench_planner: %s\n", msg);
+	exact_init(&ex, s, o);
+	memset(&acc, 0, sizeof(acc));
+	acc.ex = &ex;
+	acc.h = c.period_s / c.fine_steps;
+	pc.fn = card_fn;
+	pc.ctx = &acc;
+	if (sh2000_path_create(&p, &c, plcard_sink, &pc, NULL, 0))
 		return -1;
-	}
-	cr.record = 1;
-	if (add_shape(p, s, o) || sh2000_path_finish(p) || cr.err) {
+	pc.record = 1;
+	if (add_shape(p, s, o) || sh2000_path_finish(p) || plcard_idle(&pc)) {
 		fprintf(stderr, "bench_planner: card run: %s / %s\n",
-			sh2000_path_error(p), sh2000_last_error(h));
+			sh2000_path_error(p), pc.msg);
 		return -1;
 	}
-	CTRY(sh2000_wait_idle(h, 10000));
-	cr.record = 0;
-	*emax = cr.emax;
-	*erms = sqrt(cr.esum2 / cr.en);
-	*ferr_max = cr.fmax_ferr;
-	*ferr_rms = sqrt(cr.fsum2 / cr.fn);
-	*vfine = cr.vmax_fine;
-	*afine = cr.amax_fine;
+	pc.record = 0;
+	*emax = acc.emax;
+	*erms = sqrt(acc.esum2 / acc.n);
+	*ferr_max = acc.fmax;
+	*ferr_rms = sqrt(acc.fsum2 / acc.n);
+	*vfine = acc.vf;
+	*afine = acc.af;
 	sh2000_path_destroy(p);
-	sh2000_close(h);
+	plcard_close(&pc);
 	free(ex.pts);
 	return 0;
 }

@@ -1,0 +1,138 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * libsh2000: running a planned path on an open card. This header is the
+ * reference; sh2000-upload (tools/upload/) is the worked example.
+ *
+ * A run owns a planner (sh2000/path.h) whose sink streams the coarse points
+ * to the card: points are gathered into all-or-nothing batches and pushed
+ * with sh2000_push_counts() as soon as the ring has room for a batch. The
+ * first batch of a motion is larger (the priming batch), so that the ring
+ * starts well filled; after that the host tops the ring up a batch at a
+ * time, which keeps 48..64 records (about 100 ms) queued. Waiting for room
+ * polls the card, which keeps the host heartbeat going and returns any
+ * latched card fault as the run's error (with sh2000_last_error()'s
+ * message in sh2000_run_error()).
+ *
+ * Samples: with a sample callback, every servo cycle of a `sim` card (its
+ * observer: the fine set-point and encoder position) or every status poll
+ * of other cards becomes one sample in mm, timed in card time from the
+ * run's creation.
+ *
+ * Not thread-safe: one thread drives a run. sh2000_run_stop(),
+ * _pause() and _set_override() may be called from the callbacks.
+ */
+#ifndef SH2000_RUN_H
+#define SH2000_RUN_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sh2000/path.h"
+#include "sh2000/sh2000.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* One sample of the card's motion, positions in mm. */
+struct sh2000_run_sample {
+	double t;			/* s of card time since the run began */
+	double cmd[SH2000_AXES];	/* set-point (fine-interpolated) */
+	double act[SH2000_AXES];	/* encoder position */
+	int per_cycle;			/* 1: a servo cycle (sim), 0: a poll */
+};
+
+/* What the progress callback sees (after every batch and every poll). */
+struct sh2000_run_progress {
+	uint64_t points;		/* coarse points pushed so far */
+	double t;			/* s of card time since the run began */
+	unsigned int queue_fill;	/* records queued at the last poll */
+	const struct sh2000_status *status;	/* the last poll */
+};
+
+struct sh2000_run_config {
+	/* records per top-up batch, 1..64 (16) */
+	unsigned int batch;
+	/* records of the first batch of a motion, batch..64 (48) */
+	unsigned int prime;
+	/* give up waiting for room or idle after this long without the
+	 * card consuming anything (2000 ms; < 0: never) */
+	int stall_ms;
+	/* poll at least this often while waiting when samples are wanted
+	 * from a card that is not `sim` (0: one coarse period) */
+	uint64_t sample_ns;
+	void (*sample)(void *ctx, const struct sh2000_run_sample *s);
+	void (*progress)(void *ctx, const struct sh2000_run_progress *p);
+	void *ctx;
+};
+
+void sh2000_run_config_default(struct sh2000_run_config *cfg);
+
+/*
+ * A planner configuration for this card: its coarse period and fine steps,
+ * each axis' vmax, amax and scale as the card has them, and the start at
+ * the card's position (the set-point of an enabled axis, the encoder of a
+ * disabled one). Other fields are the planner's defaults.
+ */
+int sh2000_run_path_config(struct sh2000 *h, struct sh2000_path_config *pc);
+
+struct sh2000_run;
+
+/* The card must be idle. msg gets the reason on failure. */
+int sh2000_run_create(struct sh2000_run **out, struct sh2000 *h,
+		      const struct sh2000_path_config *pc,
+		      const struct sh2000_run_config *rc, char *msg,
+		      size_t msglen);
+/* Removes the sim observer; does not stop the card (call
+ * sh2000_run_stop() and sh2000_run_finish() first for that). */
+void sh2000_run_destroy(struct sh2000_run *r);
+
+/* The planner: add primitives to it. Adding may already stream points
+ * (the look-ahead window is full), so its errors may be the card's. */
+struct sh2000_path *sh2000_run_path(struct sh2000_run *r);
+
+/*
+ * Plan, stream and execute everything added so far, then wait until the
+ * card is idle at the end. 0 when done; -EAGAIN when paused (the card is
+ * at rest, sh2000_run_resume() and call again); a negative error
+ * otherwise (the card is stopped; see sh2000_run_error()).
+ */
+int sh2000_run_finish(struct sh2000_run *r);
+
+/* Let seconds of card time pass with the card idle (a dwell), sampling. */
+int sh2000_run_dwell(struct sh2000_run *r, double seconds);
+
+/* Decelerate to rest on the path and discard the rest of the plan. */
+void sh2000_run_stop(struct sh2000_run *r);
+/* Decelerate to rest on the path; sh2000_run_finish() returns -EAGAIN. */
+void sh2000_run_pause(struct sh2000_run *r);
+void sh2000_run_resume(struct sh2000_run *r);
+/* Feed override, 0 < factor <= 2. */
+int sh2000_run_set_override(struct sh2000_run *r, double factor);
+
+/* What the last failure was, with the card's or planner's words. */
+const char *sh2000_run_error(const struct sh2000_run *r);
+
+struct sh2000_run_stats {
+	uint64_t points;	/* coarse points pushed */
+	uint64_t batches;	/* pushes */
+	uint64_t motions;	/* points with END (motions from rest to rest) */
+	uint64_t polls;		/* status polls made by the run */
+	uint64_t samples;	/* samples delivered */
+	double time_s;		/* card time from creation to the last poll */
+	double distance_mm;	/* length of the set-point path (samples) */
+	double max_ferr_mm;	/* largest |cmd - act| of one axis seen */
+	unsigned int max_ferr_axis;
+	/* least ring fill seen while the card was moving with more of the
+	 * motion still to come (SH2000_RING_RECORDS when never seen) */
+	unsigned int min_fill;
+	uint64_t underruns;	/* card stopped because the ring ran dry */
+};
+
+void sh2000_run_stats(const struct sh2000_run *r, struct sh2000_run_stats *st);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SH2000_RUN_H */

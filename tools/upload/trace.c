@@ -1,0 +1,323 @@
+// SPDX-License-Identifier: MIT
+/*
+ * The --trace CSV (one row per sample) and the --plot picture: the samples
+ * go to a plot data file (one row per millisecond at most), which a
+ * generated gnuplot script draws.
+ */
+#include <errno.h>
+#include <math.h>
+#include <fcntl.h>
+#include <spawn.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "upload.h"
+
+extern char **environ;
+
+/* Plot rows at least this far apart (s). */
+#define PLOT_DT 0.001
+
+struct upl_trace {
+	FILE *csv;
+	unsigned int every;
+	uint64_t seen, rows;
+	int csv_err;
+	FILE *plot;			/* plot data, in tmpdir */
+	char dir[64];			/* temporary directory */
+	char data[96];
+	double last_t;
+	double last_cmd[SH2000_AXES];
+	int have_last;
+	uint64_t plot_rows;
+};
+
+int upl_which(const char *prog)
+{
+	const char *path = getenv("PATH");
+	char buf[4096];
+
+	if (strchr(prog, '/'))
+		return access(prog, X_OK) == 0;
+	if (!path)
+		path = "/usr/bin:/bin";
+	while (*path) {
+		const char *c = strchr(path, ':');
+		size_t n = c ? (size_t)(c - path) : strlen(path);
+
+		snprintf(buf, sizeof(buf), "%.*s/%s", (int)n,
+			 n ? path : ".", prog);
+		if (access(buf, X_OK) == 0)
+			return 1;
+		path += n;
+		if (*path == ':')
+			path++;
+	}
+	return 0;
+}
+
+struct upl_trace *upl_trace_open(const char *csv, unsigned int every,
+				 int plot, char *msg, size_t len)
+{
+	struct upl_trace *t = calloc(1, sizeof(*t));
+
+	if (!t) {
+		snprintf(msg, len, "out of memory");
+		return NULL;
+	}
+	t->every = every ? every : 1;
+	if (csv) {
+		t->csv = fopen(csv, "w");
+		if (!t->csv) {
+			snprintf(msg, len, "--trace %s: %s", csv, strerror(errno));
+			free(t);
+			return NULL;
+		}
+		fputs("t,cmd_x,act_x,cmd_y,act_y,cmd_z,act_z,cmd_a,act_a\n",
+		      t->csv);
+	}
+	if (plot) {
+		const char *tmp = getenv("TMPDIR");
+
+		snprintf(t->dir, sizeof(t->dir), "%s/sh2000-upload.XXXXXX",
+			 tmp && *tmp && strlen(tmp) < 32 ? tmp : "/tmp");
+		if (!mkdtemp(t->dir)) {
+			snprintf(msg, len, "--plot: temporary directory %s: %s",
+				 t->dir, strerror(errno));
+			t->dir[0] = 0;
+			upl_trace_free(t);
+			return NULL;
+		}
+		snprintf(t->data, sizeof(t->data), "%s/plot.dat", t->dir);
+		t->plot = fopen(t->data, "w");
+		if (!t->plot) {
+			snprintf(msg, len, "--plot: %s: %s", t->data,
+				 strerror(errno));
+			upl_trace_free(t);
+			return NULL;
+		}
+	}
+	return t;
+}
+
+static void plot_row(struct upl_trace *t, const struct sh2000_run_sample *s)
+{
+	double d = 0.0, e = 0.0, feed = 0.0;
+	unsigned int a;
+
+	if (t->have_last && s->t - t->last_t < PLOT_DT - 1e-9)
+		return;
+	for (a = 0; a < SH2000_AXES; a++) {
+		double c = s->cmd[a] - s->act[a];
+
+		e += c * c;
+		if (t->have_last)
+			d += (s->cmd[a] - t->last_cmd[a]) *
+			     (s->cmd[a] - t->last_cmd[a]);
+	}
+	if (t->have_last && s->t > t->last_t)
+		feed = sqrt(d) / (s->t - t->last_t);
+	/* t, cmd x y, act x y, feed mm/s, following error um */
+	fprintf(t->plot, "%.6f %.6f %.6f %.6f %.6f %.3f %.4f\n", s->t,
+		s->cmd[0], s->cmd[1], s->act[0], s->act[1], feed,
+		sqrt(e) * 1000.0);
+	t->plot_rows++;
+	t->last_t = s->t;
+	memcpy(t->last_cmd, s->cmd, sizeof(t->last_cmd));
+	t->have_last = 1;
+}
+
+void upl_trace_sample(struct upl_trace *t, const struct sh2000_run_sample *s)
+{
+	if (t->csv && t->seen++ % t->every == 0) {
+		if (fprintf(t->csv,
+			    "%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n",
+			    s->t, s->cmd[0], s->act[0], s->cmd[1], s->act[1],
+			    s->cmd[2], s->act[2], s->cmd[3], s->act[3]) < 0)
+			t->csv_err = errno ? errno : EIO;
+		t->rows++;
+	}
+	if (t->plot)
+		plot_row(t, s);
+}
+
+int upl_trace_close_csv(struct upl_trace *t)
+{
+	int e = t->csv_err;
+
+	if (t->csv) {
+		if (fclose(t->csv) && !e)
+			e = errno ? errno : EIO;
+		t->csv = NULL;
+	}
+	return -e;
+}
+
+uint64_t upl_trace_rows(const struct upl_trace *t)
+{
+	return t->rows;
+}
+
+/* gnuplot's single-quoted strings: no quote inside. */
+static void quoted(FILE *f, const char *s)
+{
+	fputc('\'', f);
+	for (; *s; s++)
+		fputc(*s == '\'' ? '_' : *s, f);
+	fputc('\'', f);
+}
+
+static int write_script(const char *script,
+			const char *out, const char *title, int svg,
+			int cairo)
+{
+	FILE *f = fopen(script, "w");
+
+	if (!f)
+		return -errno;
+	if (svg)
+		fputs("set terminal svg size 1400,900 dynamic font 'Sans,11'\n", f);
+	else if (cairo)
+		fputs("set terminal pngcairo size 1400,900 font 'Sans,10'\n", f);
+	else
+		fputs("set terminal png size 1400,900\n", f);
+	fputs("set output ", f);
+	quoted(f, out);
+	fputs("\nset datafile separator ' '\nset grid\n"
+	      "set multiplot title ", f);
+	quoted(f, title);
+	fputs("\n"
+	      /* left: the path in XY, true to scale */
+	      "set origin 0,0\nset size 0.5,0.95\n"
+	      "set size ratio -1\n"
+	      "set title 'path (XY)'\nset xlabel 'x (mm)'\nset ylabel 'y (mm)'\n"
+	      "set key bottom right\n"
+	      "plot DATA using 2:3 with lines lw 2 lc rgb '#1f6fd0' title 'set-point', \\\n"
+	      "     DATA using 4:5 with lines lw 1 lc rgb '#d03a1f' title 'encoder'\n"
+	      "set size noratio\n"
+	      /* right, top: the path feed */
+	      "set origin 0.5,0.475\nset size 0.5,0.475\n"
+	      "set title 'feed'\nset xlabel 't (s)'\nset ylabel 'mm/s'\n"
+	      "set yrange [0:*]\n"
+	      "set key top right\n"
+	      "plot DATA using 1:6 with lines lc rgb '#1f6fd0' title 'path velocity of the set-point'\n"
+	      /* right, bottom: the following error */
+	      "set origin 0.5,0\nset size 0.5,0.475\n"
+	      "set title 'following error'\nset xlabel 't (s)'\nset ylabel 'um'\n"
+	      "set yrange [0:*]\n"
+	      "plot DATA using 1:7 with lines lc rgb '#d03a1f' title '|set-point - encoder|'\n"
+	      "unset multiplot\n", f);
+	if (fclose(f))
+		return -errno;
+	return 0;
+}
+
+/* gnuplot -e "DATA='...'" script, its stderr into errfile. */
+static int run_gnuplot(struct upl_trace *t, const char *script,
+		       const char *errfile, int *status)
+{
+	posix_spawn_file_actions_t fa;
+	char def[160];
+	char *argv[] = { "gnuplot", "-e", def, (char *)script, NULL };
+	pid_t pid;
+	int e;
+
+	snprintf(def, sizeof(def), "DATA='%s'", t->data);
+	posix_spawn_file_actions_init(&fa);
+	posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+	posix_spawn_file_actions_addopen(&fa, 2, errfile,
+					 O_WRONLY | O_CREAT | O_TRUNC, 0600);
+	e = posix_spawnp(&pid, "gnuplot", &fa, NULL, argv, environ);
+	posix_spawn_file_actions_destroy(&fa);
+	if (e)
+		return -e;
+	while (waitpid(pid, status, 0) < 0)
+		if (errno != EINTR)
+			return -errno;
+	return 0;
+}
+
+int upl_trace_plot(struct upl_trace *t, const char *out, const char *title)
+{
+	char script[96], errfile[96], line[512];
+	size_t n = strlen(out);
+	int svg = n >= 4 && !strcasecmp(out + n - 4, ".svg");
+	int status = 0, e, cairo;
+	FILE *f;
+
+	if (!t->plot)
+		return SH2000_EXIT_OK;
+	if (fclose(t->plot)) {
+		t->plot = NULL;
+		sh2000_tool_msg("--plot: %s: %s", t->data, strerror(errno));
+		return SH2000_EXIT_CARD;
+	}
+	t->plot = NULL;
+	if (!t->plot_rows) {
+		sh2000_tool_msg("--plot %s: no samples to draw", out);
+		return SH2000_EXIT_CARD;
+	}
+	snprintf(script, sizeof(script), "%s/plot.gp", t->dir);
+	snprintf(errfile, sizeof(errfile), "%s/gnuplot.err", t->dir);
+	/* pngcairo draws better; plain png (libgd) if this gnuplot lacks it */
+	for (cairo = 1; cairo >= 0; cairo--) {
+		e = write_script(script, out, title, svg, cairo);
+		if (e) {
+			sh2000_tool_msg("--plot: %s: %s", script, strerror(-e));
+			return SH2000_EXIT_CARD;
+		}
+		e = run_gnuplot(t, script, errfile, &status);
+		if (e == -ENOENT) {
+			sh2000_tool_msg("--plot %s: gnuplot not found on PATH (Debian package gnuplot-nox)",
+					out);
+			return UPLOAD_EXIT_HELPER;
+		}
+		if (e) {
+			sh2000_tool_msg("--plot %s: cannot run gnuplot: %s", out,
+					strerror(-e));
+			return UPLOAD_EXIT_HELPER;
+		}
+		if (WIFEXITED(status) && WEXITSTATUS(status) == 0)
+			return SH2000_EXIT_OK;
+		if (svg)
+			break;
+	}
+	sh2000_tool_msg("--plot %s: gnuplot failed (%s %d):", out,
+			WIFEXITED(status) ? "exit status" : "signal",
+			WIFEXITED(status) ? WEXITSTATUS(status) :
+			WTERMSIG(status));
+	f = fopen(errfile, "r");
+	while (f && fgets(line, sizeof(line), f))
+		fprintf(stderr, "  %s", line);
+	if (f)
+		fclose(f);
+	return UPLOAD_EXIT_HELPER;
+}
+
+void upl_trace_free(struct upl_trace *t)
+{
+	char p[128];
+
+	if (!t)
+		return;
+	if (t->csv)
+		fclose(t->csv);
+	if (t->plot)
+		fclose(t->plot);
+	if (t->dir[0]) {
+		static const char *const names[] = { "plot.dat", "plot.gp",
+						     "gnuplot.err" };
+
+		for (size_t i = 0; i < sizeof(names) / sizeof(names[0]); i++) {
+			snprintf(p, sizeof(p), "%s/%s", t->dir, names[i]);
+			unlink(p);
+		}
+		rmdir(t->dir);
+	}
+	free(t);
+}

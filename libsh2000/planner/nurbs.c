@@ -246,7 +246,10 @@ int pl_nurbs_expand(struct sh2000_path *p)
 		b.L = pl_nurbs_length(nb, u0, u1);
 		/* the speed limit over the block: five samples */
 		for (i = 0; i <= 4; i++) {
-			double u = u0 + (u1 - u0) * i / 4.0;
+			/* the end from the left: at a C0 knot the next
+			 * span's tangent is another one (a corner) */
+			double u = i < 4 ? u0 + (u1 - u0) * i / 4.0
+					 : u1 - (u1 - u0) * 1e-9;
 
 			pl_nurbs_frame(nb, u, tt, &ks);
 			vl = fmin(vl, pl_curve_vlim(p, tt, ks));

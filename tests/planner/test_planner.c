@@ -470,6 +470,65 @@ static void test_nurbs_freeform(void **s)
 	rec_free(&dense);
 }
 
+/* Degree 1 (a polyline with corners) and degree 5; a pause in the middle
+ * of a NURBS resumes on the curve. */
+static void test_nurbs_degrees_and_pause(void **s)
+{
+	static const double poly[5][4] = {
+		{ 0, 0, 0, 0 }, { 4, 0, 0, 0 }, { 4, 3, 0, 0 }, { 8, 3, 1, 0 },
+		{ 8, 8, 1, 0 },
+	};
+	static const double k1[7] = { 0, 0, 1, 2, 3, 4, 4 };
+	static const double k5[14] = { 0, 0, 0, 0, 0, 0, 0.3, 0.7,
+					1, 1, 1, 1, 1, 1 };
+	struct sh2000_path_nurbs n1 = { 1, 5, poly, NULL, k1 };
+	struct sh2000_path_nurbs n5 = { 5, 8, ff_ctrl, NULL, k5 };
+	struct sh2000_path_config c = cfg_of(0, 0);
+	struct sh2000_path_nurbs nc = { 2, 9, circ_ctrl, circ_w, circ_k };
+	struct rec r;
+	struct sh2000_path *p;
+	struct poly_dev d = { poly + 1, 4, { 0 }, 0 };
+	struct circ_dev cd;
+
+	(void)s;
+	p = mk(&c, &r);
+	assert_int_equal(sh2000_path_nurbs(p, &n1, 300), 0);
+	assert_int_equal(sh2000_path_finish(p), 0);
+	check_limits(&r, &c);
+	assert_end(&r, poly[4]);
+	fine_path(&r, c.fine_steps, poly_fn, &d);
+	assert_true(d.max <= c.corner_tol);
+	sh2000_path_destroy(p);
+	rec_free(&r);
+
+	p = mk(&c, &r);
+	assert_int_equal(sh2000_path_nurbs(p, &n5, 300), 0);
+	assert_int_equal(sh2000_path_finish(p), 0);
+	check_limits(&r, &c);
+	assert_end(&r, ff_ctrl[7]);
+	sh2000_path_destroy(p);
+	rec_free(&r);
+
+	c.start[0] = 5;
+	p = mk(&c, &r);
+	assert_int_equal(sh2000_path_nurbs(p, &nc, 300), 0);
+	assert_int_equal(sh2000_path_run(p, 30), 30);
+	assert_int_equal(sh2000_path_pause(p), 0);
+	assert_true(sh2000_path_run(p, 1000) > 0);
+	assert_true(r.flags[r.n - 1] & SH2000_PATH_F_END);
+	assert_int_equal(sh2000_path_resume(p), 0);
+	assert_int_equal(sh2000_path_finish(p), 0);
+	check_limits(&r, &c);
+	assert_end(&r, c.start);
+	memset(&cd, 0, sizeof(cd));
+	cd.R = 5;
+	cd.j = 1;
+	fine_path(&r, c.fine_steps, circ_fn, &cd);
+	assert_true(cd.max <= 0.0005);
+	sh2000_path_destroy(p);
+	rec_free(&r);
+}
+
 /* ---- bad input --------------------------------------------------------- */
 
 static void expect_err(struct sh2000_path *p, int ret, int code,
@@ -861,6 +920,7 @@ int main(void)
 		cmocka_unit_test(test_arc_forms_and_helix),
 		cmocka_unit_test(test_nurbs_circle),
 		cmocka_unit_test(test_nurbs_freeform),
+		cmocka_unit_test(test_nurbs_degrees_and_pause),
 		cmocka_unit_test(test_bad_geometry),
 		cmocka_unit_test(test_bad_config),
 		cmocka_unit_test(test_constant_memory),

@@ -74,6 +74,14 @@ if(TARGET sh2000_static)
   set_target_properties(sh2000_static PROPERTIES EXPORT_NAME sh2000_static)
   install(TARGETS sh2000_static EXPORT sh2000Targets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev)
+  # `cmake --install --strip` and the packages (CPACK_STRIP_FILES) strip the
+  # shared library and the tools; strip the archive's debug sections too,
+  # as Debian's dh_strip does (they hold the build machine's paths).
+  install(CODE "
+    if(CMAKE_INSTALL_DO_STRIP)
+      execute_process(COMMAND \"${CMAKE_STRIP}\" --strip-debug --enable-deterministic-archives
+        \"\$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:sh2000_static>\")
+    endif()" COMPONENT dev)
 endif()
 
 # Public headers, all in include/sh2000/. sh2000.h includes
@@ -133,6 +141,38 @@ foreach(t IN LISTS SH2000_TOOLS)
     list(APPEND SH2000_TOOLS_INSTALLED ${t})
   endif()
 endforeach()
+
+# Do the tools load libsh2000.so (then sh2000-tools depends on libsh2000)
+# or carry libsh2000.a? Follows the link libraries of the tools' targets.
+function(_sh2000_links_shared out)
+  set(todo ${ARGN})
+  set(seen)
+  set(found OFF)
+  while(todo)
+    list(POP_FRONT todo t)
+    if(t IN_LIST seen OR NOT TARGET ${t})
+      continue()
+    endif()
+    list(APPEND seen ${t})
+    if(t STREQUAL "sh2000")
+      set(found ON)
+      break()
+    endif()
+    get_target_property(_type ${t} TYPE)
+    set(_libs)
+    if(NOT _type STREQUAL "INTERFACE_LIBRARY")
+      get_target_property(_libs ${t} LINK_LIBRARIES)
+    endif()
+    get_target_property(_ilibs ${t} INTERFACE_LINK_LIBRARIES)
+    foreach(l IN LISTS _libs _ilibs)
+      if(l AND NOT l MATCHES "NOTFOUND$")
+        list(APPEND todo ${l})
+      endif()
+    endforeach()
+  endwhile()
+  set(${out} ${found} PARENT_SCOPE)
+endfunction()
+_sh2000_links_shared(SH2000_TOOLS_NEED_LIB ${SH2000_TOOLS_INSTALLED})
 
 # Man pages, compressed as Debian ships them (gzip -n: reproducible).
 file(GLOB _sh2000_man1 ${PROJECT_SOURCE_DIR}/tools/*/*.1)

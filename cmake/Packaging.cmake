@@ -25,6 +25,8 @@ set(CPACK_PROJECT_CONFIG_FILE ${PROJECT_BINARY_DIR}/CPackOptions.cmake)
 configure_file(${CMAKE_CURRENT_LIST_DIR}/CPackOptions.cmake.in
   ${PROJECT_BINARY_DIR}/CPackOptions.cmake @ONLY)
 
+# Shipped binaries are stripped (no debug info, no build paths).
+set(CPACK_STRIP_FILES ON)
 set(CPACK_DEB_COMPONENT_INSTALL ON)
 set(CPACK_COMPONENTS_ALL runtime dev dkms)
 if(SH2000_TOOLS_INSTALLED)
@@ -74,7 +76,11 @@ set(CPACK_DEBIAN_TOOLS_DESCRIPTION
 sh2000ctl (status, commands, parameters), sh2000-sim (serves a simulated
 card for sim:NAME) and sh2000-upload (G-code, canonical, CSV and NURBS
 programs to the card), with their man pages.")
-set(CPACK_DEBIAN_TOOLS_PACKAGE_DEPENDS "libsh2000 (= ${_debver})")
+# The tools link libsh2000.a today; should they load libsh2000.so, they
+# need exactly this build of it (its internals may change in a release).
+if(SH2000_TOOLS_NEED_LIB)
+  set(CPACK_DEBIAN_TOOLS_PACKAGE_DEPENDS "libsh2000 (= ${_debver})")
+endif()
 set(CPACK_DEBIAN_TOOLS_PACKAGE_RECOMMENDS "sh2000-dkms")
 
 # sh2000-dkms: sources in /usr/src/sh2000-<ver>/, built by DKMS for each

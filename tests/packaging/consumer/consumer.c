@@ -1,0 +1,40 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * A program outside the project, built against the installed libsh2000
+ * (pkg-config and find_package): every public header compiles on its own
+ * from <prefix>/include, and the library drives the in-process simulated
+ * card.
+ */
+#include <sh2000/sh2000.h>
+#include <sh2000/sh2000_protocol.h>
+#include <sh2000/path.h>
+#include <sh2000/sim.h>
+#include <sh2000/uapi/sh2000.h>
+
+#include <stdio.h>
+
+int main(int argc, char **argv)
+{
+	const char *dev = argc > 1 ? argv[1] : "sim";
+	struct sh2000_status st;
+	struct sh2000 *h;
+	char msg[256];
+	int r;
+
+	r = sh2000_open(&h, dev, msg, sizeof(msg));
+	if (r < 0) {
+		fprintf(stderr, "consumer: %s\n", msg);
+		return 1;
+	}
+	r = sh2000_poll(h, &st);
+	if (r < 0) {
+		fprintf(stderr, "consumer: poll: %s\n", sh2000_strerror(r));
+		sh2000_close(h);
+		return 1;
+	}
+	printf("consumer: %s: card state %u, protocol %u.%u (card 0x%04x), driver ABI %d\n",
+	       sh2000_device(h), st.card_state, SH2000_PROTO_MAJOR,
+	       SH2000_PROTO_MINOR, sh2000_card_version(h), SH2000_ABI_VERSION);
+	sh2000_close(h);
+	return 0;
+}

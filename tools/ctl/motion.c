@@ -7,6 +7,7 @@
  */
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -199,6 +200,15 @@ int ctl_home(struct ctl *c, int argc, char **argv)
 
 #define BATCH 32
 
+/* SIGINT/SIGTERM during jog and move: stop the card, not just the tool */
+static volatile sig_atomic_t interrupted;
+
+static void on_interrupt(int sig)
+{
+	(void)sig;
+	interrupted = 1;
+}
+
 struct stream {
 	struct sh2000 *h;
 	double pts[BATCH][SH2000_AXES];
@@ -229,6 +239,8 @@ static int sink(void *ctx, const struct sh2000_path_point *pt)
 {
 	struct stream *s = ctx;
 
+	if (interrupted)
+		return -EINTR;
 	memcpy(s->pts[s->n++], pt->mm, sizeof(s->pts[0]));
 	s->points++;
 	if (s->n == BATCH || (pt->flags & SH2000_PATH_F_END))
@@ -318,10 +330,17 @@ static int run_motion(struct ctl *c, struct motion_setup *m, unsigned int mask,
 	struct sh2000_path *p;
 	struct sh2000_path_stats ps;
 	struct sh2000_status st;
+	struct sigaction sa;
+	double end[SH2000_AXES];
 	char err[256] = "";
+	uint64_t deadline;
 	double secs;
 	int r;
 
+	memset(&sa, 0, sizeof(sa));
+	sa.sa_handler = on_interrupt;
+	sigaction(SIGINT, &sa, NULL);
+	sigaction(SIGTERM, &sa, NULL);
 	r = sh2000_path_create(&p, &m->cfg, sink, &s, err, sizeof(err));
 	if (r < 0) {
 		sh2000_tool_msg("%s: planner: %s", sh2000_device(c->h), err);
@@ -334,24 +353,49 @@ static int run_motion(struct ctl *c, struct motion_setup *m, unsigned int mask,
 		sh2000_path_destroy(p);
 		return SH2000_EXIT_CARD;
 	}
+	sh2000_path_end_position(p, end);
 	r = sh2000_path_finish(p);
 	if (r >= 0)
 		r = flush(&s, SH2000_PUSH_END);
 	sh2000_path_stats(p, &ps);
 	sh2000_path_destroy(p);
-	if (s.err < 0)
+	if (s.err < 0 && !interrupted)
 		return sh2000_tool_fail(c->h, s.err, "motion");
-	if (r < 0) {
+	if (r < 0 && !interrupted) {
 		sh2000_tool_msg("%s: planner: %s", sh2000_device(c->h), strerror(-r));
 		return SH2000_EXIT_CARD;
 	}
-	secs = (double)(s.points + 4) * m->cfg.period_s;
-	r = sh2000_wait_idle(c->h, (int)(secs * 1000) + 5000);
+	secs = (double)(s.points + 4) * m->cfg.period_s + 5.0;
+	deadline = sh2000_now_ns(c->h) + (uint64_t)(secs * 1e9);
+	for (;;) {
+		if (interrupted) {
+			r = sh2000_stop(c->h);
+			sh2000_tool_msg("%s: interrupted: %s", sh2000_device(c->h),
+					r < 0 ? "stop failed" : "card stopped");
+			wait_rest(c, 5.0);
+			return SH2000_EXIT_CARD;
+		}
+		/* short waits, so that an interrupt is seen */
+		r = sh2000_wait_idle(c->h, 100);
+		if (r != -SH2000_ETIMEOUT || sh2000_now_ns(c->h) > deadline)
+			break;
+	}
 	if (r < 0)
 		return sh2000_tool_fail(c->h, r, "motion");
 	r = sh2000_poll(c->h, &st);
 	if (r < 0)
 		return sh2000_tool_fail(c->h, r, "status");
+	for (unsigned int a = 0; a < SH2000_AXES; a++) {
+		if (!(mask & (1u << a)))
+			continue;
+		/* a stop from elsewhere leaves the card idle short of the end */
+		if (fabs(st.axis[a].cmd_mm - end[a]) > 0.001) {
+			sh2000_tool_msg("%s: axis %c stopped at %.6f mm, short of %.6f mm (stopped by another host?)",
+					sh2000_device(c->h), sh2000_tool_axis_name(a),
+					st.axis[a].cmd_mm, end[a]);
+			return SH2000_EXIT_CARD;
+		}
+	}
 	for (unsigned int a = 0; a < SH2000_AXES; a++)
 		if (mask & (1u << a))
 			printf("%c %.6f mm\n", sh2000_tool_axis_name(a),

@@ -1,0 +1,65 @@
+#!/bin/bash
+# sh2000-sim --attach PATH on a plain 2048-byte file standing in for the
+# kernel card's /dev/sh2000-dsp-N page: the firmware boots into it (magic,
+# version), its heartbeat advances in real time, an emergency stop written
+# by a "host" into the file is acknowledged, and a stop clears the magic.
+. "$(dirname "$0")/../ctl/testlib.sh"
+RAM=$T/ram
+head -c 2048 /dev/zero >"$RAM"
+
+# word W of the RAM file (little-endian, as the driver's pread)
+word() {
+	python3 -c 'import struct,sys
+f = open(sys.argv[1], "rb"); f.seek(2 * int(sys.argv[2]))
+print(struct.unpack("<H", f.read(2))[0])' "$RAM" "$1"
+}
+setword() {
+	python3 -c 'import struct,sys
+f = open(sys.argv[1], "r+b"); f.seek(2 * int(sys.argv[2]))
+f.write(struct.pack("<H", int(sys.argv[3])))' "$RAM" "$1" "$2"
+}
+
+rm -f "$T/ready"
+mkfifo "$T/ready"
+"$SIM" --attach "$RAM" --ready-fd 3 3>"$T/ready" >"$T/out" 2>"$T/err" &
+SIM_PID=$!
+SIM_PIDS="$SIM_PIDS $SIM_PID"
+read -r -t 10 line <"$T/ready"
+checks=$((checks + 1))
+[ "${line:-}" = ready ] || fail "not ready: $(cat "$T/err")"
+checks=$((checks + 1))
+grep -q "^sh2000-sim: card model attached to $RAM (pid $SIM_PID, real time)$" "$T/out" ||
+	fail "stdout: $(cat "$T/out")"
+checks=$((checks + 1))
+[ "$(word 1)" = $((0x5348)) ] && [ "$(word 2)" = $((0x0100)) ] ||
+	fail "magic/version: $(word 1) $(word 2)"
+checks=$((checks + 1))
+[ "$(word 5)" = 1 ] || fail "state $(word 5), expected 1 (idle)"
+h1=$(word 3)
+sleep 0.2
+h2=$(word 3)
+# 0.2 s at 100 us per servo cycle: about 2000 cycles (loaded machines: >= 200)
+checks=$((checks + 1))
+[ $(((h2 - h1 + 65536) % 65536)) -ge 200 ] || fail "heartbeat $h1 -> $h2 in 0.2 s"
+# the host's emergency stop: ESTOP_REQ (word 0) +1 -> ESTOP_ACK (4), ESTOP (6)
+setword 0 1
+sleep 0.1
+checks=$((checks + 1))
+[ "$(word 4)" = 1 ] && [ "$(word 5)" = 6 ] && [ $(($(word 6) & 4)) = 4 ] ||
+	fail "estop not acted on: ack $(word 4) state $(word 5) faults $(word 6)"
+stop_sim TERM
+checks=$((checks + 1))
+[ "$sim_rc" = 0 ] || fail "exit $sim_rc after SIGTERM"
+checks=$((checks + 1))
+[ "$(word 1)" = 0 ] || fail "magic $(word 1) left after stop (hosts would see a stalled card)"
+checks=$((checks + 1))
+grep -Eq "^sh2000-sim: stopped after [0-9]+ servo cycles, $RAM detached$" "$T/out" ||
+	fail "stdout: $(cat "$T/out")"
+
+# what cannot be attached: exit 3 and the reason
+head -c 100 /dev/zero >"$T/small"
+expect 3 "$SIM" --attach "$T/small" && err_has "^sh2000-sim: $T/small: 100 bytes, the RAM needs 2048$"
+expect 3 "$SIM" --attach "$T/none" && err_has "^sh2000-sim: $T/none: cannot open: No such file"
+expect 3 "$SIM" --attach "$T" && err_has "^sh2000-sim: $T: cannot open"
+expect 2 "$SIM" --attach "$RAM" extra && err_has "takes no NAME"
+finish

@@ -1,0 +1,62 @@
+#!/bin/bash
+# sh2000-sim NAME: prints where it serves and "ready", several clients see
+# one card, a second server on the name is refused, SIGTERM and SIGINT stop
+# it cleanly and remove /dev/shm/sh2000-NAME.
+. "$(dirname "$0")/../ctl/testlib.sh"
+NAME=simserve-$$
+
+# stdout: where, then ready; --ready-fd is tested by start_sim
+"$SIM" "$NAME" >"$T/out1" 2>"$T/err1" &
+P=$!
+SIM_PIDS="$SIM_PIDS $P"
+for _ in $(seq 100); do grep -q '^ready$' "$T/out1" && break; sleep 0.05; done
+checks=$((checks + 1))
+grep -q "^sh2000-sim: serving sim:$NAME at /sh2000-$NAME (pid $P, real time)$" "$T/out1" &&
+	grep -q '^ready$' "$T/out1" || fail "stdout: $(cat "$T/out1") $(cat "$T/err1")"
+checks=$((checks + 1))
+[ -e "/dev/shm/sh2000-$NAME" ] || fail "no /dev/shm/sh2000-$NAME while serving"
+# a second server on the same name: refused, exit 3, the first unharmed
+expect 3 "$SIM" "$NAME" && err_has "^sh2000-sim: sim:$NAME: already served by pid $P$"
+# two clients, one card: one enables and moves, the other sees it
+expect 0 "$CTL" -d "sim:$NAME" enable z
+expect 0 "$CTL" -d "sim:$NAME" move z=2
+expect 0 "$CTL" -d "sim:$NAME" status --json &&
+	json_check "z = d['axes'][2]
+assert z['enabled'] and abs(z['cmd_mm'] - 2) < 1e-3, z"
+# a monitor polling while another process commands
+"$CTL" -d "sim:$NAME" status --json --watch 0.02 --count 20 >"$T/watch" 2>&1 &
+W=$!
+# opening a handle issues commands (the library reads the timing and the
+# scales): let the monitor's open finish before the mover's begins
+for _ in $(seq 100); do [ -s "$T/watch" ] && break; sleep 0.02; done
+expect 0 "$CTL" -d "sim:$NAME" move z=0
+wait $W
+checks=$((checks + 1))
+python3 -c 'import json,sys
+zs = [json.loads(l)["axes"][2]["cmd_mm"] for l in open(sys.argv[1])]
+assert len(zs) == 20 and any(0.05 < z < 1.95 for z in zs), zs' "$T/watch" ||
+	fail "monitor did not see the motion: $(cat "$T/watch")"
+kill -TERM $P
+wait $P
+rc=$?
+SIM_PIDS=""
+checks=$((checks + 1))
+[ $rc = 0 ] || fail "exit $rc after SIGTERM"
+checks=$((checks + 1))
+grep -Eq "^sh2000-sim: stopped after [0-9]+ servo cycles, /sh2000-$NAME removed$" "$T/out1" ||
+	fail "no stop line: $(cat "$T/out1")"
+checks=$((checks + 1))
+[ ! -e "/dev/shm/sh2000-$NAME" ] || fail "/dev/shm/sh2000-$NAME left after SIGTERM"
+expect 3 "$CTL" -d "sim:$NAME" status
+
+# SIGINT, --free-run, --quiet
+start_sim "$NAME" --free-run || finish
+checks=$((checks + 1))
+[ ! -s "$T/sim.out" ] || fail "--quiet printed: $(cat "$T/sim.out")"
+expect 0 "$CTL" -d "sim:$NAME" status --json
+stop_sim INT
+checks=$((checks + 1))
+[ "$sim_rc" = 0 ] || fail "exit $sim_rc after SIGINT"
+checks=$((checks + 1))
+[ ! -e "/dev/shm/sh2000-$NAME" ] || fail "/dev/shm/sh2000-$NAME left after SIGINT"
+finish

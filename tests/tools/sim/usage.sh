@@ -1,0 +1,14 @@
+#!/bin/bash
+# sh2000-sim: usage errors exit 2 with a message; help and version exit 0.
+. "$(dirname "$0")/../ctl/testlib.sh"
+expect 2 "$SIM" && err_has "^sh2000-sim: missing NAME" && err_has "Try 'sh2000-sim --help'"
+expect 2 "$SIM" --bogus x && err_has "unknown option '--bogus'"
+expect 2 "$SIM" a b && err_has "one NAME only"
+expect 2 "$SIM" a/b && err_has "bad NAME 'a/b'"
+expect 2 "$SIM" "$(printf 'n%.0s' $(seq 65))" && err_has "bad NAME"
+expect 2 "$SIM" --ready-fd x n && err_has "--ready-fd: 'x' is not a file descriptor"
+expect 2 "$SIM" --ready-fd 77 n && err_has "--ready-fd: 77 is not open"
+expect 2 "$SIM" --attach && err_has "option -a"
+expect 0 "$SIM" --help && out_has "^Usage: sh2000-sim" && out_has "--attach PATH"
+expect 0 "$SIM" -V && out_has "^sh2000-sim [0-9.]+ \(libsh2000 [0-9.]+, protocol 1\.[0-9]+\)$"
+finish

@@ -1666,7 +1666,10 @@ static void t_dsphold(const char *dsp, const char *ready, const char *go)
 	report("removal: card-side file and mapping held across an rmmod attempt");
 }
 
-/* --- latency (information only: TCG timing is noisy) -------------------- */
+/*
+ * --- latency: a figure for real hardware; not run in the QEMU suite, where
+ * TCG timer noise (tens of ms) swamps it ---------------------------------
+ */
 
 static long wakeup_latency_us(long ms)
 {

@@ -34,6 +34,8 @@ struct sh2000_run {
 	int have_last;
 	struct sh2000_status st;	/* last poll */
 	int have_st;
+	int sampled;			/* a poll gave a sample ... */
+	uint64_t sample_cycle;		/* ... of this snapshot */
 	struct sh2000_run_stats stats;
 	char err[512];
 };
@@ -57,14 +59,16 @@ static int fail(struct sh2000_run *r, int code, const char *fmt, ...)
 	return code;
 }
 
-/* A library call failed: keep its words. */
+/* A library call failed: keep its words (they name the device). */
 static int lib_fail(struct sh2000_run *r, int code, const char *what)
 {
 	char detail[384];
 
 	sh2000_last_error_copy(r->h, detail, sizeof(detail));
-	return fail(r, code, "%s: %s%s%s", what, sh2000_strerror(code),
-		    detail[0] ? ": " : "", detail);
+	if (detail[0])
+		return fail(r, code, "%s", detail);
+	return fail(r, code, "%s: %s: %s", sh2000_device(r->h), what,
+		    sh2000_strerror(code));
 }
 
 int sh2000_run_path_config(struct sh2000 *h, struct sh2000_path_config *pc)
@@ -171,8 +175,13 @@ static int poll_once(struct sh2000_run *r)
 	r->have_st = 1;
 	r->stats.polls++;
 	r->stats.time_s = cycle_time(r, r->st.card_cycle);
-	if (!r->sim) {
+	if (!r->sim && (!r->sampled || r->st.card_cycle != r->sample_cycle)) {
 		struct sh2000_run_sample s;
+
+		/* one sample per snapshot: polls between two publications
+		 * see the same one */
+		r->sampled = 1;
+		r->sample_cycle = r->st.card_cycle;
 
 		s.t = r->stats.time_s;
 		for (a = 0; a < SH2000_AXES; a++) {

@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+/*
+ * Prints a card's state for the black-box tests: "state=S fill=N
+ * enabled=MASK cmd=x,y,z,a pos=x,y,z,a" (mm, 4 decimals). Only polls.
+ */
+#include <stdio.h>
+
+#include <sh2000/sh2000.h>
+
+int main(int argc, char **argv)
+{
+	struct sh2000_status st;
+	struct sh2000 *h;
+	char msg[256];
+	unsigned int a, en = 0;
+
+	if (argc != 2) {
+		fprintf(stderr, "usage: probe DEVICE\n");
+		return 2;
+	}
+	if (sh2000_open(&h, argv[1], msg, sizeof(msg)) < 0) {
+		fprintf(stderr, "%s\n", msg);
+		return 1;
+	}
+	if (sh2000_poll(h, &st) < 0) {
+		fprintf(stderr, "%s\n", sh2000_last_error(h));
+		sh2000_close(h);
+		return 1;
+	}
+	for (a = 0; a < SH2000_AXES; a++)
+		if (st.axis[a].state & SH2000_AXIS_ENABLED)
+			en |= 1u << a;
+	printf("state=%u fill=%u enabled=%x cmd=%.4f,%.4f,%.4f,%.4f pos=%.4f,%.4f,%.4f,%.4f\n",
+	       st.card_state, st.queue_fill, en, st.axis[0].cmd_mm,
+	       st.axis[1].cmd_mm, st.axis[2].cmd_mm, st.axis[3].cmd_mm,
+	       st.axis[0].pos_mm, st.axis[1].pos_mm, st.axis[2].pos_mm,
+	       st.axis[3].pos_mm);
+	sh2000_close(h);
+	return 0;
+}

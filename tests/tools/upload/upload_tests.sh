@@ -1,0 +1,297 @@
+#!/usr/bin/env bash
+# Black-box tests of sh2000-upload: upload_tests.sh NAME runs one (ctest
+# tool_upload_NAME). Environment from CMake: UPLOAD, CHECK (trace_check),
+# PROBE, SIM (sh2000-sim or empty), DATA, EXAMPLES, WORK (scratch dir).
+# Exit 0 pass, 1 fail, 77 skipped.
+set -uo pipefail
+
+rm -rf "$WORK" && mkdir -p "$WORK" && cd "$WORK" || exit 1
+failures=0
+
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+ok() { echo "ok: $*"; }
+# expect CODE DESCRIPTION -- command...: runs it, stdout/stderr to out/err
+expect() {
+	local want=$1 what=$2 got
+	shift 3
+	"$@" >out 2>err
+	got=$?
+	if [ "$got" -ne "$want" ]; then
+		fail "$what: exit $got, expected $want"
+		sed 's/^/  stderr: /' err | head -n 20
+		return 1
+	fi
+	ok "$what: exit $got"
+}
+# value KEY FILE: the KEY=value line of trace_check's output
+value() { sed -n "s/^$1=//p" "$2" | head -n 1; }
+# cmp_le A B (floats)
+le() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; }
+ge() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a >= b) }'; }
+has() { grep -qE -- "$1" "$2" || { fail "'$1' not in $2:"; sed 's/^/  /' "$2" | head -n 20; }; }
+# an end point within tol mm of x,y,z,a
+near() {
+	awk -v got="$1" -v want="$2" -v tol="$3" 'BEGIN {
+		n = split(got, g, ","); split(want, w, ",");
+		for (i = 1; i <= 4; i++) { d = g[i] - w[i]; if (d < 0) d = -d; if (d > tol) exit 1 }
+		exit (n != 4) }'
+}
+no_motion() { # the trace file must not exist: nothing was streamed
+	[ ! -e "$1" ] || fail "$1 exists: the run started"
+}
+
+t_geometry() {
+	expect 0 "square + circle on sim" -- "$UPLOAD" -q -d sim --trace tr.csv "$DATA/square_circle.ngc" || return
+	"$CHECK" tr.csv header >h && [ "$(value header_ok h)" = 1 ] || fail "trace header"
+	ge "$(value rows h)" 100000 || fail "$(value rows h) rows: expected one per servo cycle (> 100000)"
+	"$CHECK" tr.csv segments >s
+	[ "$(value segments s)" = 5 ] || { fail "5 motions expected"; cat s; return; }
+	# the square at F1200: corners may be rounded by the corner tolerance
+	# (10 um); the lines themselves are exact
+	"$CHECK" tr.csv poly 2 10,10 60,10 60,60 10,60 10,10 >sq
+	le "$(value cmd_dev_um sq)" 10 || fail "square: set-point $(value cmd_dev_um sq) um off the square"
+	le "$(value act_dev_um sq)" 12 || fail "square: encoder $(value act_dev_um sq) um off the square"
+	# the circle R20 at F9000 (150 mm/s): compensated, the card's
+	# B-spline runs on the circle
+	"$CHECK" tr.csv circle 4 100 35 20 >c
+	le "$(value cmd_dev_um c)" 0.5 || fail "circle: set-point radius off by $(value cmd_dev_um c) um"
+	le "$(value act_dev_um c)" 2 || fail "circle: encoder radius off by $(value act_dev_um c) um"
+	ok "square $(value cmd_dev_um sq) um, circle $(value cmd_dev_um c) um (set-point)"
+	"$CHECK" tr.csv end >e
+	[ "$(value cmd e)" = "70.000000,35.000000,0.000000,0.000000" ] || fail "end set-point $(value cmd e), expected exactly 70,35,0,0"
+	near "$(value act e)" 70,35,0,0 0.001 || fail "end encoder $(value act e)"
+	has "max following error" out
+}
+
+t_raw() {
+	expect 0 "compensated" -- "$UPLOAD" -q -d sim --trace c.csv "$DATA/square_circle.ngc" || return
+	expect 0 "--raw" -- "$UPLOAD" -q -d sim --raw --trace r.csv "$DATA/square_circle.ngc" || return
+	has "compensation off" out
+	"$CHECK" c.csv circle 4 100 35 20 >cc
+	"$CHECK" r.csv circle 4 100 35 20 >rc
+	local c r
+	c=$(value cmd_dev_um cc)
+	r=$(value cmd_dev_um rc)
+	echo "circle set-point radius error: compensated $c um, raw $r um"
+	ge "$r" 0.3 || fail "--raw: the card's B-spline should cut the circle (>= 0.3 um), got $r um"
+	ge "$r" "$(awk -v c="$c" 'BEGIN { print 10 * c }')" || fail "--raw ($r um) not 10 x worse than compensated ($c um)"
+	"$CHECK" r.csv end >e
+	[ "$(value cmd e)" = "70.000000,35.000000,0.000000,0.000000" ] || fail "--raw end $(value cmd e)"
+}
+
+# bad FILE LINE:COL PATTERN: exit 5, the position on stderr, nothing moved
+bad() {
+	expect 5 "$1" -- "$UPLOAD" -q -d sim --trace tr.csv "$DATA/$1" || return
+	has "^$DATA/$1:$2: error: $3" err
+	has "nothing moved" err
+	no_motion tr.csv
+}
+t_bad_unknown() { bad bad_unknown.ngc 4:1 "unknown G code G12"; }
+t_bad_arc() { bad bad_arc.ngc 3:1 "radius to end of arc differs"; }
+t_bad_nan() { bad bad_nan.csv 4:5 "y: 'nan' is not a number"; }
+t_bad_feed() { bad bad_feed.ngc 3:1 "G1 move with zero feed rate"; }
+# found by the planning pass, not by the reader
+t_bad_plan() { bad bad_plan.ngc 3:1 "line: end X 30000.000 mm is beyond"; }
+
+t_warnings() {
+	expect 0 "spindle, coolant and tool words" -- "$UPLOAD" -q -d sim "$DATA/warnings.ngc" || return
+	local k n
+	for k in "S1000 \(spindle speed\)" "M3 \(spindle" "M8 \(coolant" "T2 \(tool select\)" "M6 \(tool change\)"; do
+		n=$(grep -cE "warning: $k" err)
+		[ "$n" = 1 ] || fail "warning '$k' printed $n times, expected once"
+	done
+	n=$(grep -c "warning:" err)
+	[ "$n" = 5 ] || fail "$n warnings, expected 5 (one per kind):"
+	grep -qE "warning: (S2000|S3000|M4|M5|M9) " err && fail "a later word of a warned kind was reported again"
+	has "done" out
+}
+
+t_csv() {
+	expect 0 "CSV" -- "$UPLOAD" -q -d sim --trace tr.csv "$EXAMPLES/pocket.csv" || return
+	"$CHECK" tr.csv end >e
+	[ "$(value cmd e)" = "0.000000,0.000000,5.000000,0.000000" ] || fail "CSV end $(value cmd e), expected 0,0,5,0"
+	"$CHECK" tr.csv header >h
+	[ "$(value header_ok h)" = 1 ] || fail "header"
+	# a CSV without feeds needs --feed
+	printf 'x,y\n0,0\n5,0\n5,5\n' >nofeed.csv
+	expect 5 "CSV without feed" -- "$UPLOAD" -q -d sim nofeed.csv
+	expect 0 "CSV with --feed" -- "$UPLOAD" -q -d sim --feed 600 --trace f.csv nofeed.csv
+	"$CHECK" f.csv end >e
+	[ "$(value cmd e)" = "5.000000,5.000000,0.000000,0.000000" ] || fail "--feed CSV end $(value cmd e)"
+}
+
+t_json() {
+	expect 0 "JSON NURBS" -- "$UPLOAD" -q -d sim --trace tr.csv "$EXAMPLES/wave.json" || return
+	"$CHECK" tr.csv end >e
+	[ "$(value cmd e)" = "50.000000,0.000000,0.000000,0.000000" ] || fail "JSON end $(value cmd e), expected 50,0,0,0"
+	# --format beats the name
+	cp "$EXAMPLES/wave.json" curve.txt
+	expect 0 "--format json" -- "$UPLOAD" -q -d sim -f json curve.txt
+	expect 2 "no format from the name" -- "$UPLOAD" -q -d sim curve.txt
+	has "use --format" err
+}
+
+t_dry_run() {
+	expect 0 "--dry-run" -- "$UPLOAD" -d sim --dry-run --trace tr.csv --plot p.png "$EXAMPLES/part.ngc" || return
+	has "nothing moved \(--dry-run\)" out
+	has "planned time +[0-9.]+ s" out
+	has "axes moved +x y z" out
+	no_motion tr.csv
+	no_motion p.png
+	expect 5 "--dry-run finds the planner's errors" -- "$UPLOAD" -d sim --dry-run "$DATA/bad_plan.ngc"
+}
+
+t_usage() {
+	expect 2 "no file" -- "$UPLOAD" -d sim
+	expect 2 "unknown option" -- "$UPLOAD" --frobnicate -d sim x.ngc
+	has "Try 'sh2000-upload --help'" err
+	expect 2 "two files" -- "$UPLOAD" -d sim a.ngc b.ngc
+	expect 2 "--plot x.jpg" -- "$UPLOAD" -d sim --plot x.jpg "$EXAMPLES/part.ngc"
+	expect 2 "--feed-override 300" -- "$UPLOAD" -d sim -o 300 "$EXAMPLES/part.ngc"
+	expect 2 "--trace-every 0" -- "$UPLOAD" -d sim --trace-every 0 "$EXAMPLES/part.ngc"
+	expect 2 "--format xml" -- "$UPLOAD" -d sim --format xml "$EXAMPLES/part.ngc"
+	expect 0 "--help" -- "$UPLOAD" --help
+	has "Exit codes" out
+	expect 0 "--version" -- "$UPLOAD" --version
+	has "^sh2000-upload [0-9]" out
+	expect 1 "unreadable file" -- "$UPLOAD" -d sim nonexistent.ngc
+	has "nonexistent.ngc" err
+}
+
+t_device() {
+	expect 3 "no such served card" -- "$UPLOAD" -d sim:upload-test-none "$EXAMPLES/part.ngc"
+	has "sim:upload-test-none" err
+	expect 3 "bad device string" -- "$UPLOAD" -d io:0x301 "$EXAMPLES/part.ngc"
+}
+
+t_rs274_missing() {
+	mkdir -p bin
+	ln -sf "$(command -v true)" bin/true
+	expect 6 "--rs274 without rs274" -- env PATH="$WORK/bin" "$UPLOAD" -d sim --rs274 "$DATA/arc.ngc" || return
+	has "linuxcnc-uspace" err
+	expect 2 "--rs274 with CSV" -- "$UPLOAD" -d sim --rs274 -f csv "$DATA/arc.ngc"
+}
+
+t_rs274() {
+	# a stand-in for LinuxCNC's rs274: checks its arguments, prints the
+	# canonical commands rs274 gives for arc.ngc
+	mkdir -p bin
+	cat >bin/rs274 <<EOS
+#!/bin/sh
+[ "\$1" = -g ] && [ "\$2" = -t ] && [ -f "\$3" ] && [ "\$4" = -v ] && [ -f "\$5" ] && [ -f "\$6" ] || { echo "fake rs274: bad arguments: \$*" >&2; exit 1; }
+cat "$DATA/arc.canon"
+EOS
+	chmod +x bin/rs274
+	expect 0 "--rs274 (stand-in)" -- env PATH="$WORK/bin:$PATH" "$UPLOAD" -q -d sim --rs274 --trace c.csv "$DATA/arc.ngc" || return
+	expect 0 "built-in parser" -- "$UPLOAD" -q -d sim --trace g.csv "$DATA/arc.ngc" || return
+	"$CHECK" c.csv end >ec
+	"$CHECK" g.csv end >eg
+	[ "$(value cmd ec)" = "20.000000,10.000000,0.000000,0.000000" ] || fail "rs274 end $(value cmd ec)"
+	[ "$(value cmd ec)" = "$(value cmd eg)" ] || fail "rs274 and built-in ends differ"
+	"$CHECK" c.csv segments >s
+	[ "$(value segments s)" -ge 1 ] || fail "no motion through rs274"
+}
+
+t_plot() {
+	expect 0 "--plot PNG" -- "$UPLOAD" -q -d sim --plot p.png "$DATA/arc.ngc" || return
+	has "plot +p.png" out
+	[ "$(head -c 8 p.png | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || fail "p.png is not a PNG"
+	expect 0 "--plot SVG" -- "$UPLOAD" -q -d sim --plot p.svg "$DATA/arc.ngc" || return
+	grep -q "<svg" p.svg || fail "p.svg is not SVG"
+}
+
+t_plot_missing() {
+	mkdir -p bin
+	expect 6 "--plot without gnuplot" -- env PATH="$WORK/bin" "$UPLOAD" -d sim --trace tr.csv --plot p.png "$DATA/arc.ngc" || return
+	has "gnuplot-nox" err
+	no_motion tr.csv
+}
+
+t_pause() {
+	# no terminal: a line on stdin resumes; M1 is skipped by default
+	echo | "$UPLOAD" -d sim --trace tr.csv "$DATA/pause.ngc" >out 2>err
+	local rc=$?
+	[ "$rc" = 0 ] || { fail "M0 with a line on stdin: exit $rc"; cat err; return; }
+	has "pause.ngc:3:1: M0: paused" err
+	has "resuming" err
+	has "M1 optional stops are skipped" err
+	"$CHECK" tr.csv end >e
+	[ "$(value cmd e)" = "0.000000,5.000000,0.000000,0.000000" ] || fail "end $(value cmd e)"
+	# --optional-stop: M1 pauses too; two lines resume twice
+	printf '\n\n' | "$UPLOAD" -d sim --optional-stop "$DATA/pause.ngc" >out 2>err
+	[ $? = 0 ] || fail "--optional-stop: exit $?"
+	[ "$(grep -c ': paused' err)" = 2 ] || fail "--optional-stop: expected 2 pauses"
+	# SIGUSR1 resumes when stdin has nothing to say
+	"$UPLOAD" -d sim "$DATA/pause.ngc" >out 2>err </dev/null &
+	local pid=$! i
+	for i in $(seq 100); do grep -q "paused" err && break; sleep 0.05; done
+	kill -USR1 $pid
+	wait $pid
+	rc=$?
+	[ "$rc" = 0 ] || fail "M0 resumed by SIGUSR1: exit $rc"
+	has "SIGUSR1" err
+}
+
+t_fault() {
+	expect 4 "a run into the limit switch" -- "$UPLOAD" -q -d sim "$DATA/limit.ngc"
+	has "sim: axis 0: limit switch" err
+}
+
+start_sim() { # start_sim NAME: sh2000-sim in the background, ready
+	[ -n "$SIM" ] && [ -x "$SIM" ] || { echo "sh2000-sim not built: skipped"; exit 77; }
+	"$SIM" --quiet --ready-fd 3 "$1" 3>ready 2>sim.err &
+	simpid=$!
+	local i
+	for i in $(seq 100); do grep -q ready ready 2>/dev/null && return 0; sleep 0.05; done
+	fail "sh2000-sim did not get ready"; cat sim.err
+	kill $simpid
+	exit 1
+}
+stop_sim() {
+	kill -TERM $simpid
+	wait $simpid || fail "sh2000-sim exit $?"
+}
+
+t_shm() {
+	local name=upload-test-$$
+	start_sim $name
+	"$PROBE" sim:$name >p0 || fail "probe"
+	expect 0 "run on sim:$name" -- "$UPLOAD" -q -d sim:$name --trace tr.csv "$DATA/arc.ngc"
+	"$CHECK" tr.csv end >e
+	near "$(value cmd e)" 20,10,0,0 0.0001 || fail "end $(value cmd e)"
+	ge "$(value rows e)" 50 || fail "only $(value rows e) rows (one per status poll)"
+	"$PROBE" sim:$name >p1
+	has "state=1 fill=0 enabled=7 cmd=20.0000,10.0000,0.0000,0.0000" p1
+	# a bad program leaves the served card as it was
+	expect 5 "bad program on sim:$name" -- "$UPLOAD" -q -d sim:$name "$DATA/bad_unknown.ngc"
+	"$PROBE" sim:$name >p2
+	cmp -s p1 p2 || { fail "the card changed after a bad program"; cat p1 p2; }
+	expect 5 "plan error on sim:$name" -- "$UPLOAD" -q -d sim:$name "$DATA/bad_plan.ngc"
+	"$PROBE" sim:$name >p3
+	cmp -s p1 p3 || { fail "the card changed after a plan error"; cat p1 p3; }
+	stop_sim
+}
+
+t_shm_stop() {
+	local name=upload-stop-$$ i
+	start_sim $name
+	"$UPLOAD" -d sim:$name "$DATA/long.ngc" >out 2>err &
+	local pid=$!
+	sleep 1
+	kill -INT $pid
+	wait $pid
+	local rc=$?
+	[ "$rc" = 7 ] || { fail "SIGINT: exit $rc, expected 7"; cat err; }
+	has "stopped by the operator" err
+	"$PROBE" sim:$name >p
+	has "state=1 fill=0" p
+	stop_sim
+}
+
+case ${1:-} in
+geometry|raw|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop)
+	"t_$1" ;;
+*) echo "usage: upload_tests.sh TEST"; exit 2 ;;
+esac
+[ "$failures" = 0 ] || { echo "$failures failure(s)"; exit 1; }
+echo "passed"

@@ -317,7 +317,8 @@ int ctl_status(struct ctl *c, int argc, char **argv)
 		rc = sh2000_tool_exit_code(e);
 		if (!watch || (count > 0 && n + 1 >= count))
 			break;
-		/* real time even for `sim`: a watch is for people */
+		/* a watch is for people: real time, and for `sim` the card's
+		 * virtual time advances by the interval as well */
 		{
 			struct timespec ts = {
 				.tv_sec = (time_t)interval,
@@ -326,8 +327,7 @@ int ctl_status(struct ctl *c, int argc, char **argv)
 
 			if (sh2000_backend(c->h) == SH2000_BACKEND_SIM)
 				sh2000_sleep_ns(c->h, (uint64_t)(interval * 1e9));
-			else
-				nanosleep(&ts, NULL);
+			nanosleep(&ts, NULL);
 		}
 	}
 	return rc;

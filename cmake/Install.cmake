@@ -174,23 +174,12 @@ function(_sh2000_links_shared out)
 endfunction()
 _sh2000_links_shared(SH2000_TOOLS_NEED_LIB ${SH2000_TOOLS_INSTALLED})
 
-# Man pages, compressed as Debian ships them (gzip -n: reproducible).
+# Man pages. The packages ship them gzipped, as Debian does: cpack
+# compresses them in its staging tree (cmake/CompressManPages.cmake), so a
+# source install and the tools' own rules agree on share/man/man1/NAME.1.
 file(GLOB _sh2000_man1 ${PROJECT_SOURCE_DIR}/tools/*/*.1)
-set(_sh2000_mangz)
-foreach(m IN LISTS _sh2000_man1)
-  get_filename_component(_n ${m} NAME)
-  set(_gz ${PROJECT_BINARY_DIR}/man/${_n}.gz)
-  add_custom_command(OUTPUT ${_gz}
-    COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/man
-    COMMAND gzip -9nc ${m} > ${_gz}
-    DEPENDS ${m} VERBATIM)
-  list(APPEND _sh2000_mangz ${_gz})
-endforeach()
-if(_sh2000_mangz)
-  add_custom_target(sh2000_man ALL DEPENDS ${_sh2000_mangz})
-  add_dependencies(sh2000_installables sh2000_man)
-  install(FILES ${_sh2000_mangz}
-    DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT tools)
+if(_sh2000_man1)
+  install(FILES ${_sh2000_man1} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT tools)
 endif()
 
 # ---- the driver: DKMS sources, udev rule, modprobe example ----------------

@@ -25,8 +25,10 @@ set(CPACK_PROJECT_CONFIG_FILE ${PROJECT_BINARY_DIR}/CPackOptions.cmake)
 configure_file(${CMAKE_CURRENT_LIST_DIR}/CPackOptions.cmake.in
   ${PROJECT_BINARY_DIR}/CPackOptions.cmake @ONLY)
 
-# Shipped binaries are stripped (no debug info, no build paths).
+# Shipped binaries are stripped (no debug info, no build paths), man pages
+# gzipped.
 set(CPACK_STRIP_FILES ON)
+set(CPACK_PRE_BUILD_SCRIPTS ${CMAKE_CURRENT_LIST_DIR}/CompressManPages.cmake)
 set(CPACK_DEB_COMPONENT_INSTALL ON)
 set(CPACK_COMPONENTS_ALL runtime dev dkms)
 if(SH2000_TOOLS_INSTALLED)

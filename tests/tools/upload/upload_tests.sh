@@ -222,14 +222,16 @@ t_pause() {
 	[ $? = 0 ] || fail "--optional-stop: exit $?"
 	[ "$(grep -c ': paused' err)" = 2 ] || fail "--optional-stop: expected 2 pauses"
 	# SIGUSR1 resumes when stdin has nothing to say
-	"$UPLOAD" -d sim "$DATA/pause.ngc" >out 2>err </dev/null &
+	rm -f usr1.err
+	"$UPLOAD" -d sim "$DATA/pause.ngc" >out 2>usr1.err </dev/null &
 	local pid=$! i
-	for i in $(seq 100); do grep -q "paused" err && break; sleep 0.05; done
+	for i in $(seq 100); do grep -q "paused" usr1.err 2>/dev/null && break; sleep 0.05; done
 	kill -USR1 $pid
 	wait $pid
 	rc=$?
 	[ "$rc" = 0 ] || fail "M0 resumed by SIGUSR1: exit $rc"
-	has "SIGUSR1" err
+	has "SIGUSR1" usr1.err
+	has "resuming" usr1.err
 }
 
 t_fault() {
@@ -275,14 +277,17 @@ t_shm() {
 t_shm_stop() {
 	local name=upload-stop-$$ i
 	start_sim $name
-	"$UPLOAD" -d sim:$name "$DATA/long.ngc" >out 2>err &
+	rm -f stop.err
+	"$UPLOAD" -d sim:$name "$DATA/long.ngc" >out 2>stop.err &
 	local pid=$!
-	sleep 1
+	# the first progress line comes once the signal handlers are in
+	for i in $(seq 200); do grep -q "progress" stop.err 2>/dev/null && break; sleep 0.05; done
+	sleep 0.5
 	kill -INT $pid
 	wait $pid
 	local rc=$?
-	[ "$rc" = 7 ] || { fail "SIGINT: exit $rc, expected 7"; cat err; }
-	has "stopped by the operator" err
+	[ "$rc" = 7 ] || { fail "SIGINT: exit $rc, expected 7"; cat stop.err; }
+	has "stopped by the operator" stop.err
 	"$PROBE" sim:$name >p
 	has "state=1 fill=0" p
 	stop_sim

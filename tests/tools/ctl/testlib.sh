@@ -2,6 +2,7 @@
 # tests/tools/sim/*.sh). ctest passes the binaries as $CTL and $SIM.
 set -u
 : "${CTL:?CTL must name sh2000ctl}" "${SIM:?SIM must name sh2000-sim}"
+: "${JSONQ:?JSONQ must name the tests JSON reader jsonq}"
 unset SH2000_DEVICE
 T=$(mktemp -d /tmp/sh2000-tooltest.XXXXXX)
 fails=0
@@ -61,13 +62,37 @@ out_lacks() {
 	fi
 }
 
-# json_check PROGRAM: python3 with the last line of the last stdout parsed
-# as JSON in `d`; the program must exit 0 (use assert)
+# json_check POINTER OP VALUE...: about the last line of the last stdout,
+# read as strict JSON by jsonq (json-c). OP: = and != (text), ~ T,TOL
+# (|x - T| <= TOL), in LO,HI (LO < x < HI), has WORD (an array holds it).
 json_check() {
+	local line v p op want t e
 	checks=$((checks + 1))
-	printf '%s\n' "$out" | tail -n 1 | python3 -c "import json,sys
-d = json.loads(sys.stdin.read())
-$1" 2>"$T/pyerr" || { fail "JSON check failed: $1: $(cat "$T/pyerr"); stdout: $out"; return 1; }
+	line=$(printf '%s\n' "$out" | tail -n 1)
+	while [ $# -ge 3 ]; do
+		p=$1 op=$2 want=$3
+		shift 3
+		if ! v=$(printf '%s\n' "$line" | "$JSONQ" "$p" 2>&1); then
+			fail "JSON: $v"
+			return 1
+		fi
+		case $op in
+		=) [ "$v" = "$want" ] ;;
+		!=) [ "$v" != "$want" ] ;;
+		'~') t=${want%,*} e=${want#*,}
+		   awk -v v="$v" -v t="$t" -v e="$e" 'BEGIN { d = v - t; if (d < 0) d = -d; exit !(d <= e) }' ;;
+		in) t=${want%,*} e=${want#*,}
+		   awk -v v="$v" -v lo="$t" -v hi="$e" 'BEGIN { exit !(v > lo && v < hi) }' ;;
+		has) printf '%s' "$v" | grep -Fq "\"$want\"" ;;
+		*) false ;;
+		esac || { fail "JSON $p is '$v', expected $op $want; line: $line"; return 1; }
+	done
+}
+
+# json_column POINTER: that value of every stdout line, one per line
+# (fails the test if a line is not strict JSON)
+json_column() {
+	printf '%s\n' "$out" | "$JSONQ" "$1" || fail "stdout lines not JSON: $out"
 }
 
 # start_sim NAME [OPTIONS...]: start sh2000-sim, wait for its ready line on

@@ -9,14 +9,11 @@ head -c 2048 /dev/zero >"$RAM"
 
 # word W of the RAM file (little-endian, as the driver's pread)
 word() {
-	python3 -c 'import struct,sys
-f = open(sys.argv[1], "rb"); f.seek(2 * int(sys.argv[2]))
-print(struct.unpack("<H", f.read(2))[0])' "$RAM" "$1"
+	od -An -tu2 --endian=little -j $((2 * $1)) -N 2 "$RAM" | tr -d ' '
 }
 setword() {
-	python3 -c 'import struct,sys
-f = open(sys.argv[1], "r+b"); f.seek(2 * int(sys.argv[2]))
-f.write(struct.pack("<H", int(sys.argv[3])))' "$RAM" "$1" "$2"
+	printf "$(printf '\\%03o\\%03o' $(($2 & 255)) $(($2 >> 8)))" |
+		dd of="$RAM" bs=2 count=1 seek="$1" conv=notrunc status=none
 }
 
 rm -f "$T/ready"

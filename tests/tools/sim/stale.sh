@@ -19,7 +19,7 @@ grep -q "^sh2000-sim: sim:$NAME: replaced /sh2000-$NAME left by a server that is
 	fail "no replacement message: $(cat "$T/err")"
 # a fresh card: nothing enabled
 expect 0 "$CTL" -d "sim:$NAME" status --json &&
-	json_check "assert d['state'] == 'idle' and not d['axes'][0]['enabled'], d"
+	json_check /state = idle /axes/0/enabled = false
 kill -TERM $P
 wait $P
 SIM_PIDS=""

@@ -313,7 +313,29 @@ static int substep(struct sh2000_path *p, double h)
 		jh = lo;
 	}
 	if (isnan(jh) || !lower_ok(&c, jh)) {
-		follow(&c, danger(&c), &ds, &v, &a);
+		/* brake towards the binding speed; if that still leaves a
+		 * limit ahead out of reach, towards the lowest such one */
+		double vt = danger(&c);
+
+		for (i = 0; i <= n; i++) {
+			double lowest = vt;
+			unsigned int k;
+
+			follow(&c, vt, &ds, &v, &a);
+			for (k = 0; k < n; k++) {
+				double dd = p->cons[2 * k] - ds;
+				double V = p->cons[2 * k + 1];
+
+				if (V < lowest &&
+				    (dd <= 0.0 ? v > V + V_EPS :
+				     pl_brake_dist(lim, v, trap ? 0.0 : a, V) >
+				     dd + 1e-12))
+					lowest = V;
+			}
+			if (lowest == vt)
+				break;
+			vt = lowest;
+		}
 	} else if (jh < J && c.v <= c.vcur + V_EPS &&
 		   (follow(&c, c.vcur, &ds, &v, &a), cons_ok(&c, ds, v, a))) {
 		/* only the current limit binds: reach it exactly, no

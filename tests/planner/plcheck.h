@@ -85,12 +85,13 @@ static inline double (*card_seq(const struct rec *r, size_t *n))[4]
 struct fd_result {
 	double v_ratio, a_ratio;
 	double vmax_seen, amax_seen;
+	size_t v_at, a_at;	/* where, in the card's sequence */
 };
 
 static inline struct fd_result fd_check(const struct rec *r,
 					const struct sh2000_path_config *c)
 {
-	struct fd_result res = { 0, 0, 0, 0 };
+	struct fd_result res = { 0, 0, 0, 0, 0, 0 };
 	double T = c->period_s;
 	size_t n, i;
 	double (*x)[4] = card_seq(r, &n);
@@ -100,12 +101,16 @@ static inline struct fd_result fd_check(const struct rec *r,
 		for (ax = 0; ax < 4; ax++) {
 			double v = fabs(x[i][ax] - x[i - 1][ax]) / T;
 
+			if (v / c->vmax[ax] > res.v_ratio)
+				res.v_at = i;
 			res.v_ratio = fmax(res.v_ratio, v / c->vmax[ax]);
 			res.vmax_seen = fmax(res.vmax_seen, v);
 			if (i + 1 < n) {
 				double a = fabs(x[i + 1][ax] - 2 * x[i][ax] +
 						x[i - 1][ax]) / (T * T);
 
+				if (a / c->amax[ax] > res.a_ratio)
+					res.a_at = i;
 				res.a_ratio = fmax(res.a_ratio, a / c->amax[ax]);
 				res.amax_seen = fmax(res.amax_seen, a);
 			}

@@ -54,8 +54,8 @@ static void check_limits(const struct rec *r,
 	struct fine_fd ff;
 
 	if (fd.v_ratio > LIMIT || fd.a_ratio > LIMIT)
-		print_error("records: v %.4f a %.4f of the limits\n",
-			    fd.v_ratio, fd.a_ratio);
+		print_error("records: v %.4f (at %zu) a %.4f (at %zu) of the limits\n",
+			    fd.v_ratio, fd.v_at, fd.a_ratio, fd.a_at);
 	assert_true(fd.v_ratio <= LIMIT);
 	assert_true(fd.a_ratio <= LIMIT);
 	memset(&ff, 0, sizeof(ff));
@@ -529,6 +529,99 @@ static void test_nurbs_degrees_and_pause(void **s)
 	rec_free(&r);
 }
 
+/* Random programs (fixed seeds): lines, arcs, NURBS and point-to-point
+ * moves with override changes, pauses and resumes in between, both
+ * profiles and both outputs: every record and fine point within the
+ * limits, every motion ending where the program says. */
+static unsigned int rnd(unsigned int *st)
+{
+	*st = *st * 1103515245u + 12345u;
+	return (*st >> 8) & 0xffffff;
+}
+
+static double frnd(unsigned int *st, double lo, double hi)
+{
+	return lo + (hi - lo) * rnd(st) / 16777216.0;
+}
+
+static void test_random_programs(void **s)
+{
+	unsigned int seed;
+
+	(void)s;
+	for (seed = 1; seed <= 8; seed++) {
+		struct sh2000_path_config c = cfg_of(seed & 1, (seed >> 1) & 1);
+		unsigned int st = seed * 7919u, i;
+		struct rec r;
+		struct sh2000_path *p = mk(&c, &r);
+		double pos[4], e[4];
+
+		for (i = 0; i < 60; i++) {
+			unsigned int k = rnd(&st) % 6, a;
+			double feed = frnd(&st, 5, 450);
+
+			sh2000_path_end_position(p, pos);
+			for (a = 0; a < 4; a++)
+				e[a] = pos[a] + frnd(&st, -3, 3) *
+					(rnd(&st) % 3 ? 1 : 0.01);
+			if (k <= 1) {
+				assert_int_equal(sh2000_path_line(p, e, feed), 0);
+			} else if (k == 2) {
+				struct sh2000_path_arc arc;
+				double R = frnd(&st, 0.2, 8), th = frnd(&st, 0, 6.28);
+				unsigned int pl = rnd(&st) % 3;
+				static const unsigned int ax[3][2] = {
+					{ 0, 1 }, { 0, 2 }, { 1, 2 } };
+				unsigned int ii = ax[pl][0], jj = ax[pl][1];
+
+				memset(&arc, 0, sizeof(arc));
+				arc.plane = pl;
+				arc.ccw = rnd(&st) & 1;
+				arc.centre[0] = pos[ii] - R * cos(th);
+				arc.centre[1] = pos[jj] - R * sin(th);
+				memcpy(arc.end, e, sizeof(arc.end));
+				th += frnd(&st, -4, 4);
+				arc.end[ii] = arc.centre[0] + R * cos(th);
+				arc.end[jj] = arc.centre[1] + R * sin(th);
+				assert_int_equal(sh2000_path_arc(p, &arc, feed), 0);
+			} else if (k == 3) {
+				double ctrl[6][4];
+				static const double kn[10] = { 0, 0, 0, 0, 0.3,
+							       0.6, 1, 1, 1, 1 };
+				struct sh2000_path_nurbs n = { 3, 6,
+					(const double (*)[4])ctrl, NULL, kn };
+				unsigned int j;
+
+				memcpy(ctrl[0], pos, sizeof(pos));
+				for (j = 1; j < 6; j++)
+					for (a = 0; a < 4; a++)
+						ctrl[j][a] = ctrl[j - 1][a] +
+							     frnd(&st, -4, 4) *
+							     (a < 3 ? 1 : 0.1);
+				assert_int_equal(sh2000_path_nurbs(p, &n, feed), 0);
+			} else if (k == 4) {
+				assert_int_equal(sh2000_path_move_abs(p, e,
+					rnd(&st) & 1 ? 0 : feed), 0);
+			} else {
+				assert_int_equal(sh2000_path_set_override(p,
+					frnd(&st, 0.1, 2.0)), 0);
+				assert_true(sh2000_path_run(p, rnd(&st) % 40) >= 0);
+				if (rnd(&st) % 3 == 0) {
+					assert_int_equal(sh2000_path_pause(p), 0);
+					assert_true(sh2000_path_run(p, rnd(&st) % 400) >= 0);
+					assert_int_equal(sh2000_path_resume(p), 0);
+				}
+			}
+		}
+		assert_int_equal(sh2000_path_finish(p), 0);
+		sh2000_path_end_position(p, e);
+		check_limits(&r, &c);
+		assert_end(&r, e);
+		sh2000_path_destroy(p);
+		rec_free(&r);
+	}
+}
+
 /* ---- bad input --------------------------------------------------------- */
 
 static void expect_err(struct sh2000_path *p, int ret, int code,
@@ -921,6 +1014,7 @@ int main(void)
 		cmocka_unit_test(test_nurbs_circle),
 		cmocka_unit_test(test_nurbs_freeform),
 		cmocka_unit_test(test_nurbs_degrees_and_pause),
+		cmocka_unit_test(test_random_programs),
 		cmocka_unit_test(test_bad_geometry),
 		cmocka_unit_test(test_bad_config),
 		cmocka_unit_test(test_constant_memory),

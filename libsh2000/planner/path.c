@@ -838,6 +838,7 @@ int sh2000_path_stop(struct sh2000_path *p)
 		memset(p->tend, 0, sizeof(p->tend));
 		p->stop_next = 1;
 		p->s = p->v = p->a = 0.0;
+		p->paused = 0;
 		return 0;
 	}
 	p->stopping = 1;
@@ -852,6 +853,7 @@ void pl_stopped(struct sh2000_path *p)
 	memset(p->tend, 0, sizeof(p->tend));
 	p->stop_next = 1;
 	p->stopping = 0;
+	p->paused = 0;
 	p->s = p->v = p->a = 0.0;
 }
 

@@ -896,6 +896,7 @@ static void test_stop_discards(void **s)
 	struct rec r;
 	struct sh2000_path *p = mk(&c, &r);
 	double e[4] = { 100, 0, 0, 0 }, e2[4] = { 100, 50, 0, 0 }, pos[4];
+	double zero[4] = { 0, 0, 0, 0 };
 
 	(void)s;
 	assert_int_equal(sh2000_path_line(p, e, 300), 0);
@@ -912,6 +913,16 @@ static void test_stop_discards(void **s)
 	assert_int_equal(sh2000_path_line(p, e, 300), 0);
 	assert_int_equal(sh2000_path_finish(p), 0);
 	assert_end(&r, e);
+	check_limits(&r, &c);
+	/* stop while paused at rest ends the pause too */
+	assert_int_equal(sh2000_path_line(p, e2, 300), 0);
+	assert_int_equal(sh2000_path_run(p, 20), 20);
+	assert_int_equal(sh2000_path_pause(p), 0);
+	assert_true(sh2000_path_run(p, 1000) > 0);
+	assert_int_equal(sh2000_path_stop(p), 0);
+	assert_int_equal(sh2000_path_line(p, zero, 300), 0);
+	assert_int_equal(sh2000_path_finish(p), 0);
+	assert_end(&r, zero);
 	check_limits(&r, &c);
 	sh2000_path_destroy(p);
 	rec_free(&r);

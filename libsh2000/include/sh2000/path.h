@@ -178,7 +178,8 @@ int sh2000_path_set_override(struct sh2000_path *p, double factor);
 /* Decelerate to rest on the path (END there); resume continues it. */
 int sh2000_path_pause(struct sh2000_path *p);
 int sh2000_path_resume(struct sh2000_path *p);
-/* Decelerate to rest on the path and discard everything queued. */
+/* Decelerate to rest on the path and discard everything queued (also
+ * ends a pause); the next primitive starts where the motion stopped. */
 int sh2000_path_stop(struct sh2000_path *p);
 /* Forget everything at once, without points, and start over at pos (the
  * card was stopped another way). Clears a sink failure. */

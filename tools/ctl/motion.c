@@ -215,6 +215,14 @@ struct stream {
 	unsigned int n;
 	int err;		/* first library error */
 	uint64_t points;
+	/* The planner's B-spline compensation lets control points overshoot
+	 * the end of a motion by a few um, and the card checks the soft
+	 * limits on the control points. A target at the limit is legitimate,
+	 * so the moving axes' points are clamped to the limits: the card's
+	 * spline stays inside the hull of its control points, so the
+	 * set-point never passes the limit, and the end point is exact. */
+	unsigned int clamp_mask;
+	double lo[SH2000_AXES], hi[SH2000_AXES];
 };
 
 static int flush(struct stream *s, unsigned int flags)
@@ -241,7 +249,16 @@ static int sink(void *ctx, const struct sh2000_path_point *pt)
 
 	if (interrupted)
 		return -EINTR;
-	memcpy(s->pts[s->n++], pt->mm, sizeof(s->pts[0]));
+	memcpy(s->pts[s->n], pt->mm, sizeof(s->pts[0]));
+	for (unsigned int a = 0; a < SH2000_AXES; a++) {
+		if (!(s->clamp_mask & (1u << a)))
+			continue;
+		if (s->pts[s->n][a] > s->hi[a])
+			s->pts[s->n][a] = s->hi[a];
+		if (s->pts[s->n][a] < s->lo[a])
+			s->pts[s->n][a] = s->lo[a];
+	}
+	s->n++;
 	s->points++;
 	if (s->n == BATCH || (pt->flags & SH2000_PATH_F_END))
 		return flush(s, (pt->flags & SH2000_PATH_F_END) ? SH2000_PUSH_END : 0);
@@ -326,7 +343,7 @@ static int check_axes(struct ctl *c, const struct motion_setup *m,
 static int run_motion(struct ctl *c, struct motion_setup *m, unsigned int mask,
 		      int (*plan)(struct sh2000_path *, void *), void *arg)
 {
-	struct stream s = { .h = c->h };
+	struct stream s = { .h = c->h, .clamp_mask = mask };
 	struct sh2000_path *p;
 	struct sh2000_path_stats ps;
 	struct sh2000_status st;
@@ -337,6 +354,8 @@ static int run_motion(struct ctl *c, struct motion_setup *m, unsigned int mask,
 	double secs;
 	int r;
 
+	memcpy(s.lo, m->soft_min, sizeof(s.lo));
+	memcpy(s.hi, m->soft_max, sizeof(s.hi));
 	memset(&sa, 0, sizeof(sa));
 	sa.sa_handler = on_interrupt;
 	sigaction(SIGINT, &sa, NULL);

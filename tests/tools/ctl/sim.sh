@@ -49,6 +49,18 @@ expect 0 "$CTL" "${S[@]}" enable y + jog y 3 --speed 10 && out_has "^y 3\.0"
 expect 0 "$CTL" "${S[@]}" enable z + jog z --velocity -20 --time 0.5 + status --json &&
 	json_check /axes/2/cmd_mm in -10.5,-9.5
 expect 1 "$CTL" "${S[@]}" jog z 1 && err_has "axis z is not enabled"
+# soft limits: a target right at the limit is reached (the planner's
+# overshooting control points are clamped, the card rejects none), a
+# velocity jog ends at the limit, a jog from the limit outwards is refused
+expect 0 "$CTL" "${S[@]}" enable x y + params x soft_min=-3 soft_max=2 + move x=-3 y=50 + \
+	move x=2 y=0 --feed 300 + jog x -5 + status --json &&
+	json_check /state = idle /axes/0/cmd_mm '~' -3,1e-6 /axes/1/cmd_mm '~' 0,1e-6
+expect 0 "$CTL" "${S[@]}" enable x + params x soft_max=2 + jog x --velocity 20 --time 1 + \
+	status --json && json_check /state = idle /axes/0/cmd_mm '~' 2,1e-6
+expect 1 "$CTL" "${S[@]}" enable x + params x soft_max=2 + move x=2 + jog x --velocity 5 --time 1 &&
+	err_has "^sh2000ctl: sim: axis x is at its soft limit: nothing moved$"
+expect 1 "$CTL" "${S[@]}" enable x + params x soft_max=2 + jog x 2.5 &&
+	err_has "target 2.5 mm is outside the soft limits"
 
 # home (card time: the model's home switch is 300 mm below the start)
 expect 0 "$CTL" "${S[@]}" enable x + move x=-290 + home x + status --json &&

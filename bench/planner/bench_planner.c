@@ -396,9 +396,9 @@ int main(void)
 	       "defaults otherwise (vmax 500 mm/s, amax 50000 mm/s^2, jerk 5e6 mm/s^3, S-curve),\n"
 	       "chord tolerance 0.01 mm. Contour error = distance of each fine point to the exact curve.\n\n",
 	       R_CIRC, FEED);
-	printf("%-18s %-12s %14s %14s %12s %14s %14s\n", "shape", "output",
-	       "max err (um)", "rms err (um)", "peak v mm/s",
-	       "chord err (um)", "feed fluct");
+	printf("%-18s %-12s %14s %14s %12s %14s %14s %14s %10s\n", "shape",
+	       "output", "max err (um)", "rms err (um)", "peak v mm/s",
+	       "chord err (um)", "feed fluct", "predict only", "corr/step");
 	for (s = CIRCLE_ARC; s <= FREEFORM; s++) {
 		for (raw = 1; raw >= 0; raw--) {
 			double emax, erms, vp;
@@ -408,14 +408,20 @@ int main(void)
 			       raw ? "raw" : "compensated", emax * 1e3,
 			       erms * 1e3, vp);
 			if (s != CIRCLE_ARC)
-				printf(" %14.3f %14.2g\n",
+				printf(" %14.3f %14.2g %14.2g %10.2f\n",
 				       st.nurbs_chord_error * 1e3,
-				       st.nurbs_feed_fluctuation);
+				       st.nurbs_feed_fluctuation,
+				       st.nurbs_feed_fluctuation_predicted,
+				       (double)st.nurbs_corrections /
+				       st.nurbs_steps);
 			else
-				printf(" %14s %14s\n", "-", "-");
+				printf(" %14s %14s %14s %10s\n", "-", "-", "-", "-");
 		}
 	}
-	printf("(fine path: sh2000_bspline over the emitted points, the card's window and END padding)\n\n");
+	printf("(fine path: sh2000_bspline over the emitted points, the card's window and END padding;\n"
+	       " chord err: largest sagitta between consecutive points; feed fluct: largest |chord - planned\n"
+	       " step| / step, with the corrector and with seed 001's prediction alone; corr/step: Newton\n"
+	       " corrections per step)\n\n");
 
 	printf("DDA baseline (seed 002, 24-bit, half-loading, normalised), the same circle:\n");
 	printf("%-18s %14s %14s %14s\n", "resolution", "max err (um)",

@@ -415,8 +415,13 @@ static void sample_nurbs(struct sh2000_path *p, struct pl_block *b,
 					diff[a] = c[a] - p->hist_c[a];
 				ch = norm(diff);
 				f = ch - ds;
+				if (it == 0 && p->hist_n >= 3 && ds > 1e-6 &&
+				    u < nb->umax)
+					p->feed_fluct_pred = fmax(p->feed_fluct_pred,
+								  fabs(f) / ds);
 				if (fabs(f) < 1e-12)
 					break;
+				p->nurbs_corr++;
 				for (a = 0; a < NAX; a++)
 					fp += diff[a] * d1[a];
 				fp = ch > 0.0 ? fp / ch : norm(d1);

@@ -887,6 +887,8 @@ void sh2000_path_stats(const struct sh2000_path *p, struct sh2000_path_stats *st
 	st->nurbs_chord_error = p->chord_err;
 	st->nurbs_feed_fluctuation = p->feed_fluct;
 	st->nurbs_steps = p->nurbs_steps;
+	st->nurbs_corrections = p->nurbs_corr;
+	st->nurbs_feed_fluctuation_predicted = p->feed_fluct_pred;
 	st->mem_bytes = p->mem;
 	st->mem_peak = p->mem_peak;
 }

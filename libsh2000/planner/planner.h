@@ -149,8 +149,8 @@ struct sh2000_path {
 	struct sh2000_bscomp *comp;
 	int comp_started;
 	uint64_t points, motions, blocks;
-	double chord_err, feed_fluct;
-	uint64_t nurbs_steps;
+	double chord_err, feed_fluct, feed_fluct_pred;
+	uint64_t nurbs_steps, nurbs_corr;
 	size_t mem, mem_peak;
 };
 

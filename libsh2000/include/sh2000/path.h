@@ -198,6 +198,10 @@ struct sh2000_path_stats {
 	double nurbs_chord_error;
 	double nurbs_feed_fluctuation;
 	uint64_t nurbs_steps;
+	/* corrector iterations over all steps, and the fluctuation the
+	 * prediction alone would have left: what the corrector is for */
+	uint64_t nurbs_corrections;
+	double nurbs_feed_fluctuation_predicted;
 	size_t mem_bytes;	/* heap the planner holds now */
 	size_t mem_peak;	/* and at most so far */
 };

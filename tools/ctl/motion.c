@@ -216,7 +216,7 @@ struct stream {
 	int err;		/* first library error */
 	uint64_t points;
 	/* The planner's B-spline compensation lets control points overshoot
-	 * the end of a motion by a few um, and the card checks the soft
+	 * the end of a motion by about 1 um, and the card checks the soft
 	 * limits on the control points. A target at the limit is legitimate,
 	 * so the moving axes' points are clamped to the limits: the card's
 	 * spline stays inside the hull of its control points, so the

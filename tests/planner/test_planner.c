@@ -261,6 +261,15 @@ static void arc_case(int raw, unsigned int plane, int ccw, double R,
 	assert_int_equal(sh2000_path_finish(p), 0);
 	check_limits(&r, &c);
 	assert_end(&r, c.start);
+	/* ccw: from the plane's first axis towards its second */
+	{
+		size_t k = 0;
+
+		while (k < r.n && fabs(r.x[k][j]) < 1e-3)
+			k++;
+		assert_true(k < r.n);
+		assert_true(ccw ? r.x[k][j] > 0 : r.x[k][j] < 0);
+	}
 	memset(&d, 0, sizeof(d));
 	d.i = i;
 	d.j = j;
@@ -337,6 +346,49 @@ static void test_arc_forms_and_helix(void **s)
 	assert_end(&r, e);
 	sh2000_path_destroy(p);
 	rec_free(&r);
+}
+
+/* Radius form: the four choices of direction and sign pick the four
+ * centres, and the path is on that circle. */
+static void test_arc_radius_form(void **s)
+{
+	static const struct { int ccw; double r, cx, cy; } k[4] = {
+		{ 0, 5, 5, 0 }, { 1, 5, 0, 5 }, { 0, -5, 0, 5 }, { 1, -5, 5, 0 },
+	};
+	unsigned int i;
+
+	(void)s;
+	for (i = 0; i < 4; i++) {
+		struct sh2000_path_config c = cfg_of(0, 0);
+		struct rec r;
+		struct sh2000_path *p = mk(&c, &r);
+		struct sh2000_path_arc a;
+		struct circ_dev d;
+
+		memset(&a, 0, sizeof(a));
+		a.plane = SH2000_PLANE_XY;
+		a.radius_form = 1;
+		a.radius = k[i].r;
+		a.ccw = k[i].ccw;
+		a.end[0] = 5;
+		a.end[1] = 5;
+		assert_int_equal(sh2000_path_arc(p, &a, 200), 0);
+		assert_int_equal(sh2000_path_finish(p), 0);
+		check_limits(&r, &c);
+		assert_end(&r, a.end);
+		memset(&d, 0, sizeof(d));
+		d.c[0] = k[i].cx;
+		d.c[1] = k[i].cy;
+		d.R = 5;
+		d.i = 0;
+		d.j = 1;
+		fine_path(&r, c.fine_steps, circ_fn, &d);
+		if (d.max > 0.0005)
+			print_error("radius form %u: %.5f mm off\n", i, d.max);
+		assert_true(d.max <= 0.0005);
+		sh2000_path_destroy(p);
+		rec_free(&r);
+	}
 }
 
 /* ---- NURBS ------------------------------------------------------------- */
@@ -1024,6 +1076,7 @@ int main(void)
 		cmocka_unit_test(test_arc_circle_compensated),
 		cmocka_unit_test(test_arc_circle_raw_cuts_inward),
 		cmocka_unit_test(test_arc_forms_and_helix),
+		cmocka_unit_test(test_arc_radius_form),
 		cmocka_unit_test(test_nurbs_circle),
 		cmocka_unit_test(test_nurbs_freeform),
 		cmocka_unit_test(test_nurbs_degrees_and_pause),

@@ -240,8 +240,8 @@ static int substep(struct sh2000_path *p, double h)
 		c.vcur = fmin(c.vcur, b->vb);
 	/* limits further away than any stop from here cannot matter */
 	vup = p->v + lim->A * h;
-	dh = vup * h + pl_brake_dist(lim, vup, trap ? 0.0 : lim->A, 0.0) +
-	     1e-9;
+	dh = vup * (h + zone) +
+	     pl_brake_dist(lim, vup, trap ? 0.0 : lim->A, 0.0) + 1e-9;
 	/* Only a descending staircase of limits matters: one that is no
 	 * lower than a nearer one (or the current block's) is met by
 	 * meeting that one and holding the speed. Nor does a limit above

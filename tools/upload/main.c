@@ -258,7 +258,7 @@ static int run_rs274(const char *file, char *dir, char *canon, size_t len)
 	}
 	snprintf(tbl, sizeof(tbl), "%s/tool.tbl", dir);
 	snprintf(var, sizeof(var), "%s/empty.var", dir);
-	snprintf(canon, len, "%s/program.canon", dir);
+	snprintf(canon, len, "%s/rs274.canon", dir);
 	fd = open(tbl, O_WRONLY | O_CREAT | O_TRUNC, 0600);
 	if (fd >= 0)
 		close(fd);
@@ -289,7 +289,7 @@ static int run_rs274(const char *file, char *dir, char *canon, size_t len)
 static void rs274_cleanup(const char *dir)
 {
 	static const char *const names[] = { "tool.tbl", "empty.var",
-					     "program.canon" };
+					     "rs274.canon" };
 	char p[160];
 
 	if (!dir[0])
@@ -332,6 +332,12 @@ static int read_program(const struct opts *o, const double start[4],
 			sh2000_tool_msg("%s: %zu error%s; nothing moved",
 					o->file, d.errors,
 					d.errors == 1 ? "" : "s");
+			if (o->rs274) {
+				/* the positions point into rs274's output */
+				sh2000_tool_msg("--rs274: rs274's output is kept in %s",
+						canon);
+				dir[0] = 0;
+			}
 			rc = UPLOAD_EXIT_PROGRAM;
 		} else if (r < 0) {
 			/* the file cannot be read: an I/O error, not the
@@ -756,6 +762,15 @@ int main(int argc, char **argv)
 		goto out;
 	}
 
+	if (o.trace || o.plot) {
+		rc.trace = upl_trace_open(o.trace, o.trace_every, !!o.plot, msg,
+					  sizeof(msg));
+		if (!rc.trace) {
+			sh2000_tool_msg("%s; nothing moved", msg);
+			x = SH2000_EXIT_CARD;
+			goto out;
+		}
+	}
 	x = enable_axes(h, &o, chk.moved);
 	if (x)
 		goto out;
@@ -784,15 +799,6 @@ int main(int argc, char **argv)
 		}
 	}
 
-	if (o.trace || o.plot) {
-		rc.trace = upl_trace_open(o.trace, o.trace_every, !!o.plot, msg,
-					  sizeof(msg));
-		if (!rc.trace) {
-			sh2000_tool_msg("%s; nothing moved", msg);
-			x = SH2000_EXIT_CARD;
-			goto out;
-		}
-	}
 	memset(&sa, 0, sizeof(sa));
 	sa.sa_handler = on_stop;
 	sigemptyset(&sa.sa_mask);

@@ -190,6 +190,20 @@ EOS
 	[ "$(value cmd ec)" = "$(value cmd eg)" ] || fail "rs274 and built-in ends differ"
 	"$CHECK" c.csv segments >s
 	[ "$(value segments s)" -ge 1 ] || fail "no motion through rs274"
+	# rs274 stops printing at an error in the G-code: nothing moves, and
+	# its output is kept for the positions in the messages
+	cat >bin/rs274 <<EOS
+#!/bin/sh
+head -n 8 "$DATA/arc.canon"
+echo "fake rs274: Near line 5 of \$6: some error" >&2
+exit 1
+EOS
+	expect 5 "--rs274, rs274 fails" -- env PATH="$WORK/bin:$PATH" "$UPLOAD" -q -d sim --rs274 --trace e.csv "$DATA/arc.ngc" || return
+	has "fake rs274: Near line 5" err
+	has "rs274.canon:8:1: error: no PROGRAM_END" err
+	has "rs274's output is kept in /.*/rs274.canon" err
+	no_motion e.csv
+	rm -rf "$(sed -n "s/.*kept in \(.*\)\/rs274.canon/\1/p" err)"
 }
 
 t_plot() {

@@ -39,7 +39,8 @@ static volatile sig_atomic_t stop_flag, resume_flag;
 static void on_stop(int sig)
 {
 	(void)sig;
-	stop_flag = 1;
+	if (stop_flag < 2)
+		stop_flag++;
 }
 
 static void on_resume(int sig)
@@ -454,10 +455,11 @@ static int check_plan(const struct opts *o, const struct sh2000_path_config *pc,
 /* ---- running ------------------------------------------------------------ */
 
 struct runctx {
+	struct sh2000 *h;
 	struct sh2000_run *run;
 	struct upl_trace *trace;
 	struct upl_report rep;
-	int stop_sent;
+	int stop_sent, estop_sent;
 };
 
 static void on_sample(void *ctx, const struct sh2000_run_sample *s)
@@ -475,8 +477,14 @@ static void on_progress(void *ctx, const struct sh2000_run_progress *p)
 	if (stop_flag && !rc->stop_sent && rc->run) {
 		rc->stop_sent = 1;
 		upl_report_end(&rc->rep);
-		sh2000_tool_msg("stopping on the path (signal)");
+		sh2000_tool_msg("stopping on the path (signal; a second one is an emergency stop)");
 		sh2000_run_stop(rc->run);
+	}
+	if (stop_flag >= 2 && !rc->estop_sent && rc->h) {
+		rc->estop_sent = 1;
+		upl_report_end(&rc->rep);
+		sh2000_tool_msg("emergency stop (second signal)");
+		sh2000_estop(rc->h, 100);
 	}
 	upl_report_progress(&rc->rep, p);
 }
@@ -807,6 +815,7 @@ int main(int argc, char **argv)
 	sa.sa_handler = on_resume;
 	sigaction(SIGUSR1, &sa, NULL);
 
+	rc.h = h;
 	rc.rep.bar = isatty(STDERR_FILENO);
 	rc.rep.quiet = o.quiet;
 	rc.rep.total_points = chk.points;

@@ -304,6 +304,21 @@ t_shm_stop() {
 	has "stopped by the operator" stop.err
 	"$PROBE" sim:$name >p
 	has "state=1 fill=0" p
+	# a second signal is an emergency stop
+	rm -f stop2.err
+	"$UPLOAD" -d sim:$name "$DATA/long.ngc" >out 2>stop2.err &
+	pid=$!
+	for i in $(seq 200); do grep -q "progress" stop2.err 2>/dev/null && break; sleep 0.05; done
+	sleep 0.5
+	kill -INT $pid
+	sleep 0.02
+	kill -INT $pid
+	wait $pid
+	rc=$?
+	[ "$rc" = 4 ] || { fail "two SIGINTs: exit $rc, expected 4"; cat stop2.err; }
+	has "emergency stop \(second signal\)" stop2.err
+	"$PROBE" sim:$name >p
+	has "state=6 " p
 	stop_sim
 }
 

@@ -175,7 +175,7 @@ endfunction()
 _sh2000_links_shared(SH2000_TOOLS_NEED_LIB ${SH2000_TOOLS_INSTALLED})
 
 # Man pages. The packages ship them gzipped, as Debian does: cpack
-# compresses them in its staging tree (cmake/CompressManPages.cmake), so a
+# compresses them in its staging tree (cmake/debian/prebuild.cmake), so a
 # source install and the tools' own rules agree on share/man/man1/NAME.1.
 file(GLOB _sh2000_man1 ${PROJECT_SOURCE_DIR}/tools/*/*.1)
 if(_sh2000_man1)

@@ -28,7 +28,11 @@ configure_file(${CMAKE_CURRENT_LIST_DIR}/CPackOptions.cmake.in
 # Shipped binaries are stripped (no debug info, no build paths), man pages
 # gzipped.
 set(CPACK_STRIP_FILES ON)
-set(CPACK_PRE_BUILD_SCRIPTS ${CMAKE_CURRENT_LIST_DIR}/CompressManPages.cmake)
+# copyright, changelog.Debian.gz and gzipped man pages (cmake/debian/prebuild.cmake)
+set(CPACK_PRE_BUILD_SCRIPTS ${CMAKE_CURRENT_LIST_DIR}/debian/prebuild.cmake)
+set(CPACK_SH2000_DEBIAN_DIR ${CMAKE_CURRENT_LIST_DIR}/debian)
+# The changelog's date: now, or SOURCE_DATE_EPOCH for a reproducible build.
+string(TIMESTAMP CPACK_SH2000_DATE "%a, %d %b %Y %H:%M:%S +0000" UTC)
 set(CPACK_DEB_COMPONENT_INSTALL ON)
 set(CPACK_COMPONENTS_ALL runtime dev dkms)
 if(SH2000_TOOLS_INSTALLED)
@@ -58,6 +62,9 @@ set(CPACK_DEBIAN_RUNTIME_PACKAGE_SUGGESTS "sh2000-dkms, sh2000-tools")
 # (CPack writes a shlibs file for every package with a SONAME: only this one.)
 set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON)
 set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS_POLICY ">=")
+# ldconfig by trigger, as Debian's library packages do (CPack's own
+# postinst/postrm call it too).
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_CONTROL_EXTRA ${CMAKE_CURRENT_LIST_DIR}/debian/libsh2000/triggers)
 
 set(CPACK_DEBIAN_DEV_PACKAGE_NAME libsh2000-dev)
 set(CPACK_DEBIAN_DEV_PACKAGE_SECTION libdevel)

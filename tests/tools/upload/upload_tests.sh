@@ -131,6 +131,20 @@ t_json() {
 	has "use --format" err
 }
 
+t_override() {
+	expect 0 "100 %" -- "$UPLOAD" -q -d sim "$DATA/arc.ngc" || return
+	local t1 t2
+	t1=$(sed -n 's/^  time  *\([0-9.]*\) s.*/\1/p' out)
+	expect 0 "--feed-override 50" -- "$UPLOAD" -q -d sim -o 50 --trace tr.csv "$DATA/arc.ngc" || return
+	t2=$(sed -n 's/^  time  *\([0-9.]*\) s.*/\1/p' out)
+	echo "card time: $t1 s at 100 %, $t2 s at 50 %"
+	# feed moves take twice as long; the short rapids hardly change
+	awk -v a="$t1" -v b="$t2" 'BEGIN { r = b / a; exit !(r > 1.8 && r < 2.05) }' ||
+		fail "50 % override: $t2 s against $t1 s"
+	"$CHECK" tr.csv end >e
+	[ "$(value cmd e)" = "20.000000,10.000000,0.000000,0.000000" ] || fail "end $(value cmd e)"
+}
+
 t_dry_run() {
 	expect 0 "--dry-run" -- "$UPLOAD" -d sim --dry-run --trace tr.csv --plot p.png "$EXAMPLES/part.ngc" || return
 	has "nothing moved \(--dry-run\)" out
@@ -323,7 +337,7 @@ t_shm_stop() {
 }
 
 case ${1:-} in
-geometry|raw|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop)
+geometry|raw|override|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop)
 	"t_$1" ;;
 *) echo "usage: upload_tests.sh TEST"; exit 2 ;;
 esac

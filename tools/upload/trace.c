@@ -197,8 +197,10 @@ static int write_script(const char *script,
 	      "set size ratio -1\n"
 	      "set title 'path (XY)'\nset xlabel 'x (mm)'\nset ylabel 'y (mm)'\n"
 	      "set key bottom right\n"
-	      "plot DATA using 2:3 with lines lw 2 lc rgb '#1f6fd0' title 'set-point', \\\n"
-	      "     DATA using 4:5 with lines lw 1 lc rgb '#d03a1f' title 'encoder'\n"
+	      /* the encoder wide and pale under the set-point: where they
+	       * agree the set-point shows with a halo */
+	      "plot DATA using 4:5 with lines lw 5 lc rgb '#f4a582' title 'encoder', \\\n"
+	      "     DATA using 2:3 with lines lw 1.5 lc rgb '#1f5fb4' title 'set-point'\n"
 	      "set size noratio\n"
 	      /* right, top: the path feed */
 	      "set origin 0.5,0.475\nset size 0.5,0.475\n"

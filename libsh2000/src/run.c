@@ -280,14 +280,18 @@ static int flush(struct sh2000_run *r, int end)
 	e = wait_card(r, n, 0);
 	if (e)
 		return e;
-	do {
+	for (;;) {
 		e = sh2000_push_counts(r->h,
 				       (const int32_t (*)[SH2000_AXES])r->buf,
 				       n, end ? SH2000_PUSH_END : 0);
 		/* the room was there a moment ago: only another writer takes
 		 * it, which one controlling handle per card rules out */
-	} while (e == -SH2000_EQUEUE_FULL && !(e = wait_card(r, n, 0)) &&
-		 (e = -SH2000_EQUEUE_FULL));
+		if (e != -SH2000_EQUEUE_FULL)
+			break;
+		e = wait_card(r, n, 0);
+		if (e)
+			return e;
+	}
 	if (e < 0) {
 		if (e == -SH2000_EUNDERRUN)
 			r->stats.underruns++;
@@ -483,7 +487,6 @@ struct sh2000_path *sh2000_run_path(struct sh2000_run *r)
 {
 	return r->path;
 }
-
 
 int sh2000_run_finish(struct sh2000_run *r)
 {

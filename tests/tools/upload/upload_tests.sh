@@ -124,6 +124,13 @@ t_json() {
 	expect 0 "JSON NURBS" -- "$UPLOAD" -q -d sim --trace tr.csv "$EXAMPLES/wave.json" || return
 	"$CHECK" tr.csv end >e
 	[ "$(value cmd e)" = "50.000000,0.000000,0.000000,0.000000" ] || fail "JSON end $(value cmd e), expected 50,0,0,0"
+	# --trace-every 10 keeps every tenth row
+	expect 0 "--trace-every 10" -- "$UPLOAD" -q -d sim --trace-every 10 --trace t10.csv "$EXAMPLES/wave.json" || return
+	local n1 n10
+	n1=$(($(wc -l <tr.csv) - 1))
+	n10=$(($(wc -l <t10.csv) - 1))
+	[ "$n10" -eq $(((n1 + 9) / 10)) ] || fail "--trace-every 10: $n10 rows of $n1"
+	[ "$(sed -n 3p t10.csv | cut -d, -f1)" = "$(sed -n 12p tr.csv | cut -d, -f1)" ] || fail "--trace-every 10: row 2 is not sample 11"
 	# --format beats the name
 	cp "$EXAMPLES/wave.json" curve.txt
 	expect 0 "--format json" -- "$UPLOAD" -q -d sim -f json curve.txt

@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: MIT
 /*
  * Prints a card's state for the black-box tests: "state=S fill=N
- * enabled=MASK cmd=x,y,z,a pos=x,y,z,a" (mm, 4 decimals). Only polls.
+ * enabled=MASK cmd=x,y,z,a pos=x,y,z,a" (mm, 4 decimals). Only polls,
+ * unless asked to set one axis parameter first:
+ *   probe DEVICE [AXIS NAME VALUE]
  */
+#include <stdlib.h>
 #include <stdio.h>
 
 #include <sh2000/sh2000.h>
@@ -14,12 +17,19 @@ int main(int argc, char **argv)
 	char msg[256];
 	unsigned int a, en = 0;
 
-	if (argc != 2) {
-		fprintf(stderr, "usage: probe DEVICE\n");
+	if (argc != 2 && argc != 5) {
+		fprintf(stderr, "usage: probe DEVICE [AXIS NAME VALUE]\n");
 		return 2;
 	}
 	if (sh2000_open(&h, argv[1], msg, sizeof(msg)) < 0) {
 		fprintf(stderr, "%s\n", msg);
+		return 1;
+	}
+	if (argc == 5 && sh2000_param_set(h, atoi(argv[2]),
+					  (unsigned int)sh2000_param_id(argv[3]),
+					  atof(argv[4])) < 0) {
+		fprintf(stderr, "%s\n", sh2000_last_error(h));
+		sh2000_close(h);
 		return 1;
 	}
 	if (sh2000_poll(h, &st) < 0) {

@@ -97,6 +97,29 @@ install(FILES
 install(FILES ${PROJECT_SOURCE_DIR}/driver/uapi/sh2000.h
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/sh2000/uapi COMPONENT dev)
 
+# ABI: libsh2000.so exports the functions the public headers declare and
+# nothing else (the card model's, the planner's and the library's internal
+# functions stay inside), so the SONAME rule in docs/install.md covers
+# exactly the API. The version script is made from the headers at build time.
+option(SH2000_EXPORT_PUBLIC_ONLY "libsh2000.so exports only the public headers' functions" ON)
+if(TARGET sh2000 AND SH2000_EXPORT_PUBLIC_ONLY)
+  set(_sh2000_abi_headers
+    ${_sh2000_public_headers}
+    ${PROJECT_SOURCE_DIR}/libsh2000/protocol/sh2000_protocol.h
+    ${PROJECT_SOURCE_DIR}/libsh2000/cardmodel/sh2000_cardsim.h)
+  set(_sh2000_map ${PROJECT_BINARY_DIR}/libsh2000.map)
+  add_custom_command(OUTPUT ${_sh2000_map}
+    COMMAND ${CMAKE_COMMAND} -DOUT=${_sh2000_map} "-DHEADERS=${_sh2000_abi_headers}"
+      -P ${CMAKE_CURRENT_LIST_DIR}/AbiMap.cmake
+    DEPENDS ${_sh2000_abi_headers} ${CMAKE_CURRENT_LIST_DIR}/AbiMap.cmake
+    COMMENT "libsh2000.map: the public headers' functions"
+    VERBATIM)
+  add_custom_target(sh2000_abi_map DEPENDS ${_sh2000_map})
+  add_dependencies(sh2000 sh2000_abi_map)
+  target_link_options(sh2000 PRIVATE "LINKER:--version-script=${_sh2000_map}")
+  set_property(TARGET sh2000 APPEND PROPERTY LINK_DEPENDS ${_sh2000_map})
+endif()
+
 # pkg-config: the shared library; `pkg-config --static` adds what
 # libsh2000.a needs.
 configure_file(${CMAKE_CURRENT_LIST_DIR}/sh2000.pc.in

@@ -14,6 +14,8 @@
 #include "sh2000/sim.h"
 
 #define RUN_WAIT_MIN_NS 100000ull
+/* tags of the last points, more than the batch buffer and the ring hold */
+#define RUN_SEQS 256u
 #define RUN_WAIT_MAX_NS 5000000ull
 
 struct sh2000_run {
@@ -34,6 +36,8 @@ struct sh2000_run {
 	int have_last;
 	struct sh2000_status st;	/* last poll */
 	int have_st;
+	uint32_t seqs[RUN_SEQS];	/* tag of point k at k % RUN_SEQS */
+	uint64_t emitted;		/* points the sink was given */
 	int sampled;			/* a poll gave a sample ... */
 	uint64_t sample_cycle;		/* ... of this snapshot */
 	struct sh2000_run_stats stats;
@@ -159,6 +163,10 @@ static void progress(struct sh2000_run *r)
 	pr.points = r->stats.points;
 	pr.t = cycle_time(r, r->st.card_cycle);
 	pr.queue_fill = r->st.queue_fill;
+	pr.seq = -1;
+	if (r->stats.points > r->st.queue_fill)
+		pr.seq = r->seqs[(r->stats.points - r->st.queue_fill - 1) %
+				 RUN_SEQS];
 	pr.status = &r->st;
 	r->cfg.progress(r->cfg.ctx, &pr);
 }
@@ -332,6 +340,7 @@ static void reset_plan(struct sh2000_run *r)
 			pos[a] = st.axis[a].cmd_mm;
 	sh2000_path_reset(r->path, pos);
 	r->n = 0;
+	r->emitted = r->stats.points;	/* the unsent points are gone */
 	r->in_motion = 0;
 	r->have_last = 0;
 	r->failed = 0;
@@ -349,6 +358,7 @@ static int sink(void *ctx, const struct sh2000_path_point *pt)
 		return r->failed;
 	memcpy(r->buf[r->n], pt->counts, sizeof(r->buf[0]));
 	r->n++;
+	r->seqs[r->emitted++ % RUN_SEQS] = pt->seq;
 	if (r->have_last) {
 		for (a = 0; a < SH2000_AXES; a++)
 			d += (pt->mm[a] - r->last_mm[a]) *

@@ -24,6 +24,8 @@ struct obs {
 	uint64_t at_points;
 	int action;		/* 1 pause, 2 stop, 3 jam axis 0 */
 	int acted;
+	int64_t seq;		/* the last progress' tag */
+	int seq_bad;		/* a tag that was never set */
 };
 
 static void on_sample(void *ctx, const struct sh2000_run_sample *s)
@@ -42,6 +44,9 @@ static void on_progress(void *ctx, const struct sh2000_run_progress *p)
 {
 	struct obs *o = ctx;
 
+	if (p->seq != -1 && p->seq != 7)
+		o->seq_bad = 1;
+	o->seq = p->seq;
 	if (!o->action || o->acted || p->points < o->at_points)
 		return;
 	o->acted = 1;
@@ -98,8 +103,12 @@ static void test_line(void **state)
 	const double end[4] = { 50.0, -20.0, 5.0, 1.0 };
 
 	(void)state;
+	sh2000_path_set_seq(sh2000_run_path(r), 7);
 	CHECK(sh2000_path_line(sh2000_run_path(r), end, 100.0));
 	assert_int_equal(sh2000_run_finish(r), 0);
+	/* progress names the primitive the card is running */
+	assert_int_equal(o.seq, 7);
+	assert_false(o.seq_bad);
 	sh2000_run_stats(r, &s);
 	sh2000_path_stats(sh2000_run_path(r), &ps);
 	/* every planned point went to the card, in batches of 16 after a

@@ -423,7 +423,6 @@ static int check_plan(const struct opts *o, const struct sh2000_path_config *pc,
 	for (i = 0; i < prog->count && !r; i++) {
 		const struct sh2000_prog_block *b = &prog->blocks[i];
 
-		sh2000_path_set_seq(p, (uint32_t)i);
 		if (b->kind == SH2000_PROG_END)
 			break;
 		if (b->kind == SH2000_PROG_DWELL ||
@@ -434,6 +433,9 @@ static int check_plan(const struct opts *o, const struct sh2000_path_config *pc,
 				dwell += b->u.dwell_s;
 			continue;
 		}
+		/* the points of a motion carry its block (the tail after it
+		 * too: the tag changes only with the next motion) */
+		sh2000_path_set_seq(p, (uint32_t)i);
 		r = upl_add_block(p, b);
 	}
 	if (!r)
@@ -460,6 +462,7 @@ struct runctx {
 	struct upl_trace *trace;
 	struct upl_report rep;
 	int stop_sent, estop_sent;
+	int64_t seq;		/* the block the card was at, last poll */
 };
 
 static void on_sample(void *ctx, const struct sh2000_run_sample *s)
@@ -486,6 +489,8 @@ static void on_progress(void *ctx, const struct sh2000_run_progress *p)
 		sh2000_tool_msg("emergency stop (second signal)");
 		sh2000_estop(rc->h, 100);
 	}
+	if (p->seq >= 0)
+		rc->seq = p->seq;
 	upl_report_progress(&rc->rep, p);
 }
 
@@ -541,13 +546,23 @@ static int operator_pause(struct sh2000 *h, struct runctx *rc,
 	return SH2000_EXIT_OK;
 }
 
-static int run_fail(struct sh2000_run *run, int e)
+static int run_fail(const struct sh2000_program *prog,
+		    const struct runctx *rc, int e)
 {
+	char where[300] = "";
+
+	if (rc->seq >= 0 && (uint64_t)rc->seq < prog->count) {
+		upl_block_where(&prog->blocks[rc->seq], where, sizeof(where));
+		strcat(where, ": ");
+	}
 	if (e == -ECANCELED) {
-		sh2000_tool_msg("stopped by the operator; the card is at rest on the path");
+		sh2000_tool_msg("%sstopped by the operator; the card is at rest on the path",
+				where);
 		return UPLOAD_EXIT_STOPPED;
 	}
-	sh2000_tool_msg("%s", sh2000_run_error(run));
+	sh2000_tool_msg("%s", sh2000_run_error(rc->run));
+	if (where[0])
+		sh2000_tool_msg("%sthe card was running this block", where);
 	return sh2000_tool_exit_code(e);
 }
 
@@ -560,7 +575,6 @@ static int execute(struct sh2000 *h, const struct opts *o,
 	for (i = 0; i < prog->count && !stop_flag; i++) {
 		const struct sh2000_prog_block *b = &prog->blocks[i];
 
-		sh2000_path_set_seq(sh2000_run_path(rc->run), (uint32_t)i);
 		if (b->kind == SH2000_PROG_END)
 			break;
 		switch (b->kind) {
@@ -572,7 +586,7 @@ static int execute(struct sh2000 *h, const struct opts *o,
 			}
 			e = sh2000_run_finish(rc->run);
 			if (e)
-				return run_fail(rc->run, e);
+				return run_fail(prog, rc, e);
 			x = operator_pause(h, rc, b, &stdin_eof);
 			if (x)
 				return x;
@@ -582,9 +596,11 @@ static int execute(struct sh2000 *h, const struct opts *o,
 			if (!e)
 				e = sh2000_run_dwell(rc->run, b->u.dwell_s);
 			if (e)
-				return run_fail(rc->run, e);
+				return run_fail(prog, rc, e);
 			continue;
 		default:
+			sh2000_path_set_seq(sh2000_run_path(rc->run),
+					    (uint32_t)i);
 			e = upl_add_block(sh2000_run_path(rc->run), b);
 			if (e) {
 				/* checked before: a card failure while the
@@ -592,7 +608,7 @@ static int execute(struct sh2000 *h, const struct opts *o,
 				e = sh2000_run_finish(rc->run);
 				if (!e)
 					e = -EIO;
-				return run_fail(rc->run, e);
+				return run_fail(prog, rc, e);
 			}
 		}
 	}
@@ -600,7 +616,7 @@ static int execute(struct sh2000 *h, const struct opts *o,
 	if (!e && stop_flag)
 		e = -ECANCELED;
 	if (e)
-		return run_fail(rc->run, e);
+		return run_fail(prog, rc, e);
 	return SH2000_EXIT_OK;
 }
 
@@ -816,6 +832,8 @@ int main(int argc, char **argv)
 	sigaction(SIGUSR1, &sa, NULL);
 
 	rc.h = h;
+	rc.seq = -1;
+	rc.rep.prog = &prog;
 	rc.rep.bar = isatty(STDERR_FILENO);
 	rc.rep.quiet = o.quiet;
 	rc.rep.total_points = chk.points;

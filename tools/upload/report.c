@@ -20,6 +20,7 @@ void upl_report_progress(struct upl_report *rp,
 			 const struct sh2000_run_progress *p)
 {
 	uint64_t done = p->points > p->queue_fill ? p->points - p->queue_fill : 0;
+	unsigned int line = 0;
 	int pct;
 
 	if (rp->quiet || !rp->total_points)
@@ -27,6 +28,8 @@ void upl_report_progress(struct upl_report *rp,
 	if (done > rp->total_points)
 		done = rp->total_points;
 	pct = (int)(done * 100u / rp->total_points);
+	if (rp->prog && p->seq >= 0 && (uint64_t)p->seq < rp->prog->count)
+		line = rp->prog->blocks[p->seq].pos.line;
 	if (rp->bar) {
 		uint64_t now = wall_ns();
 		char bar[41];
@@ -38,14 +41,18 @@ void upl_report_progress(struct upl_report *rp,
 		for (i = 0; i < 40; i++)
 			bar[i] = i < fill ? '#' : '.';
 		bar[40] = 0;
-		fprintf(stderr, "\r[%s] %3d%%  %7.2f s  queue %2u ", bar, pct,
-			p->t, p->queue_fill);
+		fprintf(stderr, "\r[%s] %3d%%  %7.2f s  line %-6u queue %2u ",
+			bar, pct, p->t, line, p->queue_fill);
 		rp->last_pct = pct;
 		return;
 	}
 	if (pct / 10 > rp->last_pct / 10 || (rp->last_pct < 0 && pct >= 0)) {
-		fprintf(stderr, "%s: progress %3d%% (%.2f s)\n",
-			sh2000_tool_name(), pct / 10 * 10, p->t);
+		if (line)
+			fprintf(stderr, "%s: progress %3d%% (%.2f s, line %u)\n",
+				sh2000_tool_name(), pct / 10 * 10, p->t, line);
+		else
+			fprintf(stderr, "%s: progress %3d%% (%.2f s)\n",
+				sh2000_tool_name(), pct / 10 * 10, p->t);
 		rp->last_pct = pct;
 	}
 }

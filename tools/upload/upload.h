@@ -55,6 +55,7 @@ int upl_which(const char *prog);
 /* ---- report.c --------------------------------------------------------- */
 
 struct upl_report {
+	const struct sh2000_program *prog;	/* for the line being run */
 	int bar;		/* a progress bar (stderr is a terminal) */
 	int quiet;		/* no progress at all */
 	uint64_t total_points;	/* planned */

@@ -47,6 +47,9 @@ struct sh2000_run_progress {
 	uint64_t points;		/* coarse points pushed so far */
 	double t;			/* s of card time since the run began */
 	unsigned int queue_fill;	/* records queued at the last poll */
+	/* the tag (sh2000_path_set_seq()) of the last point the card took
+	 * from the ring, as the last poll shows; -1 before the first */
+	int64_t seq;
 	const struct sh2000_status *status;	/* the last poll */
 };
 

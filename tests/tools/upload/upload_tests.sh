@@ -250,6 +250,7 @@ t_pause() {
 	has "pause.ngc:3:1: M0: paused" err
 	has "resuming" err
 	has "M1 optional stops are skipped" err
+	has "progress 100% \\([0-9.]+ s, line 6\\)" err
 	"$CHECK" tr.csv end >e
 	[ "$(value cmd e)" = "0.000000,5.000000,0.000000,0.000000" ] || fail "end $(value cmd e)"
 	# --optional-stop: M1 pauses too; two lines resume twice
@@ -272,6 +273,7 @@ t_pause() {
 t_fault() {
 	expect 4 "a run into the limit switch" -- "$UPLOAD" -q -d sim "$DATA/limit.ngc"
 	has "sim: axis 0: limit switch" err
+	has "limit.ngc:3:1: the card was running this block" err
 }
 
 start_sim() { # start_sim NAME: sh2000-sim in the background, ready
@@ -329,7 +331,7 @@ t_shm_stop() {
 	wait $pid
 	local rc=$?
 	[ "$rc" = 7 ] || { fail "SIGINT: exit $rc, expected 7"; cat stop.err; }
-	has "stopped by the operator" stop.err
+	has "long.ngc:[0-9]+:1: stopped by the operator" stop.err
 	"$PROBE" sim:$name >p
 	has "state=1 fill=0" p
 	# a second signal is an emergency stop

@@ -88,7 +88,7 @@ endif()
 # "sh2000_protocol.h" and sim.h includes "sh2000_cardsim.h": both are found
 # beside the includer. The driver's ioctl ABI is there too for programs that
 # talk to /dev/sh2000-N themselves (#include <sh2000/uapi/sh2000.h>).
-file(GLOB _sh2000_public_headers ${PROJECT_SOURCE_DIR}/libsh2000/include/sh2000/*.h)
+file(GLOB _sh2000_public_headers CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/libsh2000/include/sh2000/*.h)
 install(FILES
   ${_sh2000_public_headers}
   ${PROJECT_SOURCE_DIR}/libsh2000/protocol/sh2000_protocol.h
@@ -200,7 +200,7 @@ _sh2000_links_shared(SH2000_TOOLS_NEED_LIB ${SH2000_TOOLS_INSTALLED})
 # Man pages. The packages ship them gzipped, as Debian does: cpack
 # compresses them in its staging tree (cmake/debian/prebuild.cmake), so a
 # source install and the tools' own rules agree on share/man/man1/NAME.1.
-file(GLOB _sh2000_man1 ${PROJECT_SOURCE_DIR}/tools/*/*.1)
+file(GLOB _sh2000_man1 CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/tools/*/*.1)
 if(_sh2000_man1)
   install(FILES ${_sh2000_man1} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT tools)
 endif()

@@ -14,7 +14,11 @@
  *	  storm HOST DSP HOST2 | nocard HOST BASE | info HOST BASE |
  *	  sysfs HOST | hold HOST READY GO | twocards H0 D0 H1 D1 |
  *	  dsphold DSP READY GO | latency HOST | interleave HOST |
- *	  hammer HOST [PROCS]
+ *	  hammer HOST [PROCS] | fifo PRIO CMD [ARGS...]
+ *
+ * fifo runs CMD under SCHED_FIFO at PRIO (busybox has no chrt): the
+ * whole-stack stage runs the card model like the DSP it stands for, ahead
+ * of the host programs.
  */
 #include <fcntl.h>
 #include <sched.h>
@@ -1786,6 +1790,17 @@ int main(int argc, char **argv)
 		       "removal: I/O on a file whose simulated card was removed fails cleanly");
 	} else if (!strcmp(argv[1], "dsphold") && argc >= 5) {
 		t_dsphold(argv[2], argv[3], argv[4]);
+	} else if (!strcmp(argv[1], "fifo") && argc >= 4) {
+		struct sched_param sp = { .sched_priority = atoi(argv[2]) };
+
+		if (sched_setscheduler(0, SCHED_FIFO, &sp)) {
+			fprintf(stderr, "ktest fifo: sched_setscheduler: %s\n",
+				strerror(errno));
+			return 126;
+		}
+		execvp(argv[3], &argv[3]);
+		fprintf(stderr, "ktest fifo: %s: %s\n", argv[3], strerror(errno));
+		return 127;
 	} else if (!strcmp(argv[1], "twocards") && argc >= 6) {
 		t_twocards(argv[2], argv[3], argv[4], argv[5]);
 	} else {

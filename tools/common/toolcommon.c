@@ -9,6 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <uapi/sh2000.h>
+
 static const char *tool_name = "sh2000";
 
 void sh2000_tool_init(const char *name)
@@ -186,4 +188,15 @@ int sh2000_tool_long(const char *s, long min, long max, long *v)
 		return -1;
 	*v = l;
 	return 0;
+}
+
+void sh2000_tool_print_version(const char *tool_version)
+{
+	printf("%s %s\n"
+	       "libsh2000 %s (libsh2000.so.%u)\n"
+	       "protocol %u.%u\n"
+	       "driver ABI %u\n",
+	       sh2000_tool_name(), tool_version, sh2000_version(),
+	       sh2000_soversion(), SH2000_PROTO_MAJOR, SH2000_PROTO_MINOR,
+	       (unsigned int)SH2000_ABI_VERSION);
 }

@@ -28,6 +28,16 @@ enum sh2000_tool_exit {
 	SH2000_EXIT_FAULT = 4,	/* a fault or emergency stop is latched */
 };
 
+/*
+ * --version of every tool: the tool, the library actually loaded (and its
+ * SONAME), the protocol it speaks and the driver ABI it expects, e.g.
+ *     sh2000ctl 0.1.0
+ *     libsh2000 0.1.0 (libsh2000.so.0)
+ *     protocol 1.0
+ *     driver ABI 1
+ */
+void sh2000_tool_print_version(const char *tool_version);
+
 /* Set the tool name used as the prefix of every message. */
 void sh2000_tool_init(const char *name);
 const char *sh2000_tool_name(void);

@@ -171,12 +171,7 @@ static void usage(FILE *f)
 
 static void version(void)
 {
-	printf("sh2000ctl %s\n"
-	       "libsh2000 %s\n"
-	       "protocol %u.%u\n"
-	       "driver ABI %u\n",
-	       SH2000_TOOLS_VERSION, SH2000_TOOLS_VERSION, SH2000_PROTO_MAJOR,
-	       SH2000_PROTO_MINOR, (unsigned int)SH2000_ABI_VERSION);
+	sh2000_tool_print_version(SH2000_TOOLS_VERSION);
 }
 
 int main(int argc, char **argv)

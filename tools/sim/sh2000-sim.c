@@ -304,9 +304,7 @@ int main(int argc, char **argv)
 			usage(stdout);
 			return SH2000_EXIT_OK;
 		case 'V':
-			printf("sh2000-sim %s (libsh2000 %s, protocol %u.%u)\n",
-			       SH2000_TOOLS_VERSION, SH2000_TOOLS_VERSION,
-			       SH2000_PROTO_MAJOR, SH2000_PROTO_MINOR);
+			sh2000_tool_print_version(SH2000_TOOLS_VERSION);
 			return SH2000_EXIT_OK;
 		case '?':
 		default:

@@ -206,8 +206,7 @@ static int parse(int argc, char **argv, struct opts *o)
 			usage(stdout);
 			exit(SH2000_EXIT_OK);
 		case 'V':
-			printf("sh2000-upload %s (protocol %u.x)\n",
-			       SH2000_TOOLS_VERSION, SH2000_PROTO_MAJOR);
+			sh2000_tool_print_version(SH2000_TOOLS_VERSION);
 			exit(SH2000_EXIT_OK);
 		default:
 			if (optopt && strchr("dfFotpe", optopt))

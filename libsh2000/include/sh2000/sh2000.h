@@ -107,6 +107,15 @@ enum sh2000_backend_kind sh2000_backend(const struct sh2000 *h);
 /* SH2000_W_VERSION as the card reported it at open. */
 unsigned int sh2000_card_version(const struct sh2000 *h);
 
+/*
+ * Versions of the library that is running (not the one compiled against):
+ * "MAJOR.MINOR.PATCH", and the SONAME's major (libsh2000.so.N). The protocol
+ * version it speaks is SH2000_PROTO_MAJOR/MINOR, the driver ABI it expects
+ * SH2000_ABI_VERSION.
+ */
+const char *sh2000_version(void);
+unsigned int sh2000_soversion(void);
+
 /* The handle's clock: virtual card time for `sim`, CLOCK_MONOTONIC else. */
 uint64_t sh2000_now_ns(struct sh2000 *h);
 /* Let time pass: advances the card model for `sim`, sleeps otherwise. */

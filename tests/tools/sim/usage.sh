@@ -10,5 +10,7 @@ expect 2 "$SIM" --ready-fd x n && err_has "--ready-fd: 'x' is not a file descrip
 expect 2 "$SIM" --ready-fd 77 n && err_has "--ready-fd: 77 is not open"
 expect 2 "$SIM" --attach && err_has "option -a"
 expect 0 "$SIM" --help && out_has "^Usage: sh2000-sim" && out_has "--attach PATH"
-expect 0 "$SIM" -V && out_has "^sh2000-sim [0-9.]+ \(libsh2000 [0-9.]+, protocol 1\.[0-9]+\)$"
+expect 0 "$SIM" -V && out_has "^sh2000-sim [0-9.]+$" &&
+	out_has "^libsh2000 [0-9.]+ \(libsh2000\.so\.[0-9]+\)$" &&
+	out_has "^protocol 1\.[0-9]+$" && out_has "^driver ABI [0-9]+$"
 finish

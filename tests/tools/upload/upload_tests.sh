@@ -175,6 +175,9 @@ t_usage() {
 	has "Exit codes" out
 	expect 0 "--version" -- "$UPLOAD" --version
 	has "^sh2000-upload [0-9]" out
+	has "^libsh2000 [0-9.]+ \(libsh2000\.so\.[0-9]+\)$" out
+	has "^protocol 1\.[0-9]+$" out
+	has "^driver ABI [0-9]+$" out
 	expect 1 "unreadable file" -- "$UPLOAD" -d sim nonexistent.ngc
 	has "nonexistent.ngc" err
 }

@@ -1,0 +1,16 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The library's own version, compiled in from the one project version in the
+ * top-level CMakeLists.txt, so a tool reports the library it really loaded.
+ */
+#include "sh2000/sh2000.h"
+
+const char *sh2000_version(void)
+{
+	return SH2000_LIB_VERSION;
+}
+
+unsigned int sh2000_soversion(void)
+{
+	return SH2000_LIB_SOVERSION;
+}

@@ -32,9 +32,11 @@ int main(int argc, char **argv)
 		sh2000_close(h);
 		return 1;
 	}
-	printf("consumer: %s: card state %u, protocol %u.%u (card 0x%04x), driver ABI %d\n",
-	       sh2000_device(h), st.card_state, SH2000_PROTO_MAJOR,
-	       SH2000_PROTO_MINOR, sh2000_card_version(h), SH2000_ABI_VERSION);
+	printf("consumer: libsh2000 %s (libsh2000.so.%u), %s: card state %u, "
+	       "protocol %u.%u (card 0x%04x), driver ABI %d\n",
+	       sh2000_version(), sh2000_soversion(), sh2000_device(h),
+	       st.card_state, SH2000_PROTO_MAJOR, SH2000_PROTO_MINOR,
+	       sh2000_card_version(h), SH2000_ABI_VERSION);
 	sh2000_close(h);
 	return 0;
 }

@@ -21,8 +21,11 @@
  *	CIRC_TOL 0.002  on the circle away from the junction the set-point is
  *			within 1 um of R (compensated B-spline) and one count;
  *	FERR            the largest following error allowed in any row, set
- *			by the caller for the servo timing in use; the encoder
- *			gets CMD_TOL + FERR off the path and CIRC_TOL + FERR off R;
+ *			by the caller for the servo timing in use (tests/kernel/
+ *			init argues its 5 um); a row's set-point and encoder are
+ *			from the same servo cycle (one snapshot), so sampling adds
+ *			nothing and the encoder is within CMD_TOL + FERR of the
+ *			path and CIRC_TOL + FERR of R (triangle inequality);
  *	END_CMD  0.0005 the last row's set-point is the programmed end (the
  *			planner stops exactly; the trace prints 1 nm steps);
  *	END_ACT  0.003  the last row's encoder: the card is at rest and the

@@ -69,6 +69,8 @@ struct sh2000 {
 	int hb_seen;
 	uint16_t hb_last;
 	uint64_t hb_change_ns;
+	uint64_t hb_seen_ns;		/* last time the heartbeat was read */
+	int hb_unsure;			/* same value after a gap it may wrap in */
 	uint64_t hb_limit_ns;
 	uint64_t hb_limit_user;		/* set by the caller, 0: derived */
 	uint64_t servo_ns;		/* coarse period / fine steps */
@@ -119,6 +121,8 @@ uint64_t sh2000_now_locked(struct sh2000 *h);
 void sh2000_timing_changed(struct sh2000 *h);
 /* Wait until the card publishes its next snapshot. */
 int sh2000_fresh_snapshot(struct sh2000 *h, int timeout_ms);
+/* Age of the card heartbeat; sets hb_unsure when an unchanged value may
+ * have wrapped (the caller re-reads it before calling the card stopped). */
 uint64_t sh2000_hb_note(struct sh2000 *h, uint16_t hb, uint64_t now);
 int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st);
 int sh2000_status_error_locked(struct sh2000 *h,

@@ -64,13 +64,32 @@ static void decode(struct sh2000 *h, const uint16_t *w,
 	h->act_seen = 1;
 }
 
+/*
+ * The heartbeat is 16 bits: after 2^16 servo cycles it shows the same
+ * value again. An unchanged value read after a gap that long (less a
+ * margin for a card clock a little faster than the host's) proves
+ * nothing: the watch restarts from now and hb_unsure asks the caller to
+ * look again.
+ */
+static uint64_t hb_wrap_ns(const struct sh2000 *h)
+{
+	/* 15/16 of a wrap; before the timing is known, the limit */
+	return h->servo_ns ? (h->servo_ns << 16) - (h->servo_ns << 12) :
+	       h->hb_limit_ns;
+}
+
 uint64_t sh2000_hb_note(struct sh2000 *h, uint16_t hb, uint64_t now)
 {
 	if (!h->hb_seen || hb != h->hb_last) {
 		h->hb_seen = 1;
 		h->hb_last = hb;
 		h->hb_change_ns = now;
+		h->hb_unsure = 0;
+	} else if (now - h->hb_seen_ns >= hb_wrap_ns(h)) {
+		h->hb_change_ns = now;
+		h->hb_unsure = 1;
 	}
+	h->hb_seen_ns = now;
 	return now - h->hb_change_ns;
 }
 
@@ -121,6 +140,19 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 	st->host_time_ns = now;
 	decode(h, w, st);
 	st->heartbeat_age_ns = sh2000_hb_note(h, st->heartbeat, now);
+	/* the same heartbeat as long ago: wrapped, or stopped? Watch it
+	 * until it moves or the limit says stopped */
+	while (h->hb_unsure && st->heartbeat_age_ns < h->hb_limit_ns) {
+		uint16_t hb;
+
+		sh2000_hold_wait(h, h->servo_ns ? h->servo_ns : TORN_WAIT_NS);
+		r = sh2000_rd(h, SH2000_W_HEARTBEAT, 1, &hb);
+		if (r < 0)
+			return r;
+		st->heartbeat_age_ns = sh2000_hb_note(h, hb,
+						      sh2000_now_locked(h));
+	}
+	h->hb_unsure = 0;
 
 	if (w[SH2000_W_MAGIC] != SH2000_PROTO_MAGIC)
 		return sh2000_fail(h, -SH2000_EMAGIC,

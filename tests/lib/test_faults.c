@@ -75,6 +75,50 @@ static void test_dsp_stall(void **state)
 	heartbeat_case(SH2000_INJECT_DSP_STALL);
 }
 
+/*
+ * The 16-bit heartbeat wraps every 2^16 servo cycles (6.5536 s at 100 us):
+ * a host that polls that rarely can find the very value it saw last time
+ * on a card that ran all along. That is not a stopped DSP; a stopped one
+ * found after such a gap is still reported, within the limit.
+ */
+static void test_heartbeat_wrap(void **state)
+{
+	struct sh2000 *h = simtest_open();
+	struct sh2000_status st;
+	double coarse_us, fine;
+	uint64_t servo_ns, t0;
+	uint16_t hb0, hb;
+	int r;
+
+	(void)state;
+	CHECK(sh2000_param_get(h, SH2000_GLOBAL, SH2000_GP_COARSE_PERIOD_US,
+			       &coarse_us));
+	CHECK(sh2000_param_get(h, SH2000_GLOBAL, SH2000_GP_FINE_STEPS, &fine));
+	servo_ns = (uint64_t)(coarse_us * 1000.0 / fine);
+	CHECK(sh2000_poll(h, &st));
+	hb0 = st.heartbeat;
+	/* a little less than one wrap, then to the cycle that shows hb0 again */
+	CHECK(sh2000_sleep_ns(h, 65536ull * servo_ns - 20 * servo_ns));
+	do {
+		CHECK(sh2000_sleep_ns(h, servo_ns / 10));
+		CHECK(sh2000_ram_read(h, SH2000_W_HEARTBEAT, 1, &hb));
+	} while (hb != hb0);
+	CHECK(sh2000_poll(h, &st));
+	assert_int_equal(st.heartbeat, hb0);	/* the case under test */
+	assert_true(st.heartbeat_age_ns < SH2000_HEARTBEAT_LIMIT_NS);
+
+	/* a DSP that stalls during such a gap is still reported */
+	CHECK(sh2000_sim_inject(h, SH2000_INJECT_DSP_STALL, 0, 0));
+	CHECK(sh2000_sleep_ns(h, 65536ull * servo_ns));
+	t0 = sh2000_now_ns(h);
+	r = sh2000_poll(h, &st);
+	if (r == 0)
+		r = sh2000_poll(h, &st);
+	assert_int_equal(r, -SH2000_EHEARTBEAT);
+	assert_true(sh2000_now_ns(h) - t0 <= SH2000_HEARTBEAT_LIMIT_NS + 500000);
+	sh2000_close(h);
+}
+
 static void test_jam(void **state)
 {
 	int32_t p[SH2000_AXES];
@@ -243,6 +287,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_heartbeat_stop),
 		cmocka_unit_test(test_dsp_stall),
+		cmocka_unit_test(test_heartbeat_wrap),
 		cmocka_unit_test(test_jam),
 		cmocka_unit_test(test_limit),
 		cmocka_unit_test(test_counter_glitch),

@@ -388,9 +388,16 @@ static int plan_apply(struct ctl *c, struct plan *p,
 		for (unsigned int id = 0; id < SH2000_AXIS_PARAMS; id++)
 			if (id != SH2000_P_SOFT_MIN && id != SH2000_P_SOFT_MAX)
 				order[n++] = id;
-		/* new min below the current max: min first, else max first */
+		/* new min below the current max: min first, else max first.
+		 * In counts, as the card compares them: scale goes first, so
+		 * the new min is in the new scale, the current max in the old */
 		min_first = !p->set[a][SH2000_P_SOFT_MIN] ||
-			    p->v[a][SH2000_P_SOFT_MIN] < cur[a][SH2000_P_SOFT_MAX];
+			    nearbyint(p->v[a][SH2000_P_SOFT_MIN] *
+				      (p->set[a][SH2000_P_SCALE] ?
+				       p->v[a][SH2000_P_SCALE] :
+				       cur[a][SH2000_P_SCALE])) <
+			    nearbyint(cur[a][SH2000_P_SOFT_MAX] *
+				      cur[a][SH2000_P_SCALE]);
 		order[n++] = min_first ? SH2000_P_SOFT_MIN : SH2000_P_SOFT_MAX;
 		order[n++] = min_first ? SH2000_P_SOFT_MAX : SH2000_P_SOFT_MIN;
 		for (unsigned int k = 0; k < n; k++)

@@ -22,6 +22,13 @@ expect 1 "$CTL" "${S[@]}" params x soft_min=10 soft_max=5 && err_has "soft_min 1
 expect 1 "$CTL" "${S[@]}" params global fine_steps=7 && err_has "servo period"
 expect 2 "$CTL" "${S[@]}" params global kp=1 && err_has "kp is an axis parameter"
 expect 2 "$CTL" "${S[@]}" params x kp=1 kp=2 && err_has "kp given twice"
+# a new scale with a soft window that moves up past the old one: the card
+# compares counts, so max goes first (min first was refused after the
+# scale had been set: half applied)
+expect 0 "$CTL" "${S[@]}" params x soft_min=-10 soft_max=10 + \
+	params x scale=200000 soft_min=6 soft_max=20 + params x scale soft_min soft_max &&
+	{ checks=$((checks + 1)); [ "$out" = "$(printf 'scale = 200000\nsoft_min = 6\nsoft_max = 20')" ] ||
+		fail "scale and soft window: $out"; }
 
 # save and load round trip, on a served card
 NAME=ctlparams-$$

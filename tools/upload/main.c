@@ -761,9 +761,9 @@ int main(int argc, char **argv)
 
 	memset(&chk, 0, sizeof(chk));
 	for (a = 0; a < SH2000_AXES; a++) {
-		if (sh2000_param_get(h, (int)a, SH2000_P_SOFT_MIN, &chk.lo[a]) ||
-		    sh2000_param_get(h, (int)a, SH2000_P_SOFT_MAX, &chk.hi[a])) {
-			x = sh2000_tool_fail(h, -EIO, "soft limits");
+		if ((e = sh2000_param_get(h, (int)a, SH2000_P_SOFT_MIN, &chk.lo[a])) ||
+		    (e = sh2000_param_get(h, (int)a, SH2000_P_SOFT_MAX, &chk.hi[a]))) {
+			x = sh2000_tool_fail(h, e, "soft limits");
 			goto out;
 		}
 		chk.start[a] = (int32_t)llround(pc.start[a] * pc.counts_per_mm[a]);

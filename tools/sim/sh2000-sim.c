@@ -9,7 +9,7 @@
  *                                      (/dev/sh2000-dsp-N) or on any file
  *                                      of 2048+ bytes (tests)
  *
- * Runs in the foreground until SIGINT/SIGTERM; see sh2000-sim(1). Kept to
+ * Runs in the foreground until SIGINT/SIGTERM/SIGHUP; see sh2000-sim(1). Kept to
  * libc + libsh2000 so that it links with -static for the VM's initramfs.
  */
 #include <errno.h>
@@ -54,8 +54,10 @@ static int install_signals(void)
 	sa.sa_handler = on_signal;
 	sigemptyset(&sa.sa_mask);
 	/* no SA_RESTART: the sleeps return EINTR and see the flag */
+	/* SIGHUP: the terminal it runs in was closed; clean up as well */
 	if (sigaction(SIGINT, &sa, NULL) < 0 ||
-	    sigaction(SIGTERM, &sa, NULL) < 0)
+	    sigaction(SIGTERM, &sa, NULL) < 0 ||
+	    sigaction(SIGHUP, &sa, NULL) < 0)
 		return -errno;
 	signal(SIGPIPE, SIG_IGN);
 	return 0;
@@ -66,7 +68,7 @@ static void usage(FILE *f)
 	fprintf(f,
 "Usage: sh2000-sim [OPTION]... NAME\n"
 "       sh2000-sim [OPTION]... --attach PATH\n"
-"Serve a simulated SH-2000TH card until SIGINT or SIGTERM.\n"
+"Serve a simulated SH-2000TH card until SIGINT, SIGTERM or SIGHUP.\n"
 "\n"
 "  NAME               serve the card for the device string sim:NAME\n"
 "                     (shared memory /sh2000-NAME; a stale object left by a\n"

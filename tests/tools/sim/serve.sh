@@ -1,7 +1,7 @@
 #!/bin/bash
 # sh2000-sim NAME: prints where it serves and "ready", several clients see
 # one card, a second server on the name is refused, SIGTERM and SIGINT stop
-# it cleanly and remove /dev/shm/sh2000-NAME.
+# it cleanly and remove /dev/shm/sh2000-NAME, as does SIGHUP.
 . "$(dirname "$0")/../ctl/testlib.sh"
 NAME=simserve-$$
 
@@ -56,4 +56,12 @@ checks=$((checks + 1))
 [ "$sim_rc" = 0 ] || fail "exit $sim_rc after SIGINT"
 checks=$((checks + 1))
 [ ! -e "/dev/shm/sh2000-$NAME" ] || fail "/dev/shm/sh2000-$NAME left after SIGINT"
+
+# SIGHUP (the terminal it runs in closed): the same clean stop
+start_sim "$NAME" || finish
+stop_sim HUP
+checks=$((checks + 1))
+[ "$sim_rc" = 0 ] || fail "exit $sim_rc after SIGHUP"
+checks=$((checks + 1))
+[ ! -e "/dev/shm/sh2000-$NAME" ] || fail "/dev/shm/sh2000-$NAME left after SIGHUP"
 finish

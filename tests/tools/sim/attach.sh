@@ -40,7 +40,9 @@ checks=$((checks + 1))
 [ $(((h2 - h1 + 65536) % 65536)) -ge 200 ] || fail "heartbeat $h1 -> $h2 in 0.2 s"
 # the host's emergency stop: ESTOP_REQ (word 0) +1 -> ESTOP_ACK (4), ESTOP (6)
 setword 0 1
-sleep 0.1
+# one servo cycle once the server runs; a loaded machine may not run it
+# for a while, so wait up to 5 s rather than a fixed 0.1 s
+for _ in $(seq 100); do [ "$(word 4)" = 1 ] && break; sleep 0.05; done
 checks=$((checks + 1))
 [ "$(word 4)" = 1 ] && [ "$(word 5)" = 6 ] && [ $(($(word 6) & 4)) = 4 ] ||
 	fail "estop not acted on: ack $(word 4) state $(word 5) faults $(word 6)"

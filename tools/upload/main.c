@@ -550,18 +550,17 @@ static int run_fail(const struct sh2000_program *prog,
 {
 	char where[300] = "";
 
-	if (rc->seq >= 0 && (uint64_t)rc->seq < prog->count) {
+	/* a long path fills where: the separator goes in at print time */
+	if (rc->seq >= 0 && (uint64_t)rc->seq < prog->count)
 		upl_block_where(&prog->blocks[rc->seq], where, sizeof(where));
-		strcat(where, ": ");
-	}
 	if (e == -ECANCELED) {
-		sh2000_tool_msg("%sstopped by the operator; the card is at rest on the path",
-				where);
+		sh2000_tool_msg("%s%sstopped by the operator; the card is at rest on the path",
+				where, where[0] ? ": " : "");
 		return UPLOAD_EXIT_STOPPED;
 	}
 	sh2000_tool_msg("%s", sh2000_run_error(rc->run));
 	if (where[0])
-		sh2000_tool_msg("%sthe card was running this block", where);
+		sh2000_tool_msg("%s: the card was running this block", where);
 	return sh2000_tool_exit_code(e);
 }
 

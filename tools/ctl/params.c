@@ -439,30 +439,55 @@ static int print_section(struct ctl *c, FILE *f, unsigned int s)
 
 static int params_save(struct ctl *c, const char *path)
 {
-	FILE *f = strcmp(path, "-") ? fopen(path, "w") : stdout;
+	char *text = NULL;
+	size_t len = 0;
+	FILE *m = open_memstream(&text, &len), *f;
 	int r = 0;
 
-	if (!f) {
-		sh2000_tool_msg("%s: cannot create: %s", path, strerror(errno));
+	if (!m) {
+		sh2000_tool_msg("params save: %s", strerror(errno));
 		return SH2000_EXIT_CARD;
 	}
-	fprintf(f, "# SH-2000 parameters of %s (sh2000ctl params save)\n"
+	/* everything from the card first: a card that fails half-way must
+	 * not cost the file it would have replaced */
+	fprintf(m, "# SH-2000 parameters of %s (sh2000ctl params save)\n"
 		   "# units: lengths mm, velocities mm/s, accelerations mm/s^2\n",
 		sh2000_device(c->h));
 	for (unsigned int s = 0; !r && s <= SECT_GLOBAL; s++) {
 		unsigned int sec = s == 0 ? SECT_GLOBAL : s - 1;
 
-		fprintf(f, "\n");
-		r = print_section(c, f, sec);
+		fprintf(m, "\n");
+		r = print_section(c, m, sec);
 	}
+	if (fclose(m) != 0 && !r) {
+		sh2000_tool_msg("params save: %s", strerror(errno));
+		r = SH2000_EXIT_CARD;
+	}
+	if (r) {
+		sh2000_tool_msg("%s: not written", path);
+		free(text);
+		return r;
+	}
+	f = strcmp(path, "-") ? fopen(path, "w") : stdout;
+	if (!f) {
+		sh2000_tool_msg("%s: cannot create: %s", path, strerror(errno));
+		free(text);
+		return SH2000_EXIT_CARD;
+	}
+	if (fwrite(text, 1, len, f) != len)
+		r = SH2000_EXIT_CARD;
 	if (f != stdout) {
-		if (fclose(f) != 0 && !r) {
-			sh2000_tool_msg("%s: write error: %s", path, strerror(errno));
+		if (fclose(f) != 0)
 			r = SH2000_EXIT_CARD;
-		}
-		if (r)
+	} else if (fflush(f) != 0) {
+		r = SH2000_EXIT_CARD;
+	}
+	if (r) {
+		sh2000_tool_msg("%s: write error: %s", path, strerror(errno));
+		if (f != stdout)
 			remove(path);
 	}
+	free(text);
 	return r;
 }
 

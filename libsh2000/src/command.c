@@ -34,12 +34,22 @@ static int result_error(unsigned int res)
 	return -SH2000_ECMD_UNKNOWN;
 }
 
-/* After a timeout: a stopped card is the better explanation. */
+/*
+ * After a timeout: a stopped card is the better explanation. The timeout
+ * can be shorter than the heartbeat limit (100 ms each for sim:NAME, or a
+ * caller's longer limit), so "alive" means seen moving, else the poll
+ * ends in EHEARTBEAT once the limit has passed.
+ */
 static int why_silent(struct sh2000 *h, const char *what, int timeout_ms)
 {
 	struct sh2000_status st;
 	int r = sh2000_poll_locked(h, &st);
+	uint16_t hb = st.heartbeat;
 
+	while (r == 0 && st.heartbeat == hb) {
+		sh2000_hold_wait(h, h->servo_ns ? h->servo_ns : CMD_POLL_NS);
+		r = sh2000_poll_locked(h, &st);
+	}
 	if (r < 0)
 		return r;
 	return sh2000_fail(h, -SH2000_ETIMEOUT,

@@ -80,6 +80,12 @@ static void test_served_card(void **state)
 	assert_int_equal(st.axis[0].cmd_counts, start + 20 * 500);
 	assert_true(fabs((double)st.axis[0].ferr_counts) < 200);
 	assert_true(sh2000_sim_server_cycles(s) > 400);
+	/* a served card that stops: a command times out (100 ms) before the
+	 * heartbeat limit (500 ms here) has passed, and must still be told
+	 * apart from a live card that does not answer */
+	sh2000_sim_server_stop(s);
+	assert_int_equal(sh2000_nop(h), -SH2000_EHEARTBEAT);
+	assert_non_null(strstr(sh2000_last_error(h), "heartbeat stuck"));
 	/* a second server on the same name is refused */
 	{
 		struct sh2000_sim_server *s2 = NULL;

@@ -103,11 +103,18 @@ static void sh2000_seek_to(struct sh2000_card *card, unsigned int target)
 	card->pos = target;
 }
 
-/*
- * Common checks of read and write. Returns the number of words to move
- * (0 at or past the end), or a negative errno.
+/**
+ * sh2000_ram_span() - the file rules of the 2048-byte RAM, for read and write
+ * @pos:	file position
+ * @count:	bytes asked for
+ *
+ * Shared by the host side (/dev/sh2000-N) and the simulated card's DSP side
+ * (/dev/sh2000-dsp-N), which follow the same rules.
+ *
+ * Return: the number of words to move (0 at or past the end), or -EINVAL
+ * for an odd position or length.
  */
-static ssize_t sh2000_span(loff_t pos, size_t count)
+ssize_t sh2000_ram_span(loff_t pos, size_t count)
 {
 	if ((pos | count) & 1)
 		return -EINVAL;
@@ -115,6 +122,43 @@ static ssize_t sh2000_span(loff_t pos, size_t count)
 		return 0;
 	return min_t(size_t, count, SH2000_RAM_BYTES - pos) / 2;
 }
+EXPORT_SYMBOL_GPL(sh2000_ram_span);
+
+/**
+ * sh2000_ram_llseek() - the new file position of an lseek on the RAM
+ * @file:	the file, whose f_pos is updated
+ * @offset:	as passed to lseek
+ * @whence:	SEEK_SET, SEEK_CUR or SEEK_END (anything else is -EINVAL)
+ *
+ * The position stays within 0..2048; an odd one is accepted here and
+ * refused by the next transfer.
+ *
+ * Return: the new position or -EINVAL.
+ */
+loff_t sh2000_ram_llseek(struct file *file, loff_t offset, int whence)
+{
+	loff_t base, pos;
+
+	switch (whence) {
+	case SEEK_SET:
+		base = 0;
+		break;
+	case SEEK_CUR:
+		base = file->f_pos;
+		break;
+	case SEEK_END:
+		base = SH2000_RAM_BYTES;
+		break;
+	default:
+		return -EINVAL;
+	}
+	if (check_add_overflow(base, offset, &pos) || pos < 0 ||
+	    pos > SH2000_RAM_BYTES)
+		return -EINVAL;
+	file->f_pos = pos;
+	return pos;
+}
+EXPORT_SYMBOL_GPL(sh2000_ram_llseek);
 
 static int sh2000_lock_live(struct sh2000_card *card)
 {
@@ -137,7 +181,7 @@ static ssize_t sh2000_read(struct file *file, char __user *buf, size_t count,
 	ret = sh2000_lock_live(card);
 	if (ret)
 		return ret;
-	ret = sh2000_span(*ppos, count);
+	ret = sh2000_ram_span(*ppos, count);
 	if (ret <= 0)
 		goto out;
 	n = ret;
@@ -182,7 +226,7 @@ static ssize_t sh2000_write(struct file *file, const char __user *buf,
 	ret = sh2000_lock_live(card);
 	if (ret)
 		return ret;
-	ret = sh2000_span(*ppos, count);
+	ret = sh2000_ram_span(*ppos, count);
 	if (ret < 0)
 		goto out;
 	if (ret == 0) {
@@ -226,28 +270,12 @@ out:
 static loff_t sh2000_llseek(struct file *file, loff_t offset, int whence)
 {
 	struct sh2000_card *card = file->private_data;
-	loff_t base, pos;
 
-	switch (whence) {
-	case SEEK_SET:
-		base = 0;
-		break;
-	case SEEK_CUR:
-		base = file->f_pos;
-		break;
-	case SEEK_END:
-		base = SH2000_RAM_BYTES;
-		break;
-	default:
+	if (whence != SEEK_SET && whence != SEEK_CUR && whence != SEEK_END)
 		return -EINVAL;
-	}
 	if (READ_ONCE(card->dead))
 		return -ENODEV;
-	if (check_add_overflow(base, offset, &pos) || pos < 0 ||
-	    pos > SH2000_RAM_BYTES)
-		return -EINVAL;
-	file->f_pos = pos;
-	return pos;
+	return sh2000_ram_llseek(file, offset, whence);
 }
 
 static long sh2000_get_info(struct sh2000_card *card, void __user *argp)

@@ -18,6 +18,7 @@
 #define SH2000_MAX_CARDS	16
 
 struct device;
+struct file;
 struct sh2000_card;
 
 /**
@@ -43,6 +44,10 @@ struct sh2000_card *sh2000_card_register(struct device *parent,
 					 u32 flags, int index);
 void sh2000_card_unregister(struct sh2000_card *card);
 int sh2000_card_index(const struct sh2000_card *card);
+
+/* The RAM's file rules, shared by the host and the simulated DSP side. */
+ssize_t sh2000_ram_span(loff_t pos, size_t count);
+loff_t sh2000_ram_llseek(struct file *file, loff_t offset, int whence);
 
 /* Set up and tear down the class and the minors (sh2000.ko init/exit). */
 int sh2000_core_init(void);

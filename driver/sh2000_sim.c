@@ -111,15 +111,6 @@ static const struct sh2000_port_ops sh2000_sim_ops = {
  * every word moves as one 16-bit access and is never torn.
  */
 
-static ssize_t sh2000_dsp_span(loff_t pos, size_t count)
-{
-	if ((pos | count) & 1)
-		return -EINVAL;
-	if (pos >= SH2000_RAM_BYTES)
-		return 0;
-	return min_t(size_t, count, SH2000_RAM_BYTES - pos) / 2;
-}
-
 static ssize_t sh2000_dsp_read(struct file *file, char __user *buf,
 			       size_t count, loff_t *ppos)
 {
@@ -128,7 +119,7 @@ static ssize_t sh2000_dsp_read(struct file *file, char __user *buf,
 	unsigned int word, done = 0, n, i, k;
 	ssize_t ret;
 
-	ret = sh2000_dsp_span(*ppos, count);
+	ret = sh2000_ram_span(*ppos, count);
 	if (ret <= 0)
 		return ret;
 	n = ret;
@@ -155,7 +146,7 @@ static ssize_t sh2000_dsp_write(struct file *file, const char __user *buf,
 	unsigned int word, done = 0, n, i, k;
 	ssize_t ret;
 
-	ret = sh2000_dsp_span(*ppos, count);
+	ret = sh2000_ram_span(*ppos, count);
 	if (ret < 0)
 		return ret;
 	if (ret == 0)
@@ -174,30 +165,6 @@ static ssize_t sh2000_dsp_write(struct file *file, const char __user *buf,
 		return -EFAULT;
 	*ppos += 2 * done;
 	return 2 * done;
-}
-
-static loff_t sh2000_dsp_llseek(struct file *file, loff_t offset, int whence)
-{
-	loff_t base, pos;
-
-	switch (whence) {
-	case SEEK_SET:
-		base = 0;
-		break;
-	case SEEK_CUR:
-		base = file->f_pos;
-		break;
-	case SEEK_END:
-		base = SH2000_RAM_BYTES;
-		break;
-	default:
-		return -EINVAL;
-	}
-	if (check_add_overflow(base, offset, &pos) || pos < 0 ||
-	    pos > SH2000_RAM_BYTES)
-		return -EINVAL;
-	file->f_pos = pos;
-	return pos;
 }
 
 /* One shared page at offset 0; the RAM is its first 2048 bytes. */
@@ -225,7 +192,7 @@ static const struct file_operations sh2000_dsp_fops = {
 	.open		= sh2000_dsp_open,
 	.read		= sh2000_dsp_read,
 	.write		= sh2000_dsp_write,
-	.llseek		= sh2000_dsp_llseek,
+	.llseek		= sh2000_ram_llseek,
 	.mmap		= sh2000_dsp_mmap,
 };
 

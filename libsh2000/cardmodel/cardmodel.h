@@ -17,17 +17,8 @@
 #define SH2000_COUNTER_BITS	28u
 #define SH2000_COUNTER_MASK	((1u << SH2000_COUNTER_BITS) - 1u)
 
-/* ---- fpga.c: the host side of the FPGA ---- */
+/* ---- fpga.c: the FPGA (its API is in sh2000_cardsim.h) ---- */
 
-struct sh2000_fpga {
-	uint16_t *ram;			/* SH2000_RAM_WORDS */
-	unsigned int addr;		/* 10-bit address counter */
-	uint64_t counters[4];		/* clears, increments, reads, writes */
-};
-
-void sh2000_fpga_init(struct sh2000_fpga *f, uint16_t *ram);
-void sh2000_fpga_out(struct sh2000_fpga *f, unsigned int reg, uint16_t v);
-uint16_t sh2000_fpga_in(struct sh2000_fpga *f, unsigned int reg);
 /* Sign-extended difference of two 28-bit counter values. */
 int32_t sh2000_counter_delta(uint32_t now, uint32_t before);
 

@@ -35,6 +35,24 @@ static inline void sh2000_dpram_write(uint16_t *ram, unsigned int w, uint16_t v)
 	__atomic_store_n(&ram[w], v, __ATOMIC_RELEASE);
 }
 
+/* ---- the FPGA: four registers and the address counter (fpga.c) ---- */
+
+/*
+ * The one model of the register semantics of docs/card.md. The virtual-time
+ * card drives it, and so does the `sim:NAME` backend, which emulates the
+ * FPGA on the host side of a RAM that another process serves.
+ */
+struct sh2000_fpga {
+	uint16_t *ram;			/* SH2000_RAM_WORDS */
+	unsigned int addr;		/* 10-bit address counter */
+	uint64_t counters[4];		/* clears, increments, reads, writes */
+};
+
+void sh2000_fpga_init(struct sh2000_fpga *f, uint16_t *ram);
+/* One port cycle: a write (SH2000_REG_*) or a read of the data register. */
+void sh2000_fpga_out(struct sh2000_fpga *f, unsigned int reg, uint16_t v);
+uint16_t sh2000_fpga_in(struct sh2000_fpga *f, unsigned int reg);
+
 /* ---- plant and environment of one axis (documented defaults) ---- */
 
 struct sh2000_plant_config {

@@ -18,26 +18,12 @@
 
 static void shm_out(struct sh2000 *h, unsigned int reg, uint16_t v)
 {
-	switch (reg) {
-	case SH2000_REG_ADDR_CLEAR:
-		h->fpga_counter = 0;
-		break;
-	case SH2000_REG_ADDR_INC:
-		h->fpga_counter = (h->fpga_counter + 1) & SH2000_ADDR_MASK;
-		break;
-	case SH2000_REG_DATA:
-		sh2000_dpram_write(h->shm->ram, h->fpga_counter, v);
-		break;
-	default:
-		break;
-	}
+	sh2000_fpga_out(&h->fpga, reg, v);
 }
 
 static uint16_t shm_in(struct sh2000 *h, unsigned int reg)
 {
-	if (reg == SH2000_REG_DATA)
-		return sh2000_dpram_read(h->shm->ram, h->fpga_counter);
-	return 0xffff;	/* write-only registers float */
+	return sh2000_fpga_in(&h->fpga, reg);
 }
 
 static void shm_close(struct sh2000 *h)
@@ -104,7 +90,7 @@ int sh2000_shm_open(struct sh2000 *h, const char *name, char *msg,
 				  "sim:%s: server (pid %d) is gone", name, pid);
 	}
 	h->bus.pos = SH2000_SEEK_UNKNOWN;
-	h->fpga_counter = 0;
+	sh2000_fpga_init(&h->fpga, h->shm->ram);
 	h->be = &shm_backend;
 	return 0;
 }

@@ -52,7 +52,7 @@ struct sh2000 {
 	unsigned long io_base;		/* io */
 	struct sh2000_cardsim *sim;	/* sim */
 	struct sh2000_shm *shm;		/* shm */
-	unsigned int fpga_counter;	/* shm: the emulated FPGA counter */
+	struct sh2000_fpga fpga;	/* shm: the FPGA, emulated on this side */
 
 	unsigned int card_version;
 	/* host-owned words, as this handle last wrote them */

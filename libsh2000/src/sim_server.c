@@ -3,7 +3,8 @@
  * Serving a card model for `sim:NAME`: the shared-memory object
  * /sh2000-NAME (sh2000_shm.h) plays the dual-port RAM, and the firmware
  * runs one servo cycle per servo period in real time (or back to back
- * with SH2000_SIM_SERVER_FREE_RUN). Injections and probes take the
+ * with SH2000_SIM_SERVER_FREE_RUN); or the same on a RAM the caller
+ * mapped (sh2000_sim_server_attach). Injections and probes take the
  * server's mutex, so they land between two cycles.
  */
 #include <errno.h>
@@ -22,7 +23,8 @@
 
 struct sh2000_sim_server {
 	char shm_name[SH2000_SHM_NAME_MAX + 16];
-	struct sh2000_shm *shm;
+	struct sh2000_shm *shm;	/* NULL when attached to a caller's RAM */
+	uint16_t *ram;		/* the dual-port RAM the firmware runs on */
 	struct sh2000_fw *fw;
 	unsigned int flags;
 	pthread_mutex_t lock;	/* the firmware between cycles */
@@ -125,7 +127,8 @@ int sh2000_sim_server_create(struct sh2000_sim_server **out, const char *name,
 		sh2000_sim_config_default(&def);
 		cfg = &def;
 	}
-	r = sh2000_fw_create(&s->fw, s->shm->ram, cfg);
+	s->ram = s->shm->ram;
+	r = sh2000_fw_create(&s->fw, s->ram, cfg);
 	if (r < 0) {
 		sh2000_msg(msg, len, r, "sim:%s: card model: %s", name,
 			   sh2000_strerror(r));
@@ -141,13 +144,41 @@ int sh2000_sim_server_create(struct sh2000_sim_server **out, const char *name,
 	return 0;
 }
 
+int sh2000_sim_server_attach(struct sh2000_sim_server **out, uint16_t *ram,
+			     const struct sh2000_sim_config *cfg,
+			     unsigned int flags, char *msg, size_t len)
+{
+	struct sh2000_sim_server *s;
+	int r;
+
+	*out = NULL;
+	s = calloc(1, sizeof(*s));
+	if (!s)
+		return sh2000_msg(msg, len, -ENOMEM, "attach: out of memory");
+	s->flags = flags;
+	s->ram = ram;
+	pthread_mutex_init(&s->lock, NULL);
+	/* a card that boots shows no firmware until it is ready */
+	sh2000_dpram_write(ram, SH2000_W_MAGIC, 0);
+	r = sh2000_fw_create(&s->fw, ram, cfg);
+	if (r < 0) {
+		sh2000_msg(msg, len, r, "card model: %s", sh2000_strerror(r));
+		pthread_mutex_destroy(&s->lock);
+		free(s);
+		return r;
+	}
+	*out = s;
+	return 0;
+}
+
 int sh2000_sim_server_run(struct sh2000_sim_server *s)
 {
 	struct timespec next;
 	uint64_t period = 0;
 
 	clock_gettime(CLOCK_MONOTONIC, &next);
-	__atomic_store_n(&s->shm->running, 1, __ATOMIC_RELEASE);
+	if (s->shm)
+		__atomic_store_n(&s->shm->running, 1, __ATOMIC_RELEASE);
 	while (!__atomic_load_n(&s->stop, __ATOMIC_ACQUIRE)) {
 		uint64_t c;
 
@@ -156,7 +187,8 @@ int sh2000_sim_server_run(struct sh2000_sim_server *s)
 		period = sh2000_fw_servo_period_ns(s->fw);
 		pthread_mutex_unlock(&s->lock);
 		c = __atomic_add_fetch(&s->cycles, 1, __ATOMIC_RELAXED);
-		__atomic_store_n(&s->shm->cycles, c, __ATOMIC_RELAXED);
+		if (s->shm)
+			__atomic_store_n(&s->shm->cycles, c, __ATOMIC_RELAXED);
 		if (s->flags & SH2000_SIM_SERVER_FREE_RUN)
 			continue;
 		next.tv_nsec += (long)period;
@@ -181,7 +213,8 @@ int sh2000_sim_server_run(struct sh2000_sim_server *s)
 		       !__atomic_load_n(&s->stop, __ATOMIC_ACQUIRE))
 			;
 	}
-	__atomic_store_n(&s->shm->running, 0, __ATOMIC_RELEASE);
+	if (s->shm)
+		__atomic_store_n(&s->shm->running, 0, __ATOMIC_RELEASE);
 	return 0;
 }
 
@@ -218,9 +251,14 @@ void sh2000_sim_server_destroy(struct sh2000_sim_server *s)
 	if (s->started)
 		pthread_join(s->thread, NULL);
 	sh2000_fw_destroy(s->fw);
-	__atomic_store_n(&s->shm->magic, 0, __ATOMIC_RELEASE);
-	munmap(s->shm, sizeof(*s->shm));
-	shm_unlink(s->shm_name);
+	if (s->shm) {
+		__atomic_store_n(&s->shm->magic, 0, __ATOMIC_RELEASE);
+		munmap(s->shm, sizeof(*s->shm));
+		shm_unlink(s->shm_name);
+	} else {
+		/* the card goes away: hosts see "no firmware", not a stall */
+		sh2000_dpram_write(s->ram, SH2000_W_MAGIC, 0);
+	}
 	pthread_mutex_destroy(&s->lock);
 	free(s);
 }

@@ -22,7 +22,6 @@
 #include <string.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <sh2000/sim.h>
@@ -148,35 +147,17 @@ static int serve_name(const char *name, unsigned int flags, int quiet,
 	return r < 0 ? SH2000_EXIT_CARD : SH2000_EXIT_OK;
 }
 
-static void ts_add(struct timespec *t, uint64_t ns)
-{
-	t->tv_sec += (time_t)(ns / 1000000000ull);
-	t->tv_nsec += (long)(ns % 1000000000ull);
-	if (t->tv_nsec >= 1000000000L) {
-		t->tv_nsec -= 1000000000L;
-		t->tv_sec++;
-	}
-}
-
-static uint64_t mono_ns(void)
-{
-	struct timespec t;
-
-	clock_gettime(CLOCK_MONOTONIC, &t);
-	return (uint64_t)t.tv_sec * 1000000000ull + (uint64_t)t.tv_nsec;
-}
-
 /* The card model on a RAM someone else owns: the kernel simulated card's
- * DSP page (one page, MAP_SHARED only) or a plain file. */
+ * DSP page (one page, MAP_SHARED only) or a plain file. The library's
+ * server runs it, with the same real-time loop as for sim:NAME. */
 static int serve_attach(const char *path, unsigned int flags, int quiet,
 			int ready_fd)
 {
 	long page = sysconf(_SC_PAGESIZE);
 	size_t maplen = page > 0 ? (size_t)page : 4096;
-	struct sh2000_fw *fw;
-	struct timespec next;
+	struct sh2000_sim_server *s;
 	struct stat sb;
-	uint64_t cycles = 0;
+	char msg[512];
 	uint16_t *ram;
 	int fd, r;
 
@@ -212,14 +193,14 @@ static int serve_attach(const char *path, unsigned int flags, int quiet,
 		return SH2000_EXIT_DEVICE;
 	}
 	close(fd);
-	/* a card that boots shows no firmware until it is ready */
-	sh2000_dpram_write(ram, SH2000_W_MAGIC, 0);
-	r = sh2000_fw_create(&fw, ram, NULL);
+	msg[0] = '\0';
+	r = sh2000_sim_server_attach(&s, ram, NULL, flags, msg, sizeof(msg));
 	if (r < 0) {
-		sh2000_tool_msg("%s: card model: %s", path, sh2000_strerror(r));
+		sh2000_tool_msg("%s: %s", path, msg[0] ? msg : sh2000_strerror(r));
 		munmap(ram, maplen);
 		return SH2000_EXIT_CARD;
 	}
+	served = s;
 	if (!quiet) {
 		printf("sh2000-sim: card model attached to %s (pid %d, %s)\n",
 		       path, (int)getpid(),
@@ -228,39 +209,17 @@ static int serve_attach(const char *path, unsigned int flags, int quiet,
 		fflush(stdout);
 	}
 	print_ready(quiet, ready_fd);
-	clock_gettime(CLOCK_MONOTONIC, &next);
-	while (!stop_requested) {
-		uint64_t period, due, now;
-
-		sh2000_fw_cycle(fw);
-		cycles++;
-		if (flags & SH2000_SIM_SERVER_FREE_RUN)
-			continue;
-		period = sh2000_fw_servo_period_ns(fw);
-		ts_add(&next, period);
-		/* far behind (stopped, overloaded): go on from now rather than
-		 * run a burst of cycles, as the shared-memory server does */
-		due = (uint64_t)next.tv_sec * 1000000000ull +
-		      (uint64_t)next.tv_nsec;
-		now = mono_ns();
-		if (now > due + 100 * period) {
-			next.tv_sec = (time_t)(now / 1000000000ull);
-			next.tv_nsec = (long)(now % 1000000000ull);
-		}
-		while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next,
-				       NULL) == EINTR && !stop_requested)
-			;
-	}
-	/* the card goes away: hosts see "no firmware", not a stalled DSP */
-	sh2000_dpram_write(ram, SH2000_W_MAGIC, 0);
-	sh2000_fw_destroy(fw);
-	munmap(ram, maplen);
+	if (!stop_requested)
+		r = sh2000_sim_server_run(s);
 	if (!quiet) {
 		printf("sh2000-sim: stopped after %llu servo cycles, %s detached\n",
-		       (unsigned long long)cycles, path);
+		       (unsigned long long)sh2000_sim_server_cycles(s), path);
 		fflush(stdout);
 	}
-	return SH2000_EXIT_OK;
+	served = NULL;
+	sh2000_sim_server_destroy(s);
+	munmap(ram, maplen);
+	return r < 0 ? SH2000_EXIT_CARD : SH2000_EXIT_OK;
 }
 
 int main(int argc, char **argv)

@@ -51,6 +51,15 @@ struct sh2000_sim_server;
 int sh2000_sim_server_create(struct sh2000_sim_server **out, const char *name,
 			     const struct sh2000_sim_config *cfg,
 			     unsigned int flags, char *msg, size_t msglen);
+/*
+ * The same server on a RAM the caller has mapped and keeps owning (the
+ * kernel simulated card's DSP page /dev/sh2000-dsp-N, or a file): no shared
+ * memory object is created. The magic word reads 0 ("no firmware") until
+ * the model runs and again after destroy.
+ */
+int sh2000_sim_server_attach(struct sh2000_sim_server **out, uint16_t *ram,
+			     const struct sh2000_sim_config *cfg,
+			     unsigned int flags, char *msg, size_t msglen);
 /* Run servo cycles at the servo period in real time in the calling thread
  * until sh2000_sim_server_stop() (from another thread or a signal
  * handler: it only sets a flag). */
@@ -58,7 +67,8 @@ int sh2000_sim_server_run(struct sh2000_sim_server *s);
 /* Or in a thread the server owns. */
 int sh2000_sim_server_start(struct sh2000_sim_server *s);
 void sh2000_sim_server_stop(struct sh2000_sim_server *s);
-/* Stops (joins the thread if started), unlinks the object, frees. */
+/* Stops (joins the thread if started), unlinks the object (or clears the
+ * attached RAM's magic word), frees. */
 void sh2000_sim_server_destroy(struct sh2000_sim_server *s);
 /* Applied between two servo cycles. */
 int sh2000_sim_server_inject(struct sh2000_sim_server *s,
@@ -67,7 +77,7 @@ int sh2000_sim_server_inject(struct sh2000_sim_server *s,
 int sh2000_sim_server_probe(struct sh2000_sim_server *s,
 			    struct sh2000_probe *p);
 uint64_t sh2000_sim_server_cycles(struct sh2000_sim_server *s);
-/* The shared-memory object's name ("/sh2000-NAME"). */
+/* The shared-memory object's name ("/sh2000-NAME"; "" when attached). */
 const char *sh2000_sim_server_shm_name(const struct sh2000_sim_server *s);
 
 #ifdef __cplusplus

@@ -206,3 +206,29 @@ unsigned int h_trapezoid(double from, double to, double v, double a,
 	}
 	return n;
 }
+
+static struct harness fixture;
+
+int h_setup(void **state)
+{
+	h_init(&fixture, NULL);
+	*state = &fixture;
+	return 0;
+}
+
+int h_setup_enabled(void **state)
+{
+	h_setup(state);
+	/* cmocka's assertions need its headers; a plain check is enough */
+	if (h_cmd(&fixture, SH2000_CMD_ENABLE, 0, 0, 0x3, NULL) != SH2000_RES_OK) {
+		h_fini(&fixture);
+		return -1;
+	}
+	return 0;
+}
+
+int h_teardown(void **state)
+{
+	h_fini(*state);
+	return 0;
+}

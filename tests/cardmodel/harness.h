@@ -55,4 +55,12 @@ void h_snapshot(struct harness *h, int32_t cmd[SH2000_AXES],
 unsigned int h_trapezoid(double from, double to, double v, double a,
 			 double coarse_s, double *out, unsigned int cap);
 
+/*
+ * cmocka fixtures: a fresh card with axes 0 and 1 enabled (h_setup_enabled)
+ * or just booted (h_setup); h_teardown frees it. *state is the harness.
+ */
+int h_setup(void **state);
+int h_setup_enabled(void **state);
+int h_teardown(void **state);
+
 #endif

@@ -11,21 +11,6 @@
 
 #include "harness.h"
 
-static int setup(void **state)
-{
-	static struct harness h;
-
-	h_init(&h, NULL);
-	*state = &h;
-	return 0;
-}
-
-static int teardown(void **state)
-{
-	h_fini(*state);
-	return 0;
-}
-
 static uint32_t fbits(float f)
 {
 	uint32_t b;
@@ -213,14 +198,14 @@ static void busy_and_faulted(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test_setup_teardown(boot_words, setup, teardown),
-		cmocka_unit_test_setup_teardown(nop_round_trip, setup, teardown),
-		cmocka_unit_test_setup_teardown(bad_check, setup, teardown),
-		cmocka_unit_test_setup_teardown(bad_op_axis_param, setup, teardown),
-		cmocka_unit_test_setup_teardown(params, setup, teardown),
-		cmocka_unit_test_setup_teardown(enable_disable, setup, teardown),
-		cmocka_unit_test_setup_teardown(set_position, setup, teardown),
-		cmocka_unit_test_setup_teardown(busy_and_faulted, setup, teardown),
+		cmocka_unit_test_setup_teardown(boot_words, h_setup, h_teardown),
+		cmocka_unit_test_setup_teardown(nop_round_trip, h_setup, h_teardown),
+		cmocka_unit_test_setup_teardown(bad_check, h_setup, h_teardown),
+		cmocka_unit_test_setup_teardown(bad_op_axis_param, h_setup, h_teardown),
+		cmocka_unit_test_setup_teardown(params, h_setup, h_teardown),
+		cmocka_unit_test_setup_teardown(enable_disable, h_setup, h_teardown),
+		cmocka_unit_test_setup_teardown(set_position, h_setup, h_teardown),
+		cmocka_unit_test_setup_teardown(busy_and_faulted, h_setup, h_teardown),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -15,22 +15,6 @@
 static int32_t pts[MAXPTS][SH2000_AXES];
 static double xs[MAXPTS];
 
-static int setup(void **state)
-{
-	static struct harness h;
-
-	h_init(&h, NULL);
-	assert_int_equal(h_cmd(&h, SH2000_CMD_ENABLE, 0, 0, 0x3, NULL), SH2000_RES_OK);
-	*state = &h;
-	return 0;
-}
-
-static int teardown(void **state)
-{
-	h_fini(*state);
-	return 0;
-}
-
 static unsigned int long_move(void)
 {
 	unsigned int n = h_trapezoid(0, 2e7, 3e7, 3e8, 0.002, xs, MAXPTS), i;
@@ -190,10 +174,10 @@ static void protocol_fault(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test_setup_teardown(underrun, setup, teardown),
-		cmocka_unit_test_setup_teardown(estop_latency, setup, teardown),
-		cmocka_unit_test_setup_teardown(host_timeout, setup, teardown),
-		cmocka_unit_test_setup_teardown(protocol_fault, setup, teardown),
+		cmocka_unit_test_setup_teardown(underrun, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(estop_latency, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(host_timeout, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(protocol_fault, h_setup_enabled, h_teardown),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

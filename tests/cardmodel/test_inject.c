@@ -11,22 +11,6 @@
 
 #include "harness.h"
 
-static int setup(void **state)
-{
-	static struct harness h;
-
-	h_init(&h, NULL);
-	assert_int_equal(h_cmd(&h, SH2000_CMD_ENABLE, 0, 0, 0x3, NULL), SH2000_RES_OK);
-	*state = &h;
-	return 0;
-}
-
-static int teardown(void **state)
-{
-	h_fini(*state);
-	return 0;
-}
-
 /* 40 records of a slow ramp on axis 0 (the last without END). */
 static void push_ramp(struct harness *h, unsigned int n)
 {
@@ -202,15 +186,15 @@ static void soft_limit(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test_setup_teardown(heartbeat_stop, setup, teardown),
-		cmocka_unit_test_setup_teardown(dsp_stall, setup, teardown),
-		cmocka_unit_test_setup_teardown(ram_flip, setup, teardown),
-		cmocka_unit_test_setup_teardown(jam, setup, teardown),
-		cmocka_unit_test_setup_teardown(limit, setup, teardown),
-		cmocka_unit_test_setup_teardown(drop, setup, teardown),
-		cmocka_unit_test_setup_teardown(counter_glitch, setup, teardown),
-		cmocka_unit_test_setup_teardown(dac_saturation, setup, teardown),
-		cmocka_unit_test_setup_teardown(soft_limit, setup, teardown),
+		cmocka_unit_test_setup_teardown(heartbeat_stop, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(dsp_stall, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(ram_flip, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(jam, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(limit, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(drop, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(counter_glitch, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(dac_saturation, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(soft_limit, h_setup_enabled, h_teardown),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

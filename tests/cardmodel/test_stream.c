@@ -17,22 +17,6 @@
 static int32_t pts[MAXPTS][SH2000_AXES];
 static double xs[MAXPTS];
 
-static int setup(void **state)
-{
-	static struct harness h;
-
-	h_init(&h, NULL);
-	assert_int_equal(h_cmd(&h, SH2000_CMD_ENABLE, 0, 0, 0x3, NULL), SH2000_RES_OK);
-	*state = &h;
-	return 0;
-}
-
-static int teardown(void **state)
-{
-	h_fini(*state);
-	return 0;
-}
-
 /* A diagonal move on axes 0 and 1 (axis 1 at half the distance). */
 static unsigned int make_move(double dist, double v, double a)
 {
@@ -121,7 +105,7 @@ static void following_error(void **state)
 	double ff = max_ferr(h, 1), pid;
 
 	h_fini(h);
-	setup(state);
+	assert_int_equal(h_setup_enabled(state), 0);
 	h = *state;
 	pid = max_ferr(h, 0);
 	printf("# 100 mm at 300 mm/s, 3 m/s^2: max following error PID %.0f counts (%.2f um), "
@@ -209,9 +193,9 @@ static void rejections(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test_setup_teardown(follows_bspline, setup, teardown),
-		cmocka_unit_test_setup_teardown(following_error, setup, teardown),
-		cmocka_unit_test_setup_teardown(rejections, setup, teardown),
+		cmocka_unit_test_setup_teardown(follows_bspline, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(following_error, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(rejections, h_setup_enabled, h_teardown),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

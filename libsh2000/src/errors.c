@@ -14,6 +14,7 @@ static const char *const sh2000_errnames[] = {
 	[SH2000_EPARAM - SH2000_E_BASE] = "bad parameter value",
 	[SH2000_ETORN - SH2000_E_BASE] = "status snapshot kept tearing",
 	[SH2000_ENOTSIM - SH2000_E_BASE] = "not a simulated card",
+	[SH2000_ESTOPPED - SH2000_E_BASE] = "card stopped the motion (a STOP command)",
 	[SH2000_ECMD_OP - SH2000_E_BASE] = "card rejected the command: unknown operation",
 	[SH2000_ECMD_AXIS - SH2000_E_BASE] = "card rejected the command: bad axis",
 	[SH2000_ECMD_PARAM - SH2000_E_BASE] = "card rejected the command: unknown parameter",

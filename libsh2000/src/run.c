@@ -250,6 +250,19 @@ static int wait_card(struct sh2000_run *r, unsigned int need, int idle)
 			return e;
 		fill = r->st.queue_fill;
 		progress(r);
+		/*
+		 * Mid-motion the card stops or goes idle with an empty ring
+		 * only when a STOP (from another program: this run sends none
+		 * while streaming) discarded the ring. Pushing on would start
+		 * a new motion far from where the card stopped and have it
+		 * rejected; say what happened instead.
+		 */
+		if (r->in_motion &&
+		    (r->st.card_state == SH2000_STATE_STOPPING ||
+		     (r->st.card_state == SH2000_STATE_IDLE && fill == 0)))
+			return fail(r, -SH2000_ESTOPPED,
+				    "%s: the card stopped the motion (a STOP command from another program?)",
+				    sh2000_device(r->h));
 		if (idle ? fill == 0 && r->st.card_state == SH2000_STATE_IDLE :
 		    SH2000_RING_RECORDS - fill >= need)
 			break;

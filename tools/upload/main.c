@@ -561,6 +561,8 @@ static int run_fail(const struct sh2000_program *prog,
 	sh2000_tool_msg("%s", sh2000_run_error(rc->run));
 	if (where[0])
 		sh2000_tool_msg("%s: the card was running this block", where);
+	if (e == -SH2000_ESTOPPED)
+		return UPLOAD_EXIT_STOPPED;	/* an operator's STOP elsewhere */
 	return sh2000_tool_exit_code(e);
 }
 

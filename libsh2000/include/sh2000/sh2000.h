@@ -42,6 +42,9 @@ enum sh2000_error {
 	SH2000_EPARAM = 1005,		/* value rejected by host validation */
 	SH2000_ETORN = 1006,		/* snapshot kept tearing, retries spent */
 	SH2000_ENOTSIM = 1007,		/* needs a simulated card */
+	SH2000_ESTOPPED = 1008,		/* the card stopped a motion this
+					   handle was streaming (a STOP
+					   from another program) */
 	/* command results (SH2000_RES_*) */
 	SH2000_ECMD_OP = 1010,		/* card: unknown command */
 	SH2000_ECMD_AXIS = 1011,	/* card: bad axis */

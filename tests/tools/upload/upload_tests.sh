@@ -363,8 +363,30 @@ t_shm_stop() {
 	stop_sim
 }
 
+# An operator's STOP from another program (sh2000ctl in a second terminal):
+# the upload says so and exits 7, and the card is left idle with nothing
+# latched (pushing on would have had the next record rejected).
+t_shm_other_stop() {
+	[ -n "${CTL:-}" ] && [ -x "$CTL" ] || { echo "sh2000ctl not built: skipped"; exit 77; }
+	local name=upload-ostop-$$ i
+	start_sim $name
+	rm -f ostop.err
+	"$UPLOAD" -d sim:$name "$DATA/long.ngc" >out 2>ostop.err &
+	local pid=$!
+	for i in $(seq 200); do grep -q "progress" ostop.err 2>/dev/null && break; sleep 0.05; done
+	sleep 0.5
+	"$CTL" -d sim:$name stop >ctl.out 2>ctl.err || { fail "sh2000ctl stop: exit $?"; cat ctl.err; }
+	wait $pid
+	local rc=$?
+	[ "$rc" = 7 ] || { fail "STOP from sh2000ctl: exit $rc, expected 7"; cat ostop.err; }
+	has "the card stopped the motion" ostop.err
+	"$PROBE" sim:$name >p
+	has "state=1 fill=0" p
+	stop_sim
+}
+
 case ${1:-} in
-geometry|raw|override|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop)
+geometry|raw|override|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop|shm_other_stop)
 	"t_$1" ;;
 *) echo "usage: upload_tests.sh TEST"; exit 2 ;;
 esac

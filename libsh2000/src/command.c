@@ -436,7 +436,7 @@ static int set_locked(struct sh2000 *h, int axis, unsigned int id,
 int sh2000_param_set(struct sh2000 *h, int axis, unsigned int id, double v)
 {
 	const struct sh2000_param_info *p;
-	int32_t word, other;
+	int32_t word = 0, other = 0;	/* set by encode() and get_locked() */
 	double scale;
 	int r;
 

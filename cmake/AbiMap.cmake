@@ -1,10 +1,14 @@
-# cmake -DOUT=<map> -DHEADERS=<h;h...> -P AbiMap.cmake
-# The linker version script of libsh2000.so: it exports the functions the
-# public headers name (sh2000_*), nothing else. Names of static inline
-# functions and of functions only mentioned in comments do no harm there.
-set(_names)
+# cmake -DOUT=<map> -DHEADERS=<h;h...> [-DEXTRA=<sym;sym...>] -P AbiMap.cmake
+# The linker version script of one of the libraries: it exports the
+# functions its public headers declare (sh2000_*) and the EXTRA symbols,
+# nothing else. Comments are stripped first, so a name mentioned in prose
+# is not exported; names of static inline functions do no harm.
+set(_names ${EXTRA})
 foreach(h IN LISTS HEADERS)
   file(READ "${h}" _txt)
+  # /* ... */ comments (non-greedy: no "*/" inside) and // comments
+  string(REGEX REPLACE "/\\*([^*]|\\*+[^*/])*\\*+/" "" _txt "${_txt}")
+  string(REGEX REPLACE "//[^\n]*" "" _txt "${_txt}")
   string(REGEX MATCHALL "sh2000_[A-Za-z0-9_]+[ \t]*\\(" _m "${_txt}")
   foreach(n IN LISTS _m)
     string(REGEX REPLACE "[ \t(]" "" n "${n}")

@@ -41,84 +41,48 @@ if(NOT _sh2000_drv STREQUAL PROJECT_VERSION)
   message(WARNING "driver SH2000_DRIVER_VERSION \"${_sh2000_drv}\" != project version ${PROJECT_VERSION}")
 endif()
 
-# ---- the library ----------------------------------------------------------
-# libsh2000/src gives the library targets the source tree's include
-# directories. Installed consumers get only <prefix>/include (headers are
-# included as <sh2000/...>), so the build paths are kept for the build only.
-foreach(t sh2000 sh2000_static)
-  if(NOT TARGET ${t})
-    continue()
-  endif()
-  get_target_property(_dirs ${t} INTERFACE_INCLUDE_DIRECTORIES)
-  set(_wrapped)
-  foreach(d IN LISTS _dirs)
-    if(d MATCHES "^\\$<")
-      list(APPEND _wrapped "${d}")
-    else()
-      list(APPEND _wrapped "$<BUILD_INTERFACE:${d}>")
-    endif()
-  endforeach()
-  list(APPEND _wrapped "$<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>")
-  set_property(TARGET ${t} PROPERTY INTERFACE_INCLUDE_DIRECTORIES "${_wrapped}")
-  add_dependencies(sh2000_installables ${t})
+# ---- the libraries ---------------------------------------------------------
+# Each layer (cmake/Sh2000Library.cmake) is a shared and a static library;
+# their targets carry build-tree include paths only as BUILD_INTERFACE.
+# Installed consumers get <prefix>/include (headers as <sh2000/...>).
+foreach(t sh2000 sh2000_motion sh2000_sim)
+  add_dependencies(sh2000_installables ${t} ${t}_static)
 endforeach()
-
-if(TARGET sh2000)
-  set_target_properties(sh2000 PROPERTIES EXPORT_NAME sh2000)
-  install(TARGETS sh2000 EXPORT sh2000Targets
-    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
-      COMPONENT runtime
-      NAMELINK_COMPONENT dev)
-endif()
-if(TARGET sh2000_static)
-  set_target_properties(sh2000_static PROPERTIES EXPORT_NAME sh2000_static)
-  install(TARGETS sh2000_static EXPORT sh2000Targets
-    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev)
+set_target_properties(sh2000 PROPERTIES EXPORT_NAME sh2000)
+set_target_properties(sh2000_static PROPERTIES EXPORT_NAME sh2000_static)
+set_target_properties(sh2000_motion PROPERTIES EXPORT_NAME motion)
+set_target_properties(sh2000_motion_static PROPERTIES EXPORT_NAME motion_static)
+set_target_properties(sh2000_sim PROPERTIES EXPORT_NAME sim)
+set_target_properties(sh2000_sim_static PROPERTIES EXPORT_NAME sim_static)
+install(TARGETS sh2000 sh2000_motion sh2000_sim EXPORT sh2000Targets
+  LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    COMPONENT runtime
+    NAMELINK_COMPONENT dev)
+install(TARGETS sh2000_static sh2000_motion_static sh2000_sim_static
+  EXPORT sh2000Targets
+  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev)
+foreach(t sh2000_static sh2000_motion_static sh2000_sim_static)
   # `cmake --install --strip` and the packages (CPACK_STRIP_FILES) strip the
-  # shared library and the tools; strip the archive's debug sections too,
+  # shared libraries and the tools; strip the archives' debug sections too,
   # as Debian's dh_strip does (they hold the build machine's paths).
   install(CODE "
     if(CMAKE_INSTALL_DO_STRIP)
       execute_process(COMMAND \"${CMAKE_STRIP}\" --strip-debug --enable-deterministic-archives
-        \"\$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:sh2000_static>\")
+        \"\$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:${t}>\")
     endif()" COMPONENT dev)
-endif()
+endforeach()
 
-# Public headers, all in include/sh2000/. sh2000.h includes
-# "sh2000_protocol.h" and sim.h includes "sh2000_cardsim.h": both are found
-# beside the includer. The driver's ioctl ABI is there too for programs that
-# talk to /dev/sh2000-N themselves (#include <sh2000/uapi/sh2000.h>).
-file(GLOB _sh2000_public_headers CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/libsh2000/include/sh2000/*.h)
-install(FILES
-  ${_sh2000_public_headers}
-  ${PROJECT_SOURCE_DIR}/libsh2000/protocol/sh2000_protocol.h
-  ${PROJECT_SOURCE_DIR}/libsh2000/cardmodel/sh2000_cardsim.h
-  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/sh2000 COMPONENT dev)
+# Public headers, all in include/sh2000/, one folder per layer in the
+# source tree. They include each other as "sh2000/...". The driver's ioctl
+# ABI is there too for programs that talk to /dev/sh2000-N themselves
+# (#include <sh2000/uapi/sh2000.h>).
+foreach(layer protocol device motion sim)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/libsh2000/${layer}/include/sh2000
+    DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT dev
+    FILES_MATCHING PATTERN "*.h")
+endforeach()
 install(FILES ${PROJECT_SOURCE_DIR}/driver/uapi/sh2000.h
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/sh2000/uapi COMPONENT dev)
-
-# ABI: libsh2000.so exports the functions the public headers declare and
-# nothing else (the card model's, the planner's and the library's internal
-# functions stay inside), so the SONAME rule in docs/install.md covers
-# exactly the API. The version script is made from the headers at build time.
-option(SH2000_EXPORT_PUBLIC_ONLY "libsh2000.so exports only the public headers' functions" ON)
-if(TARGET sh2000 AND SH2000_EXPORT_PUBLIC_ONLY)
-  set(_sh2000_abi_headers
-    ${_sh2000_public_headers}
-    ${PROJECT_SOURCE_DIR}/libsh2000/protocol/sh2000_protocol.h
-    ${PROJECT_SOURCE_DIR}/libsh2000/cardmodel/sh2000_cardsim.h)
-  set(_sh2000_map ${PROJECT_BINARY_DIR}/libsh2000.map)
-  add_custom_command(OUTPUT ${_sh2000_map}
-    COMMAND ${CMAKE_COMMAND} -DOUT=${_sh2000_map} "-DHEADERS=${_sh2000_abi_headers}"
-      -P ${CMAKE_CURRENT_LIST_DIR}/AbiMap.cmake
-    DEPENDS ${_sh2000_abi_headers} ${CMAKE_CURRENT_LIST_DIR}/AbiMap.cmake
-    COMMENT "libsh2000.map: the public headers' functions"
-    VERBATIM)
-  add_custom_target(sh2000_abi_map DEPENDS ${_sh2000_map})
-  add_dependencies(sh2000 sh2000_abi_map)
-  target_link_options(sh2000 PRIVATE "LINKER:--version-script=${_sh2000_map}")
-  set_property(TARGET sh2000 APPEND PROPERTY LINK_DEPENDS ${_sh2000_map})
-endif()
 
 # pkg-config: the shared library; `pkg-config --static` adds what
 # libsh2000.a needs.

@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "sh2000/sh2000.h"
+#include "sh2000/sh2000_protocol.h"
 #include "sh2000/sim.h"
 
 static double secs(clockid_t id)

@@ -11,7 +11,7 @@
 #include <stddef.h>
 #include <string.h>
 
-#include "sh2000_protocol.h"
+#include "sh2000/sh2000_protocol.h"
 
 #define I32_MIN (-2147483648.0)
 #define I32_MAX 2147483647.0

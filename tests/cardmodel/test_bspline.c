@@ -8,7 +8,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
-#include "bspline.h"
+#include "sh2000/bspline.h"
 
 static void equal_points(void **state)
 {

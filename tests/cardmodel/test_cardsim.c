@@ -13,7 +13,9 @@
 
 #include <math.h>
 
-#include "sh2000_cardsim.h"
+#include "sh2000/sh2000_cardsim.h"
+#include "sh2000/sh2000_protocol.h"
+#include "sh2000_fpga.h"
 #include "sh2000_hw.h"
 
 static void seek(struct sh2000_cardsim *c, unsigned int w)

@@ -11,7 +11,7 @@
 #include <string.h>
 #include <cmocka.h>
 
-#include "sh2000_protocol.h"
+#include "sh2000/sh2000_protocol.h"
 
 static char *doc;
 

@@ -8,7 +8,7 @@
 #include <string.h>
 #include <cmocka.h>
 
-#include "sh2000_protocol.h"
+#include "sh2000/sh2000_protocol.h"
 
 static void table(void **state)
 {

@@ -11,6 +11,8 @@
 
 #include <stdint.h>
 
+#include "sh2000/sh2000_protocol.h"
+
 #include "sh2000_internal.h"
 
 enum fake_op { FAKE_CLEAR, FAKE_INC, FAKE_RD, FAKE_WR };

@@ -12,6 +12,7 @@
 #include <cmocka.h>
 
 #include "sh2000/sh2000.h"
+#include "sh2000/sh2000_protocol.h"
 #include "sh2000/sim.h"
 
 #define CHECK(call) do { \

@@ -11,6 +11,7 @@
 #include <sched.h>
 
 #include "simtest.h"
+#include "sh2000_fpga.h"
 
 struct run {
 	struct sh2000 *h;

@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bspline.h"
+#include "sh2000/bspline.h"
 #include "sh2000/path.h"
 
 struct rec {

@@ -13,7 +13,7 @@
 
 #include <cmocka.h>
 
-#include "program.h"
+#include "sh2000/program.h"
 
 static struct sh2000_program P;
 static struct sh2000_prog_diags D;

@@ -33,6 +33,8 @@ static const char *backend_name(enum sh2000_backend_kind k)
 		return "sim (in-process card model, virtual time)";
 	case SH2000_BACKEND_SHM:
 		return "sim:NAME (served card model, real time)";
+	case SH2000_BACKEND_PORTS:
+		return "ports (a program's own register-level card)";
 	}
 	return "?";
 }

@@ -679,10 +679,10 @@ static void summary(const struct opts *o, struct sh2000 *h,
 	       s->max_ferr_mm, "xyza"[s->max_ferr_axis % 4],
 	       sh2000_backend(h) == SH2000_BACKEND_SIM ? "every servo cycle" :
 	       "at status polls");
-	if (s->min_fill < SH2000_RING_RECORDS)
+	if (s->min_fill < sh2000_queue_size(h))
 		printf("  underruns            %llu (ring low-water mark %u of %u records)\n",
 		       (unsigned long long)s->underruns, s->min_fill,
-		       SH2000_RING_RECORDS);
+		       sh2000_queue_size(h));
 	else
 		printf("  underruns            %llu\n",
 		       (unsigned long long)s->underruns);

@@ -13,7 +13,7 @@
 #include <sh2000/path.h>
 #include <sh2000/run.h>
 
-#include "program.h"
+#include <sh2000/program.h>
 #include "toolcommon.h"
 
 /* Exit codes beyond the shared ones of toolcommon.h (0..4). */

@@ -1,0 +1,365 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * libsh2000: the C library NC applications call to drive an SH-2000TH
+ * motion card (docs/library.md is the tour).
+ *
+ * Error rule: every function that can fail returns an int that is 0 or
+ * positive on success and negative on failure: -errno for system errors,
+ * -SH2000_E* (SH2000_E_BASE..SH2000_E_LAST) for card and protocol errors.
+ * sh2000_strerror() names every code; sh2000_last_error() says what failed
+ * and where on this handle.
+ *
+ * Thread safety: a handle has its own mutex, so threads may share it. Port
+ * sequences are bounded and run under the mutex; waits (for a command
+ * acknowledgement, queue space, idle) release it between polls, so an
+ * emergency stop from another thread never waits behind them. The library
+ * has no global mutable state: separate handles are independent.
+ *
+ * The card's state, fault bits, parameter ids and axis count are the
+ * protocol's own names (sh2000/card.h), not copies. Where they live in the
+ * dual-port RAM (sh2000/sh2000_protocol.h) is not needed to use this API.
+ */
+#ifndef SH2000_SH2000_H
+#define SH2000_SH2000_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sh2000/card.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- errors ---------------------------------------------------------- */
+
+enum sh2000_error {
+	SH2000_E_BASE = 1000,
+	SH2000_EVERSION = 1000,		/* card speaks another protocol major */
+	SH2000_EMAGIC = 1001,		/* no firmware: magic word wrong */
+	SH2000_EHEARTBEAT = 1002,	/* card heartbeat stopped (DSP stalled) */
+	SH2000_ETIMEOUT = 1003,		/* the card did not answer in time */
+	SH2000_EQUEUE_FULL = 1004,	/* no room in the ring for the batch */
+	SH2000_EPARAM = 1005,		/* value rejected by host validation */
+	SH2000_ETORN = 1006,		/* snapshot kept tearing, retries spent */
+	SH2000_ENOTSIM = 1007,		/* needs a simulated card */
+	SH2000_ESTOPPED = 1008,		/* the card stopped a motion this
+					   handle was streaming (a STOP
+					   from another program) */
+	/* command results (SH2000_RES_*) */
+	SH2000_ECMD_OP = 1010,		/* card: unknown command */
+	SH2000_ECMD_AXIS = 1011,	/* card: bad axis */
+	SH2000_ECMD_PARAM = 1012,	/* card: unknown parameter */
+	SH2000_ECMD_VALUE = 1013,	/* card: value out of range */
+	SH2000_ECMD_BUSY = 1014,	/* card: not allowed while moving */
+	SH2000_ECMD_FAULTED = 1015,	/* card: a latched fault forbids it */
+	SH2000_ECMD_CHECKSUM = 1016,	/* card: command check word wrong */
+	SH2000_ECMD_DISABLED = 1017,	/* card: axis not enabled / not idle */
+	SH2000_ECMD_UNKNOWN = 1018,	/* card: result code not in protocol */
+	/* latched card faults */
+	SH2000_EESTOP = 1020,		/* emergency stop latched */
+	SH2000_EUNDERRUN = 1021,	/* ring ran dry mid-motion */
+	SH2000_EHOST_TIMEOUT = 1022,	/* card saw the host heartbeat stop */
+	SH2000_EREJECTED = 1023,	/* card rejected a segment record */
+	SH2000_EPROTOCOL = 1024,	/* card saw an impossible ring fill */
+	SH2000_EFAULTED = 1025,		/* card faulted (no known fault bit) */
+	/* latched axis faults */
+	SH2000_EFERR = 1030,		/* following error limit */
+	SH2000_ESOFT_LIMIT = 1031,	/* set-point beyond a soft limit */
+	SH2000_EHARD_LIMIT = 1032,	/* limit switch hit */
+	SH2000_EDAC_SAT = 1033,		/* DAC saturated too long */
+	SH2000_ECOUNTER = 1034,		/* implausible encoder counter jump */
+	SH2000_EHOME = 1035,		/* homing failed */
+	/* programs and motion (libsh2000-motion) */
+	SH2000_EPROGRAM = 1040,		/* error in an NC program (the message
+					   gives file:line:column) */
+	SH2000_EFORMAT = 1041,		/* not a program format the reader
+					   knows */
+	SH2000_ELIMIT = 1042,		/* a planned point beyond a soft limit */
+	SH2000_E_LAST = 1042,
+};
+
+/* Name of any code this library returns (-errno, -SH2000_E*, >= 0). */
+const char *sh2000_strerror(int code);
+
+/* ---- handles --------------------------------------------------------- */
+
+struct sh2000;
+
+enum sh2000_backend_kind {
+	SH2000_BACKEND_DEV = 0,	/* /dev/sh2000-N, the kernel driver */
+	SH2000_BACKEND_IO = 1,	/* io:0xNNN, direct port I/O */
+	SH2000_BACKEND_SIM = 2,	/* sim, in-process card model, virtual time */
+	SH2000_BACKEND_SHM = 3,	/* sim:NAME, served card model, real time */
+	SH2000_BACKEND_PORTS = 4, /* the caller's struct sh2000_ports */
+};
+
+#define SH2000_DEFAULT_DEVICE	"/dev/sh2000-0"
+#define SH2000_DEVICE_ENV	"SH2000_DEVICE"
+
+/*
+ * Open a card. device: "/dev/sh2000-N" (or any path), "io:0xNNN", "sim",
+ * "sim:NAME"; NULL or "" means $SH2000_DEVICE, else /dev/sh2000-0. Checks
+ * the magic, the protocol version and the heartbeat. On failure *out is
+ * NULL and, if msg is not NULL, msg gets a message naming the device and
+ * the reason.
+ */
+int sh2000_open(struct sh2000 **out, const char *device, char *msg,
+		size_t msglen);
+void sh2000_close(struct sh2000 *h);
+
+/*
+ * A card behind the FPGA's four registers (SH2000_REG_* of the register
+ * map) that the caller supplies: a card model, a test's fake card, a
+ * bridge to other hardware. `sim` is this with libsh2000-sim's model.
+ * ctx is handed to every function; now_ns/advance_ns NULL mean real time
+ * (CLOCK_MONOTONIC, sleeping). watch may be NULL (sh2000_watch_cycles()).
+ */
+struct sh2000_cycle;
+typedef void (*sh2000_cycle_fn)(void *arg, const struct sh2000_cycle *c);
+
+struct sh2000_ports {
+	size_t size;		/* sizeof(struct sh2000_ports) */
+	unsigned int flags;	/* SH2000_PORTS_F_* */
+	void *ctx;
+	void (*out)(void *ctx, unsigned int reg, uint16_t v);
+	uint16_t (*in)(void *ctx, unsigned int reg);
+	uint64_t (*now_ns)(void *ctx);
+	void (*advance_ns)(void *ctx, uint64_t ns);
+	int (*watch)(void *ctx, sh2000_cycle_fn fn, void *arg);
+	void (*close)(void *ctx);
+};
+
+/* The card keeps its own clock: waits advance it (now_ns, advance_ns
+ * required) under the handle's lock instead of sleeping. */
+#define SH2000_PORTS_F_VIRTUAL_TIME	0x0001u
+/* A simulated card: sh2000_backend() says SH2000_BACKEND_SIM. */
+#define SH2000_PORTS_F_SIMULATED	0x0002u
+
+/* Open a card on *ports (copied). The handle owns ports->ctx from here on,
+ * on failure too: close(ctx) runs at sh2000_close() or before an error
+ * return. name is what sh2000_device() reports. */
+int sh2000_open_ports(struct sh2000 **out, const struct sh2000_ports *ports,
+		      const char *name, char *msg, size_t msglen);
+/* Run fn on the handle's ports under the handle's lock (so it is
+ * serialised with the library's own port cycles); -SH2000_ENOTSIM if h was
+ * not opened on struct sh2000_ports. Returns what fn returns. */
+int sh2000_ports_call(struct sh2000 *h,
+		      int (*fn)(const struct sh2000_ports *p, void *arg),
+		      void *arg);
+
+/*
+ * What a simulated card did in one servo cycle: its fine-interpolated
+ * set-points and encoder positions (counts, not wrapped). A real card
+ * does not show this; traces and tests use it to measure feed and contour
+ * where the card produces them.
+ */
+struct sh2000_cycle {
+	uint64_t servo_cycle;	/* servo cycles run so far */
+	uint64_t time_ns;	/* card time */
+	unsigned int state;	/* enum sh2000_card_state */
+	struct {
+		double fine_cmd;	/* set-point this cycle, counts */
+		double actual;		/* encoder position, counts */
+		double velocity;	/* counts/s */
+		int16_t dac;		/* DAC code output */
+	} axis[SH2000_AXES];
+};
+/* fn runs after every servo cycle inside the library's calls on h (keep
+ * it short; NULL removes it). -SH2000_ENOTSIM unless the card shows its
+ * cycles (`sim`). */
+int sh2000_watch_cycles(struct sh2000 *h, sh2000_cycle_fn fn, void *arg);
+
+/* What the last failing call on h said. The pointer stays valid until the
+ * next call on h; threads sharing h use sh2000_last_error_copy(). */
+const char *sh2000_last_error(struct sh2000 *h);
+void sh2000_last_error_copy(struct sh2000 *h, char *buf, size_t len);
+
+const char *sh2000_device(const struct sh2000 *h);
+enum sh2000_backend_kind sh2000_backend(const struct sh2000 *h);
+/* SH2000_W_VERSION as the card reported it at open. */
+unsigned int sh2000_card_version(const struct sh2000 *h);
+
+/*
+ * Versions of the library that is running (not the one compiled against):
+ * "MAJOR.MINOR.PATCH", and the SONAME's major (libsh2000.so.N). The protocol
+ * version it speaks is SH2000_PROTO_MAJOR/MINOR, the driver ABI it expects
+ * SH2000_ABI_VERSION.
+ */
+const char *sh2000_version(void);
+unsigned int sh2000_soversion(void);
+
+/* The handle's clock: virtual card time for `sim`, CLOCK_MONOTONIC else. */
+uint64_t sh2000_now_ns(struct sh2000 *h);
+/* Let time pass: advances the card model for `sim`, sleeps otherwise. */
+int sh2000_sleep_ns(struct sh2000 *h, uint64_t ns);
+
+/* ---- status ---------------------------------------------------------- */
+
+struct sh2000_axis_status {
+	int64_t pos_counts;	/* encoder, 28-bit counter extended to 64 */
+	int32_t cmd_counts;	/* card's set-point */
+	int32_t ferr_counts;	/* cmd - pos */
+	double pos_mm, cmd_mm, ferr_mm;
+	int16_t dac;		/* DAC code */
+	unsigned int state;	/* SH2000_AXIS_* bits */
+	unsigned int faults;	/* SH2000_AXIS_FAULT_* bits */
+};
+
+struct sh2000_status {
+	unsigned int card_state;	/* enum sh2000_card_state */
+	unsigned int card_faults;	/* SH2000_FAULT_* bits */
+	unsigned int queue_fill;	/* records queued, 0..RING_RECORDS */
+	unsigned int queue_free;
+	uint16_t heartbeat;		/* card heartbeat word */
+	uint64_t heartbeat_age_ns;	/* host time since it last changed */
+	uint64_t card_cycle;		/* servo cycle of the snapshot, the
+					 * card's 32 bits extended to 64 */
+	uint16_t snap_seq;		/* snapshot sequence (SNAP_SEQ_*) */
+	uint16_t estop_req, estop_ack;
+	uint16_t reject_seq, reject_reason, reject_count;
+	uint64_t host_time_ns;		/* sh2000_now_ns() at the poll */
+	unsigned int retries;		/* torn snapshots re-read */
+	struct sh2000_axis_status axis[SH2000_AXES];
+};
+
+/* A card heartbeat unchanged for this long is a stopped DSP (or five
+ * servo periods, when the card is set to run slower than 500 Hz). */
+#define SH2000_HEARTBEAT_LIMIT_NS	10000000ull
+/* The same for `sim:NAME`, whose DSP is an ordinary process. */
+#define SH2000_HEARTBEAT_LIMIT_SHM_NS	100000000ull
+/* Change the limit for this handle (0: back to the rule above), e.g. for
+ * a `sim:NAME` card served on a loaded machine. */
+void sh2000_set_heartbeat_limit(struct sh2000 *h, uint64_t ns);
+/* Torn snapshots re-read at once; after these a poll keeps re-reading
+ * every 20 us for a tenth of the heartbeat limit, then gives up with
+ * SH2000_ETORN. */
+#define SH2000_POLL_RETRIES		16
+
+/*
+ * One poll: words 0..SH2000_STATUS_WORDS-1 in one streamed read (re-read
+ * while the snapshot is torn), then the host heartbeat. Fills *st and
+ * returns 0; -SH2000_EHEARTBEAT (with *st filled) when the card heartbeat
+ * has not advanced for SH2000_HEARTBEAT_LIMIT_NS. Latched faults are in
+ * *st, not in the return value (see sh2000_status_error()).
+ */
+int sh2000_poll(struct sh2000 *h, struct sh2000_status *st);
+/* The error a status' latched faults stand for (0 if none), with the
+ * detail message set on h. */
+int sh2000_status_error(struct sh2000 *h, const struct sh2000_status *st);
+
+/* ---- commands -------------------------------------------------------- */
+
+/* Default wait for a command acknowledgement. */
+#define SH2000_CMD_TIMEOUT_MS	100
+
+/* One raw command (enum sh2000_cmd_op): waits for the acknowledgement;
+ * result codes map to -SH2000_ECMD_*; *value gets CMD_VALUE if not NULL. */
+int sh2000_command(struct sh2000 *h, unsigned int op, unsigned int axis,
+		   unsigned int param, int32_t arg, int32_t *value);
+int sh2000_nop(struct sh2000 *h);
+int sh2000_enable(struct sh2000 *h, unsigned int axis_mask);
+int sh2000_disable(struct sh2000 *h, unsigned int axis_mask);
+/* Controlled stop: the card decelerates and discards the ring. */
+int sh2000_stop(struct sh2000 *h);
+/* Clear latched faults (and a latched emergency stop); card goes idle. */
+int sh2000_reset(struct sh2000 *h);
+/* Home one axis (flags: SH2000_HOME_F_*); poll or wait_idle for the end. */
+int sh2000_home(struct sh2000 *h, unsigned int axis, unsigned int flags);
+/* Tell the card axis is at pos_mm now. */
+int sh2000_set_position(struct sh2000 *h, unsigned int axis, double pos_mm);
+/*
+ * Emergency stop: writes SH2000_W_ESTOP_REQ at once (never behind a
+ * command or the ring), then waits up to timeout_ms for ESTOP_ACK.
+ */
+int sh2000_estop(struct sh2000 *h, int timeout_ms);
+
+/* ---- parameters ------------------------------------------------------ */
+
+/* axis argument for the global parameters (SH2000_GP_*) */
+#define SH2000_GLOBAL		(-1)
+
+/*
+ * Parameters in user units: lengths in mm (ferr_limit, soft_min/max,
+ * home_offset), velocities mm/s (vmax, home_vel), accelerations mm/s^2
+ * (amax); scale counts/mm; gains, times, DAC values, cycles and the global
+ * parameters in the card's units. Conversion uses the axis' scale as the
+ * library last read or set it.
+ *
+ * Validation happens before anything is written: NaN or infinity, values
+ * outside the protocol's range (negative gains...), soft limits out of
+ * order, values the card cannot represent -> -SH2000_EPARAM with a message
+ * naming the axis and the parameter.
+ */
+int sh2000_param_set(struct sh2000 *h, int axis, unsigned int param,
+		     double value);
+int sh2000_param_get(struct sh2000 *h, int axis, unsigned int param,
+		     double *value);
+/* Parameter names as users see them; -SH2000_EPARAM if unknown. */
+int sh2000_param_id(const char *name);
+const char *sh2000_param_name(unsigned int param);
+const char *sh2000_param_unit(unsigned int param);
+
+/* Every per-axis parameter, indexed by enum sh2000_param, in user units. */
+struct sh2000_axis_params {
+	double v[SH2000_AXIS_PARAMS];
+};
+/* The protocol's defaults, in user units. */
+void sh2000_axis_params_default(struct sh2000_axis_params *p);
+int sh2000_axis_params_get(struct sh2000 *h, unsigned int axis,
+			   struct sh2000_axis_params *p);
+/* Validates all of p (scale first, the rest in the new scale), then sets
+ * them: nothing is sent if any value is bad. */
+int sh2000_axis_params_set(struct sh2000 *h, unsigned int axis,
+			   const struct sh2000_axis_params *p);
+
+/* ---- segments -------------------------------------------------------- */
+
+/* sh2000_push_*() flags */
+#define SH2000_PUSH_END		0x0001u	/* last batch of a motion */
+
+/*
+ * Queue n coarse-interpolation points (one record each, all axes) in one
+ * all-or-nothing batch: either all n are queued and published with one
+ * HEAD update, or nothing is written. Returns n, -SH2000_EQUEUE_FULL if
+ * the ring has not room for all n now, -EMSGSIZE if n > ring size, a
+ * latched card fault as its error, -SH2000_EPARAM for an unrepresentable
+ * point. Each record carries the segment number sh2000_next_segment()
+ * gives (low 16 bits); a rejection names it.
+ */
+int sh2000_push_counts(struct sh2000 *h, const int32_t (*pts)[SH2000_AXES],
+		       size_t n, unsigned int flags);
+int sh2000_push_mm(struct sh2000 *h, const double (*pts)[SH2000_AXES],
+		   size_t n, unsigned int flags);
+uint64_t sh2000_next_segment(struct sh2000 *h);
+/* Records the card's ring holds (the most sh2000_push_*() takes at once). */
+unsigned int sh2000_queue_size(const struct sh2000 *h);
+/* Free records in the ring now (one read), or an error. */
+int sh2000_queue_free(struct sh2000 *h);
+/* Wait until n records fit / the card is idle with an empty ring (and has
+ * published a snapshot since, so a poll shows the end of the motion). A
+ * latched fault ends the wait with its error; -SH2000_ETIMEOUT after
+ * timeout_ms (negative: no limit). Waits keep the host heartbeat going. */
+int sh2000_wait_space(struct sh2000 *h, unsigned int n, int timeout_ms);
+int sh2000_wait_idle(struct sh2000 *h, int timeout_ms);
+
+/* ---- raw access, for tools and tests --------------------------------- */
+
+struct sh2000_port_counters {
+	uint64_t clears, increments, data_reads, data_writes;
+	uint32_t position;	/* counter position, 0xffffffff unknown */
+};
+/* Port cycles this handle issued (dev: the driver's counters for the
+ * card). */
+int sh2000_port_counters(struct sh2000 *h, struct sh2000_port_counters *c);
+/* Words [addr, addr+n) of the dual-port RAM (no wrap past 1023). */
+int sh2000_ram_read(struct sh2000 *h, unsigned int addr, unsigned int n,
+		    uint16_t *buf);
+int sh2000_ram_write(struct sh2000 *h, unsigned int addr, unsigned int n,
+		     const uint16_t *buf);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SH2000_SH2000_H */

@@ -1,0 +1,160 @@
+/* SPDX-License-Identifier: MIT */
+/* The handle and the backends, shared by the library's source files. */
+#ifndef SH2000_INTERNAL_H
+#define SH2000_INTERNAL_H
+
+#include <pthread.h>
+#include <stdarg.h>
+#include <stdint.h>
+
+#include "sh2000/sh2000.h"
+#include "sh2000/sh2000_protocol.h"
+#include "sh2000_fpga.h"
+#include "sh2000_seek.h"
+#include "sh2000_shm.h"
+
+struct sh2000;
+
+/*
+ * A backend either moves whole word ranges itself (the kernel driver) or
+ * offers the four FPGA registers (io:, sim, sim:NAME, struct sh2000_ports), in which case the
+ * bus (bus.c) does the seeking with sh2000_seek_plan().
+ */
+struct sh2000_backend {
+	enum sh2000_backend_kind kind;
+	int virtual_time;	/* waits advance the model, under the lock */
+	int (*read)(struct sh2000 *h, unsigned int addr, unsigned int n,
+		    uint16_t *buf);
+	int (*write)(struct sh2000 *h, unsigned int addr, unsigned int n,
+		     const uint16_t *buf);
+	void (*port_out)(struct sh2000 *h, unsigned int reg, uint16_t v);
+	uint16_t (*port_in)(struct sh2000 *h, unsigned int reg);
+	uint64_t (*now_ns)(struct sh2000 *h);
+	void (*wait_ns)(struct sh2000 *h, uint64_t ns);
+	int (*counters)(struct sh2000 *h, struct sh2000_port_counters *c);
+	void (*close)(struct sh2000 *h);
+};
+
+/* Port cycles and counter position of a register-level bus. */
+struct sh2000_bus {
+	unsigned int pos;	/* SH2000_SEEK_UNKNOWN until the first clear */
+	uint64_t clears, increments, data_reads, data_writes;
+};
+
+struct sh2000 {
+	pthread_mutex_t lock;
+	pthread_cond_t cmd_cond;	/* the command slot became free */
+	const struct sh2000_backend *be;
+	char device[128];
+
+	/* backend state */
+	struct sh2000_bus bus;
+	int fd;				/* dev, shm */
+	unsigned long io_base;		/* io */
+	struct sh2000_ports ports;	/* sim, ports */
+	struct sh2000_shm *shm;		/* shm */
+	struct sh2000_fpga fpga;	/* shm: the FPGA, emulated on this side */
+
+	unsigned int card_version;
+	/* host-owned words, as this handle last wrote them */
+	uint16_t estop_req;
+	uint16_t host_hb;
+	uint64_t host_hb_ns;		/* when host_hb was last written */
+	uint16_t head;
+	uint16_t cmd_seq;
+	int cmd_busy;
+	int urgent;			/* atomic: an estop wants the lock */
+	uint64_t segments;		/* records pushed (segment numbers) */
+
+	/* heartbeat watch */
+	int hb_seen;
+	uint16_t hb_last;
+	uint64_t hb_change_ns;
+	uint64_t hb_seen_ns;		/* last time the heartbeat was read */
+	int hb_unsure;			/* same value after a gap it may wrap in */
+	uint64_t hb_limit_ns;
+	uint64_t hb_limit_user;		/* set by the caller, 0: derived */
+	uint64_t servo_ns;		/* coarse period / fine steps */
+	int32_t coarse_us, fine_steps;
+
+	/* 28-bit counter extension */
+	int act_seen;
+	uint32_t act_last[SH2000_AXES];
+	int64_t act_ext[SH2000_AXES];
+	int cycle_seen;			/* 32-bit snapshot time extended */
+	uint32_t cycle_last;
+	uint64_t cycle_ext;
+
+	double scale[SH2000_AXES];	/* counts per mm, as last read/set */
+
+	char err[256];
+};
+
+/* errors.c */
+int sh2000_fail(struct sh2000 *h, int code, const char *fmt, ...)
+	__attribute__((format(printf, 3, 4)));
+int sh2000_msg(char *msg, size_t len, int code, const char *fmt, ...)
+	__attribute__((format(printf, 4, 5)));
+
+/* bus.c: register-level access with lazy increments */
+int sh2000_bus_read(struct sh2000 *h, unsigned int addr, unsigned int n,
+		    uint16_t *buf);
+int sh2000_bus_write(struct sh2000 *h, unsigned int addr, unsigned int n,
+		     const uint16_t *buf);
+int sh2000_bus_counters(struct sh2000 *h, struct sh2000_port_counters *c);
+
+/* Word access through the backend; the caller holds h->lock. */
+int sh2000_rd(struct sh2000 *h, unsigned int addr, unsigned int n,
+	      uint16_t *buf);
+int sh2000_wr(struct sh2000 *h, unsigned int addr, unsigned int n,
+	      const uint16_t *buf);
+static inline int sh2000_wr1(struct sh2000 *h, unsigned int addr, uint16_t v)
+{
+	return sh2000_wr(h, addr, 1, &v);
+}
+
+/* Let time pass holding the lock for virtual time, releasing it else. */
+void sh2000_hold_wait(struct sh2000 *h, uint64_t ns);
+uint64_t sh2000_now_locked(struct sh2000 *h);
+
+/* status.c, with the lock held */
+/* Heartbeat limit from the servo period (or the caller's choice). */
+void sh2000_timing_changed(struct sh2000 *h);
+/* Wait until the card publishes its next snapshot. */
+int sh2000_fresh_snapshot(struct sh2000 *h, int timeout_ms);
+/* Age of the card heartbeat; sets hb_unsure when an unchanged value may
+ * have wrapped (the caller re-reads it before calling the card stopped). */
+uint64_t sh2000_hb_note(struct sh2000 *h, uint16_t hb, uint64_t now);
+int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st);
+int sh2000_status_error_locked(struct sh2000 *h,
+			       const struct sh2000_status *st);
+
+/* command.c, with the lock held (it may release it while waiting) */
+int sh2000_command_locked(struct sh2000 *h, unsigned int op,
+			  unsigned int axis, unsigned int param, int32_t arg,
+			  int32_t *value, int timeout_ms);
+
+/* backends */
+int sh2000_dev_open(struct sh2000 *h, const char *path, char *msg,
+		    size_t len);
+int sh2000_io_open(struct sh2000 *h, const char *spec, char *msg,
+		   size_t len);
+/* backend_ports.c: take over *p (closed on failure too) */
+int sh2000_ports_attach(struct sh2000 *h, const struct sh2000_ports *p,
+			char *msg, size_t len);
+/* backend_simload.c: `sim` from libsh2000-sim's provider */
+int sh2000_simload_open(struct sh2000 *h, char *msg, size_t len);
+int sh2000_shm_open(struct sh2000 *h, const char *name, char *msg,
+		    size_t len);
+
+uint64_t sh2000_mono_ns(void);
+void sh2000_sleep_real(uint64_t ns);
+
+/* Little helpers for 32-bit values in two words. */
+static inline int32_t sh2000_w32(const uint16_t *w)
+{
+	return (int32_t)((uint32_t)w[0] | ((uint32_t)w[1] << 16));
+}
+
+
+#endif /* SH2000_INTERNAL_H */

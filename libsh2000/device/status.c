@@ -1,0 +1,312 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * One poll: words 0..SH2000_STATUS_WORDS-1 in one streamed read, re-read
+ * while the versioned snapshot is torn, then the host heartbeat (word 47,
+ * one increment further). Decoding: 28-bit counters extended to 64 bits
+ * per handle, the card heartbeat's age in host time, latched faults to
+ * errors.
+ */
+#include <errno.h>
+#include <string.h>
+
+#include "sh2000_internal.h"
+
+/* Pause between re-reads once the immediate ones are spent. */
+#define TORN_WAIT_NS	20000ull
+
+static void decode(struct sh2000 *h, const uint16_t *w,
+		   struct sh2000_status *st)
+{
+	unsigned int a;
+
+	st->estop_req = w[SH2000_W_ESTOP_REQ];
+	st->heartbeat = w[SH2000_W_HEARTBEAT];
+	st->estop_ack = w[SH2000_W_ESTOP_ACK];
+	st->card_state = w[SH2000_W_STATE];
+	st->card_faults = w[SH2000_W_FAULTS];
+	st->queue_fill = (uint16_t)(h->head - w[SH2000_W_TAIL]);
+	st->queue_free = st->queue_fill <= SH2000_RING_RECORDS ?
+			 SH2000_RING_RECORDS - st->queue_fill : 0;
+	st->reject_seq = w[SH2000_W_REJECT_SEQ];
+	st->reject_reason = w[SH2000_W_REJECT_REASON];
+	st->reject_count = w[SH2000_W_REJECT_COUNT];
+	{
+		uint32_t c = (uint32_t)sh2000_w32(&w[SH2000_W_SNAP_TIME_LO]);
+
+		h->cycle_ext = h->cycle_seen ? h->cycle_ext + (uint32_t)(c - h->cycle_last) : c;
+		h->cycle_last = c;
+		h->cycle_seen = 1;
+		st->card_cycle = h->cycle_ext;
+	}
+	st->snap_seq = w[SH2000_W_SNAP_SEQ_END];
+	for (a = 0; a < SH2000_AXES; a++) {
+		const uint16_t *s = &w[SH2000_W_SNAP_AXIS(a)];
+		struct sh2000_axis_status *ax = &st->axis[a];
+		uint32_t raw = (uint32_t)sh2000_w32(&s[SH2000_SNAP_ACT_LO]) &
+			       SH2000_COUNTER_MASK;
+
+		if (!h->act_seen)
+			h->act_ext[a] = sh2000_counter_signed(raw);
+		else
+			h->act_ext[a] += sh2000_counter_delta(raw, h->act_last[a]);
+		h->act_last[a] = raw;
+		ax->pos_counts = h->act_ext[a];
+		ax->cmd_counts = sh2000_w32(&s[SH2000_SNAP_CMD_LO]);
+		ax->ferr_counts = sh2000_counter_delta(
+			(uint32_t)ax->cmd_counts, raw);
+		ax->dac = (int16_t)s[SH2000_SNAP_DAC];
+		ax->state = w[SH2000_W_AXIS_STATE(a)];
+		ax->faults = w[SH2000_W_AXIS_FAULTS(a)];
+		ax->pos_mm = (double)ax->pos_counts / h->scale[a];
+		ax->cmd_mm = (double)ax->cmd_counts / h->scale[a];
+		ax->ferr_mm = (double)ax->ferr_counts / h->scale[a];
+	}
+	h->act_seen = 1;
+}
+
+/*
+ * The heartbeat is 16 bits: after 2^16 servo cycles it shows the same
+ * value again. An unchanged value read after a gap that long (less a
+ * margin for a card clock a little faster than the host's) proves
+ * nothing: the watch restarts from now and hb_unsure asks the caller to
+ * look again.
+ */
+static uint64_t hb_wrap_ns(const struct sh2000 *h)
+{
+	/* 15/16 of a wrap; before the timing is known, the limit */
+	return h->servo_ns ? (h->servo_ns << 16) - (h->servo_ns << 12) :
+	       h->hb_limit_ns;
+}
+
+uint64_t sh2000_hb_note(struct sh2000 *h, uint16_t hb, uint64_t now)
+{
+	if (!h->hb_seen || hb != h->hb_last) {
+		h->hb_seen = 1;
+		h->hb_last = hb;
+		h->hb_change_ns = now;
+		h->hb_unsure = 0;
+	} else if (now - h->hb_seen_ns >= hb_wrap_ns(h)) {
+		h->hb_change_ns = now;
+		h->hb_unsure = 1;
+	}
+	h->hb_seen_ns = now;
+	return now - h->hb_change_ns;
+}
+
+int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
+{
+	uint16_t w[SH2000_STATUS_WORDS];
+	unsigned int tries;
+	uint64_t now, t0 = 0;
+	int r;
+
+	memset(st, 0, sizeof(*st));
+	for (tries = 0;; tries++) {
+		/* a retry re-reads the snapshot alone: shorter, so more
+		 * likely to fit between two publications */
+		unsigned int from = tries ? SH2000_W_SNAP_SEQ_END : 0;
+
+		r = sh2000_rd(h, from, SH2000_STATUS_WORDS - from, &w[from]);
+		if (r < 0)
+			return r;
+		if (w[SH2000_W_SNAP_SEQ_END] == w[SH2000_W_SNAP_SEQ_BEGIN])
+			break;
+		if (tries == SH2000_POLL_RETRIES)
+			t0 = sh2000_now_locked(h);
+		if (tries < SH2000_POLL_RETRIES)
+			continue;
+		/*
+		 * Still torn: the card was interrupted inside a publication
+		 * (a served model descheduled, a DSP stalled mid-write). Give
+		 * it a tenth of the heartbeat limit before calling it torn.
+		 */
+		if (sh2000_now_locked(h) - t0 >= h->hb_limit_ns / 10)
+			return sh2000_fail(h, -SH2000_ETORN,
+					   "status snapshot torn %u times in a row over %.1f ms (seq end %u, begin %u)",
+					   tries + 1,
+					   (sh2000_now_locked(h) - t0) / 1e6,
+					   w[SH2000_W_SNAP_SEQ_END],
+					   w[SH2000_W_SNAP_SEQ_BEGIN]);
+		sh2000_hold_wait(h, TORN_WAIT_NS);
+	}
+	h->host_hb++;
+	r = sh2000_wr1(h, SH2000_W_HOST_HEARTBEAT, h->host_hb);
+	if (r < 0)
+		return r;
+
+	now = sh2000_now_locked(h);
+	h->host_hb_ns = now;
+	st->retries = tries;
+	st->host_time_ns = now;
+	decode(h, w, st);
+	st->heartbeat_age_ns = sh2000_hb_note(h, st->heartbeat, now);
+	/* the same heartbeat as long ago: wrapped, or stopped? Watch it
+	 * until it moves or the limit says stopped */
+	while (h->hb_unsure && st->heartbeat_age_ns < h->hb_limit_ns) {
+		uint16_t hb;
+
+		sh2000_hold_wait(h, h->servo_ns ? h->servo_ns : TORN_WAIT_NS);
+		r = sh2000_rd(h, SH2000_W_HEARTBEAT, 1, &hb);
+		if (r < 0)
+			return r;
+		st->heartbeat_age_ns = sh2000_hb_note(h, hb,
+						      sh2000_now_locked(h));
+	}
+	h->hb_unsure = 0;
+
+	if (w[SH2000_W_MAGIC] != SH2000_PROTO_MAGIC)
+		return sh2000_fail(h, -SH2000_EMAGIC,
+				   "magic word (%u) now reads 0x%04x, expected 0x%04x: card lost its firmware",
+				   SH2000_W_MAGIC, w[SH2000_W_MAGIC],
+				   SH2000_PROTO_MAGIC);
+	if (st->heartbeat_age_ns >= h->hb_limit_ns)
+		return sh2000_fail(h, -SH2000_EHEARTBEAT,
+				   "card heartbeat stuck at %u for %.1f ms (limit %.1f ms; card state %s, snapshot cycle %llu)",
+				   st->heartbeat, st->heartbeat_age_ns / 1e6,
+				   h->hb_limit_ns / 1e6,
+				   sh2000_state_name(st->card_state),
+				   (unsigned long long)st->card_cycle);
+	return 0;
+}
+
+int sh2000_fresh_snapshot(struct sh2000 *h, int timeout_ms)
+{
+	uint16_t s0, s;
+	uint64_t t0 = sh2000_now_locked(h);
+	int r = sh2000_rd(h, SH2000_W_SNAP_SEQ_END, 1, &s0);
+
+	while (r == 0) {
+		sh2000_hold_wait(h, 100000);
+		r = sh2000_rd(h, SH2000_W_SNAP_SEQ_END, 1, &s);
+		if (r < 0 || s != s0)
+			break;
+		if (sh2000_now_locked(h) - t0 > (uint64_t)timeout_ms * 1000000ull) {
+			struct sh2000_status st;
+
+			r = sh2000_poll_locked(h, &st);
+			if (r == 0)
+				r = sh2000_fail(h, -SH2000_ETIMEOUT,
+						"no new status snapshot within %d ms",
+						timeout_ms);
+		}
+	}
+	return r;
+}
+
+void sh2000_timing_changed(struct sh2000 *h)
+{
+	if (h->coarse_us > 0 && h->fine_steps > 0)
+		h->servo_ns = (uint64_t)h->coarse_us * 1000u /
+			      (uint64_t)h->fine_steps;
+	/* 10 ms, or 5 servo periods when those are longer (docs/protocol.md
+	 * section 5: a slow servo must not look like a stalled DSP) */
+	h->hb_limit_ns = SH2000_HEARTBEAT_LIMIT_NS;
+	/* a served model is an ordinary process: allow for scheduling */
+	if (h->be && h->be->kind == SH2000_BACKEND_SHM)
+		h->hb_limit_ns = SH2000_HEARTBEAT_LIMIT_SHM_NS;
+	if (5 * h->servo_ns > h->hb_limit_ns)
+		h->hb_limit_ns = 5 * h->servo_ns;
+	if (h->hb_limit_user)
+		h->hb_limit_ns = h->hb_limit_user;
+}
+
+void sh2000_set_heartbeat_limit(struct sh2000 *h, uint64_t ns)
+{
+	pthread_mutex_lock(&h->lock);
+	h->hb_limit_user = ns;
+	sh2000_timing_changed(h);
+	pthread_mutex_unlock(&h->lock);
+}
+
+int sh2000_poll(struct sh2000 *h, struct sh2000_status *st)
+{
+	struct sh2000_status local;
+	int r;
+
+	pthread_mutex_lock(&h->lock);
+	r = sh2000_poll_locked(h, st ? st : &local);
+	pthread_mutex_unlock(&h->lock);
+	return r;
+}
+
+static const struct {
+	unsigned int bit;
+	int code;
+	const char *what;
+} axis_faults[] = {
+	{ SH2000_AXIS_FAULT_FERR, SH2000_EFERR, "following error limit" },
+	{ SH2000_AXIS_FAULT_HARD_LIMIT, SH2000_EHARD_LIMIT, "limit switch" },
+	{ SH2000_AXIS_FAULT_SOFT_LIMIT, SH2000_ESOFT_LIMIT, "soft limit" },
+	{ SH2000_AXIS_FAULT_DAC_SAT, SH2000_EDAC_SAT, "DAC saturation" },
+	{ SH2000_AXIS_FAULT_COUNTER, SH2000_ECOUNTER, "counter fault" },
+	{ SH2000_AXIS_FAULT_HOME, SH2000_EHOME, "homing failed" },
+};
+
+int sh2000_status_error_locked(struct sh2000 *h,
+			       const struct sh2000_status *st)
+{
+	unsigned int f = st->card_faults, a, i;
+
+	if (st->card_state == SH2000_STATE_ESTOP || (f & SH2000_FAULT_ESTOP))
+		return sh2000_fail(h, -SH2000_EESTOP,
+				   "emergency stop latched (card state %s, faults 0x%04x); sh2000_reset() clears it",
+				   sh2000_state_name(st->card_state), f);
+	for (a = 0; a < SH2000_AXES; a++) {
+		unsigned int af = st->axis[a].faults;
+
+		if (!af)
+			continue;
+		for (i = 0; i < sizeof(axis_faults) / sizeof(axis_faults[0]); i++)
+			if (af & axis_faults[i].bit)
+				return sh2000_fail(h, -axis_faults[i].code,
+						   "axis %u: %s (axis faults 0x%04x, following error %.6f mm)",
+						   a, axis_faults[i].what, af,
+						   st->axis[a].ferr_mm);
+		return sh2000_fail(h, -SH2000_EFAULTED,
+				   "axis %u: unknown fault bits 0x%04x", a, af);
+	}
+	/* a record refused because the card had already stopped is a
+	 * consequence: report the cause first */
+	if ((f & SH2000_FAULT_REJECTED) &&
+	    (st->reject_reason != SH2000_REJECT_STATE ||
+	     !(f & (SH2000_FAULT_HOST_TIMEOUT | SH2000_FAULT_UNDERRUN |
+		    SH2000_FAULT_PROTOCOL)))) {
+		uint64_t last = h->segments ? h->segments - 1 : 0;
+		uint64_t seg = last - (uint16_t)((uint16_t)last - st->reject_seq);
+
+		return sh2000_fail(h, -SH2000_EREJECTED,
+				   "segment %llu (record seq %u) rejected: %s (rejection #%u)",
+				   (unsigned long long)seg, st->reject_seq,
+				   sh2000_reject_name(st->reject_reason),
+				   st->reject_count);
+	}
+	if (f & SH2000_FAULT_HOST_TIMEOUT)
+		return sh2000_fail(h, -SH2000_EHOST_TIMEOUT,
+				   "card stopped: no host heartbeat or segments within its host timeout");
+	if (f & SH2000_FAULT_UNDERRUN)
+		return sh2000_fail(h, -SH2000_EUNDERRUN,
+				   "segment queue ran dry mid-motion: card made a controlled stop (state %s)",
+				   sh2000_state_name(st->card_state));
+	if (f & SH2000_FAULT_PROTOCOL)
+		return sh2000_fail(h, -SH2000_EPROTOCOL,
+				   "card latched a protocol fault (impossible ring fill %u)",
+				   st->queue_fill);
+	if (f & SH2000_FAULT_AXIS)
+		return sh2000_fail(h, -SH2000_EFAULTED,
+				   "card reports an axis fault but no axis has one");
+	if (f || st->card_state == SH2000_STATE_FAULT)
+		return sh2000_fail(h, -SH2000_EFAULTED,
+				   "card faulted (state %s, faults 0x%04x)",
+				   sh2000_state_name(st->card_state), f);
+	return 0;
+}
+
+int sh2000_status_error(struct sh2000 *h, const struct sh2000_status *st)
+{
+	int r;
+
+	pthread_mutex_lock(&h->lock);
+	r = sh2000_status_error_locked(h, st);
+	pthread_mutex_unlock(&h->lock);
+	return r;
+}

@@ -1,0 +1,97 @@
+/* SPDX-License-Identifier: MIT */
+/* Shared by the readers: the reading context, diagnostics, blocks, arcs. */
+#ifndef SH2000_PROG_INTERNAL_H
+#define SH2000_PROG_INTERNAL_H
+
+#include <stdarg.h>
+
+#include "sh2000/program.h"
+
+#define PROG_MM_PER_INCH 25.4
+/* LinuxCNC: RADIUS_TOLERANCE_INCH 0.00005 (and its mm equivalent) is the
+ * smallest arc radius and the reach allowance of R-format arcs. */
+#define PROG_RADIUS_TOL_MM (0.00005 * PROG_MM_PER_INCH)
+/* LinuxCNC: CENTER_ARC_RADIUS_TOLERANCE_{MM,INCH} = 2 * 0.01 * sqrt(2) mm
+ * and 2 * 0.001 * sqrt(2) inch; SPIRAL_RELATIVE_TOLERANCE 0.001. */
+#define PROG_CENTER_TOL_MM (2 * 0.01 * 1.41421356237309504880)
+#define PROG_CENTER_TOL_INCH_MM (2 * 0.001 * 1.41421356237309504880 * PROG_MM_PER_INCH)
+#define PROG_SPIRAL_REL_TOL 0.001
+#define PROG_MAX_DEGREE 31
+
+/* Warning kinds given once per program. */
+enum prog_warn_kind {
+	PW_SPINDLE = 1u << 0,	/* M3 M4 M5 */
+	PW_SPEED = 1u << 1,	/* S */
+	PW_TOOL = 1u << 2,	/* T */
+	PW_TOOLCHANGE = 1u << 3,/* M6 */
+	PW_COOLANT = 1u << 4,	/* M7 M8 M9 */
+	PW_PATHMODE = 1u << 5,	/* G61 G61.1 G64 */
+	PW_MESSAGE = 1u << 6,	/* (MSG,...) and friends */
+	PW_AFTER_END = 1u << 7,	/* text after M2/M30 or % */
+	PW_UNITS_F = 1u << 8,	/* F next to a units change */
+	PW_A_INCH = 1u << 9,	/* A under G20 */
+};
+
+struct prog_ctx {
+	struct sh2000_program *prog;
+	struct sh2000_prog_diags *diags;
+	struct sh2000_prog_options opt;
+	const char *name;
+	unsigned int errors;	/* in this read */
+	bool stop;		/* error limit reached */
+	bool oom;
+	unsigned int warned;	/* enum prog_warn_kind bits */
+	double pos[SH2000_PROG_AXES];
+};
+
+/* Append a diagnostic; returns -SH2000_PROG_EINVALID for an error, 0 for
+ * a warning (or -ENOMEM). Errors past max_errors set ctx->stop. */
+int prog_diag(struct prog_ctx *c, enum sh2000_prog_severity sev,
+	      enum sh2000_prog_diag_code code, unsigned int line,
+	      unsigned int col, const char *fmt, ...)
+	__attribute__((format(printf, 6, 7)));
+#define prog_err(c, code, line, col, ...) \
+	prog_diag((c), SH2000_PROG_ERROR, (code), (line), (col), __VA_ARGS__)
+/* A warning of this kind unless one was given already. */
+int prog_warn_once(struct prog_ctx *c, unsigned int kind,
+		   enum sh2000_prog_diag_code code, unsigned int line,
+		   unsigned int col, const char *fmt, ...)
+	__attribute__((format(printf, 6, 7)));
+
+/* A new block at the end of the program with start = end = ctx->pos; NULL
+ * when out of memory (ctx->oom set). */
+struct sh2000_prog_block *prog_push(struct prog_ctx *c,
+				    enum sh2000_prog_kind kind,
+				    unsigned int line, unsigned int col);
+
+/* Fill b->u.arc of an ARC block whose start and end are set, from the
+ * centre (c1, c2) in the plane's (axis1, axis2) coordinates; checks the
+ * radii against tol_mm (absolute) and the relative tolerance. An end
+ * closer than same_mm to the start (in the plane) makes a full circle. */
+int prog_arc_fill(struct prog_ctx *c, struct sh2000_prog_block *b,
+		  enum sh2000_prog_plane plane, double c1, double c2,
+		  bool ccw, unsigned int turns, double tol_mm, double same_mm,
+		  unsigned int line, unsigned int col);
+void prog_plane_axes(enum sh2000_prog_plane plane, unsigned int *a1,
+		     unsigned int *a2, unsigned int *an);
+
+/* Centre of an R-format arc (LinuxCNC arc_data_r); 0 or an error. */
+int prog_arc_centre_r(struct prog_ctx *c, double s1, double s2, double e1,
+		      double e2, double r, bool ccw, double *c1, double *c2,
+		      unsigned int line, unsigned int col);
+
+/* Validate a NURBS (degree, counts, knots, weights); field names the
+ * source ("knots" ...) in messages. 0 or an error. */
+int prog_nurbs_check(struct prog_ctx *c, const struct sh2000_prog_nurbs *n,
+		     unsigned int line, unsigned int col);
+
+int prog_read_gcode(struct prog_ctx *c, const char *text, size_t len);
+int prog_read_canon(struct prog_ctx *c, const char *text, size_t len);
+int prog_read_csv(struct prog_ctx *c, const char *text, size_t len);
+int prog_read_nurbs_json(struct prog_ctx *c, const char *text, size_t len);
+
+/* One line of text: [p, p + n) without the line end; returns the offset of
+ * the next line or len. */
+size_t prog_next_line(const char *text, size_t len, size_t off, size_t *n);
+
+#endif

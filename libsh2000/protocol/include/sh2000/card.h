@@ -1,0 +1,220 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * What the card is, as every host program sees it: four axes, the card's
+ * states and fault bits, why a record is rejected, the commands and their
+ * results, and the parameters (ids, names, types, ranges, defaults).
+ *
+ * This is the part of protocol v1 that the device API (sh2000.h) speaks in.
+ * Where the words live in the dual-port RAM is not here: that is
+ * sh2000_protocol.h, which the library, the card model and firmware writers
+ * include, and which an application never needs.
+ */
+#ifndef SH2000_CARD_H
+#define SH2000_CARD_H
+
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SH2000_PROTO_MAJOR		1u
+#define SH2000_PROTO_MINOR		0u
+#define SH2000_PROTO_VERSION		((SH2000_PROTO_MAJOR << 8) | SH2000_PROTO_MINOR)
+#define SH2000_PROTO_VERSION_MAJOR(v)	(((v) >> 8) & 0xffu)
+#define SH2000_PROTO_VERSION_MINOR(v)	((v) & 0xffu)
+
+/* The one definition of the axis count. */
+#define SH2000_AXES			4u
+
+/* ---------------------------------------------------------------------------
+ * Card state and faults.
+ * ------------------------------------------------------------------------ */
+
+enum sh2000_card_state {
+	SH2000_STATE_BOOT = 0,		/* firmware not running yet */
+	SH2000_STATE_IDLE = 1,		/* holding; ring empty */
+	SH2000_STATE_RUNNING = 2,	/* consuming segment records */
+	SH2000_STATE_STOPPING = 3,	/* controlled deceleration */
+	SH2000_STATE_HOMING = 4,	/* at least one axis homing */
+	SH2000_STATE_FAULT = 5,		/* a fault is latched; reset clears */
+	SH2000_STATE_ESTOP = 6,		/* emergency stop latched; reset clears */
+};
+
+/* Card faults (SH2000_W_FAULTS), latched until SH2000_CMD_RESET. */
+#define SH2000_FAULT_UNDERRUN		0x0001u	/* ring ran dry mid-motion */
+#define SH2000_FAULT_HOST_TIMEOUT	0x0002u	/* host heartbeat stopped */
+#define SH2000_FAULT_ESTOP		0x0004u	/* emergency stop */
+#define SH2000_FAULT_REJECTED		0x0008u	/* a segment was rejected */
+#define SH2000_FAULT_PROTOCOL		0x0010u	/* impossible ring fill */
+#define SH2000_FAULT_AXIS		0x0020u	/* an axis has a fault */
+
+/* Axis faults (SH2000_W_AXIS_FAULTS), latched until SH2000_CMD_RESET. */
+#define SH2000_AXIS_FAULT_FERR		0x0001u	/* following error limit */
+#define SH2000_AXIS_FAULT_SOFT_LIMIT	0x0002u	/* set-point beyond a soft limit */
+#define SH2000_AXIS_FAULT_HARD_LIMIT	0x0004u	/* limit switch hit */
+#define SH2000_AXIS_FAULT_DAC_SAT	0x0008u	/* DAC saturated too long */
+#define SH2000_AXIS_FAULT_COUNTER	0x0010u	/* implausible counter jump */
+#define SH2000_AXIS_FAULT_HOME		0x0020u	/* homing failed */
+
+/* Axis state bits (SH2000_W_AXIS_STATE), live. */
+#define SH2000_AXIS_ENABLED		0x0001u
+#define SH2000_AXIS_HOMED		0x0002u
+#define SH2000_AXIS_HOMING		0x0004u
+#define SH2000_AXIS_MOVING		0x0008u
+#define SH2000_AXIS_LIMIT_POS		0x0010u	/* + limit switch active */
+#define SH2000_AXIS_LIMIT_NEG		0x0020u	/* - limit switch active */
+#define SH2000_AXIS_HOME_SW		0x0040u	/* home switch active */
+#define SH2000_AXIS_INDEX		0x0080u	/* index seen since homing */
+
+/* Why a record was rejected (SH2000_W_REJECT_REASON). */
+enum sh2000_reject_reason {
+	SH2000_REJECT_NONE = 0,
+	SH2000_REJECT_CHECKSUM = 1,	/* record check word wrong */
+	SH2000_REJECT_RESERVED = 2,	/* reserved word or flag bit set */
+	SH2000_REJECT_VELOCITY = 3,	/* step exceeds an axis' max velocity */
+	SH2000_REJECT_SOFT_LIMIT = 4,	/* point beyond a soft limit */
+	SH2000_REJECT_DISABLED = 5,	/* moves an axis that is not enabled */
+	SH2000_REJECT_STATE = 6,	/* card not in a state to move */
+	/* v1.0 addition: the record was consumed but not executed (the card
+	 * model's SH2000_INJECT_DROP_SEGMENT; a real card uses it for a
+	 * record lost inside the firmware). Handled like any rejection. */
+	SH2000_REJECT_DROPPED = 7,
+};
+
+/* ---------------------------------------------------------------------------
+ * Commands (the single-axis controller paper [R4]'s CNC/RSP): one at a time, each acknowledged.
+ * ------------------------------------------------------------------------ */
+
+enum sh2000_cmd_op {
+	SH2000_CMD_NOP = 0,		/* ping */
+	SH2000_CMD_ENABLE = 1,		/* ARG = axis mask */
+	SH2000_CMD_DISABLE = 2,		/* ARG = axis mask */
+	SH2000_CMD_SET_PARAM = 3,	/* AXIS, PARAM, ARG = value */
+	SH2000_CMD_GET_PARAM = 4,	/* AXIS, PARAM -> VALUE */
+	SH2000_CMD_HOME = 5,		/* AXIS, ARG = SH2000_HOME_F_* */
+	SH2000_CMD_STOP = 6,		/* controlled stop, ring discarded */
+	SH2000_CMD_RESET = 7,		/* clear latched faults, go idle */
+	SH2000_CMD_SET_POSITION = 8,	/* AXIS, ARG = new position (counts) */
+};
+
+/* SH2000_W_CMD_AXIS value addressing a global parameter. */
+#define SH2000_AXIS_GLOBAL		0xffffu
+
+/* HOME flags */
+#define SH2000_HOME_F_INDEX		0x0001u	/* finish on the encoder index */
+
+/* SH2000_W_CMD_RESULT */
+enum sh2000_cmd_result {
+	SH2000_RES_OK = 0,
+	SH2000_RES_BAD_OP = 1,
+	SH2000_RES_BAD_AXIS = 2,
+	SH2000_RES_BAD_PARAM = 3,
+	SH2000_RES_BAD_VALUE = 4,	/* out of range or not representable */
+	SH2000_RES_BUSY = 5,		/* not allowed while moving */
+	SH2000_RES_FAULTED = 6,		/* a latched fault forbids it */
+	SH2000_RES_CHECKSUM = 7,	/* CMD_CHECK wrong: nothing done */
+	SH2000_RES_DISABLED = 8,	/* HOME/SET_POSITION needs an enabled
+					 * (HOME) or idle axis (v1.0 addition) */
+};
+
+/* ---------------------------------------------------------------------------
+ * Parameters. Per-axis parameters use AXIS 0..3, global ones AXIS_GLOBAL.
+ * F32 values are IEEE-754 binary32 bit patterns (the firmware converts to
+ * the C3x float format), I32 values two's complement. Units are the card's:
+ * counts, seconds, DAC codes.
+ * ------------------------------------------------------------------------ */
+
+enum sh2000_param {
+	/* per axis */
+	SH2000_P_SCALE = 0,		/* F32 counts per mm, > 0 */
+	SH2000_P_KP = 1,		/* F32 DAC codes per count, >= 0 */
+	SH2000_P_TI = 2,		/* F32 integral time s, 0 = none */
+	SH2000_P_TD = 3,		/* F32 derivative time s, >= 0 */
+	SH2000_P_KVFF = 4,		/* F32 DAC codes per count/s, >= 0 */
+	SH2000_P_KAFF = 5,		/* F32 DAC codes per count/s^2, >= 0 */
+	SH2000_P_DAC_RANGE = 6,		/* I32 enum sh2000_dac_range */
+	SH2000_P_DAC_LIMIT = 7,		/* I32 max |DAC code|, 1..32767 */
+	SH2000_P_FERR_LIMIT = 8,	/* I32 counts, > 0 */
+	SH2000_P_SOFT_MIN = 9,		/* I32 counts, < SOFT_MAX */
+	SH2000_P_SOFT_MAX = 10,		/* I32 counts */
+	SH2000_P_VMAX = 11,		/* F32 counts/s, > 0 */
+	SH2000_P_AMAX = 12,		/* F32 counts/s^2, > 0 */
+	SH2000_P_HOME_VEL = 13,		/* F32 counts/s, sign = direction, != 0 */
+	SH2000_P_HOME_DEBOUNCE = 14,	/* I32 servo cycles, 1..1000 */
+	SH2000_P_HOME_OFFSET = 15,	/* I32 counts given to the home point */
+	SH2000_AXIS_PARAMS = 16,
+	/* global */
+	SH2000_GP_COARSE_PERIOD_US = 32,	/* I32 us, 100..100000 */
+	SH2000_GP_FINE_STEPS = 33,		/* I32 servo cycles per coarse, 1..1000 */
+	SH2000_GP_HOST_TIMEOUT_MS = 34,		/* I32 ms, 0 = off, <= 60000 */
+	SH2000_GP_STATUS_PERIOD = 35,		/* I32 servo cycles, 1..1000 */
+	SH2000_GP_FIRST = SH2000_GP_COARSE_PERIOD_US,
+	SH2000_GP_END = 36,
+};
+
+enum sh2000_dac_range {
+	SH2000_DAC_0_5V = 0,
+	SH2000_DAC_0_10V = 1,
+	SH2000_DAC_PM5V = 2,
+	SH2000_DAC_PM10V = 3,
+};
+
+enum sh2000_param_type { SH2000_PT_F32 = 0, SH2000_PT_I32 = 1 };
+
+/* What both sides know about a parameter: its name (as users see it), type,
+ * valid range and default. Ranges are inclusive; min_exclusive marks a
+ * strict lower bound (e.g. scale > 0). */
+struct sh2000_param_info {
+	uint16_t id;
+	const char *name;
+	enum sh2000_param_type type;
+	double min, max;
+	int min_exclusive;
+	double def;
+};
+
+/* The table (libsh2000/protocol/sh2000_protocol.c); NULL for unknown ids. */
+const struct sh2000_param_info *sh2000_param_lookup(unsigned int id);
+/* Range check shared by host validation and card acceptance: 0 if ok.
+ * Also refuses NaN/infinity, non-integers for I32, values that are not a
+ * normal binary32 for F32, and HOME_VEL == 0. Cross-parameter rules
+ * (SOFT_MIN < SOFT_MAX, coarse period divisible into fine steps) are the
+ * card's: see SH2000_FW_* below and docs/protocol.md. */
+int sh2000_param_in_range(const struct sh2000_param_info *p, double v);
+/* Lookup by the user-visible name; NULL when unknown. */
+const struct sh2000_param_info *sh2000_param_by_name(const char *name);
+
+/* ---------------------------------------------------------------------------
+ * Firmware constants the host can rely on (docs/protocol.md "Faults").
+ * ------------------------------------------------------------------------ */
+
+/* A record step may exceed VMAX * coarse period by this fraction plus
+ * SH2000_FW_VMAX_SLACK_COUNTS before it is rejected (REJECT_VELOCITY). */
+#define SH2000_FW_VMAX_MARGIN		0.05
+#define SH2000_FW_VMAX_SLACK_COUNTS	2.0
+/* DAC at +-DAC_LIMIT for this many consecutive servo cycles: DAC_SAT. */
+#define SH2000_FW_DAC_SAT_CYCLES	200u
+/* Counter change in one servo cycle above 4 * VMAX * servo period plus
+ * this many counts: COUNTER fault. */
+#define SH2000_FW_COUNTER_SLACK		1000.0
+/* Shortest servo period the firmware runs (coarse period / fine steps);
+ * the coarse period in ns must also divide exactly by the fine steps. */
+#define SH2000_FW_MIN_SERVO_NS		10000u
+/* Homing with SH2000_HOME_F_INDEX creeps at |HOME_VEL| / this. */
+#define SH2000_FW_HOME_CREEP_DIV	10.0
+
+/* Names for messages (never NULL). */
+const char *sh2000_state_name(unsigned int state);
+const char *sh2000_reject_name(unsigned int reason);
+const char *sh2000_result_name(unsigned int result);
+/* One bit of SH2000_W_FAULTS / SH2000_W_AXIS_FAULTS (v1.0 additions). */
+const char *sh2000_fault_name(unsigned int bit);
+const char *sh2000_axis_fault_name(unsigned int bit);
+
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SH2000_CARD_H */

@@ -1,0 +1,215 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Protocol v1 between the host (libsh2000) and the card's DSP firmware (the
+ * card model in libsh2000/sim/cardmodel/), spoken through the 1024-word
+ * dual-port RAM. docs/protocol.md is the prose version of this file; the two
+ * must agree. Both sides include this header: there is no other copy of the
+ * layout.
+ *
+ * Rules that hold for every word:
+ *  - every word has exactly one writer (the "owner" column below);
+ *  - a 16-bit word is read and written atomically; anything wider is either
+ *    inside the versioned snapshot (card -> host) or written before a
+ *    sequence word that publishes it (host -> card);
+ *  - 32-bit values are two words, low word first, two's complement;
+ *  - the host polls from word 0 upwards, so what it needs most is first.
+ */
+#ifndef SH2000_PROTOCOL_H
+#define SH2000_PROTOCOL_H
+
+#include <stdint.h>
+#include <string.h>
+
+#include "sh2000/card.h"
+
+#define SH2000_PROTO_MAGIC		0x5348u	/* "SH" */
+
+/* ---------------------------------------------------------------------------
+ * RAM layout (word addresses). Owner: C = card writes, H = host writes.
+ * ------------------------------------------------------------------------ */
+
+/* H: emergency stop request. The host changes the value (increments it);
+ * the card acts within one servo cycle when it differs from ESTOP_ACK. At
+ * word 0 so that it is two port cycles (clear, write) from anywhere. */
+#define SH2000_W_ESTOP_REQ		0u
+/* C: constant after the firmware starts; fixed at these addresses in every
+ * protocol version so that any host can tell what it is talking to. */
+#define SH2000_W_MAGIC			1u
+#define SH2000_W_VERSION		2u
+/* C: +1 every servo cycle (mod 2^16): the card heartbeat. */
+#define SH2000_W_HEARTBEAT		3u
+/* C: the ESTOP_REQ value the card has acted on. */
+#define SH2000_W_ESTOP_ACK		4u
+/* C: enum sh2000_card_state. */
+#define SH2000_W_STATE			5u
+/* C: latched SH2000_FAULT_* bits of the card (not of an axis). */
+#define SH2000_W_FAULTS			6u
+/* C: records consumed from the segment ring, free-running mod 2^16. */
+#define SH2000_W_TAIL			7u
+/* C: command acknowledgement. Written in the order VALUE, RESULT, ACK so a
+ * host that reads ACK first and then RESULT/VALUE sees a finished answer. */
+#define SH2000_W_CMD_ACK		8u
+#define SH2000_W_CMD_RESULT		9u
+#define SH2000_W_CMD_VALUE_LO		10u
+#define SH2000_W_CMD_VALUE_HI		11u
+/* C: the last rejected segment record (seed 004's CNCERR). COUNT changes
+ * on every rejection, so a repeated SEQ is still seen as new. */
+#define SH2000_W_REJECT_SEQ		12u
+#define SH2000_W_REJECT_REASON		13u
+#define SH2000_W_REJECT_COUNT		14u
+/* C: per axis, latched SH2000_AXIS_FAULT_* bits. */
+#define SH2000_W_AXIS_FAULTS(a)		(15u + (a))
+/* C: per axis, SH2000_AXIS_* state bits. */
+#define SH2000_W_AXIS_STATE(a)		(19u + (a))
+
+/*
+ * C: the versioned snapshot of the multi-word values. The card writes
+ * SNAP_SEQ_BEGIN = s + 1 first, then the body, then SNAP_SEQ_END = s + 1.
+ * END sits below the body and BEGIN above it, so a host streaming upwards
+ * reads END, body, BEGIN; the body is consistent when both are equal. The
+ * card publishes it every SH2000_GP_STATUS_PERIOD servo cycles (not every
+ * cycle, so that a host poll rarely overlaps a publication).
+ */
+#define SH2000_W_SNAP_SEQ_END		23u
+#define SH2000_W_SNAP_AXIS(a)		(24u + 5u * (a))
+#define   SH2000_SNAP_CMD_LO		0u	/* set-point, counts (int32) */
+#define   SH2000_SNAP_CMD_HI		1u
+#define   SH2000_SNAP_ACT_LO		2u	/* encoder counter, 28 bits */
+#define   SH2000_SNAP_ACT_HI		3u
+#define   SH2000_SNAP_DAC		4u	/* DAC code, int16 */
+#define SH2000_SNAP_AXIS_WORDS		5u
+#define SH2000_W_SNAP_TIME_LO		44u	/* servo cycle of the snapshot */
+#define SH2000_W_SNAP_TIME_HI		45u
+#define SH2000_W_SNAP_SEQ_BEGIN		46u
+/* End of the card-written status: a full poll reads words 0..46. */
+#define SH2000_STATUS_WORDS		47u
+
+/* H: +1 on every host poll or push. A card in motion that sees no change
+ * for SH2000_GP_HOST_TIMEOUT_MS stops and latches SH2000_FAULT_HOST_TIMEOUT. */
+#define SH2000_W_HOST_HEARTBEAT		47u
+/* H: records published into the ring, free-running mod 2^16. */
+#define SH2000_W_HEAD			48u
+/* H: one command. OP..CHECK are written first, SEQ last; the host does
+ * not touch them again until CMD_ACK == CMD_SEQ. */
+#define SH2000_W_CMD_OP			49u
+#define SH2000_W_CMD_AXIS		50u
+#define SH2000_W_CMD_PARAM		51u
+#define SH2000_W_CMD_ARG_LO		52u
+#define SH2000_W_CMD_ARG_HI		53u
+#define SH2000_W_CMD_CHECK		54u	/* sh2000_cmd_check() */
+#define SH2000_W_CMD_SEQ		55u
+
+/* Segment ring: RING_RECORDS records of RECORD_WORDS words from RING_BASE. */
+#define SH2000_W_RING_BASE		64u
+#define SH2000_RING_RECORDS		64u	/* power of two dividing 2^16 */
+#define SH2000_RECORD_WORDS		12u
+#define SH2000_W_RING_END \
+	(SH2000_W_RING_BASE + SH2000_RING_RECORDS * SH2000_RECORD_WORDS)
+/* Words RING_END..1023 are reserved in v1: both sides leave them alone. */
+
+/* Word offsets inside one record. */
+#define SH2000_REC_POS_LO(a)		(2u * (a))	/* int32 counts */
+#define SH2000_REC_POS_HI(a)		(2u * (a) + 1u)
+#define SH2000_REC_SEQ			8u	/* host's segment number */
+#define SH2000_REC_FLAGS		9u	/* SH2000_REC_F_* */
+#define SH2000_REC_RESERVED		10u	/* must be 0 */
+#define SH2000_REC_CHECK		11u	/* sh2000_record_check() */
+
+/* The last record of a motion: after it the card pads its B-spline window
+ * with this point, reaches it exactly and goes idle (no underrun). */
+#define SH2000_REC_F_END		0x0001u
+#define SH2000_REC_F_ALL		SH2000_REC_F_END	/* others reserved */
+
+/*
+ * Ring rules. fill = (HEAD - TAIL) mod 2^16, always 0..RING_RECORDS.
+ * Record n lives in slot n mod RING_RECORDS.
+ *  - host: writes record HEAD only while fill < RING_RECORDS, then HEAD += 1;
+ *  - card: reads record TAIL only while fill > 0, then TAIL += 1 after it
+ *    has copied the record out of the RAM.
+ * A fill above RING_RECORDS is a host bug: the card latches
+ * SH2000_FAULT_PROTOCOL.
+ */
+
+/* ---------------------------------------------------------------------------
+ * Check words: a 16-bit Fletcher-style sum that catches any single flipped
+ * word and swapped words. One implementation for both sides.
+ * ------------------------------------------------------------------------ */
+
+static inline uint16_t sh2000_check16(const uint16_t *w, unsigned int n)
+{
+	uint32_t a = 0x5a, b = 0xa5;
+	unsigned int i;
+
+	for (i = 0; i < n; i++) {
+		a = (a + w[i]) % 65521u;
+		b = (b + a) % 65521u;
+	}
+	return (uint16_t)(a ^ (b << 5) ^ (b >> 11));
+}
+
+/* Check word of a record: over words 0..RECORD_WORDS-2. */
+static inline uint16_t sh2000_record_check(const uint16_t *rec)
+{
+	return sh2000_check16(rec, SH2000_RECORD_WORDS - 1u);
+}
+
+/* Check word of a command: over OP, AXIS, PARAM, ARG_LO, ARG_HI and the SEQ
+ * it will be published with. */
+static inline uint16_t sh2000_cmd_check(uint16_t seq, uint16_t op,
+					uint16_t axis, uint16_t param,
+					uint16_t arg_lo, uint16_t arg_hi)
+{
+	const uint16_t w[6] = { seq, op, axis, param, arg_lo, arg_hi };
+
+	return sh2000_check16(w, 6);
+}
+
+/* ---------------------------------------------------------------------------
+ * The encoder counters are 28 bits wide and wrap (docs/card.md); the
+ * snapshot's ACT words carry them as they are. Whoever reads them extends
+ * them with the sign-extended difference of two readings.
+ * ------------------------------------------------------------------------ */
+
+#define SH2000_COUNTER_BITS		28u
+#define SH2000_COUNTER_MASK		((1u << SH2000_COUNTER_BITS) - 1u)
+
+/* Signed difference now - before of two counter readings, assuming the
+ * counter moved less than half its range in between. */
+static inline int32_t sh2000_counter_delta(uint32_t now, uint32_t before)
+{
+	uint32_t d = (now - before) & SH2000_COUNTER_MASK;
+
+	if (d & (1u << (SH2000_COUNTER_BITS - 1u)))
+		return (int32_t)d - (int32_t)(1u << SH2000_COUNTER_BITS);
+	return (int32_t)d;
+}
+
+/* A counter reading as a signed 28-bit value. */
+static inline int32_t sh2000_counter_signed(uint32_t v)
+{
+	return sh2000_counter_delta(v & SH2000_COUNTER_MASK, 0);
+}
+
+/* ---------------------------------------------------------------------------
+ * F32 parameter values travel as IEEE-754 binary32 bit patterns in two
+ * words. One encoding for both sides: the library and the card model.
+ * ------------------------------------------------------------------------ */
+
+static inline uint32_t sh2000_f32_bits(double v)
+{
+	float f = (float)v;
+	uint32_t b;
+
+	memcpy(&b, &f, sizeof(b));
+	return b;
+}
+
+static inline double sh2000_f32_value(uint32_t b)
+{
+	float f;
+
+	memcpy(&f, &b, sizeof(f));
+	return (double)f;
+}
+
+#endif /* SH2000_PROTOCOL_H */

@@ -1,0 +1,183 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The card model's internal interface: the state of each part, fixed size,
+ * so the whole card is one allocation made before the first servo cycle.
+ * Not installed, not used by the library: sh2000_cardsim.h is the API.
+ */
+#ifndef SH2000_CARDMODEL_H
+#define SH2000_CARDMODEL_H
+
+#include <stdint.h>
+
+#include "sh2000/bspline.h"
+#include "sh2000/sh2000_cardsim.h"
+#include "sh2000/sh2000_protocol.h"
+#include "sh2000_fpga.h"
+#include "sh2000_hw.h"
+
+/* ---- interp.c: B-spline window ---- */
+
+struct sh2000_interp {
+	double w[SH2000_AXES][4];
+};
+
+void sh2000_interp_hold(struct sh2000_interp *ip, unsigned int axis, double x);
+void sh2000_interp_push(struct sh2000_interp *ip, unsigned int axis, double x);
+double sh2000_interp_last(const struct sh2000_interp *ip, unsigned int axis);
+/* Position, velocity (counts/s) and acceleration (counts/s^2) at t. */
+void sh2000_interp_eval(const struct sh2000_interp *ip, unsigned int axis,
+			double t, double coarse_s, double *x, double *v,
+			double *a);
+
+/* ---- pid.c: incremental PID + feed-forward, 16-bit DAC ---- */
+
+struct sh2000_pid_gains {
+	double kp, ti, td, kvff, kaff;
+	int32_t dac_limit;
+};
+
+struct sh2000_pid {
+	double u;		/* PID part u(k-1), clamped to the DAC limit */
+	double e1, e2;		/* e(k-1), e(k-2) */
+};
+
+void sh2000_pid_reset(struct sh2000_pid *p);
+/* One sample: error e (counts), feed-forward inputs v (counts/s) and a
+ * (counts/s^2), sampling period tau (s). Returns the DAC code. */
+int16_t sh2000_pid_step(struct sh2000_pid *p, const struct sh2000_pid_gains *g,
+			double e, double v, double a, double tau);
+
+/* ---- plant.c: one axis' motor, switches and encoder ---- */
+
+struct sh2000_plant {
+	struct sh2000_plant_config cfg;
+	double x_mm;		/* physical position */
+	double v_mm_s;		/* physical velocity */
+	int64_t enc_offset;	/* counter = floor(x * scale) + offset */
+	int jammed;		/* injected: the carriage does not move */
+	int force_limit;	/* injected: bit0 - switch, bit1 + switch */
+	int index_seen;		/* an index mark passed in the last step */
+	uint32_t index_latch;	/* counter value latched at that mark */
+	double cache_T, cache_e;	/* exp(-b T / m) for the last T */
+	uint64_t steps;		/* servo periods integrated (switch chatter) */
+};
+
+void sh2000_plant_init(struct sh2000_plant *p,
+		       const struct sh2000_plant_config *cfg);
+/* Integrates one servo period with the DAC code held (zero-order hold). */
+void sh2000_plant_step(struct sh2000_plant *p, int16_t dac, unsigned int range,
+		       double T);
+uint32_t sh2000_plant_counter(const struct sh2000_plant *p);
+/* The FPGA's counter preset: from now on the counter reads `value` here. */
+void sh2000_plant_preset(struct sh2000_plant *p, uint32_t value);
+int sh2000_plant_limit_neg(const struct sh2000_plant *p);
+int sh2000_plant_limit_pos(const struct sh2000_plant *p);
+int sh2000_plant_home(const struct sh2000_plant *p);
+/* Volts per DAC code for a range (unipolar ranges: mid-scale is 0 V at
+ * the amplifier, docs/cardmodel.md). */
+double sh2000_dac_volts_per_code(unsigned int range);
+
+/* ---- firmware.c: protocol v1 ---- */
+
+struct sh2000_axis_params {
+	double scale, kp, ti, td, kvff, kaff;
+	int32_t dac_range, dac_limit, ferr_limit, soft_min, soft_max;
+	double vmax, amax, home_vel;
+	int32_t home_debounce, home_offset;
+};
+
+enum sh2000_home_phase {
+	HOME_NONE = 0,
+	HOME_BACKOFF,		/* started on the switch: leave it first */
+	HOME_BACKSTOP,		/* off the switch: decelerate */
+	HOME_SEEK,		/* towards the switch at HOME_VEL */
+	HOME_STOP1,		/* switch confirmed: decelerate */
+	HOME_CREEP,		/* towards the index at HOME_VEL / 10 */
+	HOME_STOP2,		/* index latched: decelerate */
+	HOME_RETURN,		/* back to the latched point */
+};
+
+struct sh2000_fw_axis {
+	struct sh2000_axis_params prm;
+	struct sh2000_pid pid;
+	struct sh2000_plant plant;
+	uint16_t state;		/* SH2000_AXIS_* */
+	uint16_t faults;	/* SH2000_AXIS_FAULT_* */
+	uint32_t counter;	/* last sampled 28-bit counter */
+	int64_t act;		/* the counter, extended */
+	int32_t delta;		/* counter change in this cycle */
+	int limit;		/* switch bits this cycle: 1 -, 2 + */
+	double cmd, cmd_v, cmd_a;	/* set-point and its derivatives */
+	double stop_a;		/* deceleration of a controlled stop */
+	int16_t dac;
+	unsigned int sat_cycles;
+	int prev_limit;		/* switch bits last cycle, for edges */
+	/* homing */
+	enum sh2000_home_phase home;
+	unsigned int home_flags;
+	unsigned int debounce;
+	double home_latch;	/* counter (extended) at the reference */
+};
+
+struct sh2000_fw {
+	uint16_t *ram;
+	struct sh2000_fw_axis ax[SH2000_AXES];
+	struct sh2000_interp ip;
+	/* global parameters */
+	int32_t coarse_us, fine_steps, host_timeout_ms, status_period;
+	/* protocol state */
+	unsigned int state;
+	uint16_t faults;
+	uint16_t heartbeat, estop_ack, tail, cmd_ack, snap_seq;
+	uint16_t reject_count;
+	uint16_t host_hb;
+	uint64_t host_hb_cycles;	/* cycles since HOST_HEARTBEAT changed */
+	unsigned int fine_k;	/* fine steps done in this coarse period */
+	uint64_t stop_left;	/* servo cycles left in a controlled stop */
+	uint16_t seg_seq;	/* SEQ of the last record consumed */
+	unsigned int pad_left;	/* END padding periods still to run */
+	int ending;		/* END record seen */
+	unsigned int status_div;
+	uint64_t cycle;
+	uint64_t time_ns;
+	/* injection */
+	int hb_frozen, stalled, drop_next;
+	sh2000_fw_observer observer;
+	void *observer_ctx;
+};
+
+static inline int sh2000_axis_enabled(const struct sh2000_fw_axis *ax)
+{
+	return (ax->state & SH2000_AXIS_ENABLED) != 0;
+}
+
+/* RUNNING, STOPPING or HOMING: what "while moving" means everywhere. */
+static inline int sh2000_fw_in_motion(const struct sh2000_fw *fw)
+{
+	return fw->state == SH2000_STATE_RUNNING ||
+	       fw->state == SH2000_STATE_STOPPING ||
+	       fw->state == SH2000_STATE_HOMING;
+}
+
+/* firmware.c */
+void sh2000_fw_publish_words(struct sh2000_fw *fw);
+double sh2000_fw_servo_s(const struct sh2000_fw *fw);
+/* Set-point of axis a becomes x, at rest; the window holds x. */
+void sh2000_fw_hold_at(struct sh2000_fw *fw, unsigned int a, double x);
+/* The FPGA counter preset: the axis reads `pos` here from now on. */
+void sh2000_fw_set_position(struct sh2000_fw *fw, unsigned int a, int64_t pos);
+
+/* params.c: results are SH2000_RES_* */
+uint16_t sh2000_fw_get_param(struct sh2000_fw *fw, unsigned int axis,
+			    unsigned int id, uint32_t *out);
+uint16_t sh2000_fw_set_param(struct sh2000_fw *fw, unsigned int axis,
+			    unsigned int id, uint32_t bits);
+void sh2000_fw_default_params(struct sh2000_fw *fw);
+
+/* homing.c */
+uint16_t sh2000_home_start(struct sh2000_fw *fw, unsigned int axis,
+			   uint32_t flags);
+void sh2000_home_cycle(struct sh2000_fw *fw, double T);
+void sh2000_home_abort(struct sh2000_fw_axis *ax);
+
+#endif /* SH2000_CARDMODEL_H */

@@ -1,0 +1,150 @@
+// SPDX-License-Identifier: MIT
+/*
+ * Axis and global parameters on the card side: where each one is stored,
+ * which may change while moving, and the card's rules beyond the shared
+ * range check (soft-limit order, representable servo period).
+ */
+#include <string.h>
+
+#include "cardmodel.h"
+
+static double *axis_f(struct sh2000_axis_params *p, unsigned int id)
+{
+	switch (id) {
+	case SH2000_P_SCALE: return &p->scale;
+	case SH2000_P_KP: return &p->kp;
+	case SH2000_P_TI: return &p->ti;
+	case SH2000_P_TD: return &p->td;
+	case SH2000_P_KVFF: return &p->kvff;
+	case SH2000_P_KAFF: return &p->kaff;
+	case SH2000_P_VMAX: return &p->vmax;
+	case SH2000_P_AMAX: return &p->amax;
+	case SH2000_P_HOME_VEL: return &p->home_vel;
+	default: return NULL;
+	}
+}
+
+static int32_t *axis_i(struct sh2000_axis_params *p, unsigned int id)
+{
+	switch (id) {
+	case SH2000_P_DAC_RANGE: return &p->dac_range;
+	case SH2000_P_DAC_LIMIT: return &p->dac_limit;
+	case SH2000_P_FERR_LIMIT: return &p->ferr_limit;
+	case SH2000_P_SOFT_MIN: return &p->soft_min;
+	case SH2000_P_SOFT_MAX: return &p->soft_max;
+	case SH2000_P_HOME_DEBOUNCE: return &p->home_debounce;
+	case SH2000_P_HOME_OFFSET: return &p->home_offset;
+	default: return NULL;
+	}
+}
+
+static int32_t *global_i(struct sh2000_fw *fw, unsigned int id)
+{
+	switch (id) {
+	case SH2000_GP_COARSE_PERIOD_US: return &fw->coarse_us;
+	case SH2000_GP_FINE_STEPS: return &fw->fine_steps;
+	case SH2000_GP_HOST_TIMEOUT_MS: return &fw->host_timeout_ms;
+	case SH2000_GP_STATUS_PERIOD: return &fw->status_period;
+	default: return NULL;
+	}
+}
+
+/* Parameters that may change while the card moves: the loop gains and
+ * limits that do not change the meaning of queued records. */
+static int live_param(unsigned int id)
+{
+	switch (id) {
+	case SH2000_P_KP: case SH2000_P_TI: case SH2000_P_TD:
+	case SH2000_P_KVFF: case SH2000_P_KAFF: case SH2000_P_FERR_LIMIT:
+	case SH2000_GP_HOST_TIMEOUT_MS: case SH2000_GP_STATUS_PERIOD:
+		return 1;
+	default:
+		return 0;
+	}
+}
+
+static int timing_ok(int64_t coarse_us, int64_t fine)
+{
+	int64_t ns = coarse_us * 1000;
+
+	return ns % fine == 0 && ns / fine >= (int64_t)SH2000_FW_MIN_SERVO_NS;
+}
+
+uint16_t sh2000_fw_get_param(struct sh2000_fw *fw, unsigned int axis,
+			    unsigned int id, uint32_t *out)
+{
+	const struct sh2000_param_info *pi = sh2000_param_lookup(id);
+
+	if (!pi)
+		return SH2000_RES_BAD_PARAM;
+	if (id >= SH2000_GP_FIRST) {
+		if (axis != SH2000_AXIS_GLOBAL)
+			return SH2000_RES_BAD_AXIS;
+		*out = (uint32_t)*global_i(fw, id);
+		return SH2000_RES_OK;
+	}
+	if (axis >= SH2000_AXES)
+		return SH2000_RES_BAD_AXIS;
+	if (pi->type == SH2000_PT_F32)
+		*out = sh2000_f32_bits(*axis_f(&fw->ax[axis].prm, id));
+	else
+		*out = (uint32_t)*axis_i(&fw->ax[axis].prm, id);
+	return SH2000_RES_OK;
+}
+
+uint16_t sh2000_fw_set_param(struct sh2000_fw *fw, unsigned int axis,
+			    unsigned int id, uint32_t bits)
+{
+	const struct sh2000_param_info *pi = sh2000_param_lookup(id);
+	double v;
+
+	if (!pi)
+		return SH2000_RES_BAD_PARAM;
+	if (id >= SH2000_GP_FIRST ? axis != SH2000_AXIS_GLOBAL :
+				    axis >= SH2000_AXES)
+		return SH2000_RES_BAD_AXIS;
+	v = pi->type == SH2000_PT_F32 ? sh2000_f32_value(bits) :
+					(double)(int32_t)bits;
+	if (sh2000_param_in_range(pi, v))
+		return SH2000_RES_BAD_VALUE;
+	if (sh2000_fw_in_motion(fw) && !live_param(id))
+		return SH2000_RES_BUSY;
+	if (id >= SH2000_GP_FIRST) {
+		if (id == SH2000_GP_COARSE_PERIOD_US &&
+		    !timing_ok((int64_t)v, fw->fine_steps))
+			return SH2000_RES_BAD_VALUE;
+		if (id == SH2000_GP_FINE_STEPS &&
+		    !timing_ok(fw->coarse_us, (int64_t)v))
+			return SH2000_RES_BAD_VALUE;
+		*global_i(fw, id) = (int32_t)v;
+		return SH2000_RES_OK;
+	}
+	if (id == SH2000_P_SOFT_MIN && !(v < fw->ax[axis].prm.soft_max))
+		return SH2000_RES_BAD_VALUE;
+	if (id == SH2000_P_SOFT_MAX && !(v > fw->ax[axis].prm.soft_min))
+		return SH2000_RES_BAD_VALUE;
+	if (pi->type == SH2000_PT_F32)
+		*axis_f(&fw->ax[axis].prm, id) = v;
+	else
+		*axis_i(&fw->ax[axis].prm, id) = (int32_t)v;
+	return SH2000_RES_OK;
+}
+
+void sh2000_fw_default_params(struct sh2000_fw *fw)
+{
+	unsigned int a, id;
+
+	for (a = 0; a < SH2000_AXES; a++)
+		for (id = 0; id < SH2000_AXIS_PARAMS; id++) {
+			const struct sh2000_param_info *pi =
+				sh2000_param_lookup(id);
+
+			if (pi->type == SH2000_PT_F32)
+				*axis_f(&fw->ax[a].prm, id) =
+					(double)(float)pi->def;
+			else
+				*axis_i(&fw->ax[a].prm, id) = (int32_t)pi->def;
+		}
+	for (id = SH2000_GP_FIRST; id < SH2000_GP_END; id++)
+		*global_i(fw, id) = (int32_t)sh2000_param_lookup(id)->def;
+}

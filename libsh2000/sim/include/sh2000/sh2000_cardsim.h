@@ -1,0 +1,133 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The simulated SH-2000TH card: FPGA registers and address counter, the
+ * dual-port RAM, the DSP firmware (protocol v1, fine interpolation, PID) and
+ * a plant per axis (linear motor, switches, 28-bit encoder).
+ *
+ * Two ways to use it:
+ *  - sh2000_cardsim_*: a whole card in virtual time, driven through the four
+ *    FPGA registers. Each port access costs SH2000_PORT_CYCLE_NS of card time
+ *    and runs the servo cycles that time crosses; sh2000_cardsim_advance()
+ *    is how a waiting host lets time pass. Deterministic, not thread-safe
+ *    (the caller serialises).
+ *  - sh2000_fw_* + a RAM the firmware does not own (shared memory, the
+ *    kernel sh2000_sim card's DSP side, or a thread in a stress test): the
+ *    caller runs sh2000_fw_cycle() once per servo period in real time. All
+ *    RAM accesses are 16-bit atomic loads/stores (sh2000_dpram_*), so the
+ *    host may poke the RAM concurrently, as on the real dual-port RAM.
+ */
+#ifndef SH2000_CARDSIM_H
+#define SH2000_CARDSIM_H
+
+#include <stdint.h>
+
+#include "sh2000/card.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- plant and environment of one axis (documented defaults) ---- */
+
+struct sh2000_plant_config {
+	double mass_kg;			/* moving mass */
+	double friction_ns_per_m;	/* viscous friction N/(m/s) */
+	double force_n_per_v;		/* force constant incl. amplifier, N/V */
+	double counts_per_mm;		/* encoder scale (10 nm = 100000/mm) */
+	double limit_neg_mm, limit_pos_mm;	/* hard limit switch positions */
+	double home_mm;			/* home switch: active at x <= home_mm */
+	double index_period_mm;		/* encoder index spacing */
+	double start_mm;		/* position at power-up */
+	/* Addition: the home switch chatters (toggles every 3 servo
+	 * periods) while |x - home_mm| < home_bounce_mm; 0 = clean. */
+	double home_bounce_mm;
+};
+
+struct sh2000_sim_config {
+	struct sh2000_plant_config axis[SH2000_AXES];
+};
+
+/* Fills *cfg with the documented defaults. */
+void sh2000_sim_config_default(struct sh2000_sim_config *cfg);
+
+/* ---- fault injection ---- */
+
+enum sh2000_inject {
+	SH2000_INJECT_NONE = 0,
+	SH2000_INJECT_HEARTBEAT_STOP,	/* firmware runs, heartbeat frozen */
+	SH2000_INJECT_DSP_STALL,	/* firmware stops entirely */
+	SH2000_INJECT_RAM_FLIP,		/* flip bits of RAM word `arg` once */
+	SH2000_INJECT_JAM,		/* axis stuck: following error grows */
+	SH2000_INJECT_LIMIT,		/* trip a hard limit switch of axis */
+	SH2000_INJECT_DROP_SEGMENT,	/* firmware skips the next record */
+	SH2000_INJECT_CLEAR,		/* undo every injection */
+	/* Addition: the axis' 28-bit counter jumps by `arg` counts once
+	 * (0: 2^20), as after a glitch on the scale lines. */
+	SH2000_INJECT_COUNTER_GLITCH,
+};
+
+/* What the card is doing inside, for tests, traces and benchmarks: not
+ * visible to a real host. Positions in counts. */
+struct sh2000_probe_axis {
+	double fine_cmd;	/* fine-interpolated set-point this cycle */
+	double actual;		/* encoder position (extended, not wrapped) */
+	double velocity;	/* plant velocity, counts/s */
+	int16_t dac;		/* DAC code output this cycle */
+};
+
+struct sh2000_probe {
+	uint64_t servo_cycle;	/* servo cycles run so far */
+	uint64_t time_ns;	/* card time */
+	unsigned int state;	/* enum sh2000_card_state */
+	struct sh2000_probe_axis axis[SH2000_AXES];
+};
+
+/* ---- firmware on an external RAM (real time) ---- */
+
+struct sh2000_fw;	/* fixed size; allocated once by sh2000_fw_create() */
+
+/* Only the RAM is shared: sh2000_fw_inject(), _probe() and _set_observer()
+ * touch the firmware's own state, so call them from the thread that runs
+ * sh2000_fw_cycle() or with the cycles held off (a lock around both). */
+
+int sh2000_fw_create(struct sh2000_fw **out, uint16_t *ram,
+		     const struct sh2000_sim_config *cfg);
+void sh2000_fw_destroy(struct sh2000_fw *fw);
+/* One servo cycle: read host words, interpolate, PID, plant, publish. */
+void sh2000_fw_cycle(struct sh2000_fw *fw);
+/* Servo period currently configured (coarse period / fine steps). */
+uint64_t sh2000_fw_servo_period_ns(const struct sh2000_fw *fw);
+int sh2000_fw_inject(struct sh2000_fw *fw, enum sh2000_inject what,
+		     unsigned int axis, unsigned int arg);
+void sh2000_fw_probe(const struct sh2000_fw *fw, struct sh2000_probe *p);
+/* Called after every servo cycle with the probe of that cycle (traces,
+ * tests); NULL removes it. Runs inside sh2000_fw_cycle(): keep it short. */
+typedef void (*sh2000_fw_observer)(void *ctx, const struct sh2000_probe *p);
+void sh2000_fw_set_observer(struct sh2000_fw *fw, sh2000_fw_observer fn,
+			    void *ctx);
+
+/* ---- a whole card in virtual time ---- */
+
+struct sh2000_cardsim;
+
+int sh2000_cardsim_create(struct sh2000_cardsim **out,
+			  const struct sh2000_sim_config *cfg);
+void sh2000_cardsim_destroy(struct sh2000_cardsim *c);
+/* The FPGA's registers (SH2000_REG_*): one port cycle each. */
+void sh2000_cardsim_out(struct sh2000_cardsim *c, unsigned int reg, uint16_t v);
+uint16_t sh2000_cardsim_in(struct sh2000_cardsim *c, unsigned int reg);
+/* Let card time pass without port cycles (a host that waits). */
+void sh2000_cardsim_advance(struct sh2000_cardsim *c, uint64_t ns);
+uint64_t sh2000_cardsim_now_ns(const struct sh2000_cardsim *c);
+/* The firmware inside, for injection and probing. */
+struct sh2000_fw *sh2000_cardsim_fw(struct sh2000_cardsim *c);
+/* Port cycles issued: clears, increments, data reads, data writes. */
+void sh2000_cardsim_counters(const struct sh2000_cardsim *c, uint64_t out[4]);
+/* Addition: the RAM itself (tests, traces; a host uses the registers). */
+uint16_t *sh2000_cardsim_ram(struct sh2000_cardsim *c);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SH2000_CARDSIM_H */

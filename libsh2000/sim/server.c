@@ -1,0 +1,299 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Serving a card model for `sim:NAME`: the shared-memory object
+ * /sh2000-NAME (sh2000_shm.h) plays the dual-port RAM, and the firmware
+ * runs one servo cycle per servo period in real time (or back to back
+ * with SH2000_SIM_SERVER_FREE_RUN); or the same on a RAM the caller
+ * mapped (sh2000_sim_server_attach). Injections and probes take the
+ * server's mutex, so they land between two cycles.
+ */
+#include <errno.h>
+#include <pthread.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "sh2000/sim.h"
+#include "sh2000/sh2000_protocol.h"
+#include "sh2000_fpga.h"
+#include "sh2000_shm.h"
+#include "simutil.h"
+
+struct sh2000_sim_server {
+	char shm_name[SH2000_SHM_NAME_MAX + 16];
+	struct sh2000_shm *shm;	/* NULL when attached to a caller's RAM */
+	uint16_t *ram;		/* the dual-port RAM the firmware runs on */
+	struct sh2000_fw *fw;
+	unsigned int flags;
+	pthread_mutex_t lock;	/* the firmware between cycles */
+	pthread_t thread;
+	int started;
+	int stop;		/* atomic */
+	uint64_t cycles;	/* atomic */
+};
+
+static int map_new(struct sh2000_sim_server *s, const char *name, char *msg,
+		   size_t len)
+{
+	int fd, e, tries;
+
+	for (tries = 0; tries < 2; tries++) {
+		fd = shm_open(s->shm_name, O_RDWR | O_CREAT | O_EXCL, 0600);
+		if (fd >= 0)
+			break;
+		e = errno;
+		if (e != EEXIST)
+			return sim_msg(msg, len, -e, "sim:%s: shm_open %s: %s",
+					  name, s->shm_name, strerror(e));
+		/* someone's object: live server, or left by a dead one? */
+		fd = shm_open(s->shm_name, O_RDWR, 0);
+		if (fd >= 0) {
+			struct stat sb;
+			struct sh2000_shm *o = MAP_FAILED;
+
+			if (!fstat(fd, &sb) && (size_t)sb.st_size >= sizeof(*o))
+				o = mmap(NULL, sizeof(*o), PROT_READ, MAP_SHARED,
+					 fd, 0);
+			close(fd);
+			if (o != MAP_FAILED) {
+				pid_t pid = o->owner_pid;
+				int alive = pid > 0 &&
+					    !(kill(pid, 0) < 0 && errno == ESRCH);
+
+				munmap(o, sizeof(*o));
+				if (alive)
+					return sim_msg(msg, len, -EEXIST,
+							  "sim:%s: already served by pid %d",
+							  name, (int)pid);
+			}
+		}
+		shm_unlink(s->shm_name);
+	}
+	if (fd < 0)
+		return sim_msg(msg, len, -EEXIST, "sim:%s: cannot claim %s",
+				  name, s->shm_name);
+	if (ftruncate(fd, sizeof(struct sh2000_shm)) < 0) {
+		e = errno;
+		close(fd);
+		shm_unlink(s->shm_name);
+		return sim_msg(msg, len, -e, "sim:%s: ftruncate: %s", name,
+				  strerror(e));
+	}
+	s->shm = mmap(NULL, sizeof(struct sh2000_shm), PROT_READ | PROT_WRITE,
+		      MAP_SHARED, fd, 0);
+	e = errno;
+	close(fd);
+	if (s->shm == MAP_FAILED) {
+		s->shm = NULL;
+		shm_unlink(s->shm_name);
+		return sim_msg(msg, len, -e, "sim:%s: mmap: %s", name,
+				  strerror(e));
+	}
+	return 0;
+}
+
+int sh2000_sim_server_create(struct sh2000_sim_server **out, const char *name,
+			     const struct sh2000_sim_config *cfg,
+			     unsigned int flags, char *msg, size_t len)
+{
+	struct sh2000_sim_server *s;
+	struct sh2000_sim_config def;
+	int r;
+
+	*out = NULL;
+	if (!name || !*name || strlen(name) > SH2000_SHM_NAME_MAX ||
+	    strchr(name, '/'))
+		return sim_msg(msg, len, -EINVAL,
+				  "sim:%s: bad name (1..%d characters, no '/')",
+				  name ? name : "", SH2000_SHM_NAME_MAX);
+	s = calloc(1, sizeof(*s));
+	if (!s)
+		return sim_msg(msg, len, -ENOMEM, "sim:%s: out of memory", name);
+	snprintf(s->shm_name, sizeof(s->shm_name), SH2000_SHM_PREFIX "%s", name);
+	s->flags = flags;
+	pthread_mutex_init(&s->lock, NULL);
+	r = map_new(s, name, msg, len);
+	if (r < 0) {
+		pthread_mutex_destroy(&s->lock);
+		free(s);
+		return r;
+	}
+	memset(s->shm, 0, sizeof(*s->shm));
+	s->shm->layout = SH2000_SHM_LAYOUT;
+	s->shm->owner_pid = (int32_t)getpid();
+	if (!cfg) {
+		sh2000_sim_config_default(&def);
+		cfg = &def;
+	}
+	s->ram = s->shm->ram;
+	r = sh2000_fw_create(&s->fw, s->ram, cfg);
+	if (r < 0) {
+		sim_msg(msg, len, r, "sim:%s: card model: %s", name,
+			   sh2000_strerror(r));
+		munmap(s->shm, sizeof(*s->shm));
+		shm_unlink(s->shm_name);
+		pthread_mutex_destroy(&s->lock);
+		free(s);
+		return r;
+	}
+	s->shm->servo_period_ns = sh2000_fw_servo_period_ns(s->fw);
+	__atomic_store_n(&s->shm->magic, SH2000_SHM_MAGIC, __ATOMIC_RELEASE);
+	*out = s;
+	return 0;
+}
+
+int sh2000_sim_server_attach(struct sh2000_sim_server **out, uint16_t *ram,
+			     const struct sh2000_sim_config *cfg,
+			     unsigned int flags, char *msg, size_t len)
+{
+	struct sh2000_sim_server *s;
+	int r;
+
+	*out = NULL;
+	s = calloc(1, sizeof(*s));
+	if (!s)
+		return sim_msg(msg, len, -ENOMEM, "attach: out of memory");
+	s->flags = flags;
+	s->ram = ram;
+	pthread_mutex_init(&s->lock, NULL);
+	/* a card that boots shows no firmware until it is ready */
+	sh2000_dpram_write(ram, SH2000_W_MAGIC, 0);
+	r = sh2000_fw_create(&s->fw, ram, cfg);
+	if (r < 0) {
+		sim_msg(msg, len, r, "card model: %s", sh2000_strerror(r));
+		pthread_mutex_destroy(&s->lock);
+		free(s);
+		return r;
+	}
+	*out = s;
+	return 0;
+}
+
+int sh2000_sim_server_run(struct sh2000_sim_server *s)
+{
+	struct timespec next;
+	uint64_t period = 0;
+
+	clock_gettime(CLOCK_MONOTONIC, &next);
+	if (s->shm)
+		__atomic_store_n(&s->shm->running, 1, __ATOMIC_RELEASE);
+	while (!__atomic_load_n(&s->stop, __ATOMIC_ACQUIRE)) {
+		uint64_t c;
+
+		pthread_mutex_lock(&s->lock);
+		sh2000_fw_cycle(s->fw);
+		period = sh2000_fw_servo_period_ns(s->fw);
+		pthread_mutex_unlock(&s->lock);
+		c = __atomic_add_fetch(&s->cycles, 1, __ATOMIC_RELAXED);
+		if (s->shm)
+			__atomic_store_n(&s->shm->cycles, c, __ATOMIC_RELAXED);
+		if (s->flags & SH2000_SIM_SERVER_FREE_RUN)
+			continue;
+		next.tv_nsec += (long)period;
+		while (next.tv_nsec >= 1000000000L) {
+			next.tv_nsec -= 1000000000L;
+			next.tv_sec++;
+		}
+		{
+			/* fell far behind (stopped, overloaded): catch up now
+			 * instead of running a burst of cycles */
+			uint64_t now = sim_mono_ns();
+			uint64_t due = (uint64_t)next.tv_sec * 1000000000ull +
+				       (uint64_t)next.tv_nsec;
+
+			if (now > due + 100 * period) {
+				next.tv_sec = (time_t)(now / 1000000000ull);
+				next.tv_nsec = (long)(now % 1000000000ull);
+			}
+		}
+		while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next,
+				       NULL) == EINTR &&
+		       !__atomic_load_n(&s->stop, __ATOMIC_ACQUIRE))
+			;
+	}
+	if (s->shm)
+		__atomic_store_n(&s->shm->running, 0, __ATOMIC_RELEASE);
+	return 0;
+}
+
+static void *server_thread(void *arg)
+{
+	sh2000_sim_server_run(arg);
+	return NULL;
+}
+
+int sh2000_sim_server_start(struct sh2000_sim_server *s)
+{
+	int r;
+
+	if (s->started)
+		return -EBUSY;
+	__atomic_store_n(&s->stop, 0, __ATOMIC_RELEASE);
+	r = pthread_create(&s->thread, NULL, server_thread, s);
+	if (r)
+		return -r;
+	s->started = 1;
+	return 0;
+}
+
+void sh2000_sim_server_stop(struct sh2000_sim_server *s)
+{
+	__atomic_store_n(&s->stop, 1, __ATOMIC_RELEASE);
+}
+
+void sh2000_sim_server_destroy(struct sh2000_sim_server *s)
+{
+	if (!s)
+		return;
+	sh2000_sim_server_stop(s);
+	if (s->started)
+		pthread_join(s->thread, NULL);
+	sh2000_fw_destroy(s->fw);
+	if (s->shm) {
+		__atomic_store_n(&s->shm->magic, 0, __ATOMIC_RELEASE);
+		munmap(s->shm, sizeof(*s->shm));
+		shm_unlink(s->shm_name);
+	} else {
+		/* the card goes away: hosts see "no firmware", not a stall */
+		sh2000_dpram_write(s->ram, SH2000_W_MAGIC, 0);
+	}
+	pthread_mutex_destroy(&s->lock);
+	free(s);
+}
+
+int sh2000_sim_server_inject(struct sh2000_sim_server *s,
+			     enum sh2000_inject what, unsigned int axis,
+			     unsigned int arg)
+{
+	int r;
+
+	pthread_mutex_lock(&s->lock);
+	r = sh2000_fw_inject(s->fw, what, axis, arg);
+	pthread_mutex_unlock(&s->lock);
+	return r;
+}
+
+int sh2000_sim_server_probe(struct sh2000_sim_server *s,
+			    struct sh2000_probe *p)
+{
+	pthread_mutex_lock(&s->lock);
+	sh2000_fw_probe(s->fw, p);
+	pthread_mutex_unlock(&s->lock);
+	return 0;
+}
+
+uint64_t sh2000_sim_server_cycles(struct sh2000_sim_server *s)
+{
+	return __atomic_load_n(&s->cycles, __ATOMIC_RELAXED);
+}
+
+const char *sh2000_sim_server_shm_name(const struct sh2000_sim_server *s)
+{
+	return s->shm_name;
+}

@@ -134,7 +134,7 @@ int sh2000_sim_server_create(struct sh2000_sim_server **out, const char *name,
 	s->ram = s->shm->ram;
 	r = sh2000_fw_create(&s->fw, s->ram, cfg);
 	if (r < 0) {
-		sim_msg(msg, len, r, "sim:%s: card model: %s", name,
+		(void)sim_msg(msg, len, r, "sim:%s: card model: %s", name,
 			   sh2000_strerror(r));
 		munmap(s->shm, sizeof(*s->shm));
 		shm_unlink(s->shm_name);
@@ -166,7 +166,7 @@ int sh2000_sim_server_attach(struct sh2000_sim_server **out, uint16_t *ram,
 	sh2000_dpram_write(ram, SH2000_W_MAGIC, 0);
 	r = sh2000_fw_create(&s->fw, ram, cfg);
 	if (r < 0) {
-		sim_msg(msg, len, r, "card model: %s", sh2000_strerror(r));
+		(void)sim_msg(msg, len, r, "card model: %s", sh2000_strerror(r));
 		pthread_mutex_destroy(&s->lock);
 		free(s);
 		return r;

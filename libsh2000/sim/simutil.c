@@ -1,21 +1,7 @@
 // SPDX-License-Identifier: MIT
-#include <stdarg.h>
-#include <stdio.h>
 #include <time.h>
 
 #include "simutil.h"
-
-int sim_msg(char *msg, size_t len, int code, const char *fmt, ...)
-{
-	va_list ap;
-
-	if (!msg || !len)
-		return code;
-	va_start(ap, fmt);
-	vsnprintf(msg, len, fmt, ap);
-	va_end(ap);
-	return code;
-}
 
 uint64_t sim_mono_ns(void)
 {

@@ -6,9 +6,12 @@
 #include <stddef.h>
 #include <stdint.h>
 
-/* Format a message into msg (if any) and return code. */
-int sim_msg(char *msg, size_t len, int code, const char *fmt, ...)
-	__attribute__((format(printf, 4, 5)));
+#include <stdio.h>
+
+/* Format a message into msg (if any) and give code. */
+#define sim_msg(msg, len, code, ...)					\
+	((msg) && (len) ? (void)snprintf((msg), (len), __VA_ARGS__) :	\
+			  (void)0, (code))
 /* CLOCK_MONOTONIC in ns. */
 uint64_t sim_mono_ns(void);
 

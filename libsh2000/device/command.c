@@ -2,9 +2,11 @@
 /*
  * Commands (one in flight per card, sequence-numbered, acknowledged with a
  * result code), the emergency stop, and axis parameters in user units with
- * validation before anything is written.
+ * validation before anything is written. Other programs may use the same
+ * card: the command lock (arbiter.c) makes each exchange theirs alone.
  */
 #include <errno.h>
+#include <fcntl.h>
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -71,6 +73,24 @@ int sh2000_command_locked(struct sh2000 *h, unsigned int op,
 		pthread_cond_wait(&h->cmd_cond, &h->lock);
 	h->cmd_busy = 1;
 
+	snprintf(what, sizeof(what), "command %s (axis %u, param %u, arg %d)",
+		 op_name(op), axis == SH2000_AXIS_GLOBAL ? 0xffffu : axis,
+		 param, arg);
+	r = sh2000_arb_cmd_take(h);
+	if (r == -EAGAIN)
+		r = sh2000_fail(h, -SH2000_ETIMEOUT,
+				"%s: another program has held the card's command slot for over %d ms",
+				what, SH2000_ARB_WAIT_MS);
+	if (r < 0)
+		goto out_unlocked;
+	/* The slot is ours. If another program used it since, the last
+	 * sequence number is the one in the RAM (a program that died
+	 * mid-command left it there too). */
+	if (r > 0) {
+		r = sh2000_rd(h, SH2000_W_CMD_SEQ, 1, &h->cmd_seq);
+		if (r < 0)
+			goto out;
+	}
 	seq = (uint16_t)(h->cmd_seq + 1u);
 	w[0] = (uint16_t)op;
 	w[1] = (uint16_t)axis;
@@ -111,19 +131,36 @@ int sh2000_command_locked(struct sh2000 *h, unsigned int op,
 	if (value)
 		*value = sh2000_w32(&ack[2]);
 out:
+	sh2000_arb_drop(h, SH2000_ARB_CMD);
+out_unlocked:
 	h->cmd_busy = 0;
 	pthread_cond_broadcast(&h->cmd_cond);
 	return r;
 }
 
+/* Commands that change what the axes do belong to the program that
+ * controls the motion, if one does. STOP does not: anyone may stop. */
+static int changes_motion(unsigned int op)
+{
+	return op == SH2000_CMD_ENABLE || op == SH2000_CMD_DISABLE ||
+	       op == SH2000_CMD_HOME || op == SH2000_CMD_SET_POSITION ||
+	       op == SH2000_CMD_RESET;
+}
+
 static int command(struct sh2000 *h, unsigned int op, unsigned int axis,
 		   unsigned int param, int32_t arg, int32_t *value)
 {
-	int r;
+	int r = 0;
 
 	pthread_mutex_lock(&h->lock);
-	r = sh2000_command_locked(h, op, axis, param, arg, value,
-				  SH2000_CMD_TIMEOUT_MS);
+	if (changes_motion(op))
+		r = sh2000_arb_motion_begin(h, op_name(op));
+	if (!r) {
+		r = sh2000_command_locked(h, op, axis, param, arg, value,
+					  SH2000_CMD_TIMEOUT_MS);
+		if (changes_motion(op))
+			sh2000_arb_motion_end(h);
+	}
 	pthread_mutex_unlock(&h->lock);
 	return r;
 }
@@ -191,10 +228,11 @@ int sh2000_set_position(struct sh2000 *h, unsigned int axis, double pos_mm)
 		r = sh2000_fail(h, -SH2000_EPARAM,
 				"axis %u position %g mm: not representable in 32-bit counts",
 				axis, pos_mm);
-	} else {
+	} else if (!(r = sh2000_arb_motion_begin(h, "set_position"))) {
 		r = sh2000_command_locked(h, SH2000_CMD_SET_POSITION, axis, 0,
 					  (int32_t)c, NULL,
 					  SH2000_CMD_TIMEOUT_MS);
+		sh2000_arb_motion_end(h);
 		if (!r)
 			r = sh2000_fresh_snapshot(h, SH2000_CMD_TIMEOUT_MS);
 		if (!r)
@@ -207,13 +245,14 @@ int sh2000_set_position(struct sh2000 *h, unsigned int axis, double pos_mm)
 int sh2000_estop(struct sh2000 *h, int timeout_ms)
 {
 	uint64_t t0, limit;
-	uint16_t ack;
+	uint16_t w[2];	/* ESTOP_ACK, STATE */
 	int r;
 
 	__atomic_add_fetch(&h->urgent, 1, __ATOMIC_ACQ_REL);
 	pthread_mutex_lock(&h->lock);
 	__atomic_sub_fetch(&h->urgent, 1, __ATOMIC_ACQ_REL);
-	/* never behind the command slot or the ring: word 0, at once */
+	/* never behind the command slot, the ring or another program: word
+	 * 0, at once */
 	h->estop_req++;
 	r = sh2000_wr1(h, SH2000_W_ESTOP_REQ, h->estop_req);
 	if (r < 0)
@@ -222,16 +261,30 @@ int sh2000_estop(struct sh2000 *h, int timeout_ms)
 	limit = (uint64_t)(timeout_ms < 0 ? SH2000_CMD_TIMEOUT_MS : timeout_ms) *
 		1000000ull;
 	for (;;) {
-		r = sh2000_rd(h, SH2000_W_ESTOP_ACK, 1, &ack);
-		if (r < 0 || ack == h->estop_req)
+		r = sh2000_rd(h, SH2000_W_ESTOP_ACK, 2, w);
+		if (r < 0 || (w[0] == h->estop_req &&
+			      w[1] == SH2000_STATE_ESTOP))
 			break;
+		/*
+		 * The card acts on any value other than ESTOP_ACK. Another
+		 * program's emergency stop (and a reset since) may have left
+		 * ACK at the value this handle just wrote: acknowledged but
+		 * not stopped. Then ask again with the next value (a second
+		 * request while stopped does nothing more).
+		 */
+		if (w[0] == h->estop_req) {
+			h->estop_req++;
+			r = sh2000_wr1(h, SH2000_W_ESTOP_REQ, h->estop_req);
+			if (r < 0)
+				break;
+		}
 		if (sh2000_now_locked(h) - t0 > limit) {
 			r = why_silent(h, "emergency stop", (int)(limit / 1000000ull));
 			if (r == -SH2000_ETIMEOUT)
 				r = sh2000_fail(h, r,
 						"emergency stop not acknowledged within %d ms (ESTOP_REQ %u, ESTOP_ACK %u)",
 						(int)(limit / 1000000ull),
-						h->estop_req, ack);
+						h->estop_req, w[0]);
 			break;
 		}
 		sh2000_hold_wait(h, ESTOP_POLL_NS);

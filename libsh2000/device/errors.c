@@ -15,6 +15,7 @@ static const char *const sh2000_errnames[SH2000_E_LAST - SH2000_E_BASE + 1] = {
 	[SH2000_ETORN - SH2000_E_BASE] = "status snapshot kept tearing",
 	[SH2000_ENOTSIM - SH2000_E_BASE] = "not a simulated card",
 	[SH2000_ESTOPPED - SH2000_E_BASE] = "card stopped the motion (a STOP command)",
+	[SH2000_EOWNED - SH2000_E_BASE] = "another program controls the motion",
 	[SH2000_ECMD_OP - SH2000_E_BASE] = "card rejected the command: unknown operation",
 	[SH2000_ECMD_AXIS - SH2000_E_BASE] = "card rejected the command: bad axis",
 	[SH2000_ECMD_PARAM - SH2000_E_BASE] = "card rejected the command: unknown parameter",

@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 
 #include "sh2000_internal.h"
 
@@ -134,6 +136,7 @@ static struct sh2000 *handle_new(const char *device)
 	pthread_mutex_init(&h->lock, NULL);
 	pthread_cond_init(&h->cmd_cond, NULL);
 	h->fd = -1;
+	h->arb.fd = -1;
 	h->bus.pos = SH2000_SEEK_UNKNOWN;
 	h->hb_limit_ns = SH2000_HEARTBEAT_LIMIT_NS;
 	snprintf(h->device, sizeof(h->device), "%s", device);
@@ -142,6 +145,7 @@ static struct sh2000 *handle_new(const char *device)
 
 static void handle_free(struct sh2000 *h)
 {
+	sh2000_arb_close(h);
 	if (h->be && h->be->close)
 		h->be->close(h);
 	pthread_cond_destroy(&h->cmd_cond);
@@ -164,6 +168,33 @@ static int finish_open(struct sh2000 *h, struct sh2000 **out, char *msg,
 	h->err[0] = 0;
 	*out = h;
 	return 0;
+}
+
+/* The lock file of a card other programs can reach: named after what
+ * identifies the card, whatever path or string opened it. */
+static int open_arbiter(struct sh2000 *h, const char *device, char *msg,
+			size_t len)
+{
+	char id[96];
+	struct stat sb;
+
+	switch (h->be->kind) {
+	case SH2000_BACKEND_DEV:
+		if (fstat(h->fd, &sb) < 0 || !S_ISCHR(sb.st_mode))
+			return 0;	/* a plain file: tests, nobody shares */
+		snprintf(id, sizeof(id), "dev-%u-%u", major(sb.st_rdev),
+			 minor(sb.st_rdev));
+		break;
+	case SH2000_BACKEND_IO:
+		snprintf(id, sizeof(id), "io-0x%lx", h->io_base);
+		break;
+	case SH2000_BACKEND_SHM:
+		snprintf(id, sizeof(id), "shm-%s", device + 4);
+		break;
+	default:
+		return 0;	/* in-process card: this handle's alone */
+	}
+	return sh2000_arb_open(h, id, msg, len);
 }
 
 int sh2000_open(struct sh2000 **out, const char *device, char *msg,
@@ -198,6 +229,8 @@ int sh2000_open(struct sh2000 **out, const char *device, char *msg,
 		r = sh2000_msg(msg, msglen, -EINVAL,
 			       "%s: unknown device string (use /dev/sh2000-N, io:0xNNN, sim or sim:NAME)",
 			       device);
+	if (r >= 0)
+		r = open_arbiter(h, device, msg, msglen);
 	if (r < 0) {
 		handle_free(h);
 		return r;

@@ -41,6 +41,20 @@ struct sh2000_bus {
 	uint64_t clears, increments, data_reads, data_writes;
 };
 
+/* arbiter.c: locks shared with other processes using the card */
+struct sh2000_arb {
+	int fd;			/* the card's lock file, -1: none (sim) */
+	int motion;		/* this handle holds the motion lock */
+	uint64_t token;		/* this handle's mark as last slot user */
+	char path[256];
+};
+
+#define SH2000_ARB_CMD		0u	/* one command exchange */
+#define SH2000_ARB_MOTION	1u	/* one program controls the motion */
+#define SH2000_ARB_BUS		2u	/* io: one port sequence */
+/* Longest wait for another program's command or port sequence. */
+#define SH2000_ARB_WAIT_MS	1000
+
 struct sh2000 {
 	pthread_mutex_t lock;
 	pthread_cond_t cmd_cond;	/* the command slot became free */
@@ -54,6 +68,7 @@ struct sh2000 {
 	struct sh2000_ports ports;	/* sim, ports */
 	struct sh2000_shm *shm;		/* shm */
 	struct sh2000_fpga fpga;	/* shm: the FPGA, emulated on this side */
+	struct sh2000_arb arb;
 
 	unsigned int card_version;
 	/* host-owned words, as this handle last wrote them */
@@ -133,6 +148,21 @@ int sh2000_status_error_locked(struct sh2000 *h,
 int sh2000_command_locked(struct sh2000 *h, unsigned int op,
 			  unsigned int axis, unsigned int param, int32_t arg,
 			  int32_t *value, int timeout_ms);
+
+/* arbiter.c (h->lock held) */
+int sh2000_arb_open(struct sh2000 *h, const char *id, char *msg, size_t len);
+void sh2000_arb_close(struct sh2000 *h);
+int sh2000_arb_take(struct sh2000 *h, unsigned int which, short type,
+		    int timeout_ms);
+void sh2000_arb_drop(struct sh2000 *h, unsigned int which);
+int sh2000_arb_bus_take(struct sh2000 *h);
+int sh2000_arb_cmd_take(struct sh2000 *h);
+int sh2000_arb_claim_locked(struct sh2000 *h);
+/* Around a command that changes the motion (enable, disable, home,
+ * set_position, reset): -SH2000_EOWNED naming the holder if another
+ * program controls the motion. */
+int sh2000_arb_motion_begin(struct sh2000 *h, const char *what);
+void sh2000_arb_motion_end(struct sh2000 *h);
 
 /* backends */
 int sh2000_dev_open(struct sh2000 *h, const char *path, char *msg,

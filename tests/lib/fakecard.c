@@ -50,8 +50,10 @@ static void fake_out(struct sh2000 *h, unsigned int reg, uint16_t v)
 			f->ram[SH2000_W_CMD_VALUE_HI] = (uint16_t)(f->ack_value >> 16);
 			f->ram[SH2000_W_CMD_ACK] = v;
 		}
-		if (f->counter == SH2000_W_ESTOP_REQ && f->auto_ack)
+		if (f->counter == SH2000_W_ESTOP_REQ && f->auto_ack) {
 			f->ram[SH2000_W_ESTOP_ACK] = v;
+			f->ram[SH2000_W_STATE] = SH2000_STATE_ESTOP;
+		}
 		break;
 	}
 }
@@ -88,6 +90,7 @@ struct fakecard *fakecard_new(void)
 	unsigned int a;
 
 	f->be.kind = SH2000_BACKEND_SIM;
+	f->h.arb.fd = -1;	/* one process: no lock file */
 	f->be.virtual_time = 1;
 	f->be.port_out = fake_out;
 	f->be.port_in = fake_in;

@@ -290,8 +290,9 @@ static void test_estop_cost(void **state)
 	assert_int_equal(f->log[0].op, FAKE_CLEAR);
 	assert_int_equal(f->log[1].op, FAKE_WR);
 	assert_int_equal(f->log[1].addr, SH2000_W_ESTOP_REQ);
-	/* then 4 increments and the ESTOP_ACK read */
-	assert_int_equal(cycles(f), 7);
+	/* then 4 increments, the ESTOP_ACK read, 1 increment, the STATE
+	 * read (acknowledged and stopped) */
+	assert_int_equal(cycles(f), 9);
 	fakecard_free(f);
 }
 

@@ -46,6 +46,8 @@ enum sh2000_error {
 	SH2000_ESTOPPED = 1008,		/* the card stopped a motion this
 					   handle was streaming (a STOP
 					   from another program) */
+	SH2000_EOWNED = 1009,		/* another program controls the
+					   motion (the message names it) */
 	/* command results (SH2000_RES_*) */
 	SH2000_ECMD_OP = 1010,		/* card: unknown command */
 	SH2000_ECMD_AXIS = 1011,	/* card: bad axis */
@@ -273,6 +275,26 @@ int sh2000_set_position(struct sh2000 *h, unsigned int axis, double pos_mm);
  * command or the ring), then waits up to timeout_ms for ESTOP_ACK.
  */
 int sh2000_estop(struct sh2000 *h, int timeout_ms);
+
+/* ---- several programs on one card ----------------------------------- */
+
+/*
+ * Any number of programs may open one card (dev, io:, sim:NAME) and send
+ * commands at once: each exchange holds the card's command lock, so every
+ * answer goes to the program that asked. The motion belongs to one program
+ * at a time: the first sh2000_push_*() claims it (or sh2000_claim_motion()
+ * does, before enabling); while a program holds it, the others' enable,
+ * disable, home, set_position and reset fail with -SH2000_EOWNED and a
+ * message naming the holder. Status, parameters, nop and STOP stay open to
+ * all, and sh2000_estop() never waits for anyone. The claim ends with
+ * sh2000_release_motion(), sh2000_close() or the holder's death. An
+ * in-process `sim` card belongs to its handle alone. docs/library.md.
+ */
+int sh2000_claim_motion(struct sh2000 *h);
+void sh2000_release_motion(struct sh2000 *h);
+/* 1 and "name (pid N)" in buf if a program (this one included) holds the
+ * motion, 0 if none does. */
+int sh2000_motion_holder(struct sh2000 *h, char *buf, size_t len);
 
 /* ---- parameters ------------------------------------------------------ */
 

@@ -1,0 +1,328 @@
+// SPDX-License-Identifier: MIT
+/*
+ * Sharing one card between programs (docs/library.md "Several programs on
+ * one card"). The card has one command slot and one segment ring, so:
+ *
+ *  - the command lock: one command exchange (write OP..SEQ, wait for the
+ *    acknowledgement) at a time across every process. Whoever holds it
+ *    takes the next sequence number from the RAM's CMD_SEQ word, so an
+ *    answer can only be the holder's own;
+ *  - the motion lock: one program at a time streams segments and enables,
+ *    disables, homes or resets axes. The holder writes its pid and name
+ *    beside the lock so others are told who it is. Programs without it
+ *    take the lock shared for the length of such a command, so a claim
+ *    never slips in between their check and their command. STOP and the
+ *    emergency stop stay open to everyone: stopping only makes safer;
+ *  - the bus lock (io: only): the FPGA's address counter is one for all
+ *    processes doing port I/O, so a port sequence runs under it.
+ *
+ * All three are open-file-description locks (F_OFD_SETLK) on bytes of one
+ * lock file per card in $SH2000_LOCK_DIR, /run/lock or /tmp. The kernel
+ * drops them when the holder closes the card or dies, so a killed process
+ * never wedges the card; the next holder re-reads the sequence word. The
+ * in-process `sim` card belongs to one handle and needs none of this, and
+ * status snapshots are read without any lock.
+ */
+#include <errno.h>
+#include <fcntl.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "sh2000_internal.h"
+
+/* Lock bytes, the last command-slot user and the owner record in the lock
+ * file. */
+#define ARB_TOKEN_OFF	32
+#define ARB_INFO_OFF	64
+#define ARB_INFO_LEN	64
+/* Poll period while another process holds a lock. */
+#define ARB_POLL_NS	20000ull
+
+static const char *lock_dir(void)
+{
+	const char *d = getenv("SH2000_LOCK_DIR");
+
+	if (d && *d)
+		return d;
+	return access("/run/lock", W_OK) == 0 ? "/run/lock" : "/tmp";
+}
+
+int sh2000_arb_open(struct sh2000 *h, const char *id, char *msg, size_t len)
+{
+	char path[sizeof(h->arb.path)];
+	struct stat sb;
+	int fd, e;
+
+	if (snprintf(path, sizeof(path), "%s/sh2000-%s.lock", lock_dir(),
+		     id) >= (int)sizeof(path))
+		return sh2000_msg(msg, len, -ENAMETOOLONG,
+				  "%s: lock file name too long", h->device);
+	fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0666);
+	if (fd < 0) {
+		e = errno;
+		return sh2000_msg(msg, len, -e,
+				  "%s: cannot open the card's lock file %s: %s (every program using the card must be able to write it)",
+				  h->device, path, strerror(e));
+	}
+	/* whoever creates it: every user of the card must be able to lock */
+	if (fstat(fd, &sb) == 0 && sb.st_uid == geteuid() &&
+	    (sb.st_mode & 0666) != 0666)
+		(void)fchmod(fd, 0666);
+	h->arb.fd = fd;
+	snprintf(h->arb.path, sizeof(h->arb.path), "%s", path);
+	/* this handle, among every user the card ever had: never 0 */
+	h->arb.token = ((uint64_t)getpid() << 32) ^ sh2000_mono_ns() ^
+		       (uint64_t)(uintptr_t)h;
+	h->arb.token |= 1;
+	return 0;
+}
+
+void sh2000_arb_close(struct sh2000 *h)
+{
+	if (h->arb.fd >= 0)
+		close(h->arb.fd);	/* drops every lock of this handle */
+	h->arb.fd = -1;
+}
+
+static int ofd(struct sh2000 *h, int cmd, short type, unsigned int which)
+{
+	struct flock fl = {
+		.l_type = type,
+		.l_whence = SEEK_SET,
+		.l_start = which,
+		.l_len = 1,
+	};
+
+	if (fcntl(h->arb.fd, cmd, &fl) == 0)
+		return cmd == F_OFD_GETLK ? fl.l_type != F_UNLCK : 0;
+	return -errno;
+}
+
+/*
+ * Take lock `which` (SH2000_ARB_*) of type F_WRLCK or F_RDLCK, waiting up
+ * to timeout_ms (0: try once). Called with h->lock held; it is released
+ * while waiting so the handle's other threads go on.
+ */
+int sh2000_arb_take(struct sh2000 *h, unsigned int which, short type,
+		    int timeout_ms)
+{
+	uint64_t t0 = sh2000_mono_ns();
+	int r;
+
+	if (h->arb.fd < 0)
+		return 0;
+	for (;;) {
+		r = ofd(h, F_OFD_SETLK, type, which);
+		if (r != -EAGAIN && r != -EACCES)
+			break;
+		if (sh2000_mono_ns() - t0 >= (uint64_t)timeout_ms * 1000000ull)
+			return -EAGAIN;
+		pthread_mutex_unlock(&h->lock);
+		sh2000_sleep_real(ARB_POLL_NS);
+		pthread_mutex_lock(&h->lock);
+	}
+	if (r < 0)
+		return sh2000_fail(h, r, "lock file %s: %s", h->arb.path,
+				   strerror(-r));
+	return 0;
+}
+
+/*
+ * The command lock. Returns 1 if another handle used the command slot
+ * since this one last did (then the caller re-reads CMD_SEQ from the RAM,
+ * whoever wrote it last), 0 if this handle was the last (its own sequence
+ * number is current: no extra port cycles for a program alone), or an
+ * error.
+ */
+int sh2000_arb_cmd_take(struct sh2000 *h)
+{
+	uint64_t last = 0;
+	int r;
+
+	if (h->arb.fd < 0)
+		return 0;
+	r = sh2000_arb_take(h, SH2000_ARB_CMD, F_WRLCK, SH2000_ARB_WAIT_MS);
+	if (r < 0)
+		return r;
+	if (pread(h->arb.fd, &last, sizeof(last), ARB_TOKEN_OFF) ==
+	    (ssize_t)sizeof(last) && last == h->arb.token)
+		return 0;
+	if (pwrite(h->arb.fd, &h->arb.token, sizeof(h->arb.token),
+		   ARB_TOKEN_OFF) != (ssize_t)sizeof(h->arb.token)) {
+		r = -errno;
+		sh2000_arb_drop(h, SH2000_ARB_CMD);
+		return sh2000_fail(h, r ? r : -EIO, "lock file %s: %s",
+				   h->arb.path, strerror(r ? -r : EIO));
+	}
+	return 1;
+}
+
+void sh2000_arb_drop(struct sh2000 *h, unsigned int which)
+{
+	if (h->arb.fd >= 0)
+		(void)ofd(h, F_OFD_SETLK, F_UNLCK, which);
+}
+
+/* "sh2000-upload (pid 1234)" of the motion lock's holder, or "". */
+static void holder(struct sh2000 *h, char *buf, size_t len)
+{
+	char info[ARB_INFO_LEN + 1];
+	ssize_t n = pread(h->arb.fd, info, ARB_INFO_LEN, ARB_INFO_OFF);
+	unsigned int pid;
+	char comm[32];
+
+	buf[0] = 0;
+	if (n <= 0)
+		return;
+	info[n] = 0;
+	if (sscanf(info, "%u %31s", &pid, comm) == 2)
+		snprintf(buf, len, "%s (pid %u)", comm, pid);
+}
+
+static void write_holder(struct sh2000 *h)
+{
+	char info[ARB_INFO_LEN], comm[32] = "?";
+	FILE *f = fopen("/proc/self/comm", "re");
+
+	if (f) {
+		if (fscanf(f, "%31s", comm) != 1)
+			snprintf(comm, sizeof(comm), "?");
+		fclose(f);
+	}
+	memset(info, 0, sizeof(info));
+	snprintf(info, sizeof(info), "%u %s\n", (unsigned int)getpid(), comm);
+	(void)pwrite(h->arb.fd, info, sizeof(info), ARB_INFO_OFF);
+}
+
+static int owned_elsewhere(struct sh2000 *h, const char *what)
+{
+	char who[96];
+
+	holder(h, who, sizeof(who));
+	return sh2000_fail(h, -SH2000_EOWNED,
+			   "%s: the motion is held by %s; it has to finish or close the card first",
+			   what, *who ? who : "another program");
+}
+
+int sh2000_arb_claim_locked(struct sh2000 *h)
+{
+	uint16_t head;
+	int r;
+
+	if (h->arb.fd < 0 || h->arb.motion)
+		return 0;
+	/* others hold it shared only for one command: wait that long */
+	r = sh2000_arb_take(h, SH2000_ARB_MOTION, F_WRLCK, SH2000_CMD_TIMEOUT_MS);
+	if (r == -EAGAIN)
+		return owned_elsewhere(h, "taking the motion");
+	if (r < 0)
+		return r;
+	h->arb.motion = 1;
+	write_holder(h);
+	/* the ring's head is where the last holder left it */
+	r = sh2000_rd(h, SH2000_W_HEAD, 1, &head);
+	if (r < 0) {
+		sh2000_arb_drop(h, SH2000_ARB_MOTION);
+		h->arb.motion = 0;
+		return r;
+	}
+	if (head != h->head) {
+		h->head = head;
+		h->segments = head;
+	}
+	return 0;
+}
+
+int sh2000_arb_motion_begin(struct sh2000 *h, const char *what)
+{
+	int r;
+
+	if (h->arb.fd < 0 || h->arb.motion)
+		return 0;
+	r = sh2000_arb_take(h, SH2000_ARB_MOTION, F_RDLCK, 0);
+	if (r == -EAGAIN)
+		return owned_elsewhere(h, what);
+	return r;
+}
+
+void sh2000_arb_motion_end(struct sh2000 *h)
+{
+	if (h->arb.fd >= 0 && !h->arb.motion)
+		sh2000_arb_drop(h, SH2000_ARB_MOTION);
+}
+
+int sh2000_claim_motion(struct sh2000 *h)
+{
+	int r;
+
+	pthread_mutex_lock(&h->lock);
+	r = sh2000_arb_claim_locked(h);
+	pthread_mutex_unlock(&h->lock);
+	return r;
+}
+
+void sh2000_release_motion(struct sh2000 *h)
+{
+	pthread_mutex_lock(&h->lock);
+	if (h->arb.fd >= 0 && h->arb.motion) {
+		char none[ARB_INFO_LEN] = { 0 };
+
+		(void)pwrite(h->arb.fd, none, sizeof(none), ARB_INFO_OFF);
+		sh2000_arb_drop(h, SH2000_ARB_MOTION);
+	}
+	h->arb.motion = 0;
+	pthread_mutex_unlock(&h->lock);
+}
+
+int sh2000_motion_holder(struct sh2000 *h, char *buf, size_t len)
+{
+	int r = 0;
+
+	if (!buf || !len)
+		return -EINVAL;
+	buf[0] = 0;
+	pthread_mutex_lock(&h->lock);
+	if (h->arb.fd >= 0 && h->arb.motion) {
+		holder(h, buf, len);
+		r = 1;
+	} else if (h->arb.fd >= 0 &&
+		   /* a read lock conflicts with the holder's only, not with
+		    * other programs' one-command shared locks */
+		   ofd(h, F_OFD_GETLK, F_RDLCK, SH2000_ARB_MOTION) > 0) {
+		holder(h, buf, len);
+		if (!*buf)
+			snprintf(buf, len, "another program");
+		r = 1;
+	}
+	pthread_mutex_unlock(&h->lock);
+	return r;
+}
+
+/* io: one port sequence at a time across processes. Held for a few
+ * microseconds, so the wait keeps the handle's lock. */
+int sh2000_arb_bus_take(struct sh2000 *h)
+{
+	uint64_t t0 = sh2000_mono_ns();
+	int r;
+
+	if (h->arb.fd < 0)
+		return 0;
+	while ((r = ofd(h, F_OFD_SETLK, F_WRLCK, SH2000_ARB_BUS)) == -EAGAIN ||
+	       r == -EACCES) {
+		if (sh2000_mono_ns() - t0 > SH2000_ARB_WAIT_MS * 1000000ull)
+			return sh2000_fail(h, -SH2000_ETIMEOUT,
+					   "another program has held the card's port registers for over %d ms (lock file %s)",
+					   SH2000_ARB_WAIT_MS, h->arb.path);
+		sh2000_sleep_real(ARB_POLL_NS);
+	}
+	if (r < 0)
+		return sh2000_fail(h, r, "lock file %s: %s", h->arb.path,
+				   strerror(-r));
+	/* another process may have moved the address counter */
+	h->bus.pos = SH2000_SEEK_UNKNOWN;
+	return 0;
+}

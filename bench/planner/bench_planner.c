@@ -20,6 +20,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "dda.h"
 #include "plcheck.h"
 
 #ifdef BENCH_WITH_CARD

@@ -18,6 +18,7 @@
 #include <cmocka.h>
 
 #include "sh2000/path.h"
+#include "dda.h"
 
 struct line_dev {
 	double a[3], d[3], dd;	/* start, direction, |direction|^2 */

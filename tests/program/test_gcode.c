@@ -585,6 +585,10 @@ static void test_diag_format_and_files(void **state)
 	assert_string_equal(sh2000_prog_strerror(-SH2000_PROG_EINVALID),
 			    "the program has errors");
 	assert_string_equal(sh2000_prog_strerror(-ENOMEM), strerror(ENOMEM));
+	/* one error space: the library's own names */
+	assert_int_equal(SH2000_PROG_EINVALID, SH2000_EPROGRAM);
+	assert_string_equal(sh2000_strerror(-SH2000_EFORMAT),
+			    "unknown program format");
 }
 
 int main(void)

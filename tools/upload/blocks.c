@@ -59,7 +59,7 @@ int upl_add_block(struct sh2000_path *p, const struct sh2000_prog_block *b)
 	case SH2000_PROG_NURBS:
 		n.degree = b->u.nurbs.degree;
 		n.count = (unsigned int)b->u.nurbs.npoints;
-		n.ctrl = (const double (*)[SH2000_PATH_AXES])b->u.nurbs.points;
+		n.ctrl = (const double (*)[SH2000_AXES])b->u.nurbs.points;
 		n.weights = b->u.nurbs.weights;
 		n.knots = b->u.nurbs.knots;
 		return sh2000_path_nurbs(p, &n, b->feed);

@@ -344,7 +344,7 @@ static int read_program(const struct opts *o, const double start[4],
 			 * program's */
 			if (!d.count)
 				sh2000_tool_msg("%s: %s", o->file,
-						sh2000_prog_strerror(r));
+						sh2000_strerror(r));
 			rc = SH2000_EXIT_CARD;
 		}
 	}
@@ -801,7 +801,7 @@ int main(int argc, char **argv)
 	/* the plan starts where the card holds now (enabling keeps the
 	 * position; a card that moved meanwhile is refused) */
 	{
-		double start[SH2000_PATH_AXES];
+		double start[SH2000_AXES];
 
 		memcpy(start, pc.start, sizeof(start));
 		e = sh2000_run_path_config(h, &pc);

@@ -28,7 +28,7 @@
 
 #define V_EPS 1e-9
 
-void pl_block_pos(const struct pl_block *b, double s, double pos[NAX])
+void pl_block_pos(const struct pl_block *b, double s, double pos[SH2000_AXES])
 {
 	double f = b->L > 0.0 ? s / b->L : 1.0;
 	unsigned int a;
@@ -43,14 +43,14 @@ void pl_block_pos(const struct pl_block *b, double s, double pos[NAX])
 	}
 	switch (b->type) {
 	case BLK_LINE:
-		for (a = 0; a < NAX; a++)
+		for (a = 0; a < SH2000_AXES; a++)
 			pos[a] = b->p0[a] + b->g.line.d[a] * s;
 		break;
 	case BLK_ARC: {
 		double th = b->g.arc.th0 + b->g.arc.dth * f;
 		double r = b->g.arc.r0 + (b->g.arc.r1 - b->g.arc.r0) * f;
 
-		for (a = 0; a < NAX; a++)
+		for (a = 0; a < SH2000_AXES; a++)
 			pos[a] = b->p0[a] + (b->p1[a] - b->p0[a]) * f;
 		pos[b->g.arc.i] = b->g.arc.c[0] + r * cos(th);
 		pos[b->g.arc.j] = b->g.arc.c[1] + r * sin(th);
@@ -384,16 +384,16 @@ static double norm(const double *x)
 	double s = 0.0;
 	unsigned int a;
 
-	for (a = 0; a < NAX; a++)
+	for (a = 0; a < SH2000_AXES; a++)
 		s += x[a] * x[a];
 	return sqrt(s);
 }
 
 static void sample_nurbs(struct sh2000_path *p, struct pl_block *b,
-			 double ds, double q[NAX])
+			 double ds, double q[SH2000_AXES])
 {
 	struct pl_nurbs *nb = b->g.nurbs.nb;
-	double u, c[NAX], d1[NAX], diff[NAX], *hu = p->hist_u;
+	double u, c[SH2000_AXES], d1[SH2000_AXES], diff[SH2000_AXES], *hu = p->hist_u;
 	unsigned int a, it;
 
 	if (p->hist_id == nb->id && p->hist_n >= 1) {
@@ -405,13 +405,13 @@ static void sample_nurbs(struct sh2000_path *p, struct pl_block *b,
 			u = hu[0] + (b->g.nurbs.u1 - b->g.nurbs.u0) * ds / b->L;
 		u = fmin(fmax(u, hu[0]), nb->umax);
 		if (ds > 1e-12) {
-			double chord, w[NAX], e[NAX], m[NAX], wp = 0.0, sag;
+			double chord, w[SH2000_AXES], e[SH2000_AXES], m[SH2000_AXES], wp = 0.0, sag;
 
 			for (it = 0; it < 12; it++) {
 				double f, fp = 0.0, ch;
 
 				pl_nurbs_eval(nb, u, c, d1, NULL);
-				for (a = 0; a < NAX; a++)
+				for (a = 0; a < SH2000_AXES; a++)
 					diff[a] = c[a] - p->hist_c[a];
 				ch = norm(diff);
 				f = ch - ds;
@@ -422,7 +422,7 @@ static void sample_nurbs(struct sh2000_path *p, struct pl_block *b,
 				if (fabs(f) < 1e-12)
 					break;
 				p->nurbs_corr++;
-				for (a = 0; a < NAX; a++)
+				for (a = 0; a < SH2000_AXES; a++)
 					fp += diff[a] * d1[a];
 				fp = ch > 0.0 ? fp / ch : norm(d1);
 				if (fp <= 0.0)
@@ -434,7 +434,7 @@ static void sample_nurbs(struct sh2000_path *p, struct pl_block *b,
 					break;
 			}
 			pl_nurbs_eval(nb, u, c, NULL, NULL);
-			for (a = 0; a < NAX; a++)
+			for (a = 0; a < SH2000_AXES; a++)
 				diff[a] = c[a] - p->hist_c[a];
 			chord = norm(diff);
 			if (u < nb->umax && ds > 1e-6)
@@ -444,12 +444,12 @@ static void sample_nurbs(struct sh2000_path *p, struct pl_block *b,
 			if (chord > 0.0) {
 				pl_nurbs_eval(nb, 0.5 * (u + hu[0]), m, NULL,
 					      NULL);
-				for (a = 0; a < NAX; a++) {
+				for (a = 0; a < SH2000_AXES; a++) {
 					e[a] = diff[a] / chord;
 					w[a] = m[a] - p->hist_c[a];
 					wp += w[a] * e[a];
 				}
-				for (a = 0; a < NAX; a++)
+				for (a = 0; a < SH2000_AXES; a++)
 					w[a] -= wp * e[a];
 				sag = norm(w);
 				p->chord_err = fmax(p->chord_err, sag);
@@ -494,7 +494,7 @@ static void sample_nurbs(struct sh2000_path *p, struct pl_block *b,
 
 /* ---- output ------------------------------------------------------------ */
 
-static int sink_point(struct sh2000_path *p, const double x[NAX],
+static int sink_point(struct sh2000_path *p, const double x[SH2000_AXES],
 		      unsigned int flags)
 {
 	struct sh2000_path_point pt;
@@ -502,7 +502,7 @@ static int sink_point(struct sh2000_path *p, const double x[NAX],
 	int r;
 
 	memset(&pt, 0, sizeof(pt));
-	for (a = 0; a < NAX; a++) {
+	for (a = 0; a < SH2000_AXES; a++) {
 		pt.mm[a] = x[a];
 		if (p->cfg.counts_per_mm[a] > 0.0)
 			pt.counts[a] = (int32_t)llround(x[a] *
@@ -522,9 +522,9 @@ static int sink_point(struct sh2000_path *p, const double x[NAX],
 	return 0;
 }
 
-static int emit(struct sh2000_path *p, const double q[NAX], int end)
+static int emit(struct sh2000_path *p, const double q[SH2000_AXES], int end)
 {
-	double P[NAX];
+	double P[SH2000_AXES];
 	int r = 0, last;
 
 	if (!p->comp)
@@ -538,7 +538,7 @@ static int emit(struct sh2000_path *p, const double q[NAX], int end)
 
 int pl_period(struct sh2000_path *p)
 {
-	double h = p->cfg.period_s / p->substeps, q[NAX], ds;
+	double h = p->cfg.period_s / p->substeps, q[SH2000_AXES], ds;
 	unsigned int k;
 	int rest = 0, r;
 

@@ -113,12 +113,12 @@ static void ders_basis(const struct pl_nurbs *nb, unsigned int span, double u,
 	}
 }
 
-void pl_nurbs_eval(struct pl_nurbs *nb, double u, double c[NAX],
-		   double d1[NAX], double d2[NAX])
+void pl_nurbs_eval(struct pl_nurbs *nb, double u, double c[SH2000_AXES],
+		   double d1[SH2000_AXES], double d2[SH2000_AXES])
 {
 	unsigned int q = nb->p + 1, span, j, k, ax;
 	double *ders = nb->scratch + q * q + 2 * q + 2 * ((nb->p > 2 ? nb->p : 2) + 1);
-	double A[3][NAX + 1];
+	double A[3][SH2000_AXES + 1];
 
 	if (u < nb->umin)
 		u = nb->umin;
@@ -131,11 +131,11 @@ void pl_nurbs_eval(struct pl_nurbs *nb, double u, double c[NAX],
 		const double *pw = nb->Pw + 5 * (span - nb->p + j);
 
 		for (k = 0; k < 3; k++)
-			for (ax = 0; ax <= NAX; ax++)
+			for (ax = 0; ax <= SH2000_AXES; ax++)
 				A[k][ax] += ders[k * q + j] * pw[ax];
 	}
-	for (ax = 0; ax < NAX; ax++) {
-		double w = A[0][NAX], w1 = A[1][NAX], w2 = A[2][NAX];
+	for (ax = 0; ax < SH2000_AXES; ax++) {
+		double w = A[0][SH2000_AXES], w1 = A[1][SH2000_AXES], w2 = A[2][SH2000_AXES];
 		double x = A[0][ax] / w;
 		double x1 = (A[1][ax] - w1 * x) / w;
 
@@ -149,11 +149,11 @@ void pl_nurbs_eval(struct pl_nurbs *nb, double u, double c[NAX],
 
 static double speed_at(struct pl_nurbs *nb, double u)
 {
-	double c[NAX], d[NAX], s = 0.0;
+	double c[SH2000_AXES], d[SH2000_AXES], s = 0.0;
 	unsigned int ax;
 
 	pl_nurbs_eval(nb, u, c, d, NULL);
-	for (ax = 0; ax < NAX; ax++)
+	for (ax = 0; ax < SH2000_AXES; ax++)
 		s += d[ax] * d[ax];
 	return sqrt(s);
 }
@@ -176,20 +176,20 @@ double pl_nurbs_length(struct pl_nurbs *nb, double u0, double u1)
 	return s * h;
 }
 
-double pl_nurbs_frame(struct pl_nurbs *nb, double u, double t[NAX],
+double pl_nurbs_frame(struct pl_nurbs *nb, double u, double t[SH2000_AXES],
 		      double *kappa)
 {
-	double c[NAX], d1[NAX], d2[NAX], n1 = 0.0, n2 = 0.0, dot = 0.0, cr;
+	double c[SH2000_AXES], d1[SH2000_AXES], d2[SH2000_AXES], n1 = 0.0, n2 = 0.0, dot = 0.0, cr;
 	unsigned int ax;
 
 	pl_nurbs_eval(nb, u, c, d1, d2);
-	for (ax = 0; ax < NAX; ax++) {
+	for (ax = 0; ax < SH2000_AXES; ax++) {
 		n1 += d1[ax] * d1[ax];
 		n2 += d2[ax] * d2[ax];
 		dot += d1[ax] * d2[ax];
 	}
 	n1 = sqrt(n1);
-	for (ax = 0; ax < NAX; ax++)
+	for (ax = 0; ax < SH2000_AXES; ax++)
 		t[ax] = n1 > 0.0 ? d1[ax] / n1 : 0.0;
 	/* |C' x C''| / |C'|^3, written for any dimension */
 	cr = n1 * n1 * n2 - dot * dot;
@@ -213,7 +213,7 @@ int pl_nurbs_expand(struct sh2000_path *p)
 
 	while (nb && p->count < p->cap) {
 		struct pl_block b;
-		double u0, u1, du, ks, vl = INFINITY, tt[NAX];
+		double u0, u1, du, ks, vl = INFINITY, tt[SH2000_AXES];
 		unsigned int i, ax;
 
 		if (nb->span >= nb->n) {
@@ -261,7 +261,7 @@ int pl_nurbs_expand(struct sh2000_path *p)
 		b.vlim = vl;
 		pl_nurbs_eval(nb, u0, b.p0, NULL, NULL);
 		pl_nurbs_eval(nb, u1, b.p1, NULL, NULL);
-		for (ax = 0; ax < NAX; ax++)
+		for (ax = 0; ax < SH2000_AXES; ax++)
 			if (!isfinite(b.p1[ax]))
 				b.p1[ax] = b.p0[ax];
 		nb->refs++;

@@ -14,7 +14,7 @@
 
 #include "planner.h"
 
-static const char axis_name[NAX] = { 'X', 'Y', 'Z', 'A' };
+static const char axis_name[SH2000_AXES] = { 'X', 'Y', 'Z', 'A' };
 
 /* Radii, NURBS start points: what "the same point" means, mm. */
 #define GEOM_TOL 0.001
@@ -26,7 +26,7 @@ void sh2000_path_config_default(struct sh2000_path_config *cfg)
 	memset(cfg, 0, sizeof(*cfg));
 	cfg->period_s = 0.002;
 	cfg->fine_steps = 20;
-	for (a = 0; a < NAX; a++) {
+	for (a = 0; a < SH2000_AXES; a++) {
 		cfg->vmax[a] = 500.0;
 		cfg->amax[a] = 50000.0;
 	}
@@ -81,7 +81,7 @@ void sh2000_path_set_seq(struct sh2000_path *p, uint32_t seq)
 	p->seq = seq;
 }
 
-void sh2000_path_end_position(const struct sh2000_path *p, double pos[NAX])
+void sh2000_path_end_position(const struct sh2000_path *p, double pos[SH2000_AXES])
 {
 	memcpy(pos, p->qend, sizeof(p->qend));
 }
@@ -95,7 +95,7 @@ static int cfg_check(const struct sh2000_path_config *c, char *e, size_t n)
 		BAD("config: period %g s is outside 0.0001..0.1", c->period_s);
 	if (c->fine_steps < 1 || c->fine_steps > 1000)
 		BAD("config: fine_steps %u is outside 1..1000", c->fine_steps);
-	for (a = 0; a < NAX; a++) {
+	for (a = 0; a < SH2000_AXES; a++) {
 		if (!(c->vmax[a] > 0.0 && isfinite(c->vmax[a])))
 			BAD("config: vmax of axis %c must be > 0: got %g",
 			    axis_name[a], c->vmax[a]);
@@ -163,7 +163,7 @@ int sh2000_path_create(struct sh2000_path **out,
 	p->ctx = ctx;
 	p->override = 1.0;
 	p->substeps = 4;
-	for (a = 0; a < NAX; a++)
+	for (a = 0; a < SH2000_AXES; a++)
 		amin = fmin(amin, cfg->amax[a]);
 	p->amin = amin;
 	share = cfg->centripetal_share;
@@ -189,7 +189,7 @@ int sh2000_path_create(struct sh2000_path **out,
 		return -ENOMEM;
 	}
 	if (cfg->output == SH2000_OUTPUT_COMPENSATED) {
-		r = sh2000_bscomp_create(&p->comp, cfg->comp_window, NAX);
+		r = sh2000_bscomp_create(&p->comp, cfg->comp_window, SH2000_AXES);
 		if (r) {
 			free(p->cons);
 			free(p->blk);
@@ -197,7 +197,7 @@ int sh2000_path_create(struct sh2000_path **out,
 			return r;
 		}
 		/* its size, for the accounting */
-		p->mem += (2u * cfg->comp_window + 3u) * 2u * NAX * sizeof(double);
+		p->mem += (2u * cfg->comp_window + 3u) * 2u * SH2000_AXES * sizeof(double);
 		p->mem_peak = p->mem;
 	}
 	memcpy(p->qend, cfg->start, sizeof(p->qend));
@@ -240,14 +240,14 @@ void sh2000_path_destroy(struct sh2000_path *p)
 
 /* ---- limits ----------------------------------------------------------- */
 
-double pl_curve_vlim(const struct sh2000_path *p, const double t[NAX],
+double pl_curve_vlim(const struct sh2000_path *p, const double t[SH2000_AXES],
 		     double kappa)
 {
 	const struct sh2000_path_config *c = &p->cfg;
 	double v = INFINITY;
 	unsigned int a;
 
-	for (a = 0; a < NAX; a++)
+	for (a = 0; a < SH2000_AXES; a++)
 		if (fabs(t[a]) > 1e-12)
 			v = fmin(v, c->margin * c->vmax[a] / fabs(t[a]));
 	if (kappa > 1e-12) {
@@ -267,15 +267,15 @@ double pl_cap(const struct sh2000_path *p, const struct pl_block *b)
 }
 
 /* Speed allowed through the corner between tangents t1 (in) and t0 (out). */
-static double junction(const struct sh2000_path *p, const double t1[NAX],
-		       const double t0[NAX])
+static double junction(const struct sh2000_path *p, const double t1[SH2000_AXES],
+		       const double t0[SH2000_AXES])
 {
 	const struct sh2000_path_config *c = &p->cfg;
 	double dot = 0.0, v = INFINITY, ch, sh, T = c->period_s;
 	double k = c->output == SH2000_OUTPUT_COMPENSATED ? sqrt(3.0) : 1.0;
 	unsigned int a;
 
-	for (a = 0; a < NAX; a++)
+	for (a = 0; a < SH2000_AXES; a++)
 		dot += t1[a] * t0[a];
 	if (dot > 1.0 - 1e-12)
 		return INFINITY;
@@ -289,7 +289,7 @@ static double junction(const struct sh2000_path *p, const double t1[NAX],
 	/* the card's spline rounds the corner by about vT sin(turn/2) / 3;
 	 * half of that, for the speed changing around it */
 	v = fmin(v, 1.5 * c->corner_tol / (T * sh));
-	for (a = 0; a < NAX; a++) {
+	for (a = 0; a < SH2000_AXES; a++) {
 		double dt = fabs(t0[a] - t1[a]);
 		double room = c->margin * c->amax[a] - p->lim.A;
 
@@ -333,7 +333,7 @@ void pl_push_block(struct sh2000_path *p, struct pl_block *b)
 	double nt = 0.0;
 
 	b->seq = p->seq;
-	for (i = 0; i < NAX; i++)
+	for (i = 0; i < SH2000_AXES; i++)
 		nt += p->tend[i] * p->tend[i];
 	if (p->stop_next || nt < 0.5)
 		b->vj = 0.0;
@@ -373,11 +373,11 @@ static int check_feed(struct sh2000_path *p, const char *what, double feed,
 }
 
 static int check_point(struct sh2000_path *p, const char *what,
-		       const double x[NAX])
+		       const double x[SH2000_AXES])
 {
 	unsigned int a;
 
-	for (a = 0; a < NAX; a++) {
+	for (a = 0; a < SH2000_AXES; a++) {
 		double sc = p->cfg.counts_per_mm[a];
 
 		if (isnan(x[a]))
@@ -417,7 +417,7 @@ static int ready(struct sh2000_path *p)
 
 /* ---- lines and point-to-point ----------------------------------------- */
 
-static int line_block(struct sh2000_path *p, const double end[NAX],
+static int line_block(struct sh2000_path *p, const double end[SH2000_AXES],
 		      double feed, int p2p)
 {
 	struct pl_block b;
@@ -426,7 +426,7 @@ static int line_block(struct sh2000_path *p, const double end[NAX],
 	int r;
 
 	memset(&b, 0, sizeof(b));
-	for (a = 0; a < NAX; a++)
+	for (a = 0; a < SH2000_AXES; a++)
 		len += (end[a] - p->qend[a]) * (end[a] - p->qend[a]);
 	len = sqrt(len);
 	if (len < 1e-9)
@@ -439,7 +439,7 @@ static int line_block(struct sh2000_path *p, const double end[NAX],
 	b.feed = feed;
 	memcpy(b.p0, p->qend, sizeof(b.p0));
 	memcpy(b.p1, end, sizeof(b.p1));
-	for (a = 0; a < NAX; a++)
+	for (a = 0; a < SH2000_AXES; a++)
 		b.g.line.d[a] = b.t0[a] = b.t1[a] = (end[a] - p->qend[a]) / len;
 	b.vlim = pl_curve_vlim(p, b.t0, 0.0);
 	if (p2p) {
@@ -450,7 +450,7 @@ static int line_block(struct sh2000_path *p, const double end[NAX],
 	return 0;
 }
 
-int sh2000_path_line(struct sh2000_path *p, const double end[NAX], double feed)
+int sh2000_path_line(struct sh2000_path *p, const double end[SH2000_AXES], double feed)
 {
 	int r;
 
@@ -464,7 +464,7 @@ int sh2000_path_line(struct sh2000_path *p, const double end[NAX], double feed)
 	return line_block(p, end, feed, 0);
 }
 
-int sh2000_path_move_abs(struct sh2000_path *p, const double target[NAX],
+int sh2000_path_move_abs(struct sh2000_path *p, const double target[SH2000_AXES],
 			 double speed)
 {
 	int r;
@@ -479,15 +479,15 @@ int sh2000_path_move_abs(struct sh2000_path *p, const double target[NAX],
 	return line_block(p, target, speed, 1);
 }
 
-int sh2000_path_move_rel(struct sh2000_path *p, const double delta[NAX],
+int sh2000_path_move_rel(struct sh2000_path *p, const double delta[SH2000_AXES],
 			 double speed)
 {
-	double t[NAX];
+	double t[SH2000_AXES];
 	unsigned int a;
 
 	if (!delta)
 		return pl_err(p, -EINVAL, "move: no delta");
-	for (a = 0; a < NAX; a++) {
+	for (a = 0; a < SH2000_AXES; a++) {
 		if (!isfinite(delta[a]))
 			return pl_err(p, -EINVAL, "move: delta %c is %s",
 				      axis_name[a],
@@ -500,9 +500,9 @@ int sh2000_path_move_rel(struct sh2000_path *p, const double delta[NAX],
 int sh2000_path_jog(struct sh2000_path *p, unsigned int axis,
 		    double velocity, double travel)
 {
-	double d[NAX] = { 0 };
+	double d[SH2000_AXES] = { 0 };
 
-	if (axis >= NAX)
+	if (axis >= SH2000_AXES)
 		return pl_err(p, -EINVAL, "jog: axis %u does not exist (0..3)",
 			      axis);
 	if (!isfinite(velocity) || velocity == 0.0)
@@ -526,7 +526,7 @@ int sh2000_path_arc(struct sh2000_path *p, const struct sh2000_path_arc *arc,
 	struct pl_block b;
 	unsigned int i, j, a;
 	double s0[2], e0[2], c[2], r0, r1, th0, th1, dth, lin2 = 0.0;
-	double planar, kmax, kappa, tt[NAX];
+	double planar, kmax, kappa, tt[SH2000_AXES];
 	int r, full = 0;
 
 	if (!arc)
@@ -624,7 +624,7 @@ int sh2000_path_arc(struct sh2000_path *p, const struct sh2000_path_arc *arc,
 	b.g.arc.dth = dth;
 	memcpy(b.p0, p->qend, sizeof(b.p0));
 	memcpy(b.p1, arc->end, sizeof(b.p1));
-	for (a = 0; a < NAX; a++)
+	for (a = 0; a < SH2000_AXES; a++)
 		if (a != i && a != j)
 			lin2 += (arc->end[a] - p->qend[a]) *
 				(arc->end[a] - p->qend[a]);
@@ -636,7 +636,7 @@ int sh2000_path_arc(struct sh2000_path *p, const struct sh2000_path_arc *arc,
 		double sgn = dth > 0.0 ? 1.0 : -1.0, f = planar / b.L;
 		double th1r = th0 + dth;
 
-		for (a = 0; a < NAX; a++) {
+		for (a = 0; a < SH2000_AXES; a++) {
 			double l = (a != i && a != j) ?
 				   (arc->end[a] - p->qend[a]) / b.L : 0.0;
 
@@ -665,7 +665,7 @@ int sh2000_path_nurbs(struct sh2000_path *p, const struct sh2000_path_nurbs *n,
 {
 	struct pl_nurbs tmp, *nb;
 	unsigned int i, a, deg, cnt, nk, w;
-	double c[NAX], d = 0.0, tt[NAX], ks;
+	double c[SH2000_AXES], d = 0.0, tt[SH2000_AXES], ks;
 	int r;
 
 	if (!n)
@@ -750,16 +750,16 @@ int sh2000_path_nurbs(struct sh2000_path *p, const struct sh2000_path_nurbs *n,
 	for (i = 0; i < cnt; i++) {
 		double wt = n->weights ? n->weights[i] : 1.0;
 
-		for (a = 0; a < NAX; a++)
+		for (a = 0; a < SH2000_AXES; a++)
 			nb->Pw[5 * i + a] = wt * n->ctrl[i][a];
-		nb->Pw[5 * i + NAX] = wt;
+		nb->Pw[5 * i + SH2000_AXES] = wt;
 	}
 	nb->umin = nb->U[deg];
 	nb->umax = nb->U[cnt];
 	nb->span = deg;
 	nb->id = ++p->nurbs_ids;
 	pl_nurbs_eval(nb, nb->umin, c, NULL, NULL);
-	for (a = 0; a < NAX; a++)
+	for (a = 0; a < SH2000_AXES; a++)
 		d += (c[a] - p->qend[a]) * (c[a] - p->qend[a]);
 	d = sqrt(d);
 	r = 0;
@@ -857,11 +857,11 @@ void pl_stopped(struct sh2000_path *p)
 	p->s = p->v = p->a = 0.0;
 }
 
-int sh2000_path_reset(struct sh2000_path *p, const double pos[NAX])
+int sh2000_path_reset(struct sh2000_path *p, const double pos[SH2000_AXES])
 {
 	unsigned int a;
 
-	for (a = 0; a < NAX; a++)
+	for (a = 0; a < SH2000_AXES; a++)
 		if (!pos || !isfinite(pos[a]))
 			return pl_err(p, -EINVAL, "reset: position %c is not finite",
 				      axis_name[a]);

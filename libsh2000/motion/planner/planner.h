@@ -11,7 +11,6 @@
 
 #include "sh2000/path.h"
 
-#define NAX SH2000_PATH_AXES
 
 /* ---- NURBS ---------------------------------------------------------- */
 
@@ -34,12 +33,12 @@ struct pl_nurbs {
 #define PL_NURBS_SUBDIV 16u
 
 /* C, C' and C'' at u (d1, d2 may be NULL). */
-void pl_nurbs_eval(struct pl_nurbs *nb, double u, double c[NAX],
-		   double d1[NAX], double d2[NAX]);
+void pl_nurbs_eval(struct pl_nurbs *nb, double u, double c[SH2000_AXES],
+		   double d1[SH2000_AXES], double d2[SH2000_AXES]);
 /* Arc length between u0 and u1 (Gauss-Legendre). */
 double pl_nurbs_length(struct pl_nurbs *nb, double u0, double u1);
 /* Curvature and unit tangent at u; returns |C'(u)|. */
-double pl_nurbs_frame(struct pl_nurbs *nb, double u, double t[NAX],
+double pl_nurbs_frame(struct pl_nurbs *nb, double u, double t[SH2000_AXES],
 		      double *kappa);
 
 /* ---- blocks ----------------------------------------------------------- */
@@ -56,11 +55,11 @@ struct pl_block {
 	double vb;		/* backward pass: max speed at the start */
 	int stop_after;		/* exact stop at the end (point-to-point) */
 	int corner;		/* the junction into it is a corner */
-	double t0[NAX], t1[NAX];	/* unit tangents at start and end */
-	double p0[NAX], p1[NAX];	/* exact start and end points */
+	double t0[SH2000_AXES], t1[SH2000_AXES];	/* unit tangents at start and end */
+	double p0[SH2000_AXES], p1[SH2000_AXES];	/* exact start and end points */
 	union {
 		struct {
-			double d[NAX];	/* unit direction */
+			double d[SH2000_AXES];	/* unit direction */
 		} line;
 		struct {
 			unsigned int i, j;	/* plane axes */
@@ -77,7 +76,7 @@ struct pl_block {
 
 /* Position at distance s (0..L) into the block. NURBS blocks map s to u by
  * linear interpolation only; the controller refines it. */
-void pl_block_pos(const struct pl_block *b, double s, double pos[NAX]);
+void pl_block_pos(const struct pl_block *b, double s, double pos[SH2000_AXES]);
 
 /* ---- profile arithmetic (path coordinate) ------------------------------ */
 
@@ -124,8 +123,8 @@ struct sh2000_path {
 	struct pl_nurbs *pending;	/* NURBS still being expanded */
 	double pending_feed;
 	double *cons;		/* controller scratch: (distance, speed) */
-	double qend[NAX];	/* end of the queued primitives */
-	double tend[NAX];	/* tangent there (0: none / after a stop) */
+	double qend[SH2000_AXES];	/* end of the queued primitives */
+	double tend[SH2000_AXES];	/* tangent there (0: none / after a stop) */
 	int stop_next;		/* next block starts from rest */
 	uint32_t seq;
 	uint64_t nurbs_ids;
@@ -135,7 +134,7 @@ struct sh2000_path {
 	double override;
 	int paused, stopping, moving;
 	int fail;
-	double pos[NAX];	/* last sampled point */
+	double pos[SH2000_AXES];	/* last sampled point */
 	double dist;		/* path distance at the last sample */
 	double dist_now;	/* path distance travelled so far */
 
@@ -143,7 +142,7 @@ struct sh2000_path {
 	uint64_t hist_id;
 	unsigned int hist_n;
 	double hist_u[3];
-	double hist_c[NAX];
+	double hist_c[SH2000_AXES];
 
 	/* output */
 	struct sh2000_bscomp *comp;
@@ -177,7 +176,7 @@ void pl_nurbs_put(struct sh2000_path *p, struct pl_nurbs *nb);
 /* Speed limit at a point of a curve: axis speeds for the tangent t, and
  * for curvature kappa the centripetal share, the chord tolerance and the
  * jerk. */
-double pl_curve_vlim(const struct sh2000_path *p, const double t[NAX],
+double pl_curve_vlim(const struct sh2000_path *p, const double t[SH2000_AXES],
 		     double kappa);
 
 #endif /* SH2000_PLANNER_H */

@@ -26,7 +26,7 @@ struct cstate {
 	double unit;		/* mm per program unit */
 	enum sh2000_prog_plane plane;
 	double feed_mm_min;
-	double g5x[SH2000_PROG_AXES], g92[SH2000_PROG_AXES];	/* mm */
+	double g5x[SH2000_AXES], g92[SH2000_AXES];	/* mm */
 	bool ended;
 	bool pallet;		/* PALLET_SHUTTLE: M30 is ending the program */
 	double res_mm;		/* rounding of the position as last printed */
@@ -252,8 +252,8 @@ static int do_line(struct prog_ctx *c, struct cstate *st, struct cline *l)
 			      l->line, l->col);
 		if (!b)
 			return -ENOMEM;
-		for (int a = 0; a < SH2000_PROG_AXES; a++)
-			if (a < l->nargs)
+		for (unsigned int a = 0; a < SH2000_AXES; a++)
+			if ((int)a < l->nargs)
 				b->end[a] = mpos(st, a, v[a]);
 		if (feed)
 			b->feed = st->feed_mm_min / 60;
@@ -263,7 +263,7 @@ static int do_line(struct prog_ctx *c, struct cstate *st, struct cline *l)
 	}
 	if (name_is(l, "ARC_FEED")) {
 		unsigned int a1, a2, an;
-		double tol, end[SH2000_PROG_AXES];
+		double tol, end[SH2000_AXES];
 		int rot;
 
 		if ((ret = nums(c, l, 6, 9, v)) || (ret = no_bc(c, l, 7, v)))
@@ -394,8 +394,8 @@ static int do_line(struct prog_ctx *c, struct cstate *st, struct cline *l)
 		if ((ret = nums(c, l, first + 3, first + 6, v)) ||
 		    (ret = no_bc(c, l, first + 4, v)))
 			return ret;
-		for (int a = 0; a < SH2000_PROG_AXES; a++)
-			if (first + a < l->nargs)
+		for (unsigned int a = 0; a < SH2000_AXES; a++)
+			if (first + (int)a < l->nargs)
 				off[a] = v[first + a] *
 					 (a == SH2000_PROG_A ? 1 : st->unit);
 		return 0;

@@ -109,7 +109,7 @@ int prog_read_csv(struct prog_ctx *c, const char *text, size_t len)
 	while (off < len && !c->stop) {
 		const char *s = text + off;
 		struct field f[MAX_COLS];
-		double p[SH2000_PROG_AXES];
+		double p[SH2000_AXES];
 		double nfeed = feed;
 		struct sh2000_prog_block *b;
 		size_t n;

@@ -40,7 +40,7 @@ struct gstate {
 	bool nurbs_failed;	/* its G5.2 line was an error: quiet to G5.3 */
 	unsigned int nurbs_line, nurbs_col, nurbs_order;
 	size_t npts, cap;
-	double (*pts)[SH2000_PROG_AXES];
+	double (*pts)[SH2000_AXES];
 	double *w;
 };
 
@@ -534,9 +534,9 @@ static int do_nurbs_end(struct prog_ctx *c, struct gstate *st,
 
 static int do_arc(struct prog_ctx *c, struct gstate *st, const struct gline *l,
 		  bool ccw, unsigned int bcol, double unit,
-		  const double target[SH2000_PROG_AXES])
+		  const double target[SH2000_AXES])
 {
-	static const char letter_of[SH2000_PROG_AXES] = { 'I', 'J', 'K', 0 };
+	static const char letter_of[SH2000_AXES] = { 'I', 'J', 'K', 0 };
 	unsigned int a1, a2, an, turns = 1;
 	char L1, L2, Ln;
 	double c1, c2, tol;
@@ -811,10 +811,10 @@ static int exec_line(struct prog_ctx *c, struct gstate *st, struct gline *l)
 		}
 	} else if (motion >= 0 && motion != MOT_G80 &&
 		   (axis || motion == MOT_G2 || motion == MOT_G3)) {
-		double target[SH2000_PROG_AXES];
+		double target[SH2000_AXES];
 		static const char axes[] = "XYZA";
 
-		for (int a = 0; a < SH2000_PROG_AXES; a++) {
+		for (unsigned int a = 0; a < SH2000_AXES; a++) {
 			target[a] = c->pos[a];
 			/* A is mm even under G20: LinuxCNC never scales A,
 			 * so a program means the same to rs274 */

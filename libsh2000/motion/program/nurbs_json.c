@@ -205,7 +205,7 @@ static int read_curve(struct jctx *j, struct json_object *cv, double feed)
 	struct json_object *deg, *knots, *weights, *points, *o;
 	struct sh2000_prog_nurbs n = { 0 };
 	struct sh2000_prog_block *b;
-	double start[SH2000_PROG_AXES];
+	double start[SH2000_AXES];
 	size_t np, nk;
 	int ret = -SH2000_PROG_EINVALID;
 

@@ -41,7 +41,7 @@ struct prog_ctx {
 	bool stop;		/* error limit reached */
 	bool oom;
 	unsigned int warned;	/* enum prog_warn_kind bits */
-	double pos[SH2000_PROG_AXES];
+	double pos[SH2000_AXES];
 };
 
 /* Append a diagnostic; returns -SH2000_PROG_EINVALID for an error, 0 for

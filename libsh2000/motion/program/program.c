@@ -11,16 +11,7 @@
 
 const char *sh2000_prog_strerror(int code)
 {
-	if (code >= 0)
-		return "success";
-	switch (-code) {
-	case SH2000_PROG_EINVALID:
-		return "the program has errors";
-	case SH2000_PROG_EFORMAT:
-		return "unknown program format";
-	default:
-		return strerror(-code);
-	}
+	return sh2000_strerror(code);
 }
 
 /* ---- diagnostics ---------------------------------------------------- */
@@ -328,7 +319,7 @@ int sh2000_program_read(struct sh2000_program *prog,
 	prog->file = strdup(name);
 	if (!prog->file)
 		return -ENOMEM;
-	for (int i = 0; i < SH2000_PROG_AXES; i++)
+	for (unsigned int i = 0; i < SH2000_AXES; i++)
 		if (!isfinite(c.opt.start[i]))
 			prog_err(&c, SH2000_PD_RANGE, 0, 0,
 				 "start position of axis %c is not finite",
@@ -572,7 +563,7 @@ int prog_nurbs_check(struct prog_ctx *c, const struct sh2000_prog_nurbs *n,
 			return prog_err(c, SH2000_PD_NURBS, line, col,
 					"weights[%zu]: %g is not a positive finite weight",
 					i, n->weights[i]);
-		for (int a = 0; a < SH2000_PROG_AXES; a++)
+		for (unsigned int a = 0; a < SH2000_AXES; a++)
 			if (!isfinite(n->points[i][a]))
 				return prog_err(c, SH2000_PD_RANGE, line, col,
 						"points[%zu][%d]: not finite", i, a);
@@ -603,7 +594,7 @@ int prog_nurbs_check(struct prog_ctx *c, const struct sh2000_prog_nurbs *n,
 }
 
 void sh2000_prog_nurbs_eval(const struct sh2000_prog_nurbs *n, double u,
-			    double out[SH2000_PROG_AXES])
+			    double out[SH2000_AXES])
 {
 	const double *U = n->knots;
 	unsigned int p = n->degree;
@@ -635,27 +626,27 @@ void sh2000_prog_nurbs_eval(const struct sh2000_prog_nurbs *n, double u,
 		}
 		N[j] = saved;
 	}
-	for (int a = 0; a < SH2000_PROG_AXES; a++)
+	for (unsigned int a = 0; a < SH2000_AXES; a++)
 		out[a] = 0;
 	for (unsigned int r = 0; r <= p; r++) {
 		size_t k = span - p + r;
 		double nw = N[r] * n->weights[k];
 
 		w += nw;
-		for (int a = 0; a < SH2000_PROG_AXES; a++)
+		for (unsigned int a = 0; a < SH2000_AXES; a++)
 			out[a] += nw * n->points[k][a];
 	}
-	for (int a = 0; a < SH2000_PROG_AXES; a++)
+	for (unsigned int a = 0; a < SH2000_AXES; a++)
 		out[a] /= w;
 }
 
 int sh2000_prog_block_point(const struct sh2000_prog_block *b, double s,
-			    double out[SH2000_PROG_AXES])
+			    double out[SH2000_AXES])
 {
 	switch (b->kind) {
 	case SH2000_PROG_RAPID:
 	case SH2000_PROG_LINE:
-		for (int a = 0; a < SH2000_PROG_AXES; a++)
+		for (unsigned int a = 0; a < SH2000_AXES; a++)
 			out[a] = b->start[a] + s * (b->end[a] - b->start[a]);
 		return 0;
 	case SH2000_PROG_ARC: {
@@ -665,7 +656,7 @@ int sh2000_prog_block_point(const struct sh2000_prog_block *b, double s,
 		double th = a0 + s * a->sweep;
 		double r = a->radius + s * (a->end_radius - a->radius);
 
-		for (int i = 0; i < SH2000_PROG_AXES; i++)
+		for (unsigned int i = 0; i < SH2000_AXES; i++)
 			out[i] = b->start[i] + s * (b->end[i] - b->start[i]);
 		out[a->axis1] = a->centre[a->axis1] + r * cos(th);
 		out[a->axis2] = a->centre[a->axis2] + r * sin(th);

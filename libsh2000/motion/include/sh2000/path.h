@@ -26,11 +26,11 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "sh2000/card.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-#define SH2000_PATH_AXES	4u
 
 enum sh2000_path_profile {
 	SH2000_PROFILE_SCURVE = 0,	/* jerk-limited, 7 phases (default) */
@@ -48,8 +48,8 @@ enum sh2000_path_output {
 struct sh2000_path_config {
 	double period_s;		/* coarse period (default 0.002 s) */
 	unsigned int fine_steps;	/* card servo cycles per period (20) */
-	double vmax[SH2000_PATH_AXES];	/* mm/s, > 0 */
-	double amax[SH2000_PATH_AXES];	/* mm/s^2, > 0 */
+	double vmax[SH2000_AXES];	/* mm/s, > 0 */
+	double amax[SH2000_AXES];	/* mm/s^2, > 0 */
 	double jerk;			/* path jerk, mm/s^3 (S-curve) */
 	enum sh2000_path_profile profile;
 	enum sh2000_path_output output;
@@ -61,8 +61,8 @@ struct sh2000_path_config {
 	/* fraction of every limit the plan uses, the rest is headroom for
 	 * rounding to counts and the compensation's overshoot (0.95) */
 	double margin;
-	double counts_per_mm[SH2000_PATH_AXES];	/* 0: no counts */
-	double start[SH2000_PATH_AXES];		/* position at create, mm */
+	double counts_per_mm[SH2000_AXES];	/* 0: no counts */
+	double start[SH2000_AXES];		/* position at create, mm */
 	unsigned int window;		/* look-ahead blocks (256) */
 	unsigned int comp_window;	/* compensation half-window (12) */
 };
@@ -73,8 +73,8 @@ void sh2000_path_config_default(struct sh2000_path_config *cfg);
 #define SH2000_PATH_F_END	0x0001u	/* last point of a motion */
 
 struct sh2000_path_point {
-	double mm[SH2000_PATH_AXES];
-	int32_t counts[SH2000_PATH_AXES];	/* round(mm * scale), 0 if none */
+	double mm[SH2000_AXES];
+	int32_t counts[SH2000_AXES];	/* round(mm * scale), 0 if none */
 	unsigned int flags;			/* SH2000_PATH_F_* */
 	uint32_t seq;		/* tag of the primitive being traversed */
 	uint64_t index;		/* points emitted before this one */
@@ -106,7 +106,7 @@ void sh2000_path_set_seq(struct sh2000_path *p, uint32_t seq);
 /* Straight line from the end of the previous primitive to `end`, all four
  * axes interpolated, at `feed` mm/s along the path. */
 int sh2000_path_line(struct sh2000_path *p,
-		     const double end[SH2000_PATH_AXES], double feed);
+		     const double end[SH2000_AXES], double feed);
 
 enum sh2000_path_plane {
 	SH2000_PLANE_XY = 0,	/* first axis X, second Y */
@@ -117,7 +117,7 @@ enum sh2000_path_plane {
 struct sh2000_path_arc {
 	enum sh2000_path_plane plane;
 	/* absolute end; the axes outside the plane move linearly (helix) */
-	double end[SH2000_PATH_AXES];
+	double end[SH2000_AXES];
 	int ccw;		/* 1: from the plane's first axis towards its
 				 * second; 0: the other way */
 	int radius_form;	/* 0: centre given, 1: radius given */
@@ -137,7 +137,7 @@ int sh2000_path_arc(struct sh2000_path *p, const struct sh2000_path_arc *arc,
 struct sh2000_path_nurbs {
 	unsigned int degree;		/* >= 1 */
 	unsigned int count;		/* control points, >= degree + 1 */
-	const double (*ctrl)[SH2000_PATH_AXES];	/* mm */
+	const double (*ctrl)[SH2000_AXES];	/* mm */
 	const double *weights;		/* count values > 0; NULL: all 1 */
 	const double *knots;		/* count + degree + 1, non-decreasing */
 };
@@ -151,9 +151,9 @@ int sh2000_path_nurbs(struct sh2000_path *p,
 /* Point-to-point: a straight move that starts and ends at rest, at `speed`
  * mm/s, or as fast as the axes allow when speed is 0. */
 int sh2000_path_move_abs(struct sh2000_path *p,
-			 const double target[SH2000_PATH_AXES], double speed);
+			 const double target[SH2000_AXES], double speed);
 int sh2000_path_move_rel(struct sh2000_path *p,
-			 const double delta[SH2000_PATH_AXES], double speed);
+			 const double delta[SH2000_AXES], double speed);
 /* Jog one axis at signed `velocity` mm/s for at most `travel` mm; end it
  * early with sh2000_path_stop(). */
 int sh2000_path_jog(struct sh2000_path *p, unsigned int axis,
@@ -161,7 +161,7 @@ int sh2000_path_jog(struct sh2000_path *p, unsigned int axis,
 
 /* End of the queued primitives: where the next one starts. */
 void sh2000_path_end_position(const struct sh2000_path *p,
-			      double pos[SH2000_PATH_AXES]);
+			      double pos[SH2000_AXES]);
 
 /* ---- execution -------------------------------------------------------- */
 
@@ -184,7 +184,7 @@ int sh2000_path_stop(struct sh2000_path *p);
 /* Forget everything at once, without points, and start over at pos (the
  * card was stopped another way). Clears a sink failure. */
 int sh2000_path_reset(struct sh2000_path *p,
-		      const double pos[SH2000_PATH_AXES]);
+		      const double pos[SH2000_AXES]);
 
 struct sh2000_path_stats {
 	uint64_t points;	/* points emitted */
@@ -227,40 +227,6 @@ int sh2000_bscomp_push(struct sh2000_bscomp *c, const double *q, double *p);
 /* After the last Q: returns 1 and one P per call until done, the very
  * last one being exactly the last Q; 0 when done. *last is set on it. */
 int sh2000_bscomp_flush(struct sh2000_bscomp *c, double *p, int *last);
-
-/* ---- seed 002's DDA interpolator (reference and baseline) ------------- */
-
-struct sh2000_dda_config {
-	unsigned int bits;	/* accumulator width, 2..31 */
-	int half_load;		/* preset remainders to half capacity */
-	int normalize;		/* left-shift integrands until the largest
-				 * has its top bit set */
-};
-
-struct sh2000_dda_result {
-	uint64_t iterations;	/* accumulation cycles */
-	uint64_t pulses[3];	/* pulses per axis */
-	uint64_t max_gap;	/* longest run of cycles without any pulse */
-	int32_t end[3];		/* where the pulses led */
-};
-
-/* Called for every cycle that produced at least one pulse: the position
- * after it and the mask of axes that stepped. */
-typedef void (*sh2000_dda_step_fn)(void *ctx, const int32_t pos[3],
-				   unsigned int mask);
-
-/* Line in up to 3 axes, integer counts. -EINVAL if a delta does not fit. */
-int sh2000_dda_line(const struct sh2000_dda_config *cfg,
-		    const int32_t start[3], const int32_t end[3],
-		    sh2000_dda_step_fn fn, void *ctx,
-		    struct sh2000_dda_result *res);
-/* Arc in 2 axes around an integer centre; start and end at the same
- * rounded radius; start == end is a full circle. */
-int sh2000_dda_arc(const struct sh2000_dda_config *cfg,
-		   const int32_t centre[2], const int32_t start[2],
-		   const int32_t end[2], int ccw,
-		   sh2000_dda_step_fn fn, void *ctx,
-		   struct sh2000_dda_result *res);
 
 #ifdef __cplusplus
 }

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Program readers for the SH-2000 tools: RS-274 G-code (built-in parser),
+ * Program readers of libsh2000-motion: RS-274 G-code (built-in parser),
  * LinuxCNC rs274 canonical-command output, CSV point lists and JSON NURBS
  * files, all read into one device- and planner-independent representation
  * (docs/programs.md describes the accepted input).
@@ -15,22 +15,24 @@
  * A reader checks the whole input before it returns: on any error the
  * program is left empty, every error and warning is in the caller's
  * diagnostics list with file:line:column, and the call returns
- * -SH2000_PROG_EINVALID. Nothing here has global mutable state.
+ * -SH2000_EPROGRAM (alias SH2000_PROG_EINVALID). Nothing here has global
+ * mutable state.
  *
  * Errors: negative codes, -errno for system errors (reading a file, memory)
- * or -SH2000_PROG_E*; sh2000_prog_strerror() names them.
+ * or -SH2000_EPROGRAM / -SH2000_EFORMAT; sh2000_strerror() names them.
  */
-#ifndef SH2000_TOOLS_PROGRAM_H
-#define SH2000_TOOLS_PROGRAM_H
+#ifndef SH2000_PROGRAM_H
+#define SH2000_PROGRAM_H
 
 #include <stdbool.h>
 #include <stddef.h>
+
+#include "sh2000/sh2000.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-#define SH2000_PROG_AXES 4
 enum sh2000_prog_axis {
 	SH2000_PROG_X = 0,
 	SH2000_PROG_Y = 1,
@@ -38,15 +40,16 @@ enum sh2000_prog_axis {
 	SH2000_PROG_A = 3,	/* the fourth linear axis, mm */
 };
 
-/* Positive values; the functions return them negated. */
+/* The readers' codes are libsh2000's (one error space, one
+ * sh2000_strerror()); the functions return them negated. */
 enum sh2000_prog_error {
-	SH2000_PROG_E_BASE = 1200,
-	SH2000_PROG_EINVALID = 1200,	/* the program has errors (see diags) */
-	SH2000_PROG_EFORMAT = 1201,	/* format unknown (name gives no hint) */
-	SH2000_PROG_E_LAST = 1201,
+	SH2000_PROG_EINVALID = SH2000_EPROGRAM,	/* the program has errors
+						   (see diags) */
+	SH2000_PROG_EFORMAT = SH2000_EFORMAT,	/* format unknown (name
+						   gives no hint) */
 };
 
-/* Name of -errno, -SH2000_PROG_E* or 0. */
+/* Same as sh2000_strerror() (kept for programs written against it). */
 const char *sh2000_prog_strerror(int code);
 
 /* ---- source positions and diagnostics -------------------------------- */
@@ -165,7 +168,7 @@ struct sh2000_prog_arc {
 struct sh2000_prog_nurbs {
 	unsigned int degree;	/* order - 1 */
 	size_t npoints;
-	double (*points)[SH2000_PROG_AXES];
+	double (*points)[SH2000_AXES];
 	double *weights;
 	double *knots;		/* npoints + degree + 1 */
 };
@@ -174,8 +177,8 @@ struct sh2000_prog_block {
 	enum sh2000_prog_kind kind;
 	struct sh2000_prog_pos pos;
 	/* Motion: absolute start and end, mm. Others: both the position. */
-	double start[SH2000_PROG_AXES];
-	double end[SH2000_PROG_AXES];
+	double start[SH2000_AXES];
+	double end[SH2000_AXES];
 	/* LINE, ARC, NURBS: the feed in mm/s; FEED: the new feed in mm/s;
 	 * RAPID and the others: 0. */
 	double feed;
@@ -211,7 +214,7 @@ enum sh2000_prog_format {
 struct sh2000_prog_options {
 	/* Where the machine is when the program starts, mm. G-code moves
 	 * and arcs start there, CSV and JSON files rapid from there. */
-	double start[SH2000_PROG_AXES];
+	double start[SH2000_AXES];
 	/* Feed in mm/s for CSV files without a feed column and JSON curves
 	 * without "feed"; 0: none (a feed move without one is an error). */
 	double feed_mm_s;
@@ -253,11 +256,11 @@ int sh2000_program_read_file(struct sh2000_program *prog,
 /* Point at fraction s (0..1) of a LINE, RAPID, ARC or NURBS block (NURBS:
  * of the parameter range, not of the length). 0, or -EINVAL otherwise. */
 int sh2000_prog_block_point(const struct sh2000_prog_block *b, double s,
-			    double out[SH2000_PROG_AXES]);
+			    double out[SH2000_AXES]);
 
 /* The curve at parameter u (clamped to the domain). */
 void sh2000_prog_nurbs_eval(const struct sh2000_prog_nurbs *n, double u,
-			    double out[SH2000_PROG_AXES]);
+			    double out[SH2000_AXES]);
 
 const char *sh2000_prog_kind_name(enum sh2000_prog_kind k);
 
@@ -265,4 +268,4 @@ const char *sh2000_prog_kind_name(enum sh2000_prog_kind k);
 }
 #endif
 
-#endif /* SH2000_TOOLS_PROGRAM_H */
+#endif /* SH2000_PROGRAM_H */

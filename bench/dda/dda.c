@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /*
- * Seed 002's digital differential analyser, in software: the reference the
- * planner's accuracy is compared against, not a path to the card.
+ * The DDA paper [R3]'s digital differential analyser, in software: the
+ * reference the planner's accuracy is compared against, not a path to the card.
  *
  * Each axis has an integrand register and a remainder register of `bits`
  * bits. Every cycle adds the integrand to the remainder; an overflow is one
@@ -22,7 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "planner.h"
+#include "dda.h"
 
 struct dda_run {
 	const struct sh2000_dda_config *cfg;

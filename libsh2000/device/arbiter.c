@@ -131,6 +131,48 @@ int sh2000_arb_take(struct sh2000 *h, unsigned int which, short type,
 	return 0;
 }
 
+/* Byte of the waiting marker: programs waiting for the command lock hold
+ * it shared, so that one that has just released the lock lets them go
+ * first instead of taking it again at once (the lock itself is not fair:
+ * a busy program would starve the others). */
+#define ARB_WAITING	3u
+/* A program that released the command lock this recently defers to
+ * waiters, for at most ARB_DEFER_NS. */
+#define ARB_RECENT_NS	200000ull
+#define ARB_DEFER_NS	2000000ull
+
+static void defer_to_waiters(struct sh2000 *h)
+{
+	uint64_t t0 = sh2000_mono_ns();
+
+	if (!h->arb.dropped_ns || t0 - h->arb.dropped_ns > ARB_RECENT_NS ||
+	    ofd(h, F_OFD_GETLK, F_WRLCK, ARB_WAITING) <= 0)
+		return;
+	/* until one of them has it (or they are gone) */
+	while (ofd(h, F_OFD_GETLK, F_WRLCK, SH2000_ARB_CMD) <= 0 &&
+	       ofd(h, F_OFD_GETLK, F_WRLCK, ARB_WAITING) > 0 &&
+	       sh2000_mono_ns() - t0 < ARB_DEFER_NS) {
+		pthread_mutex_unlock(&h->lock);
+		sh2000_sleep_real(ARB_POLL_NS / 4);
+		pthread_mutex_lock(&h->lock);
+	}
+}
+
+static int take_cmd(struct sh2000 *h)
+{
+	int r;
+
+	defer_to_waiters(h);
+	r = ofd(h, F_OFD_SETLK, F_WRLCK, SH2000_ARB_CMD);
+	if (r != -EAGAIN && r != -EACCES)
+		return r;
+	/* queue up: others see that someone waits */
+	(void)ofd(h, F_OFD_SETLK, F_RDLCK, ARB_WAITING);
+	r = sh2000_arb_take(h, SH2000_ARB_CMD, F_WRLCK, SH2000_ARB_WAIT_MS);
+	sh2000_arb_drop(h, ARB_WAITING);
+	return r;
+}
+
 /*
  * The command lock. Returns 1 if another handle used the command slot
  * since this one last did (then the caller re-reads CMD_SEQ from the RAM,
@@ -145,7 +187,7 @@ int sh2000_arb_cmd_take(struct sh2000 *h)
 
 	if (h->arb.fd < 0)
 		return 0;
-	r = sh2000_arb_take(h, SH2000_ARB_CMD, F_WRLCK, SH2000_ARB_WAIT_MS);
+	r = take_cmd(h);
 	if (r < 0)
 		return r;
 	if (pread(h->arb.fd, &last, sizeof(last), ARB_TOKEN_OFF) ==
@@ -163,8 +205,11 @@ int sh2000_arb_cmd_take(struct sh2000 *h)
 
 void sh2000_arb_drop(struct sh2000 *h, unsigned int which)
 {
-	if (h->arb.fd >= 0)
-		(void)ofd(h, F_OFD_SETLK, F_UNLCK, which);
+	if (h->arb.fd < 0)
+		return;
+	(void)ofd(h, F_OFD_SETLK, F_UNLCK, which);
+	if (which == SH2000_ARB_CMD)
+		h->arb.dropped_ns = sh2000_mono_ns();
 }
 
 /* "sh2000-upload (pid 1234)" of the motion lock's holder, or "". */

@@ -46,6 +46,7 @@ struct sh2000_arb {
 	int fd;			/* the card's lock file, -1: none (sim) */
 	int motion;		/* this handle holds the motion lock */
 	uint64_t token;		/* this handle's mark as last slot user */
+	uint64_t dropped_ns;	/* when it last released the command lock */
 	char path[256];
 };
 
@@ -53,7 +54,7 @@ struct sh2000_arb {
 #define SH2000_ARB_MOTION	1u	/* one program controls the motion */
 #define SH2000_ARB_BUS		2u	/* io: one port sequence */
 /* Longest wait for another program's command or port sequence. */
-#define SH2000_ARB_WAIT_MS	1000
+#define SH2000_ARB_WAIT_MS	5000
 
 struct sh2000 {
 	pthread_mutex_t lock;

@@ -28,6 +28,7 @@
 
 struct tally {
 	unsigned int done, wrong, errors;
+	double max_ms;		/* slowest command, waiting included */
 	int first_error;
 	char msg[200];
 };
@@ -74,11 +75,15 @@ static void worker(unsigned int c, int out)
 
 	srand(c + 1);
 	for (i = 0; i < SHARE_COMMANDS; i++) {
+		double t0 = now_ms();
+
 		switch (i % 4) {
 		case 0:
-			set = (double)(float)(0.001 * (rand() % 1000 + 1) +
-					      c * 1e-6);
-			r = sh2000_param_set(h, (int)axis, param, set);
+			v = (double)(float)(0.001 * (rand() % 1000 + 1) +
+					    c * 1e-6);
+			r = sh2000_param_set(h, (int)axis, param, v);
+			if (!r)
+				set = v;
 			break;
 		case 1:
 			r = sh2000_param_get(h, (int)axis, param, &v);
@@ -99,6 +104,8 @@ static void worker(unsigned int c, int out)
 		}
 		if (r < 0)
 			note_error(&t, h, r);
+		if (now_ms() - t0 > t.max_ms)
+			t.max_ms = now_ms() - t0;
 		t.done++;
 	}
 	sh2000_close(h);
@@ -109,10 +116,11 @@ static void worker(unsigned int c, int out)
 
 static struct sh2000_sim_server *serve(void)
 {
+	static unsigned int serial;
 	struct sh2000_sim_server *s = NULL;
 	char n[64], msg[256];
 
-	snprintf(n, sizeof(n), "test-share-%d", (int)getpid());
+	snprintf(n, sizeof(n), "test-share-%d-%u", (int)getpid(), serial++);
 	snprintf(dev, sizeof(dev), "sim:%s", n);
 	if (sh2000_sim_server_create(&s, n, NULL, 0, msg, sizeof(msg)) < 0)
 		fail_msg("server: %s", msg);
@@ -147,13 +155,16 @@ static void test_many_processes(void **state)
 		sum.done += t.done;
 		sum.wrong += t.wrong;
 		sum.errors += t.errors;
+		if (t.max_ms > sum.max_ms)
+			sum.max_ms = t.max_ms;
 	}
 	close(fds[0]);
 	while (wait(&st) > 0)
 		assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
-	printf("%u processes x %u commands: %u done in %.1f s, %u wrong values, %u errors%s%s\n",
+	printf("%u processes x %u commands: %u done in %.1f s (slowest %.1f ms), %u wrong values, %u errors%s%s\n",
 	       SHARE_PROCS, SHARE_COMMANDS, sum.done, (now_ms() - t0) / 1e3,
-	       sum.wrong, sum.errors, sum.errors ? ": " : "", sum.msg);
+	       sum.max_ms, sum.wrong, sum.errors, sum.errors ? ": " : "",
+	       sum.msg);
 	assert_int_equal(sum.done, SHARE_PROCS * SHARE_COMMANDS);
 	assert_int_equal(sum.wrong, 0);
 	assert_int_equal(sum.errors, 0);

@@ -1,9 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * sh2000ctl enable, disable, jog, move, home, stop, estop, reset. Jog and
- * move plan a point-to-point motion with the library's planner within the
- * axes' vmax, amax and soft limits (as the card holds them) and stream it
- * with the segment push, in batches, ending with SH2000_PUSH_END.
+ * move plan a point-to-point motion and run it through libsh2000-motion's
+ * runner (sh2000/run.h), the same streaming path as sh2000-upload: the
+ * axes' vmax, amax and soft limits as the card holds them, the one
+ * soft-limit policy, and a STOP from another program ends the motion the
+ * same way (exit 7, nothing latched).
  */
 #include <errno.h>
 #include <math.h>
@@ -13,8 +15,13 @@
 #include <string.h>
 
 #include <sh2000/path.h>
+#include <sh2000/run.h>
 
 #include "ctl.h"
+
+/* exit code of a motion or homing ended by a STOP from another program (as
+ * sh2000-upload's) */
+#define CTL_EXIT_STOPPED 7
 
 /* ---- enable / disable / stop / estop / reset ---------------------------- */
 
@@ -173,23 +180,21 @@ int ctl_home(struct ctl *c, int argc, char **argv)
 		return sh2000_tool_usage(argv[0], "home: which axis? (x y z a)");
 	if ((r = ctl_open(c)))
 		return r;
-	r = sh2000_home(c->h, (unsigned int)axis, flags);
-	if (r < 0)
-		return sh2000_tool_fail(c->h, r, "home");
-	r = sh2000_wait_idle(c->h, (int)(timeout * 1000));
-	if (r < 0)
-		return sh2000_tool_fail(c->h, r, "home");
 	{
 		struct sh2000_status st;
+		char msg[300];
 
+		r = sh2000_run_home(c->h, (unsigned int)axis, flags,
+				    (int)(timeout * 1000), msg, sizeof(msg));
+		if (r == -SH2000_ESTOPPED) {
+			sh2000_tool_msg("%s", msg);
+			return CTL_EXIT_STOPPED;
+		}
+		if (r < 0)
+			return sh2000_tool_fail(c->h, r, "home");
 		r = sh2000_poll(c->h, &st);
 		if (r < 0)
 			return sh2000_tool_fail(c->h, r, "status");
-		if (!(st.axis[axis].state & SH2000_AXIS_HOMED)) {
-			sh2000_tool_msg("%s: axis %c: homing ended without HOMED",
-					sh2000_device(c->h), sh2000_tool_axis_name((unsigned int)axis));
-			return SH2000_EXIT_CARD;
-		}
 		printf("%c homed at %.6f mm\n", sh2000_tool_axis_name((unsigned int)axis),
 		       st.axis[axis].pos_mm);
 	}
@@ -197,8 +202,6 @@ int ctl_home(struct ctl *c, int argc, char **argv)
 }
 
 /* ---- planned motion: jog and move --------------------------------------- */
-
-#define BATCH 32
 
 /* SIGINT/SIGTERM during jog and move: stop the card, not just the tool */
 static volatile sig_atomic_t interrupted;
@@ -209,78 +212,20 @@ static void on_interrupt(int sig)
 	interrupted = 1;
 }
 
-struct stream {
-	struct sh2000 *h;
-	double pts[BATCH][SH2000_AXES];
-	unsigned int n;
-	int err;		/* first library error */
-	uint64_t points;
-	/* The planner's B-spline compensation lets control points overshoot
-	 * the end of a motion by about 1 um, and the card checks the soft
-	 * limits on the control points. A target at the limit is legitimate,
-	 * so the moving axes' points are clamped to the limits: the card's
-	 * spline stays inside the hull of its control points, so the
-	 * set-point never passes the limit, and the end point is exact. */
-	unsigned int clamp_mask;
-	double lo[SH2000_AXES], hi[SH2000_AXES];
-};
-
-static int flush(struct stream *s, unsigned int flags)
-{
-	int r;
-
-	if (!s->n)
-		return 0;
-	r = sh2000_wait_space(s->h, s->n, 5000);
-	if (r >= 0)
-		r = sh2000_push_mm(s->h, (const double (*)[SH2000_AXES])s->pts, s->n,
-				   flags);
-	if (r < 0) {
-		s->err = r;
-		return r;
-	}
-	s->n = 0;
-	return 0;
-}
-
-static int sink(void *ctx, const struct sh2000_path_point *pt)
-{
-	struct stream *s = ctx;
-
-	if (interrupted)
-		return -EINTR;
-	memcpy(s->pts[s->n], pt->mm, sizeof(s->pts[0]));
-	for (unsigned int a = 0; a < SH2000_AXES; a++) {
-		if (!(s->clamp_mask & (1u << a)))
-			continue;
-		if (s->pts[s->n][a] > s->hi[a])
-			s->pts[s->n][a] = s->hi[a];
-		if (s->pts[s->n][a] < s->lo[a])
-			s->pts[s->n][a] = s->lo[a];
-	}
-	s->n++;
-	s->points++;
-	if (s->n == BATCH || (pt->flags & SH2000_PATH_F_END))
-		return flush(s, (pt->flags & SH2000_PATH_F_END) ? SH2000_PUSH_END : 0);
-	return 0;
-}
-
 struct motion_setup {
 	struct sh2000_path_config cfg;
+	struct sh2000_limits limits;
 	double start[SH2000_AXES];
-	double soft_min[SH2000_AXES], soft_max[SH2000_AXES];
 	unsigned int enabled;
 };
 
-/* The planner's configuration from the card: timing, each axis' vmax and
- * amax, where each axis is (set-point if enabled, else the encoder). */
+/* The planner's configuration from the card (timing, each axis' vmax,
+ * amax and scale, where each axis is) and its soft limits. */
 static int motion_setup(struct ctl *c, struct motion_setup *m)
 {
 	struct sh2000_status st;
-	double cp, fs;
 	int r;
 
-	sh2000_path_config_default(&m->cfg);
 	r = sh2000_poll(c->h, &st);
 	if (r < 0)
 		return sh2000_tool_fail(c->h, r, "status");
@@ -292,27 +237,14 @@ static int motion_setup(struct ctl *c, struct motion_setup *m)
 				sh2000_device(c->h), sh2000_state_name(st.card_state));
 		return SH2000_EXIT_CARD;
 	}
-	if ((r = sh2000_param_get(c->h, SH2000_GLOBAL, SH2000_GP_COARSE_PERIOD_US, &cp)) < 0 ||
-	    (r = sh2000_param_get(c->h, SH2000_GLOBAL, SH2000_GP_FINE_STEPS, &fs)) < 0)
+	if ((r = sh2000_run_path_config(c->h, &m->cfg)) < 0 ||
+	    (r = sh2000_limits_get(c->h, &m->limits)) < 0)
 		return sh2000_tool_fail(c->h, r, "get parameter");
-	m->cfg.period_s = cp * 1e-6;
-	m->cfg.fine_steps = (unsigned int)fs;
 	m->enabled = 0;
 	for (unsigned int a = 0; a < SH2000_AXES; a++) {
-		const struct sh2000_axis_status *ax = &st.axis[a];
-
-		if ((r = sh2000_param_get(c->h, (int)a, SH2000_P_VMAX, &m->cfg.vmax[a])) < 0 ||
-		    (r = sh2000_param_get(c->h, (int)a, SH2000_P_AMAX, &m->cfg.amax[a])) < 0 ||
-		    (r = sh2000_param_get(c->h, (int)a, SH2000_P_SOFT_MIN, &m->soft_min[a])) < 0 ||
-		    (r = sh2000_param_get(c->h, (int)a, SH2000_P_SOFT_MAX, &m->soft_max[a])) < 0)
-			return sh2000_tool_fail(c->h, r, "get parameter");
-		if (ax->state & SH2000_AXIS_ENABLED) {
+		if (st.axis[a].state & SH2000_AXIS_ENABLED)
 			m->enabled |= 1u << a;
-			m->start[a] = ax->cmd_mm;
-		} else {
-			m->start[a] = ax->pos_mm;
-		}
-		m->cfg.start[a] = m->start[a];
+		m->start[a] = m->cfg.start[a];
 	}
 	return 0;
 }
@@ -320,96 +252,68 @@ static int motion_setup(struct ctl *c, struct motion_setup *m)
 static int check_axes(struct ctl *c, const struct motion_setup *m,
 		      unsigned int mask, const double target[SH2000_AXES])
 {
+	double t[SH2000_AXES];
+	char why[200];
+
 	for (unsigned int a = 0; a < SH2000_AXES; a++) {
-		if (!(mask & (1u << a)))
+		if (!(mask & (1u << a)) || (m->enabled & (1u << a)))
 			continue;
-		if (!(m->enabled & (1u << a))) {
-			sh2000_tool_msg("%s: axis %c is not enabled (sh2000ctl enable %c): nothing moved",
-					sh2000_device(c->h), sh2000_tool_axis_name(a),
-					sh2000_tool_axis_name(a));
-			return SH2000_EXIT_CARD;
-		}
-		if (target[a] < m->soft_min[a] || target[a] > m->soft_max[a]) {
-			sh2000_tool_msg("%s: axis %c: target %g mm is outside the soft limits %g..%g mm: nothing moved",
-					sh2000_device(c->h), sh2000_tool_axis_name(a),
-					target[a], m->soft_min[a], m->soft_max[a]);
-			return SH2000_EXIT_CARD;
-		}
+		sh2000_tool_msg("%s: axis %c is not enabled (sh2000ctl enable %c): nothing moved",
+				sh2000_device(c->h), sh2000_tool_axis_name(a),
+				sh2000_tool_axis_name(a));
+		return SH2000_EXIT_CARD;
+	}
+	/* the runner's rule, before anything moves */
+	memcpy(t, target, sizeof(t));
+	if (sh2000_limits_apply(&m->limits, t, why, sizeof(why)) < 0) {
+		sh2000_tool_msg("%s: target: %s: nothing moved",
+				sh2000_device(c->h), why);
+		return SH2000_EXIT_CARD;
 	}
 	return 0;
 }
 
-/* Plan with fn, stream, wait for the end, report where the axes are. */
-static int run_motion(struct ctl *c, struct motion_setup *m, unsigned int mask,
-		      int (*plan)(struct sh2000_path *, void *), void *arg)
+/* The runner calls this after every batch and poll: where a signal
+ * becomes a stop on the path. */
+static void on_progress(void *ctx, const struct sh2000_run_progress *p)
 {
-	struct stream s = { .h = c->h, .clamp_mask = mask };
-	struct sh2000_path *p;
-	struct sh2000_path_stats ps;
-	struct sh2000_status st;
-	struct sigaction sa;
-	double end[SH2000_AXES];
-	char err[256] = "";
-	uint64_t deadline;
-	double secs;
-	int r;
+	struct sh2000_run **run = ctx;
 
-	memcpy(s.lo, m->soft_min, sizeof(s.lo));
-	memcpy(s.hi, m->soft_max, sizeof(s.hi));
-	memset(&sa, 0, sizeof(sa));
-	sa.sa_handler = on_interrupt;
-	sigaction(SIGINT, &sa, NULL);
-	sigaction(SIGTERM, &sa, NULL);
-	r = sh2000_path_create(&p, &m->cfg, sink, &s, err, sizeof(err));
-	if (r < 0) {
-		sh2000_tool_msg("%s: planner: %s", sh2000_device(c->h), err);
+	(void)p;
+	if (interrupted && *run)
+		sh2000_run_stop(*run);
+}
+
+/* How a run that did not end at its end point ended: an exit code. */
+static int run_ended(struct ctl *c, struct sh2000_run *run, int r)
+{
+	if (interrupted) {
+		sh2000_tool_msg("%s: interrupted: card stopped", sh2000_device(c->h));
 		return SH2000_EXIT_CARD;
 	}
-	r = plan(p, arg);
-	if (r < 0) {
-		sh2000_tool_msg("%s: planner: %s: nothing moved", sh2000_device(c->h),
-				sh2000_path_error(p));
-		sh2000_path_destroy(p);
-		return SH2000_EXIT_CARD;
+	sh2000_tool_msg("%s", sh2000_run_error(run));
+	if (r == -SH2000_ESTOPPED) {
+		sh2000_tool_msg("%s: stopped by another program; the card is at rest on the path",
+				sh2000_device(c->h));
+		return CTL_EXIT_STOPPED;
 	}
-	sh2000_path_end_position(p, end);
-	r = sh2000_path_finish(p);
-	if (r >= 0)
-		r = flush(&s, SH2000_PUSH_END);
-	sh2000_path_stats(p, &ps);
-	sh2000_path_destroy(p);
-	if (s.err < 0 && !interrupted)
-		return sh2000_tool_fail(c->h, s.err, "motion");
-	if (r < 0 && !interrupted) {
-		sh2000_tool_msg("%s: planner: %s", sh2000_device(c->h), strerror(-r));
-		return SH2000_EXIT_CARD;
-	}
-	secs = (double)(s.points + 4) * m->cfg.period_s + 5.0;
-	deadline = sh2000_now_ns(c->h) + (uint64_t)(secs * 1e9);
-	for (;;) {
-		if (interrupted) {
-			r = sh2000_stop(c->h);
-			sh2000_tool_msg("%s: interrupted: %s", sh2000_device(c->h),
-					r < 0 ? "stop failed" : "card stopped");
-			wait_rest(c, 5.0);
-			return SH2000_EXIT_CARD;
-		}
-		/* short waits, so that an interrupt is seen */
-		r = sh2000_wait_idle(c->h, 100);
-		if (r != -SH2000_ETIMEOUT || sh2000_now_ns(c->h) > deadline)
-			break;
-	}
-	if (r < 0)
-		return sh2000_tool_fail(c->h, r, "motion");
-	r = sh2000_poll(c->h, &st);
+	return r == -SH2000_ELIMIT ? SH2000_EXIT_CARD : sh2000_tool_exit_code(r);
+}
+
+/* Where the axes ended; exit 1 if the set-point is short of the end. */
+static int report_end(struct ctl *c, unsigned int mask,
+		      const double end[SH2000_AXES])
+{
+	struct sh2000_status st;
+	int r = sh2000_poll(c->h, &st);
+
 	if (r < 0)
 		return sh2000_tool_fail(c->h, r, "status");
 	for (unsigned int a = 0; a < SH2000_AXES; a++) {
 		if (!(mask & (1u << a)))
 			continue;
-		/* a stop from elsewhere leaves the card idle short of the end */
 		if (fabs(st.axis[a].cmd_mm - end[a]) > 0.001) {
-			sh2000_tool_msg("%s: axis %c stopped at %.6f mm, short of %.6f mm (stopped by another host?)",
+			sh2000_tool_msg("%s: axis %c stopped at %.6f mm, short of %.6f mm",
 					sh2000_device(c->h), sh2000_tool_axis_name(a),
 					st.axis[a].cmd_mm, end[a]);
 			return SH2000_EXIT_CARD;
@@ -420,6 +324,43 @@ static int run_motion(struct ctl *c, struct motion_setup *m, unsigned int mask,
 			printf("%c %.6f mm\n", sh2000_tool_axis_name(a),
 			       st.axis[a].pos_mm);
 	return 0;
+}
+
+/* Plan with fn and run it through the runner; report where the axes are. */
+static int run_motion(struct ctl *c, struct motion_setup *m, unsigned int mask,
+		      int (*plan)(struct sh2000_path *, void *), void *arg)
+{
+	struct sh2000_run_config rc;
+	struct sh2000_run *run = NULL;
+	struct sigaction sa;
+	double end[SH2000_AXES];
+	char err[512] = "";
+	int r;
+
+	memset(&sa, 0, sizeof(sa));
+	sa.sa_handler = on_interrupt;
+	sigaction(SIGINT, &sa, NULL);
+	sigaction(SIGTERM, &sa, NULL);
+	sh2000_run_config_default(&rc);
+	rc.progress = on_progress;
+	rc.ctx = &run;		/* filled in by the create */
+	r = sh2000_run_create(&run, c->h, &m->cfg, &rc, err, sizeof(err));
+	if (r < 0) {
+		sh2000_tool_msg("%s: nothing moved", err);
+		return sh2000_tool_exit_code(r);
+	}
+	r = plan(sh2000_run_path(run), arg);
+	if (r >= 0) {
+		sh2000_path_end_position(sh2000_run_path(run), end);
+		r = sh2000_run_finish(run);
+	}
+	if (r < 0 || interrupted) {
+		r = run_ended(c, run, r);
+		sh2000_run_destroy(run);
+		return r;
+	}
+	sh2000_run_destroy(run);
+	return report_end(c, mask, end);
 }
 
 struct move_arg {
@@ -570,10 +511,10 @@ int ctl_jog(struct ctl *c, int argc, char **argv)
 		/* the jog ends at the soft limit if it would run past it */
 		ja.travel = fabs(vel) * t;
 		target[axis] += vel > 0 ? ja.travel : -ja.travel;
-		if (target[axis] > m.soft_max[axis])
-			ja.travel = m.soft_max[axis] - m.start[axis];
-		if (target[axis] < m.soft_min[axis])
-			ja.travel = m.start[axis] - m.soft_min[axis];
+		if (target[axis] > m.limits.hi[axis])
+			ja.travel = m.limits.hi[axis] - m.start[axis];
+		if (target[axis] < m.limits.lo[axis])
+			ja.travel = m.start[axis] - m.limits.lo[axis];
 		if (ja.travel <= 0) {
 			sh2000_tool_msg("%s: axis %c is at its soft limit: nothing moved",
 					sh2000_device(c->h), sh2000_tool_axis_name((unsigned int)axis));

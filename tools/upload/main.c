@@ -357,7 +357,7 @@ static int read_program(const struct opts *o, const double start[4],
 
 struct check {
 	const struct sh2000_program *prog;
-	double lo[SH2000_AXES], hi[SH2000_AXES];	/* soft limits, mm */
+	struct sh2000_limits limits;	/* the card's soft limits */
 	int32_t start[SH2000_AXES];
 	unsigned int moved;		/* axes any point moves */
 	uint64_t points;
@@ -366,26 +366,22 @@ struct check {
 	uint32_t bad_seq;
 };
 
-static const char axis_letter[] = "XYZA";
-
 static int check_sink(void *ctx, const struct sh2000_path_point *pt)
 {
 	struct check *c = ctx;
+	double mm[SH2000_AXES];
 	unsigned int a;
 
 	c->points++;
-	for (a = 0; a < SH2000_AXES; a++) {
+	for (a = 0; a < SH2000_AXES; a++)
 		if (pt->counts[a] != c->start[a])
 			c->moved |= 1u << a;
-		if (pt->mm[a] < c->lo[a] - 1e-6 || pt->mm[a] > c->hi[a] + 1e-6) {
-			snprintf(c->msg, sizeof(c->msg),
-				 "%c %.4f mm is beyond the card's soft limit %.4f mm",
-				 axis_letter[a], pt->mm[a],
-				 pt->mm[a] < c->lo[a] ? c->lo[a] : c->hi[a]);
-			c->bad = 1;
-			c->bad_seq = pt->seq;
-			return -ERANGE;
-		}
+	/* the runner applies the same rule to the same points later */
+	memcpy(mm, pt->mm, sizeof(mm));
+	if (sh2000_limits_apply(&c->limits, mm, c->msg, sizeof(c->msg)) < 0) {
+		c->bad = 1;
+		c->bad_seq = pt->seq;
+		return -SH2000_ELIMIT;
 	}
 	return 0;
 }
@@ -761,14 +757,13 @@ int main(int argc, char **argv)
 		goto out;
 
 	memset(&chk, 0, sizeof(chk));
-	for (a = 0; a < SH2000_AXES; a++) {
-		if ((e = sh2000_param_get(h, (int)a, SH2000_P_SOFT_MIN, &chk.lo[a])) ||
-		    (e = sh2000_param_get(h, (int)a, SH2000_P_SOFT_MAX, &chk.hi[a]))) {
-			x = sh2000_tool_fail(h, e, "soft limits");
-			goto out;
-		}
-		chk.start[a] = (int32_t)llround(pc.start[a] * pc.counts_per_mm[a]);
+	e = sh2000_limits_get(h, &chk.limits);
+	if (e) {
+		x = sh2000_tool_fail(h, e, "soft limits");
+		goto out;
 	}
+	for (a = 0; a < SH2000_AXES; a++)
+		chk.start[a] = (int32_t)llround(pc.start[a] * pc.counts_per_mm[a]);
 	x = check_plan(&o, &pc, &prog, &chk, &planned);
 	if (x)
 		goto out;

@@ -24,6 +24,7 @@ struct sh2000_run {
 	struct sh2000_run_config cfg;
 	int sim;			/* samples come from the observer */
 	double scale[SH2000_AXES];	/* counts per mm */
+	struct sh2000_limits limits;	/* the card's soft limits */
 	uint64_t servo_ns, coarse_ns;
 	uint64_t cycle0;		/* servo cycle at creation */
 	int32_t buf[SH2000_RING_RECORDS][SH2000_AXES];
@@ -365,11 +366,27 @@ static int sink(void *ctx, const struct sh2000_path_point *pt)
 	unsigned int a, lim;
 	double d = 0.0;
 
+	double mm[SH2000_AXES];
+	char why[160];
 	int e;
 
 	if (r->failed)
 		return r->failed;
+	memcpy(mm, pt->mm, sizeof(mm));
+	e = sh2000_limits_apply(&r->limits, mm, why, sizeof(why));
+	if (e < 0) {
+		r->failed = fail(r, e, "%s: point %llu (tag %u): %s",
+				 sh2000_device(r->h),
+				 (unsigned long long)r->emitted,
+				 (unsigned int)pt->seq, why);
+		halt_card(r);
+		return e;
+	}
 	memcpy(r->buf[r->n], pt->counts, sizeof(r->buf[0]));
+	if (e > 0)	/* put on the limit: the counts follow */
+		for (a = 0; a < SH2000_AXES; a++)
+			r->buf[r->n][a] = (int32_t)llround(mm[a] *
+							   r->scale[a]);
 	r->n++;
 	r->seqs[r->emitted++ % RUN_SEQS] = pt->seq;
 	if (r->have_last) {
@@ -454,6 +471,11 @@ int sh2000_run_create(struct sh2000_run **out, struct sh2000 *h,
 				 a, pc->counts_per_mm[a], r->scale[a]);
 			goto err;
 		}
+	}
+	e = sh2000_limits_get(h, &r->limits);
+	if (e) {
+		lib_fail(r, e, "reading the soft limits");
+		goto err;
 	}
 	e = sh2000_poll(h, &r->st);
 	if (e < 0) {

@@ -37,10 +37,10 @@ expect 0 "$CTL" "${S[@]}" enable x + move x=20 && out_has "^x 20\.0[0-9]+ mm$"
 # a disabled axis, a target outside the soft limits: nothing moves
 expect 1 "$CTL" "${S[@]}" move x=1 && err_has "^sh2000ctl: sim: axis x is not enabled"
 expect 1 "$CTL" "${S[@]}" enable x + params x soft_max=5 + move x=6 &&
-	err_has "^sh2000ctl: sim: axis x: target 6 mm is outside the soft limits"
+	err_has "^sh2000ctl: sim: target: X 6.0000 mm is beyond the soft limit 5.0000 mm"
 # into the hard limit (the model's switch is 305 mm from the start): a
 # latched fault, exit 4
-expect 4 "$CTL" "${S[@]}" enable x + move x=320 && err_has "^sh2000ctl: sim: motion: .*limit switch"
+expect 4 "$CTL" "${S[@]}" enable x + move x=320 && err_has "^sh2000ctl: sim: .*limit switch"
 
 # jog: a distance, a velocity for a time
 expect 0 "$CTL" "${S[@]}" enable y + jog y -2.5 + status --json &&
@@ -60,7 +60,7 @@ expect 0 "$CTL" "${S[@]}" enable x + params x soft_max=2 + jog x --velocity 20 -
 expect 1 "$CTL" "${S[@]}" enable x + params x soft_max=2 + move x=2 + jog x --velocity 5 --time 1 &&
 	err_has "^sh2000ctl: sim: axis x is at its soft limit: nothing moved$"
 expect 1 "$CTL" "${S[@]}" enable x + params x soft_max=2 + jog x 2.5 &&
-	err_has "target 2.5 mm is outside the soft limits"
+	err_has "target: X 2.5000 mm is beyond the soft limit 2.0000 mm"
 
 # home (card time: the model's home switch is 300 mm below the start)
 expect 0 "$CTL" "${S[@]}" enable x + move x=-290 + home x + status --json &&

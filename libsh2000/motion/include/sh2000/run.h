@@ -79,6 +79,35 @@ void sh2000_run_config_default(struct sh2000_run_config *cfg);
  */
 int sh2000_run_path_config(struct sh2000 *h, struct sh2000_path_config *pc);
 
+/*
+ * Soft limits: the one policy every caller uses. A point up to
+ * SH2000_LIMIT_SLACK_MM beyond a limit is put on the limit (the B-spline
+ * compensation overshoots a stop by about 1 um; a target at a limit is
+ * legitimate); further beyond is -SH2000_ELIMIT. The runner applies it to
+ * every point it streams; check a whole program with it before moving.
+ */
+#define SH2000_LIMIT_SLACK_MM	0.002
+
+struct sh2000_limits {
+	double lo[SH2000_AXES], hi[SH2000_AXES];	/* mm */
+};
+
+/* The card's soft limits (SOFT_MIN, SOFT_MAX) in mm. */
+int sh2000_limits_get(struct sh2000 *h, struct sh2000_limits *l);
+/* 0: inside; 1: moved onto a limit (mm changed); -SH2000_ELIMIT: beyond,
+ * msg says which axis, the value and the limit. */
+int sh2000_limits_apply(const struct sh2000_limits *l,
+			double mm[SH2000_AXES], char *msg, size_t len);
+
+/*
+ * Home one axis (flags SH2000_HOME_F_*) and wait up to timeout_ms for the
+ * end: 0 when the axis is homed; -SH2000_ESTOPPED when a STOP (another
+ * program's) ended it with nothing latched; a latched fault's error
+ * otherwise. msg gets the words.
+ */
+int sh2000_run_home(struct sh2000 *h, unsigned int axis, unsigned int flags,
+		    int timeout_ms, char *msg, size_t len);
+
 struct sh2000_run;
 
 /* The card must be idle. msg gets the reason on failure. */

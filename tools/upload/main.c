@@ -392,7 +392,7 @@ static void block_error(const struct sh2000_program *prog, size_t i,
 	char where[300];
 
 	if (i < prog->count)
-		upl_block_where(&prog->blocks[i], where, sizeof(where));
+		sh2000_prog_block_where(&prog->blocks[i], where, sizeof(where));
 	else
 		snprintf(where, sizeof(where), "%s", prog->file);
 	fprintf(stderr, "%s: error: %s\n", where, msg);
@@ -431,7 +431,7 @@ static int check_plan(const struct opts *o, const struct sh2000_path_config *pc,
 		/* the points of a motion carry its block (the tail after it
 		 * too: the tag changes only with the next motion) */
 		sh2000_path_set_seq(p, (uint32_t)i);
-		r = upl_add_block(p, b);
+		r = sh2000_path_add_block(p, b);
 	}
 	if (!r)
 		r = sh2000_path_finish(p);
@@ -497,7 +497,7 @@ static int operator_pause(struct sh2000 *h, struct runctx *rc,
 	int tty = isatty(STDIN_FILENO);
 
 	upl_report_end(&rc->rep);
-	upl_block_where(b, where, sizeof(where));
+	sh2000_prog_block_where(b, where, sizeof(where));
 	if (tty)
 		sh2000_tool_msg("%s: %s: paused; press Enter to resume (Ctrl-C stops)",
 				where, b->u.optional ? "M1" : "M0");
@@ -548,7 +548,7 @@ static int run_fail(const struct sh2000_program *prog,
 
 	/* a long path fills where: the separator goes in at print time */
 	if (rc->seq >= 0 && (uint64_t)rc->seq < prog->count)
-		upl_block_where(&prog->blocks[rc->seq], where, sizeof(where));
+		sh2000_prog_block_where(&prog->blocks[rc->seq], where, sizeof(where));
 	if (e == -ECANCELED) {
 		sh2000_tool_msg("%s%sstopped by the operator; the card is at rest on the path",
 				where, where[0] ? ": " : "");
@@ -597,7 +597,7 @@ static int execute(struct sh2000 *h, const struct opts *o,
 		default:
 			sh2000_path_set_seq(sh2000_run_path(rc->run),
 					    (uint32_t)i);
-			e = upl_add_block(sh2000_run_path(rc->run), b);
+			e = sh2000_path_add_block(sh2000_run_path(rc->run), b);
 			if (e) {
 				/* checked before: a card failure while the
 				 * look-ahead streamed, or a stop */

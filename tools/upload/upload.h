@@ -1,7 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * sh2000-upload's parts: turning program blocks into planner primitives
- * (blocks.c), the trace and the plot (trace.c), progress and summary
+ * sh2000-upload's parts: the trace and the plot (trace.c), progress and summary
  * (report.c). main.c is the order of things; sh2000-upload(1) the manual.
  */
 #ifndef SH2000_UPLOAD_H
@@ -22,16 +21,6 @@ enum {
 	UPLOAD_EXIT_HELPER = 6,		/* rs274 or gnuplot missing or failed */
 	UPLOAD_EXIT_STOPPED = 7,	/* the operator stopped the run */
 };
-
-/* ---- blocks.c --------------------------------------------------------- */
-
-/* Add one program block to a planner: 0 (also for blocks that are not
- * motion), or the planner's negative error. */
-int upl_add_block(struct sh2000_path *p, const struct sh2000_prog_block *b);
-
-/* "file:line:column: error: " prefix of block b into buf. */
-void upl_block_where(const struct sh2000_prog_block *b, char *buf,
-		     size_t len);
 
 /* ---- trace.c ---------------------------------------------------------- */
 

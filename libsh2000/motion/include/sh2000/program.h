@@ -27,6 +27,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "sh2000/path.h"
 #include "sh2000/sh2000.h"
 
 #ifdef __cplusplus
@@ -263,6 +264,19 @@ void sh2000_prog_nurbs_eval(const struct sh2000_prog_nurbs *n, double u,
 			    double out[SH2000_AXES]);
 
 const char *sh2000_prog_kind_name(enum sh2000_prog_kind k);
+
+/* ---- planning a program --------------------------------------------------- */
+
+/* Add one block to a planner: RAPID as a point-to-point move, LINE, ARC
+ * and NURBS as path primitives; the other kinds add nothing (the caller
+ * acts on FEED, DWELL, PAUSE and END). 0 or the planner's negative error
+ * (sh2000_path_error() has the words). */
+int sh2000_path_add_block(struct sh2000_path *p,
+			  const struct sh2000_prog_block *b);
+
+/* "file:line:column" of block b into buf; snprintf's return. */
+int sh2000_prog_block_where(const struct sh2000_prog_block *b, char *buf,
+			    size_t len);
 
 #ifdef __cplusplus
 }

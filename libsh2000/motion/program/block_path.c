@@ -4,7 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "upload.h"
+#include "sh2000/path.h"
+#include "sh2000/program.h"
 
 static int add_arc(struct sh2000_path *p, const struct sh2000_prog_block *b)
 {
@@ -45,7 +46,8 @@ static int add_arc(struct sh2000_path *p, const struct sh2000_prog_block *b)
 	return sh2000_path_arc(p, &pa, b->feed);
 }
 
-int upl_add_block(struct sh2000_path *p, const struct sh2000_prog_block *b)
+int sh2000_path_add_block(struct sh2000_path *p,
+			   const struct sh2000_prog_block *b)
 {
 	struct sh2000_path_nurbs n;
 
@@ -68,8 +70,9 @@ int upl_add_block(struct sh2000_path *p, const struct sh2000_prog_block *b)
 	}
 }
 
-void upl_block_where(const struct sh2000_prog_block *b, char *buf, size_t len)
+int sh2000_prog_block_where(const struct sh2000_prog_block *b, char *buf,
+			    size_t len)
 {
-	snprintf(buf, len, "%s:%u:%u", b->pos.file ? b->pos.file : "?",
+	return snprintf(buf, len, "%s:%u:%u", b->pos.file ? b->pos.file : "?",
 		 b->pos.line, b->pos.column);
 }

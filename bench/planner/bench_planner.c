@@ -81,7 +81,7 @@ static int add_shape(struct sh2000_path *p, enum shape s, const double o[4])
 		return sh2000_path_arc(p, &arc, FEED);
 	}
 	if (s == CIRCLE_NURBS) {
-		struct sh2000_path_nurbs n = { 2, 9, (const double (*)[4])ctrl,
+		struct sh2000_nurbs n = { 2, 9, (const double (*)[4])ctrl,
 					       circ_w, circ_k };
 
 		for (i = 0; i < 9; i++)
@@ -90,7 +90,7 @@ static int add_shape(struct sh2000_path *p, enum shape s, const double o[4])
 					     (a == 0 ? R_CIRC : 0);
 		return sh2000_path_nurbs(p, &n, FEED);
 	} else {
-		struct sh2000_path_nurbs n = { 3, 8, (const double (*)[4])ctrl,
+		struct sh2000_nurbs n = { 3, 8, (const double (*)[4])ctrl,
 					       ff_w, ff_k };
 
 		for (i = 0; i < 8; i++)

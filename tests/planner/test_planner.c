@@ -246,13 +246,14 @@ static void arc_case(int raw, unsigned int plane, int ccw, double R,
 	struct sh2000_path *p;
 	struct sh2000_path_arc a;
 	struct circ_dev d;
-	static const unsigned int ax[3][2] = { { 0, 1 }, { 0, 2 }, { 1, 2 } };
-	unsigned int i = ax[plane][0], j = ax[plane][1];
+	unsigned int i, j, n;
 
+	/* plane 0, 1, 2: G17, G18, G19 (first, second axis as geometry.h) */
+	assert_int_equal(sh2000_plane_axes(SH2000_PLANE_XY + plane, &i, &j, &n), 0);
 	c.start[i] = R;
 	p = mk(&c, &r);
 	memset(&a, 0, sizeof(a));
-	a.plane = plane;
+	a.plane = SH2000_PLANE_XY + plane;
 	memcpy(a.end, c.start, sizeof(a.end));
 	a.ccw = ccw;
 	a.centre[0] = 0;
@@ -334,7 +335,7 @@ static void test_arc_forms_and_helix(void **s)
 	a.centre[0] = 5;
 	a.centre[1] = 0;
 	a.ccw = 1;
-	a.turns = 1;
+	a.turns = 2;
 	a.end[0] = 10;
 	a.end[1] = 0;
 	a.end[2] = 4;
@@ -408,7 +409,7 @@ static const double circ_k[12] = { 0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75,
 static void nurbs_circle(int raw, double tol)
 {
 	struct sh2000_path_config c = cfg_of(raw, 0);
-	struct sh2000_path_nurbs n = { 2, 9, circ_ctrl, circ_w, circ_k };
+	struct sh2000_nurbs n = { 2, 9, circ_ctrl, circ_w, circ_k };
 	struct rec r;
 	struct sh2000_path *p;
 	struct circ_dev d;
@@ -488,7 +489,7 @@ static int dense_sink(void *ctx, const struct sh2000_path_point *pt)
 
 static void test_nurbs_freeform(void **s)
 {
-	struct sh2000_path_nurbs n = { 3, 8, ff_ctrl, ff_w, ff_k };
+	struct sh2000_nurbs n = { 3, 8, ff_ctrl, ff_w, ff_k };
 	struct sh2000_path_config c = cfg_of(0, 0), cd;
 	struct rec r, dense;
 	struct sh2000_path *p, *pd;
@@ -533,10 +534,10 @@ static void test_nurbs_degrees_and_pause(void **s)
 	static const double k1[7] = { 0, 0, 1, 2, 3, 4, 4 };
 	static const double k5[14] = { 0, 0, 0, 0, 0, 0, 0.3, 0.7,
 					1, 1, 1, 1, 1, 1 };
-	struct sh2000_path_nurbs n1 = { 1, 5, poly, NULL, k1 };
-	struct sh2000_path_nurbs n5 = { 5, 8, ff_ctrl, NULL, k5 };
+	struct sh2000_nurbs n1 = { 1, 5, poly, NULL, k1 };
+	struct sh2000_nurbs n5 = { 5, 8, ff_ctrl, NULL, k5 };
 	struct sh2000_path_config c = cfg_of(0, 0);
-	struct sh2000_path_nurbs nc = { 2, 9, circ_ctrl, circ_w, circ_k };
+	struct sh2000_nurbs nc = { 2, 9, circ_ctrl, circ_w, circ_k };
 	struct rec r;
 	struct sh2000_path *p;
 	struct poly_dev d = { poly + 1, 4, { 0 }, 0 };
@@ -621,11 +622,10 @@ static void test_random_programs(void **s)
 			} else if (k == 2) {
 				struct sh2000_path_arc arc;
 				double R = frnd(&st, 0.2, 8), th = frnd(&st, 0, 6.28);
-				unsigned int pl = rnd(&st) % 3;
-				static const unsigned int ax[3][2] = {
-					{ 0, 1 }, { 0, 2 }, { 1, 2 } };
-				unsigned int ii = ax[pl][0], jj = ax[pl][1];
+				enum sh2000_plane pl = SH2000_PLANE_XY + rnd(&st) % 3;
+				unsigned int ii, jj, nn;
 
+				sh2000_plane_axes(pl, &ii, &jj, &nn);
 				memset(&arc, 0, sizeof(arc));
 				arc.plane = pl;
 				arc.ccw = rnd(&st) & 1;
@@ -640,7 +640,7 @@ static void test_random_programs(void **s)
 				double ctrl[6][4];
 				static const double kn[10] = { 0, 0, 0, 0, 0.3,
 							       0.6, 1, 1, 1, 1 };
-				struct sh2000_path_nurbs n = { 3, 6,
+				struct sh2000_nurbs n = { 3, 6,
 					(const double (*)[4])ctrl, NULL, kn };
 				unsigned int j;
 
@@ -692,7 +692,7 @@ static void test_bad_geometry(void **s)
 	struct rec r;
 	struct sh2000_path *p = mk(&c, &r);
 	struct sh2000_path_arc a;
-	struct sh2000_path_nurbs n = { 2, 9, circ_ctrl, circ_w, circ_k };
+	struct sh2000_nurbs n = { 2, 9, circ_ctrl, circ_w, circ_k };
 	double bad_k[12], bad_w[9], e[4] = { 1, 2, 3, 0 };
 	double nan_pt[4] = { 1, NAN, 0, 0 };
 
@@ -703,7 +703,7 @@ static void test_bad_geometry(void **s)
 	a.end[0] = 10.2;	/* start radius 5, end radius 5.2 */
 	a.ccw = 1;
 	expect_err(p, sh2000_path_arc(p, &a, 100), -EINVAL,
-		   "arc: start radius 5.000 and end radius 5.200 differ by more than 0.001 mm");
+		   "arc: radius to end of arc differs from radius to start: start=(X0.0000,Y0.0000) centre=(X5.0000,Y0.0000) end=(X10.2000,Y0.0000) r1=5.0000 r2=5.2000 mm");
 	a.end[0] = 10;
 	a.centre[1] = NAN;
 	expect_err(p, sh2000_path_arc(p, &a, 100), -EINVAL, "arc: centre is NaN");
@@ -713,7 +713,7 @@ static void test_bad_geometry(void **s)
 	a.radius_form = 1;
 	a.radius = 1;
 	expect_err(p, sh2000_path_arc(p, &a, 10), -EINVAL,
-		   "arc: radius 1.000 is too small for the 10.000 mm chord");
+		   "arc: arc radius 1.0000 mm too small to reach the end point (half chord 5.0000 mm)");
 	expect_err(p, sh2000_path_line(p, nan_pt, 100), -EINVAL,
 		   "line: end Y is NaN");
 	expect_err(p, sh2000_path_line(p, e, -10), -EINVAL,
@@ -728,22 +728,22 @@ static void test_bad_geometry(void **s)
 	bad_k[3] = 0.5;
 	n.knots = bad_k;
 	expect_err(p, sh2000_path_nurbs(p, &n, 100), -EINVAL,
-		   "nurbs: knot 4 (0.3) < knot 3 (0.5)");
+		   "nurbs: knots[4]: 0.3 is less than knots[3] = 0.5");
 	n.knots = circ_k;
 	memcpy(bad_w, circ_w, sizeof(bad_w));
 	bad_w[3] = 0;
 	n.weights = bad_w;
 	expect_err(p, sh2000_path_nurbs(p, &n, 100), -EINVAL,
-		   "nurbs: weight 3 is 0, must be > 0");
+		   "nurbs: weights[3]: 0 is not a positive finite weight");
 	n.weights = circ_w;
 	n.degree = 0;
 	expect_err(p, sh2000_path_nurbs(p, &n, 100), -EINVAL,
-		   "nurbs: degree must be >= 1: got 0");
+		   "nurbs: degree: 0 is outside 1..31");
 	n.degree = 2;
-	n.count = 2;
+	n.npoints = 2;
 	expect_err(p, sh2000_path_nurbs(p, &n, 100), -EINVAL,
-		   "nurbs: 2 control points are too few for degree 2");
-	n.count = 9;
+		   "nurbs: points: 2 control points, a degree 2 curve needs at least 3");
+	n.npoints = 9;
 	/* the circle starts at (5, 0), the planner is at the origin */
 	expect_err(p, sh2000_path_nurbs(p, &n, 100), -EINVAL,
 		   "nurbs: the curve starts at (5.0000, 0.0000, 0.0000, 0.0000), 5.0000 mm from the current position");
@@ -854,7 +854,7 @@ static void test_constant_memory(void **s)
 static void test_nurbs_memory_released(void **s)
 {
 	struct sh2000_path_config c = cfg_of(0, 0);
-	struct sh2000_path_nurbs n = { 2, 9, circ_ctrl, circ_w, circ_k };
+	struct sh2000_nurbs n = { 2, 9, circ_ctrl, circ_w, circ_k };
 	struct count_sink cs;
 	struct sh2000_path *p;
 	struct sh2000_path_stats st0, st;

@@ -59,7 +59,7 @@ static void test_job(void **state)
 	assert_true(b->u.arc.ccw);
 	assert_int_equal(b->u.arc.turns, 1);
 	assert_near(b->u.arc.sweep, M_PI / 2, 1e-9);
-	assert_near(b->u.arc.radius, 10, 1e-9);
+	assert_near(b->u.arc.r0, 10, 1e-9);
 	assert_pos4(b->end, 0, 10, -2, 1);
 	assert_int_equal(P.blocks[4].kind, SH2000_PROG_DWELL);
 	assert_near(P.blocks[4].u.dwell_s, 0.5, 1e-12);
@@ -97,11 +97,11 @@ static void test_units_offsets_planes(void **state)
 		  "    5 N..... SELECT_PLANE(CANON_PLANE_YZ)\n"
 		  "    6 N..... ARC_FEED(-3.0000, 0.0000, 0.0000, 5.0000, -2, 10.0000, 0.0000, 0.0000, 0.0000)\n" "  999 N..... PROGRAM_END()\n");
 	b = nth(SH2000_PROG_ARC, 0);
-	assert_int_equal(b->u.arc.plane, SH2000_PROG_XZ);
+	assert_int_equal(b->u.arc.plane, SH2000_PLANE_XZ);
 	assert_pos4(b->end, 10, 3, 0, 0);
 	assert_near(b->u.arc.sweep, M_PI / 2, 1e-9);
 	b = nth(SH2000_PROG_ARC, 1);
-	assert_int_equal(b->u.arc.plane, SH2000_PROG_YZ);
+	assert_int_equal(b->u.arc.plane, SH2000_PLANE_YZ);
 	assert_false(b->u.arc.ccw);
 	assert_int_equal(b->u.arc.turns, 2);
 	assert_pos4(b->end, 10, -3, 0, 0);

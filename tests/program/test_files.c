@@ -102,7 +102,7 @@ static const char curve[] =
 static void test_json_curve(void **state)
 {
 	const struct sh2000_prog_block *b;
-	const struct sh2000_prog_nurbs *n;
+	const struct sh2000_nurbs *n;
 	struct sh2000_prog_options o;
 	double p[4];
 
@@ -131,7 +131,7 @@ static void test_json_curve(void **state)
 	assert_pos4(b->end, 0, 10, 5, 6);
 	assert_near(b->feed, 5, 0);
 	/* the knot at 0.3 is where only control points 1 and 2 count */
-	sh2000_prog_nurbs_eval(n, 0.3, p);
+	sh2000_nurbs_eval(n, 0.3, p, NULL, NULL);
 	{
 		/* N1 = 0.7, N2 = 0.3 at u = 0.3 for these knots */
 		double w1 = 0.7 * 2, w2 = 0.3 * 1;

@@ -156,12 +156,12 @@ static void test_arc_xy(void **state)
 	(void)state;
 	expect_ok(G, "G0 X10 Y0\nG3 X0 Y10 I-10 J0 F60\nG2 X10 Y0 I0 J-10\n" "M2\n");
 	b = nth(SH2000_PROG_ARC, 0);
-	assert_int_equal(b->u.arc.plane, SH2000_PROG_XY);
+	assert_int_equal(b->u.arc.plane, SH2000_PLANE_XY);
 	assert_true(b->u.arc.ccw);
 	assert_int_equal(b->u.arc.turns, 1);
 	assert_near(b->u.arc.centre[0], 0, 1e-12);
 	assert_near(b->u.arc.centre[1], 0, 1e-12);
-	assert_near(b->u.arc.radius, 10, 1e-12);
+	assert_near(b->u.arc.r0, 10, 1e-12);
 	assert_near(b->u.arc.sweep, M_PI / 2, 1e-12);
 	assert_near(b->feed, 1, 1e-12);
 	assert_int_equal(b->pos.line, 2);
@@ -199,8 +199,8 @@ static void test_full_circles_and_helix(void **state)
 	assert_int_equal(b->u.arc.turns, 2);
 	assert_near(b->u.arc.sweep, 4 * M_PI, 1e-12);
 	assert_pos4(b->end, 10, 0, -5, 2);
-	assert_near(b->u.arc.centre[2], 0, 1e-12);
-	assert_int_equal(b->u.arc.axisn, SH2000_PROG_Z);
+	assert_near(b->start[b->u.arc.normal], 0, 1e-12);
+	assert_int_equal(b->u.arc.normal, SH2000_PROG_Z);
 	/* a quarter of the way: one half turn, z and a a quarter down */
 	sh2000_prog_block_point(b, 0.25, p);
 	assert_near(p[0], -10, 1e-9);
@@ -218,10 +218,10 @@ static void test_arc_xz_yz(void **state)
 	/* G18: axis1 Z, axis2 X; G3 turns from +Z towards +X (seen from +Y) */
 	expect_ok(G, "G0 Z10\nG18 G3 X10 Z0 I0 K-10 F60\nG0 Z10 X0\nG2 X10 Z0 K-10\n" "M2\n");
 	b = nth(SH2000_PROG_ARC, 0);
-	assert_int_equal(b->u.arc.plane, SH2000_PROG_XZ);
-	assert_int_equal(b->u.arc.axis1, SH2000_PROG_Z);
-	assert_int_equal(b->u.arc.axis2, SH2000_PROG_X);
-	assert_int_equal(b->u.arc.axisn, SH2000_PROG_Y);
+	assert_int_equal(b->u.arc.plane, SH2000_PLANE_XZ);
+	assert_int_equal(b->u.arc.first, SH2000_PROG_Z);
+	assert_int_equal(b->u.arc.second, SH2000_PROG_X);
+	assert_int_equal(b->u.arc.normal, SH2000_PROG_Y);
 	assert_near(b->u.arc.sweep, M_PI / 2, 1e-12);
 	sh2000_prog_block_point(b, 0.5, p);
 	assert_near(p[0], 10 / M_SQRT2, 1e-9);
@@ -233,8 +233,8 @@ static void test_arc_xz_yz(void **state)
 	/* G19: axis1 Y, axis2 Z */
 	expect_ok(G, "G0 Y10\nG19 G3 Y0 Z10 J-10 K0 X3 F60\n" "M2\n");
 	b = nth(SH2000_PROG_ARC, 0);
-	assert_int_equal(b->u.arc.plane, SH2000_PROG_YZ);
-	assert_int_equal(b->u.arc.axisn, SH2000_PROG_X);
+	assert_int_equal(b->u.arc.plane, SH2000_PLANE_YZ);
+	assert_int_equal(b->u.arc.normal, SH2000_PROG_X);
 	assert_near(b->u.arc.sweep, M_PI / 2, 1e-12);
 	assert_pos4(b->end, 3, 0, 10, 0);
 	/* full circles and helices in G18 and G19 */
@@ -273,7 +273,7 @@ static void test_arc_centre_modes(void **state)
 	assert_near(b->u.arc.centre[1], 10, 1e-12);
 	/* absolute centres in inches */
 	expect_ok(G, "G20 G0 X1\nG90.1 G3 X0 Y1 I0 J0 F1\n" "M2\n");
-	assert_near(nth(SH2000_PROG_ARC, 0)->u.arc.radius, 25.4, 1e-12);
+	assert_near(nth(SH2000_PROG_ARC, 0)->u.arc.r0, 25.4, 1e-12);
 	/* G90.1 needs both centre words */
 	expect_error(G, "G0 X1\nG90.1 G3 X0 Y1 I0 F1\n", SH2000_PD_MISSING, 2, 7);
 }
@@ -319,14 +319,13 @@ static void test_arc_radius_tolerance(void **state)
 	/* within 0.0283 mm and 0.1 % */
 	expect_ok(G, "G0 X10\nG3 X0 Y10.005 I-10 F1\n" "M2\n");
 	b = nth(SH2000_PROG_ARC, 0);
-	assert_near(b->u.arc.end_radius, 10.005, 1e-12);
+	assert_near(b->u.arc.r1, 10.005, 1e-12);
 	/* the fitted circle goes through both ends, near the centre */
 	assert_near(hypot(10 - b->u.arc.fit_centre[0], 0 - b->u.arc.fit_centre[1]),
 		    b->u.arc.fit_radius, 1e-12);
 	assert_near(hypot(0 - b->u.arc.fit_centre[0], 10.005 - b->u.arc.fit_centre[1]),
 		    b->u.arc.fit_radius, 1e-12);
 	assert_true(hypot(b->u.arc.fit_centre[0], b->u.arc.fit_centre[1]) < 0.005);
-	assert_near(b->u.arc.fit_centre[2], 0, 0);
 	/* LinuxCNC 2.9's rule (each case checked with Debian's rs274): an
 	 * error past 0.0283 mm and 0.1 % of the radius at once ... */
 	expect_ok(G, "G0 X10\nG3 X0 Y10.025 I-10 F1\nM2\n");

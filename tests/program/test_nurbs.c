@@ -22,7 +22,7 @@ static const char doc_example[] =
 static void test_doc_example(void **state)
 {
 	const struct sh2000_prog_block *b;
-	const struct sh2000_prog_nurbs *n;
+	const struct sh2000_nurbs *n;
 	static const double pts[5][2] = { {0, 0}, {0, 1}, {2, 2}, {2, 0}, {0, 0} };
 	static const double w[5] = { 1, 1, 1, 1, 2 };
 	static const double knots[8] = { 0, 0, 0, 1, 2, 3, 3, 3 };
@@ -53,7 +53,7 @@ static void test_doc_example(void **state)
 	sh2000_prog_block_point(b, 1, p);
 	assert_pos4(p, 0, 0, 0, 0);
 	/* at u = 1 only control points 1 and 2 count, half each */
-	sh2000_prog_nurbs_eval(n, 1, p);
+	sh2000_nurbs_eval(n, 1, p, NULL, NULL);
 	assert_near(p[0], 1, 1e-12);
 	assert_near(p[1], 1.5, 1e-12);
 	/* the rapids after the block start at its end */
@@ -63,7 +63,7 @@ static void test_doc_example(void **state)
 
 static void test_weights_order_units(void **state)
 {
-	const struct sh2000_prog_nurbs *n;
+	const struct sh2000_nurbs *n;
 
 	(void)state;
 	/* P without X Y on the opening line weighs the start point; L4 is a
@@ -140,18 +140,18 @@ static void test_eval_rational_circle(void **state)
 	double pts[3][4] = { {1, 0, 0, 0}, {1, 1, 0, 0}, {0, 1, 0, 0} };
 	double w[3] = { 1, M_SQRT1_2, 1 };
 	double k[6] = { 0, 0, 0, 1, 1, 1 };
-	struct sh2000_prog_nurbs n = { 2, 3, pts, w, k };
+	struct sh2000_nurbs n = { 2, 3, pts, w, k };
 	double p[4];
 
 	(void)state;
 	for (int i = 0; i <= 10; i++) {
-		sh2000_prog_nurbs_eval(&n, i / 10.0, p);
+		sh2000_nurbs_eval(&n, i / 10.0, p, NULL, NULL);
 		assert_near(hypot(p[0], p[1]), 1, 1e-12);
 	}
-	sh2000_prog_nurbs_eval(&n, 0.5, p);
+	sh2000_nurbs_eval(&n, 0.5, p, NULL, NULL);
 	assert_near(p[0], M_SQRT1_2, 1e-12);
 	/* outside the domain it clamps */
-	sh2000_prog_nurbs_eval(&n, 7, p);
+	sh2000_nurbs_eval(&n, 7, p, NULL, NULL);
 	assert_near(p[0], 0, 1e-12);
 	assert_near(p[1], 1, 1e-12);
 }
@@ -163,18 +163,18 @@ static void test_eval_non_uniform(void **state)
 	double pts[3][4] = { {0, 0, 0, 0}, {10, 0, 0, 0}, {10, 10, 0, 0} };
 	double w[3] = { 1, 1, 1 };
 	double k[5] = { 0, 0, 0.25, 1, 1 };
-	struct sh2000_prog_nurbs n = { 1, 3, pts, w, k };
+	struct sh2000_nurbs n = { 1, 3, pts, w, k };
 	double p[4];
 
 	(void)state;
-	sh2000_prog_nurbs_eval(&n, 0.125, p);
+	sh2000_nurbs_eval(&n, 0.125, p, NULL, NULL);
 	assert_near(p[0], 5, 1e-12);
-	sh2000_prog_nurbs_eval(&n, 0.25, p);
+	sh2000_nurbs_eval(&n, 0.25, p, NULL, NULL);
 	assert_near(p[0], 10, 1e-12);
 	assert_near(p[1], 0, 1e-12);
-	sh2000_prog_nurbs_eval(&n, 0.625, p);
+	sh2000_nurbs_eval(&n, 0.625, p, NULL, NULL);
 	assert_near(p[1], 5, 1e-12);
-	sh2000_prog_nurbs_eval(&n, 1, p);
+	sh2000_nurbs_eval(&n, 1, p, NULL, NULL);
 	assert_near(p[1], 10, 1e-12);
 }
 

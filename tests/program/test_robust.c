@@ -66,7 +66,7 @@ static void check(enum sh2000_prog_format fmt, const char *text, size_t len)
 			assert_true(isfinite(b->start[a]) && isfinite(b->end[a]));
 		assert_true(isfinite(b->feed) && b->feed >= 0);
 		if (b->kind == SH2000_PROG_ARC)
-			assert_true(isfinite(b->u.arc.sweep) && b->u.arc.radius > 0);
+			assert_true(isfinite(b->u.arc.sweep) && b->u.arc.r0 > 0);
 		if (b->kind == SH2000_PROG_LINE || b->kind == SH2000_PROG_ARC ||
 		    b->kind == SH2000_PROG_NURBS)
 			assert_true(b->feed > 0);

@@ -46,16 +46,9 @@ void pl_block_pos(const struct pl_block *b, double s, double pos[SH2000_AXES])
 		for (a = 0; a < SH2000_AXES; a++)
 			pos[a] = b->p0[a] + b->g.line.d[a] * s;
 		break;
-	case BLK_ARC: {
-		double th = b->g.arc.th0 + b->g.arc.dth * f;
-		double r = b->g.arc.r0 + (b->g.arc.r1 - b->g.arc.r0) * f;
-
-		for (a = 0; a < SH2000_AXES; a++)
-			pos[a] = b->p0[a] + (b->p1[a] - b->p0[a]) * f;
-		pos[b->g.arc.i] = b->g.arc.c[0] + r * cos(th);
-		pos[b->g.arc.j] = b->g.arc.c[1] + r * sin(th);
+	case BLK_ARC:
+		sh2000_arc_point(&b->g.arc, b->p0, b->p1, f, pos);
 		break;
-	}
 	default:
 		pl_nurbs_eval(b->g.nurbs.nb, b->g.nurbs.u0 +
 			      (b->g.nurbs.u1 - b->g.nurbs.u0) * f, pos, NULL,

@@ -9,37 +9,39 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "sh2000/geometry.h"
 #include "sh2000/path.h"
 
 
-/* ---- NURBS ---------------------------------------------------------- */
+/* ---- nurbs.c: a curve the planner holds (its own copy) -------------- */
 
 struct pl_nurbs {
-	unsigned int p;		/* degree */
-	unsigned int n;		/* control points */
-	double *U;		/* n + p + 1 knots */
-	double *Pw;		/* n * 5: w*x0..w*x3, w */
-	double *scratch;	/* basis-function work space */
+	struct sh2000_nurbs c;	/* the copy, evaluated by geometry.h */
 	double umin, umax;
 	uint64_t id;		/* for the predictor's history */
 	unsigned int refs;	/* blocks in the window that use it */
 	unsigned int span;	/* expansion: next knot span ... */
 	unsigned int sub;	/* ... and next subdivision in it */
 	int expanded;		/* every block of it has been queued */
-	size_t bytes;
+	size_t bytes;		/* what the copy holds */
 };
 
 /* Sub-blocks per non-empty knot span. */
 #define PL_NURBS_SUBDIV 16u
 
+/* A copy of a checked curve; NULL when out of memory. */
+struct pl_nurbs *pl_nurbs_new(struct sh2000_path *p,
+			      const struct sh2000_nurbs *n);
+/* Drop a reference; the copy goes with the last one once expanded. */
+void pl_nurbs_put(struct sh2000_path *p, struct pl_nurbs *nb);
 /* C, C' and C'' at u (d1, d2 may be NULL). */
-void pl_nurbs_eval(struct pl_nurbs *nb, double u, double c[SH2000_AXES],
+void pl_nurbs_eval(const struct pl_nurbs *nb, double u, double c[SH2000_AXES],
 		   double d1[SH2000_AXES], double d2[SH2000_AXES]);
 /* Arc length between u0 and u1 (Gauss-Legendre). */
-double pl_nurbs_length(struct pl_nurbs *nb, double u0, double u1);
+double pl_nurbs_length(const struct pl_nurbs *nb, double u0, double u1);
 /* Curvature and unit tangent at u; returns |C'(u)|. */
-double pl_nurbs_frame(struct pl_nurbs *nb, double u, double t[SH2000_AXES],
-		      double *kappa);
+double pl_nurbs_frame(const struct pl_nurbs *nb, double u,
+		      double t[SH2000_AXES], double *kappa);
 
 /* ---- blocks ----------------------------------------------------------- */
 
@@ -61,12 +63,7 @@ struct pl_block {
 		struct {
 			double d[SH2000_AXES];	/* unit direction */
 		} line;
-		struct {
-			unsigned int i, j;	/* plane axes */
-			double c[2];		/* centre */
-			double r0, r1;		/* start and end radius */
-			double th0, dth;	/* start angle, signed sweep */
-		} arc;
+		struct sh2000_arc arc;	/* resolved (geometry.h) */
 		struct {
 			struct pl_nurbs *nb;
 			double u0, u1;
@@ -158,8 +155,10 @@ int pl_err(struct sh2000_path *p, int code, const char *fmt, ...)
 void *pl_alloc(struct sh2000_path *p, size_t n);
 void pl_free(struct sh2000_path *p, void *ptr, size_t n);
 
-/* Queue a validated block (the ring has room). */
+/* queue.c: queue a validated block (the ring has room). */
 void pl_push_block(struct sh2000_path *p, struct pl_block *b);
+/* Empty the window (a stop or a reset), releasing the curves. */
+void pl_drop_blocks(struct sh2000_path *p);
 /* Make room for one block: runs the controller. 0 or negative errno. */
 int pl_make_room(struct sh2000_path *p);
 /* One coarse period. Returns 1 if the motion is at rest with nothing
@@ -170,13 +169,16 @@ void pl_backward_all(struct sh2000_path *p);
 /* A stop has come to rest: drop the rest of the program. */
 void pl_stopped(struct sh2000_path *p);
 double pl_cap(const struct sh2000_path *p, const struct pl_block *b);
-/* Expand as much of the pending NURBS as fits; 1 when fully queued. */
+/* expand.c: expand as much of the pending NURBS as fits; 1 when fully
+ * queued. */
 int pl_nurbs_expand(struct sh2000_path *p);
-void pl_nurbs_put(struct sh2000_path *p, struct pl_nurbs *nb);
 /* Speed limit at a point of a curve: axis speeds for the tangent t, and
  * for curvature kappa the centripetal share, the chord tolerance and the
  * jerk. */
 double pl_curve_vlim(const struct sh2000_path *p, const double t[SH2000_AXES],
 		     double kappa);
+/* Speed allowed through the corner from tangent t1 (in) to t0 (out). */
+double pl_junction(const struct sh2000_path *p, const double t1[SH2000_AXES],
+		   const double t0[SH2000_AXES]);
 
 #endif /* SH2000_PLANNER_H */

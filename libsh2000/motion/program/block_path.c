@@ -7,50 +7,27 @@
 #include "sh2000/path.h"
 #include "sh2000/program.h"
 
+/* The fitted centre: a true circle through both ends, which the
+ * planner's arcs are. Plane, sense and turns are geometry.h's on both
+ * sides. */
 static int add_arc(struct sh2000_path *p, const struct sh2000_prog_block *b)
 {
-	const struct sh2000_prog_arc *a = &b->u.arc;
+	const struct sh2000_arc *a = &b->u.arc;
 	struct sh2000_path_arc pa;
 
 	memset(&pa, 0, sizeof(pa));
 	memcpy(pa.end, b->end, sizeof(pa.end));
-	pa.radius_form = 0;
-	pa.turns = a->turns > 0 ? a->turns - 1 : 0;
-	/*
-	 * The program's planes are right-handed (G18 is Z then X); the
-	 * planner's XZ is X then Z, so its sense turns the other way there.
-	 * The fitted centre is a true circle through both ends.
-	 */
-	switch (a->plane) {
-	case SH2000_PROG_XY:
-		pa.plane = SH2000_PLANE_XY;
-		pa.centre[0] = a->fit_centre[SH2000_PROG_X];
-		pa.centre[1] = a->fit_centre[SH2000_PROG_Y];
-		pa.ccw = a->ccw;
-		break;
-	case SH2000_PROG_XZ:
-		pa.plane = SH2000_PLANE_XZ;
-		pa.centre[0] = a->fit_centre[SH2000_PROG_X];
-		pa.centre[1] = a->fit_centre[SH2000_PROG_Z];
-		pa.ccw = !a->ccw;
-		break;
-	case SH2000_PROG_YZ:
-		pa.plane = SH2000_PLANE_YZ;
-		pa.centre[0] = a->fit_centre[SH2000_PROG_Y];
-		pa.centre[1] = a->fit_centre[SH2000_PROG_Z];
-		pa.ccw = a->ccw;
-		break;
-	default:
-		return -EINVAL;
-	}
+	pa.plane = a->plane;
+	pa.centre[0] = a->fit_centre[0];
+	pa.centre[1] = a->fit_centre[1];
+	pa.ccw = a->ccw;
+	pa.turns = a->turns;
 	return sh2000_path_arc(p, &pa, b->feed);
 }
 
 int sh2000_path_add_block(struct sh2000_path *p,
 			   const struct sh2000_prog_block *b)
 {
-	struct sh2000_path_nurbs n;
-
 	switch (b->kind) {
 	case SH2000_PROG_RAPID:
 		return sh2000_path_move_abs(p, b->end, 0.0);
@@ -59,12 +36,7 @@ int sh2000_path_add_block(struct sh2000_path *p,
 	case SH2000_PROG_ARC:
 		return add_arc(p, b);
 	case SH2000_PROG_NURBS:
-		n.degree = b->u.nurbs.degree;
-		n.count = (unsigned int)b->u.nurbs.npoints;
-		n.ctrl = (const double (*)[SH2000_AXES])b->u.nurbs.points;
-		n.weights = b->u.nurbs.weights;
-		n.knots = b->u.nurbs.knots;
-		return sh2000_path_nurbs(p, &n, b->feed);
+		return sh2000_path_nurbs(p, &b->u.nurbs, b->feed);
 	default:
 		return 0;
 	}

@@ -24,7 +24,7 @@
 
 struct cstate {
 	double unit;		/* mm per program unit */
-	enum sh2000_prog_plane plane;
+	enum sh2000_plane plane;
 	double feed_mm_min;
 	double g5x[SH2000_AXES], g92[SH2000_AXES];	/* mm */
 	bool ended;
@@ -274,7 +274,7 @@ static int do_line(struct prog_ctx *c, struct cstate *st, struct cline *l)
 			return prog_err(c, SH2000_PD_RANGE, l->line, l->arg[4].col,
 					"ARC_FEED: rotation %g is not a non-zero integer", v[4]);
 		rot = (int)v[4];
-		prog_plane_axes(st->plane, &a1, &a2, &an);
+		sh2000_plane_axes(st->plane, &a1, &a2, &an);
 		memcpy(end, c->pos, sizeof(end));
 		end[a1] = mpos(st, (int)a1, v[0]);
 		end[a2] = mpos(st, (int)a2, v[1]);
@@ -287,8 +287,8 @@ static int do_line(struct prog_ctx *c, struct cstate *st, struct cline *l)
 		memcpy(b->end, end, sizeof(end));
 		b->feed = st->feed_mm_min / 60;
 		tol = c->opt.arc_tolerance_mm > 0 ? c->opt.arc_tolerance_mm :
-		      st->unit == PROG_MM_PER_INCH ? PROG_CENTER_TOL_INCH_MM :
-		      PROG_CENTER_TOL_MM;
+		      st->unit == PROG_MM_PER_INCH ? SH2000_ARC_CENTRE_TOL_INCH_MM :
+		      SH2000_ARC_CENTRE_TOL_MM;
 		/* rs274 checked the arc before rounding it to 4 decimals */
 		tol += 4 * (0.5e-4 * st->unit + st->res_mm);
 		/* rs274 prints 4 decimals: a full circle's end may miss its
@@ -343,11 +343,11 @@ static int do_line(struct prog_ctx *c, struct cstate *st, struct cline *l)
 	}
 	if (name_is(l, "SELECT_PLANE")) {
 		if (arg_is(l, 0, "CANON_PLANE_XY") && l->nargs == 1)
-			st->plane = SH2000_PROG_XY;
+			st->plane = SH2000_PLANE_XY;
 		else if (arg_is(l, 0, "CANON_PLANE_XZ") && l->nargs == 1)
-			st->plane = SH2000_PROG_XZ;
+			st->plane = SH2000_PLANE_XZ;
 		else if (arg_is(l, 0, "CANON_PLANE_YZ") && l->nargs == 1)
-			st->plane = SH2000_PROG_YZ;
+			st->plane = SH2000_PLANE_YZ;
 		else
 			return prog_err(c, SH2000_PD_UNSUPPORTED, l->line, l->col,
 					"SELECT_PLANE: only the XY, XZ and YZ planes");
@@ -483,7 +483,7 @@ static int do_line(struct prog_ctx *c, struct cstate *st, struct cline *l)
 
 int prog_read_canon(struct prog_ctx *c, const char *text, size_t len)
 {
-	struct cstate st = { .unit = 1, .plane = SH2000_PROG_XY };
+	struct cstate st = { .unit = 1, .plane = SH2000_PLANE_XY };
 	unsigned int line = 0;
 	size_t off = 0;
 

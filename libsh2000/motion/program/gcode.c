@@ -28,7 +28,7 @@ enum { MGRP_STOP = 0, MGRP_TOOL = 1, MGRP_SPINDLE = 2, MGRP_COOLANT = 3,
 #define G_UNSUPPORTED (-1)
 
 struct gstate {
-	enum sh2000_prog_plane plane;
+	enum sh2000_plane plane;
 	bool inch, incremental, arc_absolute;
 	int motion;
 	double feed_mm_min;
@@ -416,7 +416,7 @@ static int do_nurbs_point(struct prog_ctx *c, struct gstate *st,
 	bool xy = HAS(l, 'X') || HAS(l, 'Y');
 	int ret;
 
-	if (st->plane != SH2000_PROG_XY)
+	if (st->plane != SH2000_PLANE_XY)
 		return prog_err(c, SH2000_PD_UNSUPPORTED, l->line, bcol,
 				"G5.2 NURBS is read in the XY plane (G17) only");
 	if (st->incremental)
@@ -442,10 +442,10 @@ static int do_nurbs_point(struct prog_ctx *c, struct gstate *st,
 	if (HAS(l, 'L')) {
 		double L = VAL(l, 'L');
 
-		if (L != floor(L) || L < 3 || L > PROG_MAX_DEGREE + 1)
+		if (L != floor(L) || L < 3 || L > SH2000_NURBS_MAX_DEGREE + 1)
 			return prog_err(c, SH2000_PD_RANGE, l->line, COL(l, 'L'),
 					"L (NURBS order) must be an integer from 3 to %d (LinuxCNC ignores smaller values)",
-					PROG_MAX_DEGREE + 1);
+					SH2000_NURBS_MAX_DEGREE + 1);
 	}
 	if (!st->nurbs_open) {
 		ret = need_feed(c, st, l->line, bcol, "G5.2 NURBS");
@@ -478,7 +478,8 @@ static int do_nurbs_end(struct prog_ctx *c, struct gstate *st,
 			const struct gline *l, unsigned int bcol)
 {
 	struct sh2000_prog_block *b;
-	struct sh2000_prog_nurbs *n;
+	struct prog_nurbs_buf n;
+	struct sh2000_nurbs view;
 	size_t np = st->npts, nk;
 	unsigned int k = st->nurbs_order;
 	int ret;
@@ -492,42 +493,33 @@ static int do_nurbs_end(struct prog_ctx *c, struct gstate *st,
 		return prog_err(c, SH2000_PD_NURBS, l->line, bcol,
 				"G5.3: the NURBS block opened at line %u has %zu control points (with the start point), fewer than its order L=%u",
 				st->nurbs_line, np, k);
-	b = prog_push(c, SH2000_PROG_NURBS, st->nurbs_line, st->nurbs_col);
-	if (!b)
-		return -ENOMEM;
-	n = &b->u.nurbs;
+	ret = prog_nurbs_alloc(c, &n, k - 1, np);
+	if (ret)
+		return ret;
 	nk = np + k;
-	n->degree = k - 1;
-	n->npoints = np;
-	n->points = malloc(np * sizeof(*n->points));
-	n->weights = malloc(np * sizeof(*n->weights));
-	n->knots = malloc(nk * sizeof(*n->knots));
-	if (!n->points || !n->weights || !n->knots) {
-		c->oom = c->stop = true;
-		return -ENOMEM;
-	}
-	memcpy(n->points, st->pts, np * sizeof(*n->points));
-	memcpy(n->weights, st->w, np * sizeof(*n->weights));
+	memcpy(n.points, st->pts, np * sizeof(*n.points));
+	memcpy(n.weights, st->w, np * sizeof(*n.weights));
 	/* LinuxCNC's knot_vector_creator(n = np - 1, k): clamped, uniform,
 	 * integer knots 0 .. np - k + 1 */
 	for (size_t i = 0; i < nk; i++) {
 		if (i < k)
-			n->knots[i] = 0;
+			n.knots[i] = 0;
 		else if (i <= np - 1)
-			n->knots[i] = (double)(i - k + 1);
+			n.knots[i] = (double)(i - k + 1);
 		else
-			n->knots[i] = (double)(np - k + 1);
+			n.knots[i] = (double)(np - k + 1);
 	}
-	ret = prog_nurbs_check(c, n, st->nurbs_line, st->nurbs_col);
-	if (ret) {
-		free(n->points);
-		free(n->weights);
-		free(n->knots);
-		c->prog->count--;
-		return ret;
+	view = prog_nurbs_view(&n);
+	ret = prog_nurbs_check(c, &view, st->nurbs_line, st->nurbs_col);
+	b = ret ? NULL : prog_push(c, SH2000_PROG_NURBS, st->nurbs_line,
+				   st->nurbs_col);
+	if (!b) {
+		prog_nurbs_free(&n);
+		return ret ? ret : -ENOMEM;
 	}
+	prog_nurbs_give(&n, b);
 	b->feed = feed_mm_s(st);
-	memcpy(b->end, n->points[np - 1], sizeof(b->end));
+	memcpy(b->end, st->pts[np - 1], sizeof(b->end));
 	memcpy(c->pos, b->end, sizeof(c->pos));
 	return 0;
 }
@@ -553,7 +545,7 @@ static int do_arc(struct prog_ctx *c, struct gstate *st, const struct gline *l,
 	if (!HAS(l, 'R') && !ijk)
 		return prog_err(c, SH2000_PD_MISSING, l->line, bcol,
 				"arc needs I/J/K (centre) or R (radius)");
-	prog_plane_axes(st->plane, &a1, &a2, &an);
+	sh2000_plane_axes(st->plane, &a1, &a2, &an);
 	L1 = letter_of[a1];
 	L2 = letter_of[a2];
 	Ln = letter_of[an];
@@ -571,8 +563,7 @@ static int do_arc(struct prog_ctx *c, struct gstate *st, const struct gline *l,
 		if (HAS(l, Ln))
 			return prog_err(c, SH2000_PD_CONFLICT, l->line, COL(l, Ln),
 					"%c word with an arc in the %s plane (G%d)",
-					Ln, st->plane == SH2000_PROG_XY ? "XY" :
-					st->plane == SH2000_PROG_XZ ? "XZ" : "YZ",
+					Ln, sh2000_plane_name(st->plane),
 					(int)st->plane);
 		if (st->arc_absolute && (!HAS(l, L1) || !HAS(l, L2)))
 			return prog_err(c, SH2000_PD_MISSING, l->line, bcol,
@@ -601,7 +592,7 @@ static int do_arc(struct prog_ctx *c, struct gstate *st, const struct gline *l,
 	memcpy(b->end, target, sizeof(b->end));
 	b->feed = feed_mm_s(st);
 	tol = c->opt.arc_tolerance_mm > 0 ? c->opt.arc_tolerance_mm :
-	      st->inch ? PROG_CENTER_TOL_INCH_MM : PROG_CENTER_TOL_MM;
+	      st->inch ? SH2000_ARC_CENTRE_TOL_INCH_MM : SH2000_ARC_CENTRE_TOL_MM;
 	ret = prog_arc_fill(c, b, st->plane, c1, c2, ccw, turns, tol, 0, l->line,
 			    bcol);
 	if (ret) {
@@ -769,7 +760,7 @@ static int exec_line(struct prog_ctx *c, struct gstate *st, struct gline *l)
 		b->u.dwell_s = VAL(l, 'P');
 	}
 	if (l->g[GRP_PLANE] >= 0)
-		st->plane = (enum sh2000_prog_plane)(l->g[GRP_PLANE] / 10);
+		st->plane = (enum sh2000_plane)(l->g[GRP_PLANE] / 10);
 	if (l->g[GRP_PATH] >= 0) {
 		char nb[16];
 
@@ -922,7 +913,7 @@ static bool blank_line(const char *s, size_t n)
 int prog_read_gcode(struct prog_ctx *c, const char *text, size_t len)
 {
 	struct gstate st = {
-		.plane = SH2000_PROG_XY,
+		.plane = SH2000_PLANE_XY,
 		.motion = MOT_NONE,
 	};
 	unsigned int line = 0;

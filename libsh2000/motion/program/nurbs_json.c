@@ -199,15 +199,11 @@ static const char *jtype(struct json_object *o)
 	return o ? json_type_to_name(json_object_get_type(o)) : "null";
 }
 
-static int read_curve(struct jctx *j, struct json_object *cv, double feed)
+/* The fields of a curve object are known ones; its feed (or the file's,
+ * or the options'). */
+static int curve_feed(struct jctx *j, struct json_object *cv, double *feed)
 {
-	struct prog_ctx *c = j->c;
-	struct json_object *deg, *knots, *weights, *points, *o;
-	struct sh2000_prog_nurbs n = { 0 };
-	struct sh2000_prog_block *b;
-	double start[SH2000_AXES];
-	size_t np, nk;
-	int ret = -SH2000_PROG_EINVALID;
+	struct json_object *o;
 
 	if (!json_object_is_type(cv, json_type_object))
 		return jerr(j, SH2000_PD_SYNTAX, NULL, -1, -1,
@@ -222,173 +218,213 @@ static int read_curve(struct jctx *j, struct json_object *cv, double feed)
 				    "unknown field (fields: degree, knots, weights, points, feed, comment)");
 	}
 	if (json_object_object_get_ex(cv, "feed", &o)) {
-		if (!jnumber(o, &feed) || !isfinite(feed) || !(feed > 0))
+		if (!jnumber(o, feed) || !isfinite(*feed) || !(*feed > 0))
 			return jerr(j, SH2000_PD_RANGE, "feed", -1, -1,
 				    "must be a number > 0 (mm/s)");
 	}
-	if (!(feed > 0))
-		feed = c->opt.feed_mm_s;
-	if (!(feed > 0))
+	if (!(*feed > 0))
+		*feed = j->c->opt.feed_mm_s;
+	if (!(*feed > 0))
 		return jerr(j, SH2000_PD_FEED, NULL, -1, -1,
 			    "no feed: give \"feed\" in mm/s");
+	return 0;
+}
+
+/* The arrays of a curve and their sizes. */
+struct jcurve {
+	struct json_object *points, *knots, *weights;
+	unsigned int degree;
+	size_t np, nk;
+};
+
+static int curve_degree_points(struct jctx *j, struct json_object *cv,
+			       struct jcurve *k)
+{
+	struct json_object *deg;
+
 	if (!json_object_object_get_ex(cv, "degree", &deg))
 		return jerr(j, SH2000_PD_MISSING, NULL, -1, -1,
 			    "\"degree\" missing");
 	if (!json_object_is_type(deg, json_type_int) ||
 	    json_object_get_int64(deg) < 1 ||
-	    json_object_get_int64(deg) > PROG_MAX_DEGREE)
+	    json_object_get_int64(deg) > SH2000_NURBS_MAX_DEGREE)
 		return jerr(j, SH2000_PD_RANGE, "degree", -1, -1,
-			    "must be an integer from 1 to %d", PROG_MAX_DEGREE);
-	n.degree = (unsigned int)json_object_get_int64(deg);
-	if (!json_object_object_get_ex(cv, "points", &points))
+			    "must be an integer from 1 to %d", SH2000_NURBS_MAX_DEGREE);
+	k->degree = (unsigned int)json_object_get_int64(deg);
+	if (!json_object_object_get_ex(cv, "points", &k->points))
 		return jerr(j, SH2000_PD_MISSING, NULL, -1, -1,
 			    "\"points\" missing");
-	if (!json_object_is_type(points, json_type_array))
+	if (!json_object_is_type(k->points, json_type_array))
 		return jerr(j, SH2000_PD_SYNTAX, "points", -1, -1,
 			    "must be an array of [x, y(, z(, a))] points, found %s",
-			    jtype(points));
-	np = json_object_array_length(points);
-	if (np < (size_t)n.degree + 1)
+			    jtype(k->points));
+	k->np = json_object_array_length(k->points);
+	if (k->np < (size_t)k->degree + 1)
 		return jerr(j, SH2000_PD_NURBS, "points", -1, -1,
 			    "%zu control points, a degree %u curve needs at least %u",
-			    np, n.degree, n.degree + 1);
-	if (!json_object_object_get_ex(cv, "knots", &knots))
+			    k->np, k->degree, k->degree + 1);
+	return 0;
+}
+
+static int curve_shape(struct jctx *j, struct json_object *cv,
+		       struct jcurve *k)
+{
+	int ret = curve_degree_points(j, cv, k);
+
+	if (ret)
+		return ret;
+	if (!json_object_object_get_ex(cv, "knots", &k->knots))
 		return jerr(j, SH2000_PD_MISSING, NULL, -1, -1,
 			    "\"knots\" missing (points + degree + 1 = %zu values)",
-			    np + n.degree + 1);
-	if (!json_object_is_type(knots, json_type_array))
+			    k->np + k->degree + 1);
+	if (!json_object_is_type(k->knots, json_type_array))
 		return jerr(j, SH2000_PD_SYNTAX, "knots", -1, -1,
-			    "must be an array of numbers, found %s", jtype(knots));
-	nk = json_object_array_length(knots);
-	if (nk != np + n.degree + 1)
+			    "must be an array of numbers, found %s", jtype(k->knots));
+	k->nk = json_object_array_length(k->knots);
+	if (k->nk != k->np + k->degree + 1)
 		return jerr(j, SH2000_PD_NURBS, "knots", -1, -1,
 			    "%zu knots, expected points + degree + 1 = %zu + %u + 1 = %zu",
-			    nk, np, n.degree, np + n.degree + 1);
-	weights = NULL;
-	if (json_object_object_get_ex(cv, "weights", &weights)) {
-		if (!json_object_is_type(weights, json_type_array))
+			    k->nk, k->np, k->degree, k->np + k->degree + 1);
+	k->weights = NULL;
+	if (json_object_object_get_ex(cv, "weights", &k->weights)) {
+		if (!json_object_is_type(k->weights, json_type_array))
 			return jerr(j, SH2000_PD_SYNTAX, "weights", -1, -1,
 				    "must be an array of numbers, found %s",
-				    jtype(weights));
-		if (json_object_array_length(weights) != np)
+				    jtype(k->weights));
+		if (json_object_array_length(k->weights) != k->np)
 			return jerr(j, SH2000_PD_NURBS, "weights", -1, -1,
 				    "%zu weights for %zu control points",
-				    json_object_array_length(weights), np);
+				    json_object_array_length(k->weights), k->np);
 	}
-	n.npoints = np;
-	n.points = calloc(np, sizeof(*n.points));
-	n.weights = calloc(np, sizeof(*n.weights));
-	n.knots = calloc(nk, sizeof(*n.knots));
-	if (!n.points || !n.weights || !n.knots) {
-		c->oom = c->stop = true;
-		ret = -ENOMEM;
-		goto fail;
-	}
-	for (size_t i = 0; i < nk; i++) {
-		o = json_object_array_get_idx(knots, i);
-		if (!jnumber(o, &n.knots[i]) || !isfinite(n.knots[i])) {
-			jerr(j, SH2000_PD_SYNTAX, "knots", (long)i, -1,
-			     "must be a finite number, found %s", jtype(o));
-			goto fail;
-		}
-		if (i && n.knots[i] < n.knots[i - 1]) {
-			jerr(j, SH2000_PD_NURBS, "knots", (long)i, -1,
-			     "%g is less than knots[%zu] = %g: knots must not decrease",
-			     n.knots[i], i - 1, n.knots[i - 1]);
-			goto fail;
-		}
-	}
-	for (size_t i = 0; i < np; i++) {
-		struct json_object *pt = json_object_array_get_idx(points, i);
-		size_t dim;
+	return 0;
+}
 
-		n.weights[i] = 1;
-		if (weights) {
-			o = json_object_array_get_idx(weights, i);
-			if (!jnumber(o, &n.weights[i]) || !isfinite(n.weights[i]) ||
-			    !(n.weights[i] > 0)) {
-				jerr(j, SH2000_PD_NURBS, "weights", (long)i, -1,
-				     "must be a number > 0");
-				goto fail;
-			}
-		}
-		if (!json_object_is_type(pt, json_type_array) ||
-		    (dim = json_object_array_length(pt)) < 2 || dim > 4) {
-			jerr(j, SH2000_PD_SYNTAX, "points", (long)i, -1,
-			     "a point is [x, y], [x, y, z] or [x, y, z, a] in mm");
-			goto fail;
-		}
-		memcpy(n.points[i], c->pos, sizeof(n.points[i]));
-		for (size_t a = 0; a < dim; a++) {
-			o = json_object_array_get_idx(pt, a);
-			if (!jnumber(o, &n.points[i][a]) || !isfinite(n.points[i][a])) {
-				jerr(j, SH2000_PD_SYNTAX, "points", (long)i, (long)a,
-				     "must be a finite number, found %s", jtype(o));
-				goto fail;
-			}
-		}
-	}
-	/* the remaining checks (interior knot multiplicity, empty domain) */
-	{
-		unsigned int line = 1, col = 1;
-		struct jstep path[3] = { { "curves", 0 }, { NULL, j->curve },
-					 { "knots", 0 } };
-		size_t off = j->curve >= 0 ? jlocate(j->text, j->len, 0, path, 3) :
-				 jlocate(j->text, j->len, 0, path + 2, 1);
+static int fill_knots(struct jctx *j, const struct jcurve *k,
+		      struct prog_nurbs_buf *n)
+{
+	for (size_t i = 0; i < k->nk; i++) {
+		struct json_object *o = json_object_array_get_idx(k->knots, i);
 
-		if (off != (size_t)-1)
-			jlinecol(j->text, off, &line, &col);
-		if (prog_nurbs_check(c, &n, line, col))
-			goto fail;
+		if (!jnumber(o, &n->knots[i]) || !isfinite(n->knots[i]))
+			return jerr(j, SH2000_PD_SYNTAX, "knots", (long)i, -1,
+				    "must be a finite number, found %s", jtype(o));
+		if (i && n->knots[i] < n->knots[i - 1])
+			return jerr(j, SH2000_PD_NURBS, "knots", (long)i, -1,
+				    "%g is less than knots[%zu] = %g: knots must not decrease",
+				    n->knots[i], i - 1, n->knots[i - 1]);
 	}
-	sh2000_prog_nurbs_eval(&n, n.knots[n.degree], start);
+	return 0;
+}
+
+/* Control point i (missing axes stay where the machine is) and weight. */
+static int fill_point(struct jctx *j, const struct jcurve *k,
+		      struct prog_nurbs_buf *n, size_t i)
+{
+	struct json_object *pt = json_object_array_get_idx(k->points, i), *o;
+	size_t dim;
+
+	n->weights[i] = 1;
+	if (k->weights) {
+		o = json_object_array_get_idx(k->weights, i);
+		if (!jnumber(o, &n->weights[i]) || !isfinite(n->weights[i]) ||
+		    !(n->weights[i] > 0))
+			return jerr(j, SH2000_PD_NURBS, "weights", (long)i, -1,
+				    "must be a number > 0");
+	}
+	if (!json_object_is_type(pt, json_type_array) ||
+	    (dim = json_object_array_length(pt)) < 2 || dim > 4)
+		return jerr(j, SH2000_PD_SYNTAX, "points", (long)i, -1,
+			    "a point is [x, y], [x, y, z] or [x, y, z, a] in mm");
+	memcpy(n->points[i], j->c->pos, sizeof(n->points[i]));
+	for (size_t a = 0; a < dim; a++) {
+		o = json_object_array_get_idx(pt, a);
+		if (!jnumber(o, &n->points[i][a]) || !isfinite(n->points[i][a]))
+			return jerr(j, SH2000_PD_SYNTAX, "points", (long)i, (long)a,
+				    "must be a finite number, found %s", jtype(o));
+	}
+	return 0;
+}
+
+/* Line and column of the current curve (or of field key in it). */
+static void curve_pos(struct jctx *j, const char *key, unsigned int *line,
+		      unsigned int *col)
+{
+	struct jstep path[3] = { { "curves", 0 }, { NULL, j->curve },
+				 { key, 0 } };
+	int n = key ? 3 : 2;
+	size_t off = j->curve >= 0 ? jlocate(j->text, j->len, 0, path, n) :
+			 jlocate(j->text, j->len, 0, path + 2, key ? 1 : 0);
+
+	*line = 1;
+	*col = 1;
+	if (off != (size_t)-1)
+		jlinecol(j->text, off, line, col);
+}
+
+/* The blocks of a checked curve: a rapid to its start if the machine is
+ * elsewhere, a feed change, the curve. */
+static int curve_blocks(struct jctx *j, struct prog_nurbs_buf *n, double feed)
+{
+	struct prog_ctx *c = j->c;
+	struct sh2000_nurbs v = prog_nurbs_view(n);
+	struct sh2000_prog_block *b;
+	double start[SH2000_AXES];
+	unsigned int line, col;
+
+	curve_pos(j, NULL, &line, &col);
+	sh2000_nurbs_eval(&v, sh2000_nurbs_umin(&v), start, NULL, NULL);
 	if (memcmp(start, c->pos, sizeof(start))) {
-		unsigned int line = 1, col = 1;
-		struct jstep path[2] = { { "curves", 0 }, { NULL, j->curve } };
-
-		if (j->curve >= 0)
-			jlinecol(j->text, jlocate(j->text, j->len, 0, path, 2),
-				 &line, &col);
 		b = prog_push(c, SH2000_PROG_RAPID, line, col);
-		if (!b) {
-			ret = -ENOMEM;
-			goto fail;
-		}
+		if (!b)
+			return -ENOMEM;
 		memcpy(b->end, start, sizeof(start));
 		memcpy(c->pos, start, sizeof(start));
 	}
-	{
-		unsigned int line = 1, col = 1;
-		struct jstep path[2] = { { "curves", 0 }, { NULL, j->curve } };
-
-		if (j->curve >= 0)
-			jlinecol(j->text, jlocate(j->text, j->len, 0, path, 2),
-				 &line, &col);
-		if (feed != j->last_feed) {
-			b = prog_push(c, SH2000_PROG_FEED, line, col);
-			if (!b) {
-				ret = -ENOMEM;
-				goto fail;
-			}
-			b->feed = feed;
-			b->u.feed_mm_min = feed * 60;
-			j->last_feed = feed;
-		}
-		b = prog_push(c, SH2000_PROG_NURBS, line, col);
-		if (!b) {
-			ret = -ENOMEM;
-			goto fail;
-		}
+	if (feed != j->last_feed) {
+		b = prog_push(c, SH2000_PROG_FEED, line, col);
+		if (!b)
+			return -ENOMEM;
+		b->feed = feed;
+		b->u.feed_mm_min = feed * 60;
+		j->last_feed = feed;
 	}
-	b->u.nurbs = n;
+	b = prog_push(c, SH2000_PROG_NURBS, line, col);
+	if (!b)
+		return -ENOMEM;
 	b->feed = feed;
-	sh2000_prog_nurbs_eval(&n, n.knots[n.npoints], b->end);
+	sh2000_nurbs_eval(&v, sh2000_nurbs_umax(&v), b->end, NULL, NULL);
 	memcpy(c->pos, b->end, sizeof(c->pos));
+	prog_nurbs_give(n, b);
 	return 0;
-fail:
-	free(n.points);
-	free(n.weights);
-	free(n.knots);
+}
+
+static int read_curve(struct jctx *j, struct json_object *cv, double feed)
+{
+	struct prog_nurbs_buf n;
+	struct sh2000_nurbs v;
+	struct jcurve k;
+	unsigned int line, col;
+	int ret;
+
+	ret = curve_feed(j, cv, &feed);
+	if (!ret)
+		ret = curve_shape(j, cv, &k);
+	if (!ret)
+		ret = prog_nurbs_alloc(j->c, &n, k.degree, k.np);
+	if (ret)
+		return ret;
+	ret = fill_knots(j, &k, &n);
+	for (size_t i = 0; !ret && i < k.np; i++)
+		ret = fill_point(j, &k, &n, i);
+	if (!ret) {
+		/* the rest (interior knot multiplicity, empty domain) */
+		curve_pos(j, "knots", &line, &col);
+		v = prog_nurbs_view(&n);
+		ret = prog_nurbs_check(j->c, &v, line, col);
+	}
+	if (!ret)
+		ret = curve_blocks(j, &n, feed);
+	prog_nurbs_free(&n);
 	return ret;
 }
 

@@ -8,15 +8,6 @@
 #include "sh2000/program.h"
 
 #define PROG_MM_PER_INCH 25.4
-/* LinuxCNC: RADIUS_TOLERANCE_INCH 0.00005 (and its mm equivalent) is the
- * smallest arc radius and the reach allowance of R-format arcs. */
-#define PROG_RADIUS_TOL_MM (0.00005 * PROG_MM_PER_INCH)
-/* LinuxCNC: CENTER_ARC_RADIUS_TOLERANCE_{MM,INCH} = 2 * 0.01 * sqrt(2) mm
- * and 2 * 0.001 * sqrt(2) inch; SPIRAL_RELATIVE_TOLERANCE 0.001. */
-#define PROG_CENTER_TOL_MM (2 * 0.01 * 1.41421356237309504880)
-#define PROG_CENTER_TOL_INCH_MM (2 * 0.001 * 1.41421356237309504880 * PROG_MM_PER_INCH)
-#define PROG_SPIRAL_REL_TOL 0.001
-#define PROG_MAX_DEGREE 31
 
 /* Warning kinds given once per program. */
 enum prog_warn_kind {
@@ -69,20 +60,38 @@ struct sh2000_prog_block *prog_push(struct prog_ctx *c,
  * radii against tol_mm (absolute) and the relative tolerance. An end
  * closer than same_mm to the start (in the plane) makes a full circle. */
 int prog_arc_fill(struct prog_ctx *c, struct sh2000_prog_block *b,
-		  enum sh2000_prog_plane plane, double c1, double c2,
+		  enum sh2000_plane plane, double c1, double c2,
 		  bool ccw, unsigned int turns, double tol_mm, double same_mm,
 		  unsigned int line, unsigned int col);
-void prog_plane_axes(enum sh2000_prog_plane plane, unsigned int *a1,
-		     unsigned int *a2, unsigned int *an);
 
 /* Centre of an R-format arc (LinuxCNC arc_data_r); 0 or an error. */
 int prog_arc_centre_r(struct prog_ctx *c, double s1, double s2, double e1,
 		      double e2, double r, bool ccw, double *c1, double *c2,
 		      unsigned int line, unsigned int col);
 
+/* A NURBS being read: arrays the reader fills. A block's u.nurbs becomes a
+ * const view of them (prog_nurbs_give) and the program frees them. */
+struct prog_nurbs_buf {
+	unsigned int degree;
+	size_t npoints;
+	double (*points)[SH2000_AXES];
+	double *weights;
+	double *knots;		/* npoints + degree + 1 */
+};
+
+/* Zeroed arrays for np points of a degree-deg curve; -ENOMEM (ctx->oom
+ * set) when out of memory, nothing left allocated. */
+int prog_nurbs_alloc(struct prog_ctx *c, struct prog_nurbs_buf *n,
+		     unsigned int deg, size_t np);
+void prog_nurbs_free(struct prog_nurbs_buf *n);
+/* The const view for checks and evaluation. */
+struct sh2000_nurbs prog_nurbs_view(const struct prog_nurbs_buf *n);
+/* Hand the arrays to block b (which then owns them); n is emptied. */
+void prog_nurbs_give(struct prog_nurbs_buf *n, struct sh2000_prog_block *b);
+
 /* Validate a NURBS (degree, counts, knots, weights); field names the
  * source ("knots" ...) in messages. 0 or an error. */
-int prog_nurbs_check(struct prog_ctx *c, const struct sh2000_prog_nurbs *n,
+int prog_nurbs_check(struct prog_ctx *c, const struct sh2000_nurbs *n,
 		     unsigned int line, unsigned int col);
 
 int prog_read_gcode(struct prog_ctx *c, const char *text, size_t len);

@@ -180,9 +180,10 @@ void sh2000_program_free(struct sh2000_program *p)
 		struct sh2000_prog_block *b = &p->blocks[i];
 
 		if (b->kind == SH2000_PROG_NURBS) {
-			free(b->u.nurbs.points);
-			free(b->u.nurbs.weights);
-			free(b->u.nurbs.knots);
+			/* the program's own arrays behind the view */
+			free((void *)b->u.nurbs.points);
+			free((void *)b->u.nurbs.weights);
+			free((void *)b->u.nurbs.knots);
 		}
 	}
 	free(p->blocks);
@@ -421,96 +422,20 @@ fail:
 
 /* ---- arcs -------------------------------------------------------------- */
 
-void prog_plane_axes(enum sh2000_prog_plane plane, unsigned int *a1,
-		     unsigned int *a2, unsigned int *an)
-{
-	switch (plane) {
-	case SH2000_PROG_XZ:
-		*a1 = SH2000_PROG_Z; *a2 = SH2000_PROG_X; *an = SH2000_PROG_Y;
-		break;
-	case SH2000_PROG_YZ:
-		*a1 = SH2000_PROG_Y; *a2 = SH2000_PROG_Z; *an = SH2000_PROG_X;
-		break;
-	default:
-		*a1 = SH2000_PROG_X; *a2 = SH2000_PROG_Y; *an = SH2000_PROG_Z;
-		break;
-	}
-}
-
 int prog_arc_fill(struct prog_ctx *c, struct sh2000_prog_block *b,
-		  enum sh2000_prog_plane plane, double c1, double c2,
+		  enum sh2000_plane plane, double c1, double c2,
 		  bool ccw, unsigned int turns, double tol_mm, double same_mm,
 		  unsigned int line, unsigned int col)
 {
-	struct sh2000_prog_arc *a = &b->u.arc;
-	double s1, s2, e1, e2, r1, r2, abs_err, rel_err, a0, a1, d;
+	double centre[2] = { c1, c2 };
+	char m[400];
+	int r;
 
-	a->plane = plane;
-	prog_plane_axes(plane, &a->axis1, &a->axis2, &a->axisn);
-	s1 = b->start[a->axis1];
-	s2 = b->start[a->axis2];
-	e1 = b->end[a->axis1];
-	e2 = b->end[a->axis2];
-	r1 = hypot(s1 - c1, s2 - c2);
-	r2 = hypot(e1 - c1, e2 - c2);
-	if (!isfinite(r1) || !isfinite(r2))
-		return prog_err(c, SH2000_PD_RANGE, line, col,
-				"arc geometry is not finite");
-	if (r1 < PROG_RADIUS_TOL_MM || r2 < PROG_RADIUS_TOL_MM)
-		return prog_err(c, SH2000_PD_ARC, line, col,
-				"zero-radius arc: r1=%.4f mm r2=%.4f mm", r1, r2);
-	abs_err = fabs(r1 - r2);
-	rel_err = abs_err / fmax(r1, r2);
-	/* LinuxCNC 2.9 (checked against Debian's rs274): an error past 100
-	 * times the tolerance, or past the tolerance and 0.1 % at once */
-	if (abs_err > 100 * tol_mm ||
-	    (abs_err > tol_mm && rel_err > PROG_SPIRAL_REL_TOL))
-		return prog_err(c, SH2000_PD_ARC, line, col,
-				"radius to end of arc differs from radius to start: start=(%c%.4f,%c%.4f) centre=(%c%.4f,%c%.4f) end=(%c%.4f,%c%.4f) r1=%.4f r2=%.4f mm (allowed: %.4f mm, or %.1f%% of the radius up to %.4f mm)",
-				"XYZA"[a->axis1], s1, "XYZA"[a->axis2], s2,
-				"XYZA"[a->axis1], c1, "XYZA"[a->axis2], c2,
-				"XYZA"[a->axis1], e1, "XYZA"[a->axis2], e2,
-				r1, r2, tol_mm, PROG_SPIRAL_REL_TOL * 100, 100 * tol_mm);
-	a->centre[a->axis1] = c1;
-	a->centre[a->axis2] = c2;
-	a->centre[a->axisn] = b->start[a->axisn];
-	a->ccw = ccw;
-	a->turns = turns;
-	a->radius = r1;
-	a->end_radius = r2;
-	memcpy(a->fit_centre, a->centre, sizeof(a->fit_centre));
-	a->fit_radius = r1;
-	if (hypot(e1 - s1, e2 - s2) >= fmax(same_mm, 1e-9)) {
-		double len = hypot(e1 - s1, e2 - s2);
-		double u1 = -(e2 - s2) / len, u2 = (e1 - s1) / len;
-		double m1 = (s1 + e1) / 2, m2 = (s2 + e2) / 2;
-		double t = (c1 - m1) * u1 + (c2 - m2) * u2;
-
-		a->fit_centre[a->axis1] = m1 + t * u1;
-		a->fit_centre[a->axis2] = m2 + t * u2;
-		a->fit_radius = hypot(s1 - a->fit_centre[a->axis1],
-				      s2 - a->fit_centre[a->axis2]);
-	}
-	a0 = atan2(s2 - c2, s1 - c1);
-	a1 = atan2(e2 - c2, e1 - c1);
-	d = a1 - a0;
-	/* an end equal to the start (to rounding) is a full circle */
-	if (hypot(e1 - s1, e2 - s2) < fmax(same_mm, 1e-9))
-		d = 0;
-	if (ccw) {
-		while (d <= 0)
-			d += 2 * M_PI;
-		while (d > 2 * M_PI)
-			d -= 2 * M_PI;
-		d += 2 * M_PI * (turns - 1);
-	} else {
-		while (d >= 0)
-			d -= 2 * M_PI;
-		while (d < -2 * M_PI)
-			d += 2 * M_PI;
-		d -= 2 * M_PI * (turns - 1);
-	}
-	a->sweep = d;
+	r = sh2000_arc_resolve(&b->u.arc, plane, b->start, b->end, centre, ccw,
+			       turns, tol_mm, same_mm, m, sizeof(m));
+	if (r)
+		return prog_err(c, r == -ERANGE ? SH2000_PD_RANGE : SH2000_PD_ARC,
+				line, col, "%s", m);
 	return 0;
 }
 
@@ -518,126 +443,71 @@ int prog_arc_centre_r(struct prog_ctx *c, double s1, double s2, double e1,
 		      double e2, double r, bool ccw, double *c1, double *c2,
 		      unsigned int line, unsigned int col)
 {
-	double abs_r = fabs(r), mid1, mid2, half, theta, offset;
+	double s[2] = { s1, s2 }, e[2] = { e1, e2 }, ctr[2];
+	char m[200];
 
-	if (e1 == s1 && e2 == s2)
-		return prog_err(c, SH2000_PD_ARC, line, col,
-				"R-format arc ends where it starts: the centre is undefined (use I/J/K for a full circle)");
-	mid1 = (e1 + s1) / 2;
-	mid2 = (e2 + s2) / 2;
-	half = hypot(mid1 - e1, mid2 - e2);
-	if (half - abs_r > PROG_RADIUS_TOL_MM)
-		return prog_err(c, SH2000_PD_ARC, line, col,
-				"arc radius %.4f mm too small to reach the end point (half chord %.4f mm)",
-				abs_r, half);
-	if (half / abs_r > 1 - 1e-12)
-		half = abs_r;
-	/* G2 with R>0 or G3 with R<0 has its centre right of the chord */
-	if ((!ccw && r > 0) || (ccw && r < 0))
-		theta = atan2(e2 - s2, e1 - s1) - M_PI_2;
-	else
-		theta = atan2(e2 - s2, e1 - s1) + M_PI_2;
-	offset = abs_r * cos(asin(half / abs_r));
-	*c1 = mid1 + offset * cos(theta);
-	*c2 = mid2 + offset * sin(theta);
+	if (sh2000_arc_centre_from_radius(s, e, r, ccw, ctr, m, sizeof(m)))
+		return prog_err(c, SH2000_PD_ARC, line, col, "%s", m);
+	*c1 = ctr[0];
+	*c2 = ctr[1];
 	return 0;
 }
 
 /* ---- NURBS ------------------------------------------------------------- */
 
-int prog_nurbs_check(struct prog_ctx *c, const struct sh2000_prog_nurbs *n,
-		     unsigned int line, unsigned int col)
+int prog_nurbs_alloc(struct prog_ctx *c, struct prog_nurbs_buf *n,
+		     unsigned int deg, size_t np)
 {
-	size_t nk = n->npoints + n->degree + 1, mult = 1;
-
-	if (n->degree < 1 || n->degree > PROG_MAX_DEGREE)
-		return prog_err(c, SH2000_PD_NURBS, line, col,
-				"degree: %u is outside 1..%d", n->degree,
-				PROG_MAX_DEGREE);
-	if (n->npoints < (size_t)n->degree + 1)
-		return prog_err(c, SH2000_PD_NURBS, line, col,
-				"points: %zu control points, a degree %u curve needs at least %u",
-				n->npoints, n->degree, n->degree + 1);
-	for (size_t i = 0; i < n->npoints; i++) {
-		if (!(n->weights[i] > 0) || !isfinite(n->weights[i]))
-			return prog_err(c, SH2000_PD_NURBS, line, col,
-					"weights[%zu]: %g is not a positive finite weight",
-					i, n->weights[i]);
-		for (unsigned int a = 0; a < SH2000_AXES; a++)
-			if (!isfinite(n->points[i][a]))
-				return prog_err(c, SH2000_PD_RANGE, line, col,
-						"points[%zu][%d]: not finite", i, a);
-	}
-	for (size_t i = 0; i < nk; i++) {
-		if (!isfinite(n->knots[i]))
-			return prog_err(c, SH2000_PD_RANGE, line, col,
-					"knots[%zu]: not finite", i);
-		if (i == 0)
-			continue;
-		if (n->knots[i] < n->knots[i - 1])
-			return prog_err(c, SH2000_PD_NURBS, line, col,
-					"knots[%zu]: %g is less than knots[%zu] = %g (knots must not decrease)",
-					i, n->knots[i], i - 1, n->knots[i - 1]);
-		mult = n->knots[i] == n->knots[i - 1] ? mult + 1 : 1;
-		/* inside the domain a knot repeated more than degree times
-		 * breaks the curve apart */
-		if (mult > n->degree && i > n->degree && i < n->npoints)
-			return prog_err(c, SH2000_PD_NURBS, line, col,
-					"knots[%zu]: value %g repeated %zu times inside the curve's domain; at most degree (%u) times or the curve breaks",
-					i, n->knots[i], mult, n->degree);
-	}
-	if (!(n->knots[n->degree] < n->knots[n->npoints]))
-		return prog_err(c, SH2000_PD_NURBS, line, col,
-				"knots: the domain knots[%u]..knots[%zu] is empty",
-				n->degree, n->npoints);
-	return 0;
+	memset(n, 0, sizeof(*n));
+	n->degree = deg;
+	n->npoints = np;
+	n->points = calloc(np, sizeof(*n->points));
+	n->weights = calloc(np, sizeof(*n->weights));
+	n->knots = calloc(np + deg + 1, sizeof(*n->knots));
+	if (n->points && n->weights && n->knots)
+		return 0;
+	prog_nurbs_free(n);
+	c->oom = c->stop = true;
+	return -ENOMEM;
 }
 
-void sh2000_prog_nurbs_eval(const struct sh2000_prog_nurbs *n, double u,
-			    double out[SH2000_AXES])
+void prog_nurbs_free(struct prog_nurbs_buf *n)
 {
-	const double *U = n->knots;
-	unsigned int p = n->degree;
-	size_t span, last = n->npoints - 1;
-	double N[PROG_MAX_DEGREE + 1], left[PROG_MAX_DEGREE + 1],
-	       right[PROG_MAX_DEGREE + 1], w = 0;
+	free(n->points);
+	free(n->weights);
+	free(n->knots);
+	memset(n, 0, sizeof(*n));
+}
 
-	if (u < U[p])
-		u = U[p];
-	if (u > U[n->npoints])
-		u = U[n->npoints];
-	/* the span [U[span], U[span+1]) holding u; the last non-empty one at
-	 * the domain's end */
-	span = p;
-	for (size_t i = p; i <= last; i++)
-		if (U[i] <= u && U[i] < U[i + 1])
-			span = i;
-	N[0] = 1;
-	for (unsigned int j = 1; j <= p; j++) {
-		double saved = 0;
+struct sh2000_nurbs prog_nurbs_view(const struct prog_nurbs_buf *n)
+{
+	struct sh2000_nurbs v = {
+		.degree = n->degree,
+		.npoints = n->npoints,
+		.points = (const double (*)[SH2000_AXES])n->points,
+		.weights = n->weights,
+		.knots = n->knots,
+	};
 
-		left[j] = u - U[span + 1 - j];
-		right[j] = U[span + j] - u;
-		for (unsigned int r = 0; r < j; r++) {
-			double t = N[r] / (right[r + 1] + left[j - r]);
+	return v;
+}
 
-			N[r] = saved + right[r + 1] * t;
-			saved = left[j - r] * t;
-		}
-		N[j] = saved;
-	}
-	for (unsigned int a = 0; a < SH2000_AXES; a++)
-		out[a] = 0;
-	for (unsigned int r = 0; r <= p; r++) {
-		size_t k = span - p + r;
-		double nw = N[r] * n->weights[k];
+void prog_nurbs_give(struct prog_nurbs_buf *n, struct sh2000_prog_block *b)
+{
+	b->u.nurbs = prog_nurbs_view(n);
+	memset(n, 0, sizeof(*n));
+}
 
-		w += nw;
-		for (unsigned int a = 0; a < SH2000_AXES; a++)
-			out[a] += nw * n->points[k][a];
-	}
-	for (unsigned int a = 0; a < SH2000_AXES; a++)
-		out[a] /= w;
+int prog_nurbs_check(struct prog_ctx *c, const struct sh2000_nurbs *n,
+		     unsigned int line, unsigned int col)
+{
+	char m[200];
+	int r = sh2000_nurbs_check(n, m, sizeof(m));
+
+	if (!r)
+		return 0;
+	return prog_err(c, r == -ERANGE ? SH2000_PD_RANGE : SH2000_PD_NURBS,
+			line, col, "%s", m);
 }
 
 int sh2000_prog_block_point(const struct sh2000_prog_block *b, double s,
@@ -649,24 +519,14 @@ int sh2000_prog_block_point(const struct sh2000_prog_block *b, double s,
 		for (unsigned int a = 0; a < SH2000_AXES; a++)
 			out[a] = b->start[a] + s * (b->end[a] - b->start[a]);
 		return 0;
-	case SH2000_PROG_ARC: {
-		const struct sh2000_prog_arc *a = &b->u.arc;
-		double a0 = atan2(b->start[a->axis2] - a->centre[a->axis2],
-				  b->start[a->axis1] - a->centre[a->axis1]);
-		double th = a0 + s * a->sweep;
-		double r = a->radius + s * (a->end_radius - a->radius);
-
-		for (unsigned int i = 0; i < SH2000_AXES; i++)
-			out[i] = b->start[i] + s * (b->end[i] - b->start[i]);
-		out[a->axis1] = a->centre[a->axis1] + r * cos(th);
-		out[a->axis2] = a->centre[a->axis2] + r * sin(th);
+	case SH2000_PROG_ARC:
+		sh2000_arc_point(&b->u.arc, b->start, b->end, s, out);
 		return 0;
-	}
 	case SH2000_PROG_NURBS: {
-		const struct sh2000_prog_nurbs *n = &b->u.nurbs;
-		double u0 = n->knots[n->degree], u1 = n->knots[n->npoints];
+		const struct sh2000_nurbs *n = &b->u.nurbs;
+		double u0 = sh2000_nurbs_umin(n), u1 = sh2000_nurbs_umax(n);
 
-		sh2000_prog_nurbs_eval(n, u0 + s * (u1 - u0), out);
+		sh2000_nurbs_eval(n, u0 + s * (u1 - u0), out, NULL, NULL);
 		return 0;
 	}
 	default:

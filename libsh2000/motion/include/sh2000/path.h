@@ -27,6 +27,7 @@
 #include <stdint.h>
 
 #include "sh2000/card.h"
+#include "sh2000/geometry.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -108,45 +109,38 @@ void sh2000_path_set_seq(struct sh2000_path *p, uint32_t seq);
 int sh2000_path_line(struct sh2000_path *p,
 		     const double end[SH2000_AXES], double feed);
 
-enum sh2000_path_plane {
-	SH2000_PLANE_XY = 0,	/* first axis X, second Y */
-	SH2000_PLANE_XZ = 1,	/* first axis X, second Z */
-	SH2000_PLANE_YZ = 2,	/* first axis Y, second Z */
-};
-
+/*
+ * An arc or helix from the end of the previous primitive. The plane and
+ * the sense are geometry.h's: ccw turns from the plane's first axis
+ * towards its second (G3), in every plane.
+ */
 struct sh2000_path_arc {
-	enum sh2000_path_plane plane;
+	enum sh2000_plane plane;
 	/* absolute end; the axes outside the plane move linearly (helix) */
 	double end[SH2000_AXES];
-	int ccw;		/* 1: from the plane's first axis towards its
-				 * second; 0: the other way */
+	int ccw;
 	int radius_form;	/* 0: centre given, 1: radius given */
-	double centre[2];	/* absolute, plane axes (centre form) */
+	double centre[2];	/* absolute, (first, second) of the plane */
 	/* radius form: |radius|, > 0 for the arc of at most 180 degrees,
 	 * < 0 for the longer one */
 	double radius;
-	/* extra full turns; with the centre form, end == start in the plane
-	 * is a full circle (plus turns) */
+	/* as G-code's P: 1 (or 0) the arc itself, each more one full turn
+	 * more; with the centre form, end == start in the plane is a full
+	 * circle */
 	unsigned int turns;
+	/* allowed difference of start and end radius, LinuxCNC's rule
+	 * (geometry.h); 0: SH2000_ARC_CENTRE_TOL_MM */
+	double tolerance;
 };
 
-/* Start and end radii must agree within 0.001 mm. */
 int sh2000_path_arc(struct sh2000_path *p, const struct sh2000_path_arc *arc,
 		    double feed);
 
-struct sh2000_path_nurbs {
-	unsigned int degree;		/* >= 1 */
-	unsigned int count;		/* control points, >= degree + 1 */
-	const double (*ctrl)[SH2000_AXES];	/* mm */
-	const double *weights;		/* count values > 0; NULL: all 1 */
-	const double *knots;		/* count + degree + 1, non-decreasing */
-};
-
-/* The curve over [knots[degree], knots[count]] must start at the current
+/* The curve over [knots[degree], knots[npoints]] must start at the current
  * position (within 0.001 mm); it is copied. Feed adapts to the chord
  * tolerance and to the acceleration and jerk limits along the curve. */
-int sh2000_path_nurbs(struct sh2000_path *p,
-		      const struct sh2000_path_nurbs *n, double feed);
+int sh2000_path_nurbs(struct sh2000_path *p, const struct sh2000_nurbs *n,
+		      double feed);
 
 /* Point-to-point: a straight move that starts and ends at rest, at `speed`
  * mm/s, or as fast as the axes allow when speed is 0. */

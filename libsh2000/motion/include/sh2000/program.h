@@ -27,6 +27,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "sh2000/geometry.h"
 #include "sh2000/path.h"
 #include "sh2000/sh2000.h"
 
@@ -123,56 +124,12 @@ enum sh2000_prog_kind {
 	SH2000_PROG_END,	/* M2/M30 */
 };
 
-/* The plane of an arc: axis1 and axis2 span it, axisn is its normal. */
-enum sh2000_prog_plane {
-	SH2000_PROG_XY = 17,	/* G17: axis1 X, axis2 Y, normal Z */
-	SH2000_PROG_XZ = 18,	/* G18: axis1 Z, axis2 X, normal Y */
-	SH2000_PROG_YZ = 19,	/* G19: axis1 Y, axis2 Z, normal X */
-};
-
-struct sh2000_prog_arc {
-	enum sh2000_prog_plane plane;
-	unsigned int axis1, axis2, axisn;	/* enum sh2000_prog_axis */
-	/*
-	 * Absolute centre in mm (x, y, z); its axisn component is the
-	 * start's. The end point's axisn (and A) component is the helix end:
-	 * those axes move linearly with the angle.
-	 */
-	double centre[3];
-	bool ccw;		/* G3; viewed from the positive normal axis */
-	unsigned int turns;	/* P: 1 = the programmed arc, +1 per full turn */
-	double radius;		/* centre to start, mm */
-	double end_radius;	/* centre to end, mm (within the tolerance) */
-	/*
-	 * For planners that need a true circle: the point of the
-	 * perpendicular bisector of start and end (in the plane) nearest to
-	 * the programmed centre, and its radius, equal at both ends. The
-	 * programmed centre itself for a full circle.
-	 */
-	double fit_centre[3];
-	double fit_radius;
-	/*
-	 * Total signed angle in radians, counter-clockwise positive,
-	 * including the extra full turns: (0, 2 pi * turns] for G3. An end
-	 * equal to the start in the plane is a full circle.
-	 */
-	double sweep;
-};
-
 /*
- * A non-uniform rational B-spline of the given degree over the 4 axes:
- * npoints control points (x y z a, mm), npoints weights (> 0) and
- * npoints + degree + 1 non-decreasing knots. The curve runs over
- * knots[degree] .. knots[npoints]; start and end of the block are the
- * curve's values there.
+ * An ARC block's u.arc is geometry.h's struct sh2000_arc (plane, centre and
+ * the true circle through both ends in plane coordinates, radii, sweep,
+ * turns as P), a NURBS block's u.nurbs its struct sh2000_nurbs (the arrays
+ * belong to the program). The block's start and end complete them.
  */
-struct sh2000_prog_nurbs {
-	unsigned int degree;	/* order - 1 */
-	size_t npoints;
-	double (*points)[SH2000_AXES];
-	double *weights;
-	double *knots;		/* npoints + degree + 1 */
-};
 
 struct sh2000_prog_block {
 	enum sh2000_prog_kind kind;
@@ -184,8 +141,8 @@ struct sh2000_prog_block {
 	 * RAPID and the others: 0. */
 	double feed;
 	union {
-		struct sh2000_prog_arc arc;		/* ARC */
-		struct sh2000_prog_nurbs nurbs;		/* NURBS */
+		struct sh2000_arc arc;		/* ARC */
+		struct sh2000_nurbs nurbs;	/* NURBS */
 		double feed_mm_min;	/* FEED: as programmed, in mm/min */
 		double dwell_s;		/* DWELL: seconds */
 		bool optional;		/* PAUSE: M1 (optional stop) */
@@ -257,10 +214,6 @@ int sh2000_program_read_file(struct sh2000_program *prog,
 /* Point at fraction s (0..1) of a LINE, RAPID, ARC or NURBS block (NURBS:
  * of the parameter range, not of the length). 0, or -EINVAL otherwise. */
 int sh2000_prog_block_point(const struct sh2000_prog_block *b, double s,
-			    double out[SH2000_AXES]);
-
-/* The curve at parameter u (clamped to the domain). */
-void sh2000_prog_nurbs_eval(const struct sh2000_prog_nurbs *n, double u,
 			    double out[SH2000_AXES]);
 
 const char *sh2000_prog_kind_name(enum sh2000_prog_kind k);

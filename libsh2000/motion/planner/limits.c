@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: MIT
+/*
+ * Speed limits from the geometry: along a curve (axis speeds, centripetal
+ * acceleration, chord tolerance, jerk) and through the corner between two
+ * blocks (the corner tolerance, the axes' acceleration over one period
+ * and what the card's B-spline does to a corner).
+ */
+#include <math.h>
+
+#include "planner.h"
+
+double pl_curve_vlim(const struct sh2000_path *p, const double t[SH2000_AXES],
+		     double kappa)
+{
+	const struct sh2000_path_config *c = &p->cfg;
+	double v = INFINITY;
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++)
+		if (fabs(t[a]) > 1e-12)
+			v = fmin(v, c->margin * c->vmax[a] / fabs(t[a]));
+	if (kappa > 1e-12) {
+		double share = c->centripetal_share * c->margin;
+
+		v = fmin(v, sqrt(share * p->amin / kappa));
+		v = fmin(v, sqrt(8.0 * c->chord_tol / kappa) / c->period_s);
+		if (!isinf(p->lim.J))
+			v = fmin(v, cbrt(share * p->lim.J / (kappa * kappa)));
+	}
+	return v;
+}
+
+double pl_cap(const struct sh2000_path *p, const struct pl_block *b)
+{
+	return fmin(b->vlim, b->feed * p->override);
+}
+
+double pl_junction(const struct sh2000_path *p, const double t1[SH2000_AXES],
+		   const double t0[SH2000_AXES])
+{
+	const struct sh2000_path_config *c = &p->cfg;
+	double dot = 0.0, v = INFINITY, ch, sh, T = c->period_s;
+	double k = c->output == SH2000_OUTPUT_COMPENSATED ? sqrt(3.0) : 1.0;
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++)
+		dot += t1[a] * t0[a];
+	if (dot > 1.0 - 1e-12)
+		return INFINITY;
+	/* the corner tolerance: a circle through the corner that deviates
+	 * by corner_tol, at the path acceleration */
+	ch = sqrt(fmax(0.0, 0.5 * (1.0 + dot)));	/* cos(turn/2) */
+	sh = sqrt(fmax(0.0, 0.5 * (1.0 - dot)));	/* sin(turn/2) */
+	if (ch < 1e-9)
+		return 0.0;
+	v = sqrt(p->lim.A * c->corner_tol * ch / (1.0 - ch));
+	/* the card's spline rounds the corner by about vT sin(turn/2) / 3;
+	 * half of that, for the speed changing around it */
+	v = fmin(v, 1.5 * c->corner_tol / (T * sh));
+	for (a = 0; a < SH2000_AXES; a++) {
+		double dt = fabs(t0[a] - t1[a]);
+		double room = c->margin * c->amax[a] - p->lim.A;
+
+		if (dt < 1e-12)
+			continue;
+		/* the jump in axis speed is an acceleration over one
+		 * period, sqrt 3 times larger after compensation */
+		v = fmin(v, fmax(room, 0.0) * T / (k * dt));
+		/* and the compensation overshoots a speed step by 0.37 */
+		if (k > 1.0)
+			v = fmin(v, c->margin * c->vmax[a] /
+				    (fmax(fabs(t0[a]), fabs(t1[a])) + 0.37 * dt));
+	}
+	return v;
+}

@@ -1,0 +1,366 @@
+// SPDX-License-Identifier: MIT
+/*
+ * The primitives: lines, point-to-point moves, jogs, arcs and NURBS. Each
+ * is validated completely before any of it is queued, so a rejected
+ * primitive leaves nothing behind; arcs and NURBS are resolved by the one
+ * geometry of sh2000/geometry.h.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "planner.h"
+
+static const char axis_name[SH2000_AXES] = { 'X', 'Y', 'Z', 'A' };
+
+/* NURBS start points: what "the same point" means, mm. */
+#define GEOM_TOL 0.001
+
+
+static int check_feed(struct sh2000_path *p, const char *what, double feed,
+		      int zero_ok)
+{
+	if (zero_ok ? !(feed >= 0.0) : !(feed > 0.0))
+		return pl_err(p, -EINVAL, "%s must be %s 0: got %g", what,
+			      zero_ok ? ">=" : ">", feed);
+	if (isinf(feed))
+		return pl_err(p, -EINVAL, "%s must be finite", what);
+	return 0;
+}
+
+static int check_point(struct sh2000_path *p, const char *what,
+		       const double x[SH2000_AXES])
+{
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		double sc = p->cfg.counts_per_mm[a];
+
+		if (isnan(x[a]))
+			return pl_err(p, -EINVAL, "%s %c is NaN", what,
+				      axis_name[a]);
+		if (!isfinite(x[a]))
+			return pl_err(p, -EINVAL, "%s %c is infinite", what,
+				      axis_name[a]);
+		if (sc > 0.0 && fabs(x[a] * sc) > 2147483000.0)
+			return pl_err(p, -ERANGE,
+				      "%s %c %.3f mm is beyond the int32 count range (+-%.3f mm)",
+				      what, axis_name[a], x[a],
+				      2147483000.0 / sc);
+	}
+	return 0;
+}
+
+/* Entry of every primitive: the planner must be able to take one. */
+static int ready(struct sh2000_path *p)
+{
+	int r;
+
+	if (p->fail)
+		return pl_err(p, p->fail,
+			      "the sink failed (%d); reset the planner", p->fail);
+	while (p->pending) {
+		if (pl_nurbs_expand(p))
+			break;
+		r = pl_make_room(p);
+		if (r)
+			return r;
+	}
+	if (p->count == p->cap)
+		return pl_make_room(p);
+	return 0;
+}
+
+
+/* ---- lines and point-to-point ----------------------------------------- */
+
+static int line_block(struct sh2000_path *p, const double end[SH2000_AXES],
+		      double feed, int p2p)
+{
+	struct pl_block b;
+	double len = 0.0;
+	unsigned int a;
+	int r;
+
+	memset(&b, 0, sizeof(b));
+	for (a = 0; a < SH2000_AXES; a++)
+		len += (end[a] - p->qend[a]) * (end[a] - p->qend[a]);
+	len = sqrt(len);
+	if (len < 1e-9)
+		return 0;	/* nothing to do is not an error */
+	r = ready(p);
+	if (r)
+		return r;
+	b.type = BLK_LINE;
+	b.L = len;
+	b.feed = feed;
+	memcpy(b.p0, p->qend, sizeof(b.p0));
+	memcpy(b.p1, end, sizeof(b.p1));
+	for (a = 0; a < SH2000_AXES; a++)
+		b.g.line.d[a] = b.t0[a] = b.t1[a] = (end[a] - p->qend[a]) / len;
+	b.vlim = pl_curve_vlim(p, b.t0, 0.0);
+	if (p2p) {
+		p->stop_next = 1;
+		b.stop_after = 1;
+	}
+	pl_push_block(p, &b);
+	return 0;
+}
+
+int sh2000_path_line(struct sh2000_path *p, const double end[SH2000_AXES], double feed)
+{
+	int r;
+
+	if (!end)
+		return pl_err(p, -EINVAL, "line: no end point");
+	r = check_point(p, "line: end", end);
+	if (!r)
+		r = check_feed(p, "feed", feed, 0);
+	if (r)
+		return r;
+	return line_block(p, end, feed, 0);
+}
+
+int sh2000_path_move_abs(struct sh2000_path *p, const double target[SH2000_AXES],
+			 double speed)
+{
+	int r;
+
+	if (!target)
+		return pl_err(p, -EINVAL, "move: no target");
+	r = check_point(p, "move: target", target);
+	if (!r)
+		r = check_feed(p, "speed", speed, 1);
+	if (r)
+		return r;
+	return line_block(p, target, speed, 1);
+}
+
+int sh2000_path_move_rel(struct sh2000_path *p, const double delta[SH2000_AXES],
+			 double speed)
+{
+	double t[SH2000_AXES];
+	unsigned int a;
+
+	if (!delta)
+		return pl_err(p, -EINVAL, "move: no delta");
+	for (a = 0; a < SH2000_AXES; a++) {
+		if (!isfinite(delta[a]))
+			return pl_err(p, -EINVAL, "move: delta %c is %s",
+				      axis_name[a],
+				      isnan(delta[a]) ? "NaN" : "infinite");
+		t[a] = p->qend[a] + delta[a];
+	}
+	return sh2000_path_move_abs(p, t, speed);
+}
+
+int sh2000_path_jog(struct sh2000_path *p, unsigned int axis,
+		    double velocity, double travel)
+{
+	double d[SH2000_AXES] = { 0 };
+
+	if (axis >= SH2000_AXES)
+		return pl_err(p, -EINVAL, "jog: axis %u does not exist (0..3)",
+			      axis);
+	if (!isfinite(velocity) || velocity == 0.0)
+		return pl_err(p, -EINVAL,
+			      "jog: velocity must be non-zero and finite: got %g",
+			      velocity);
+	if (!(travel > 0.0) || !isfinite(travel))
+		return pl_err(p, -EINVAL, "jog: travel must be > 0: got %g",
+			      travel);
+	d[axis] = velocity > 0.0 ? travel : -travel;
+	return sh2000_path_move_rel(p, d, fabs(velocity));
+}
+
+
+/* ---- arcs ---------------------------------------------------------------- */
+
+/* The centre in plane coordinates, given or from the radius. */
+static int arc_centre(struct sh2000_path *p, const struct sh2000_path_arc *arc,
+		      const struct sh2000_arc *ax, double c[2])
+{
+	double s[2], e[2];
+	char m[160];
+	int r;
+
+	if (!arc->radius_form) {
+		if (isnan(arc->centre[0]) || isnan(arc->centre[1]))
+			return pl_err(p, -EINVAL, "arc: centre is NaN");
+		if (!isfinite(arc->centre[0]) || !isfinite(arc->centre[1]))
+			return pl_err(p, -EINVAL, "arc: centre is infinite");
+		c[0] = arc->centre[0];
+		c[1] = arc->centre[1];
+		return 0;
+	}
+	if (isnan(arc->radius))
+		return pl_err(p, -EINVAL, "arc: radius is NaN");
+	s[0] = p->qend[ax->first];
+	s[1] = p->qend[ax->second];
+	e[0] = arc->end[ax->first];
+	e[1] = arc->end[ax->second];
+	r = sh2000_arc_centre_from_radius(s, e, arc->radius, arc->ccw, c, m,
+					  sizeof(m));
+	return r ? pl_err(p, r, "arc: %s", m) : 0;
+}
+
+/* A block for a resolved arc from the current end to `end`. */
+static void arc_block(struct sh2000_path *p, const struct sh2000_arc *g,
+		      const double end[SH2000_AXES], double feed,
+		      struct pl_block *b)
+{
+	double lin2 = 0.0, planar, f, sgn = g->sweep > 0.0 ? 1.0 : -1.0;
+	double th1 = g->th0 + g->sweep, tt[SH2000_AXES];
+	unsigned int i = g->first, j = g->second, a;
+
+	memset(b, 0, sizeof(*b));
+	b->type = BLK_ARC;
+	b->feed = feed;
+	b->g.arc = *g;
+	memcpy(b->p0, p->qend, sizeof(b->p0));
+	memcpy(b->p1, end, sizeof(b->p1));
+	for (a = 0; a < SH2000_AXES; a++)
+		if (a != i && a != j)
+			lin2 += (end[a] - p->qend[a]) * (end[a] - p->qend[a]);
+	planar = fabs(g->sweep) * 0.5 * (g->r0 + g->r1);
+	b->L = sqrt(planar * planar + lin2);
+	/* tangents; the speed limit from the worst direction of the plane
+	 * axes (each reaches |t| = planar / L somewhere on a long arc) */
+	f = planar / b->L;
+	for (a = 0; a < SH2000_AXES; a++) {
+		double l = (a != i && a != j) ? (end[a] - p->qend[a]) / b->L : 0.0;
+
+		b->t0[a] = b->t1[a] = tt[a] = l;
+	}
+	b->t0[i] = -sgn * f * sin(g->th0);
+	b->t0[j] = sgn * f * cos(g->th0);
+	b->t1[i] = -sgn * f * sin(th1);
+	b->t1[j] = sgn * f * cos(th1);
+	tt[i] = tt[j] = f;
+	/* helix curvature: (planar share)^2 / r */
+	b->vlim = pl_curve_vlim(p, tt, f * f / fmin(g->r0, g->r1));
+}
+
+int sh2000_path_arc(struct sh2000_path *p, const struct sh2000_path_arc *arc,
+		    double feed)
+{
+	struct sh2000_arc g;
+	struct pl_block b;
+	double c[2];
+	char m[320];
+	int r;
+
+	if (!arc)
+		return pl_err(p, -EINVAL, "arc: no description");
+	if (sh2000_plane_axes(arc->plane, &g.first, &g.second, &g.normal))
+		return pl_err(p, -EINVAL, "arc: unknown plane %d",
+			      (int)arc->plane);
+	r = check_point(p, "arc: end", arc->end);
+	if (!r)
+		r = check_feed(p, "feed", feed, 0);
+	if (r)
+		return r;
+	if (arc->turns > 1000)
+		return pl_err(p, -EINVAL, "arc: %u turns is more than 1000",
+			      arc->turns);
+	r = arc_centre(p, arc, &g, c);
+	if (r)
+		return r;
+	r = sh2000_arc_resolve(&g, arc->plane, p->qend, arc->end, c, arc->ccw,
+			       arc->turns ? arc->turns : 1, arc->tolerance, 0,
+			       m, sizeof(m));
+	if (r)
+		return pl_err(p, r, "arc: %s", m);
+	r = ready(p);
+	if (r)
+		return r;
+	arc_block(p, &g, arc->end, feed, &b);
+	pl_push_block(p, &b);
+	return 0;
+}
+
+/* ---- NURBS ----------------------------------------------------------------- */
+
+/* The copy starts where the planner is and never stands still (the
+ * arc-length parametrisation needs C' != 0). */
+static int nurbs_geometry(struct sh2000_path *p, const struct pl_nurbs *nb)
+{
+	double c[SH2000_AXES], tt[SH2000_AXES], ks, d = 0.0;
+	const double *U = nb->c.knots;
+	unsigned int a, k;
+	size_t i;
+
+	pl_nurbs_eval(nb, nb->umin, c, NULL, NULL);
+	for (a = 0; a < SH2000_AXES; a++)
+		d += (c[a] - p->qend[a]) * (c[a] - p->qend[a]);
+	d = sqrt(d);
+	if (d > GEOM_TOL)
+		return pl_err(p, -EINVAL,
+			      "nurbs: the curve starts at (%.4f, %.4f, %.4f, %.4f), %.4f mm from the current position (%.4f, %.4f, %.4f, %.4f)",
+			      c[0], c[1], c[2], c[3], d, p->qend[0],
+			      p->qend[1], p->qend[2], p->qend[3]);
+	for (i = nb->c.degree; i < nb->c.npoints; i++) {
+		if (U[i] >= U[i + 1])
+			continue;
+		for (k = 0; k <= 8; k++) {
+			double u = U[i] + (U[i + 1] - U[i]) * k / 8.0;
+
+			if (pl_nurbs_frame(nb, u, tt, &ks) <
+			    1e-9 * (1.0 + fabs(nb->umax - nb->umin)))
+				return pl_err(p, -EINVAL,
+					      "nurbs: the curve stands still (zero derivative) at u = %g",
+					      u);
+		}
+	}
+	return 0;
+}
+
+int sh2000_path_nurbs(struct sh2000_path *p, const struct sh2000_nurbs *n,
+		      double feed)
+{
+	struct pl_nurbs *nb;
+	char m[200];
+	size_t i;
+	int r;
+
+	if (!n)
+		return pl_err(p, -EINVAL, "nurbs: no description");
+	r = sh2000_nurbs_check(n, m, sizeof(m));
+	if (r)
+		return pl_err(p, r, "nurbs: %s", m);
+	if (n->npoints > 10000000)
+		return pl_err(p, -EINVAL, "nurbs: %zu control points is too many",
+			      n->npoints);
+	r = check_feed(p, "feed", feed, 0);
+	for (i = 0; !r && i < n->npoints; i++) {
+		snprintf(m, sizeof(m), "nurbs: points[%zu]", i);
+		r = check_point(p, m, n->points[i]);
+	}
+	if (r)
+		return r;
+	nb = pl_nurbs_new(p, n);
+	if (!nb)
+		return pl_err(p, -ENOMEM, "nurbs: out of memory");
+	nb->id = ++p->nurbs_ids;
+	r = nurbs_geometry(p, nb);
+	if (!r)
+		r = ready(p);
+	if (r) {
+		nb->expanded = 1;
+		nb->refs = 1;
+		pl_nurbs_put(p, nb);
+		return r;
+	}
+	/* feed travels with every block of the curve */
+	p->pending = nb;
+	p->pending_feed = feed;
+	while (!pl_nurbs_expand(p)) {
+		r = pl_make_room(p);
+		if (r == -EAGAIN)
+			return 0;	/* queued; the rest follows on resume */
+		if (r)
+			return r;
+	}
+	return 0;
+}

@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: MIT
+/*
+ * The look-ahead window: a ring of blocks. Queueing a block sets its
+ * junction speed and runs the backward pass (the largest speed each block
+ * may be entered with and still slow down for everything after it) only
+ * as far back as an entry speed changes. Dropping blocks (a stop, a
+ * reset) releases the curves they refer to.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "planner.h"
+
+static double vb_of(struct sh2000_path *p, unsigned int i)
+{
+	struct pl_block *b = &p->blk[(p->head + i) % p->cap];
+	struct pl_block *prev = &p->blk[(p->head + i - 1) % p->cap];
+	double next = 0.0, v;
+
+	if (i + 1 < p->count)
+		next = p->blk[(p->head + i + 1) % p->cap].vb;
+	v = fmin(b->vj, fmin(pl_cap(p, b), pl_cap(p, prev)));
+	return fmin(v, pl_reach_back(&p->lim, next, b->L));
+}
+
+void pl_backward_all(struct sh2000_path *p)
+{
+	unsigned int i;
+
+	for (i = p->count; i-- > 1;)
+		p->blk[(p->head + i) % p->cap].vb = vb_of(p, i);
+}
+
+void pl_push_block(struct sh2000_path *p, struct pl_block *b)
+{
+	unsigned int i;
+	double nt = 0.0;
+
+	b->seq = p->seq;
+	for (i = 0; i < SH2000_AXES; i++)
+		nt += p->tend[i] * p->tend[i];
+	if (p->stop_next || nt < 0.5)
+		b->vj = 0.0;
+	else
+		b->vj = pl_junction(p, p->tend, b->t0);
+	b->corner = !isinf(b->vj);
+	if (b->feed == 0.0)
+		b->feed = INFINITY;
+	p->stop_next = b->stop_after;
+	memcpy(p->tend, b->t1, sizeof(p->tend));
+	memcpy(p->qend, b->p1, sizeof(p->qend));
+	p->blk[(p->head + p->count) % p->cap] = *b;
+	p->count++;
+	p->blocks++;
+	/* the backward pass, as far as anything changes */
+	for (i = p->count; i-- > 1;) {
+		struct pl_block *k = &p->blk[(p->head + i) % p->cap];
+		double v = vb_of(p, i);
+
+		if (i + 1 < p->count && v == k->vb)
+			break;
+		k->vb = v;
+	}
+}
+
+void pl_drop_blocks(struct sh2000_path *p)
+{
+	while (p->count) {
+		struct pl_block *b = &p->blk[p->head];
+
+		if (b->type == BLK_NURBS)
+			pl_nurbs_put(p, b->g.nurbs.nb);
+		p->head = (p->head + 1) % p->cap;
+		p->count--;
+	}
+	if (p->pending) {
+		struct pl_nurbs *nb = p->pending;
+
+		p->pending = NULL;
+		nb->expanded = 1;
+		nb->refs++;
+		pl_nurbs_put(p, nb);
+	}
+}
+
+void pl_stopped(struct sh2000_path *p)
+{
+	pl_drop_blocks(p);
+	memcpy(p->qend, p->pos, sizeof(p->qend));
+	memset(p->tend, 0, sizeof(p->tend));
+	p->stop_next = 1;
+	p->stopping = 0;
+	p->paused = 0;
+	p->s = p->v = p->a = 0.0;
+}

@@ -185,6 +185,36 @@ static void test_errors(void **state)
 /* the older format (saicanon before 2.6, canterp.cc's example): three or
  * six axes, no spindle numbers, SET_ORIGIN_OFFSETS; M30 prints
  * PALLET_SHUTTLE before PROGRAM_END */
+/* G61, G61.1, G64 P Q as rs274 prints them; its own reset settings are
+ * not the program's */
+static void test_path_modes(void **state)
+{
+	const struct sh2000_prog_block *b;
+
+	(void)state;
+	expect_ok(CANON,
+		  "    1 N..... ON_RESET()\n"
+		  "    2 N..... SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, 0.000000)\n"
+		  "    3 N..... SET_NAIVECAM_TOLERANCE(0.0000)\n"
+		  "    4 N10    SET_MOTION_CONTROL_MODE(CANON_EXACT_PATH, 0.000000)\n"
+		  "    5 N20    SET_MOTION_CONTROL_MODE(CANON_EXACT_STOP, 0.000000)\n"
+		  "    6 N30    USE_LENGTH_UNITS(CANON_UNITS_INCHES)\n"
+		  "    7 N40    SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, 0.001000)\n"
+		  "    8 N40    SET_NAIVECAM_TOLERANCE(0.0005)\n"
+		  "    9 N50    PROGRAM_END()\n");
+	assert_int_equal(count_kind(SH2000_PROG_PATH_MODE), 3);
+	assert_int_equal(nth(SH2000_PROG_PATH_MODE, 0)->u.path.mode,
+			 SH2000_PATH_EXACT_PATH);
+	assert_int_equal(nth(SH2000_PROG_PATH_MODE, 1)->u.path.mode,
+			 SH2000_PATH_EXACT_STOP);
+	b = nth(SH2000_PROG_PATH_MODE, 2);
+	assert_int_equal(b->u.path.mode, SH2000_PATH_BLEND);
+	assert_near(b->u.path.tolerance, 0.0254, 1e-12);
+	assert_near(b->u.path.naive_tolerance, 0.0127, 1e-12);
+	expect_error(CANON, "    1 N10    SET_MOTION_CONTROL_MODE(CANON_FAST, 0)\n",
+		     SH2000_PD_UNKNOWN, 1, 14);
+}
+
 static void test_older_format(void **state)
 {
 	(void)state;
@@ -221,6 +251,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_warnings, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_errors, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_older_format, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_path_modes, setup, teardown),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -139,13 +139,38 @@ static void test_lexical(void **state)
 
 static void test_noop_and_path_codes(void **state)
 {
+	const struct sh2000_prog_block *b;
+
 	(void)state;
-	expect_ok(G, "G17 G21 G40 G49 G54 G80 G90 G91.1 G94\nG64 P0.01\nG61\nG61.1\nG0 X1\n" "M2\n");
-	assert_int_equal(P.count, 2);
-	assert_int_equal(count_warnings(SH2000_PD_NOT_ACTED), 1);
-	assert_true(has_message("G64"));
-	assert_int_equal(D.items[0].pos.line, 2);
-	assert_int_equal(D.items[0].pos.column, 1);
+	expect_ok(G, "G17 G21 G40 G49 G54 G80 G90 G91.1 G94\nG64 P0.01\nG61\nG61.1\nG64\nG64 P0.02 Q0.005\nG20 G64 P0.001\nG0 X1\n" "M2\n");
+	assert_int_equal(count_kind(SH2000_PROG_PATH_MODE), 6);
+	assert_int_equal(D.warnings, 0);
+	/* G64 P: blending tolerance, Q defaults to P (LinuxCNC) */
+	b = nth(SH2000_PROG_PATH_MODE, 0);
+	assert_int_equal(b->pos.line, 2);
+	assert_int_equal(b->u.path.mode, SH2000_PATH_BLEND);
+	assert_near(b->u.path.tolerance, 0.01, 1e-12);
+	assert_near(b->u.path.naive_tolerance, 0.01, 1e-12);
+	assert_int_equal(nth(SH2000_PROG_PATH_MODE, 1)->u.path.mode,
+			 SH2000_PATH_EXACT_PATH);
+	assert_int_equal(nth(SH2000_PROG_PATH_MODE, 2)->u.path.mode,
+			 SH2000_PATH_EXACT_STOP);
+	/* G64 alone: best speed, no tolerance */
+	b = nth(SH2000_PROG_PATH_MODE, 3);
+	assert_int_equal(b->u.path.mode, SH2000_PATH_BLEND);
+	assert_near(b->u.path.tolerance, 0, 0);
+	b = nth(SH2000_PROG_PATH_MODE, 4);
+	assert_near(b->u.path.tolerance, 0.02, 1e-12);
+	assert_near(b->u.path.naive_tolerance, 0.005, 1e-12);
+	/* in inches */
+	assert_near(nth(SH2000_PROG_PATH_MODE, 5)->u.path.tolerance, 0.0254, 1e-12);
+	/* Q needs G64 and P; tolerances are not negative; P is G64's or
+	 * G4's, not both */
+	expect_error(G, "G61 Q0.1\nM2\n", SH2000_PD_CONFLICT, 1, 5);
+	expect_error(G, "G0 X1 Q0.1\nM2\n", SH2000_PD_CONFLICT, 1, 7);
+	expect_error(G, "G64 Q0.1\nM2\n", SH2000_PD_MISSING, 1, 5);
+	expect_error(G, "G64 P-1\nM2\n", SH2000_PD_RANGE, 1, 5);
+	expect_error(G, "G4 G64 P1\nM2\n", SH2000_PD_CONFLICT, 1, 8);
 }
 
 static void test_arc_xy(void **state)

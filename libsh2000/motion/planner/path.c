@@ -37,6 +37,36 @@ void sh2000_path_config_default(struct sh2000_path_config *cfg)
 	cfg->comp_window = 12;
 }
 
+int sh2000_path_set_mode(struct sh2000_path *p, enum sh2000_path_mode mode,
+			 double tolerance, double naive_tolerance)
+{
+	struct sh2000_path_config *c = &p->cfg;
+
+	if (!(tolerance >= 0.0 && isfinite(tolerance)) ||
+	    !(naive_tolerance >= 0.0 && isfinite(naive_tolerance)))
+		return pl_err(p, -EINVAL,
+			      "path mode: tolerances must be >= 0 and finite: got P %g, Q %g",
+			      tolerance, naive_tolerance);
+	switch (mode) {
+	case SH2000_PATH_BLEND:
+		c->corner_tol = tolerance > 0.0 ? tolerance : INFINITY;
+		c->chord_tol = tolerance > 0.0 ? tolerance : p->base.chord_tol;
+		c->naive_tol = naive_tolerance;
+		break;
+	case SH2000_PATH_EXACT_PATH:
+	case SH2000_PATH_EXACT_STOP:
+		c->corner_tol = 0.0;
+		c->chord_tol = p->base.chord_tol;
+		c->naive_tol = 0.0;
+		break;
+	default:
+		return pl_err(p, -EINVAL, "path mode: unknown mode %d",
+			      (int)mode);
+	}
+	c->mode = mode;
+	return 0;
+}
+
 void sh2000_path_set_seq(struct sh2000_path *p, uint32_t seq)
 {
 	p->seq = seq;
@@ -79,8 +109,13 @@ static int cfg_check(const struct sh2000_path_config *c, char *e, size_t n)
 	if (c->output != SH2000_OUTPUT_COMPENSATED &&
 	    c->output != SH2000_OUTPUT_RAW)
 		BAD("config: unknown output mode %d", (int)c->output);
-	if (!(c->corner_tol >= 0.0 && isfinite(c->corner_tol)))
+	if (!(c->corner_tol >= 0.0))
 		BAD("config: corner_tol must be >= 0: got %g", c->corner_tol);
+	if (!(c->naive_tol >= 0.0 && isfinite(c->naive_tol)))
+		BAD("config: naive_tol must be >= 0: got %g", c->naive_tol);
+	if (c->mode != SH2000_PATH_BLEND && c->mode != SH2000_PATH_EXACT_PATH &&
+	    c->mode != SH2000_PATH_EXACT_STOP)
+		BAD("config: unknown path mode %d", (int)c->mode);
 	if (!(c->chord_tol > 0.0 && isfinite(c->chord_tol)))
 		BAD("config: chord_tol must be > 0: got %g", c->chord_tol);
 	if (!(c->centripetal_share > 0.0 && c->centripetal_share < 1.0))
@@ -120,6 +155,7 @@ int sh2000_path_create(struct sh2000_path **out,
 		return -ENOMEM;
 	p->mem = p->mem_peak = sizeof(*p);
 	p->cfg = *cfg;
+	p->base = *cfg;
 	p->sink = sink;
 	p->ctx = ctx;
 	p->override = 1.0;

@@ -104,7 +104,9 @@ void pl_integrate(double *s, double *v, double *a, double j, double dt);
 struct sh2000_bscomp;
 
 struct sh2000_path {
-	struct sh2000_path_config cfg;
+	/* the configuration in force (the path mode changes it) and as
+	 * created */
+	struct sh2000_path_config cfg, base;
 	sh2000_path_sink_fn sink;
 	void *ctx;
 	char err[256];

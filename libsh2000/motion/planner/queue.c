@@ -37,6 +37,8 @@ void pl_push_block(struct sh2000_path *p, struct pl_block *b)
 	double nt = 0.0;
 
 	b->seq = p->seq;
+	if (p->cfg.mode == SH2000_PATH_EXACT_STOP)
+		b->stop_after = 1;
 	for (i = 0; i < SH2000_AXES; i++)
 		nt += p->tend[i] * p->tend[i];
 	if (p->stop_next || nt < 0.5)

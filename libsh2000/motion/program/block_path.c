@@ -37,6 +37,10 @@ int sh2000_path_add_block(struct sh2000_path *p,
 		return add_arc(p, b);
 	case SH2000_PROG_NURBS:
 		return sh2000_path_nurbs(p, &b->u.nurbs, b->feed);
+	case SH2000_PROG_PATH_MODE:
+		return sh2000_path_set_mode(p, b->u.path.mode,
+					    b->u.path.tolerance,
+					    b->u.path.naive_tolerance);
 	default:
 		return 0;
 	}

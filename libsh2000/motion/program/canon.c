@@ -29,6 +29,12 @@ struct cstate {
 	double g5x[SH2000_AXES], g92[SH2000_AXES];	/* mm */
 	bool ended;
 	bool pallet;		/* PALLET_SHUTTLE: M30 is ending the program */
+	/* just after ON_RESET(): rs274's own settings, not the program's;
+	 * which of reset_sequence[] it printed (a second one is the
+	 * program's) */
+	bool resetting;
+	unsigned int reset_seen;
+	double naive_mm;	/* SET_NAIVECAM_TOLERANCE, mm */
 	double res_mm;		/* rounding of the position as last printed */
 };
 
@@ -62,8 +68,7 @@ static bool in_list(const char *name, const char *const *list)
 
 /* Commands that do not change the path on this card. */
 static const char *const ignored[] = {
-	"SET_FEED_REFERENCE", "SET_MOTION_CONTROL_MODE", "SET_NAIVECAM_TOLERANCE",
-	"SET_TRAVERSE_RATE", "ENABLE_FEED_OVERRIDE", "DISABLE_FEED_OVERRIDE",
+	"SET_FEED_REFERENCE", "SET_TRAVERSE_RATE", "ENABLE_FEED_OVERRIDE", "DISABLE_FEED_OVERRIDE",
 	"ENABLE_SPEED_OVERRIDE", "DISABLE_SPEED_OVERRIDE",
 	"ENABLE_ADAPTIVE_FEED", "DISABLE_ADAPTIVE_FEED", "ENABLE_FEED_HOLD",
 	"DISABLE_FEED_HOLD", "SET_CUTTER_RADIUS_COMPENSATION",
@@ -235,243 +240,470 @@ static int need_feed(struct prog_ctx *c, const struct cstate *st,
 			l->name);
 }
 
-static int do_line(struct prog_ctx *c, struct cstate *st, struct cline *l)
+/* ---- the canonical commands, one handler each ---------------------------- */
+
+static int cmd_straight(struct prog_ctx *c, struct cstate *st,
+			const struct cline *l)
 {
+	bool feed = name_is(l, "STRAIGHT_FEED");
 	double v[MAX_ARGS];
 	struct sh2000_prog_block *b;
 	int ret;
 
-	if (name_is(l, "STRAIGHT_TRAVERSE") || name_is(l, "STRAIGHT_FEED")) {
-		bool feed = name_is(l, "STRAIGHT_FEED");
-
-		if ((ret = nums(c, l, 3, 6, v)) || (ret = no_bc(c, l, 4, v)))
-			return ret;
-		if (feed && (ret = need_feed(c, st, l)))
-			return ret;
-		b = prog_push(c, feed ? SH2000_PROG_LINE : SH2000_PROG_RAPID,
-			      l->line, l->col);
-		if (!b)
-			return -ENOMEM;
-		for (unsigned int a = 0; a < SH2000_AXES; a++)
-			if ((int)a < l->nargs)
-				b->end[a] = mpos(st, a, v[a]);
-		if (feed)
-			b->feed = st->feed_mm_min / 60;
-		memcpy(c->pos, b->end, sizeof(c->pos));
-		st->res_mm = 0.5e-4 * st->unit;
-		return 0;
-	}
-	if (name_is(l, "ARC_FEED")) {
-		unsigned int a1, a2, an;
-		double tol, end[SH2000_AXES];
-		int rot;
-
-		if ((ret = nums(c, l, 6, 9, v)) || (ret = no_bc(c, l, 7, v)))
-			return ret;
-		if ((ret = need_feed(c, st, l)))
-			return ret;
-		if (v[4] != floor(v[4]) || v[4] == 0 || fabs(v[4]) > 1e6)
-			return prog_err(c, SH2000_PD_RANGE, l->line, l->arg[4].col,
-					"ARC_FEED: rotation %g is not a non-zero integer", v[4]);
-		rot = (int)v[4];
-		sh2000_plane_axes(st->plane, &a1, &a2, &an);
-		memcpy(end, c->pos, sizeof(end));
-		end[a1] = mpos(st, (int)a1, v[0]);
-		end[a2] = mpos(st, (int)a2, v[1]);
-		end[an] = mpos(st, (int)an, v[5]);
-		if (l->nargs > 6)
-			end[SH2000_PROG_A] = mpos(st, SH2000_PROG_A, v[6]);
-		b = prog_push(c, SH2000_PROG_ARC, l->line, l->col);
-		if (!b)
-			return -ENOMEM;
-		memcpy(b->end, end, sizeof(end));
-		b->feed = st->feed_mm_min / 60;
-		tol = c->opt.arc_tolerance_mm > 0 ? c->opt.arc_tolerance_mm :
-		      st->unit == PROG_MM_PER_INCH ? SH2000_ARC_CENTRE_TOL_INCH_MM :
-		      SH2000_ARC_CENTRE_TOL_MM;
-		/* rs274 checked the arc before rounding it to 4 decimals */
-		tol += 4 * (0.5e-4 * st->unit + st->res_mm);
-		/* rs274 prints 4 decimals: a full circle's end may miss its
-		 * start by the rounding of both prints (the start's maybe in
-		 * other units) */
-		ret = prog_arc_fill(c, b, st->plane, mpos(st, (int)a1, v[2]),
-				    mpos(st, (int)a2, v[3]), rot > 0,
-				    (unsigned int)abs(rot), tol,
-				    M_SQRT2 * (0.5e-4 * st->unit + st->res_mm) + 1e-9,
-				    l->line, l->col);
-		st->res_mm = 0.5e-4 * st->unit;
-		memcpy(c->pos, end, sizeof(c->pos));
-		if (ret)
-			c->prog->count--;
+	if ((ret = nums(c, l, 3, 6, v)) || (ret = no_bc(c, l, 4, v)))
 		return ret;
-	}
-	if (name_is(l, "SET_FEED_RATE")) {
-		if ((ret = nums(c, l, 1, 1, v)))
-			return ret;
-		if (v[0] < 0)
-			return prog_err(c, SH2000_PD_RANGE, l->line, l->arg[0].col,
-					"negative feed rate %g", v[0]);
-		if (v[0] * st->unit != st->feed_mm_min) {
-			st->feed_mm_min = v[0] * st->unit;
-			b = prog_push(c, SH2000_PROG_FEED, l->line, l->col);
-			if (!b)
-				return -ENOMEM;
-			b->u.feed_mm_min = st->feed_mm_min;
-			b->feed = st->feed_mm_min / 60;
-		}
-		return 0;
-	}
-	if (name_is(l, "SET_FEED_MODE")) {
-		if ((ret = nums(c, l, 1, 2, v)))
-			return ret;
-		if (v[l->nargs - 1] != 0)
-			return prog_err(c, SH2000_PD_UNSUPPORTED, l->line, l->col,
-					"SET_FEED_MODE: only units per minute (G94) is supported");
-		return 0;
-	}
-	if (name_is(l, "USE_LENGTH_UNITS")) {
-		if (arg_is(l, 0, "CANON_UNITS_MM") && l->nargs == 1)
-			st->unit = 1;
-		else if (arg_is(l, 0, "CANON_UNITS_INCHES") && l->nargs == 1)
-			st->unit = PROG_MM_PER_INCH;
-		else if (arg_is(l, 0, "CANON_UNITS_CM") && l->nargs == 1)
-			st->unit = 10;
-		else
-			return prog_err(c, SH2000_PD_UNKNOWN, l->line, l->col,
-					"USE_LENGTH_UNITS: unknown units");
-		return 0;
-	}
-	if (name_is(l, "SELECT_PLANE")) {
-		if (arg_is(l, 0, "CANON_PLANE_XY") && l->nargs == 1)
-			st->plane = SH2000_PLANE_XY;
-		else if (arg_is(l, 0, "CANON_PLANE_XZ") && l->nargs == 1)
-			st->plane = SH2000_PLANE_XZ;
-		else if (arg_is(l, 0, "CANON_PLANE_YZ") && l->nargs == 1)
-			st->plane = SH2000_PLANE_YZ;
-		else
-			return prog_err(c, SH2000_PD_UNSUPPORTED, l->line, l->col,
-					"SELECT_PLANE: only the XY, XZ and YZ planes");
-		return 0;
-	}
-	if (name_is(l, "DWELL")) {
-		if ((ret = nums(c, l, 1, 1, v)))
-			return ret;
-		if (v[0] < 0)
-			return prog_err(c, SH2000_PD_RANGE, l->line, l->arg[0].col,
-					"negative dwell %g s", v[0]);
-		b = prog_push(c, SH2000_PROG_DWELL, l->line, l->col);
-		if (!b)
-			return -ENOMEM;
-		b->u.dwell_s = v[0];
-		return 0;
-	}
-	if (name_is(l, "PROGRAM_STOP") || name_is(l, "OPTIONAL_PROGRAM_STOP")) {
-		b = prog_push(c, SH2000_PROG_PAUSE, l->line, l->col);
-		if (!b)
-			return -ENOMEM;
-		b->u.optional = name_is(l, "OPTIONAL_PROGRAM_STOP");
-		return 0;
-	}
-	if (name_is(l, "PROGRAM_END")) {
-		b = prog_push(c, SH2000_PROG_END, l->line, l->col);
-		if (!b)
-			return -ENOMEM;
-		b->u.end_code = st->pallet ? 30 : 2;
-		st->ended = true;
-		return 0;
-	}
-	if (name_is(l, "PALLET_SHUTTLE")) {
-		/* rs274 prints it for M30, just before PROGRAM_END */
-		st->pallet = true;
-		return 0;
-	}
-	if (name_is(l, "SET_G5X_OFFSET") || name_is(l, "SET_G92_OFFSET") ||
-	    name_is(l, "SET_ORIGIN_OFFSETS")) {
-		bool g5x = name_is(l, "SET_G5X_OFFSET");
-		int first = g5x ? 1 : 0;
-		double *off = name_is(l, "SET_G92_OFFSET") ? st->g92 : st->g5x;
+	if (feed && (ret = need_feed(c, st, l)))
+		return ret;
+	b = prog_push(c, feed ? SH2000_PROG_LINE : SH2000_PROG_RAPID, l->line,
+		      l->col);
+	if (!b)
+		return -ENOMEM;
+	for (unsigned int a = 0; a < SH2000_AXES; a++)
+		if ((int)a < l->nargs)
+			b->end[a] = mpos(st, a, v[a]);
+	if (feed)
+		b->feed = st->feed_mm_min / 60;
+	memcpy(c->pos, b->end, sizeof(c->pos));
+	st->res_mm = 0.5e-4 * st->unit;
+	return 0;
+}
 
-		if ((ret = nums(c, l, first + 3, first + 6, v)) ||
-		    (ret = no_bc(c, l, first + 4, v)))
-			return ret;
-		for (unsigned int a = 0; a < SH2000_AXES; a++)
-			if (first + (int)a < l->nargs)
-				off[a] = v[first + a] *
-					 (a == SH2000_PROG_A ? 1 : st->unit);
-		return 0;
-	}
-	if (name_is(l, "SET_XY_ROTATION")) {
-		if ((ret = nums(c, l, 1, 1, v)))
-			return ret;
-		if (v[0] != 0)
-			return prog_err(c, SH2000_PD_UNSUPPORTED, l->line, l->col,
-					"SET_XY_ROTATION(%g): rotated coordinate systems are not supported",
-					v[0]);
-		return 0;
-	}
-	if (name_is(l, "USE_TOOL_LENGTH_OFFSET")) {
-		/* "x y z, a b c, u v w": every number must be zero */
-		const char *p = l->raw, *e = l->raw + l->nraw;
+/* The radius tolerance of an arc rs274 printed: LinuxCNC's for the units,
+ * plus what printing 4 decimals of it (and of its start) may add. */
+static double arc_tolerance(const struct prog_ctx *c, const struct cstate *st)
+{
+	double tol = c->opt.arc_tolerance_mm > 0 ? c->opt.arc_tolerance_mm :
+		     st->unit == PROG_MM_PER_INCH ? SH2000_ARC_CENTRE_TOL_INCH_MM :
+		     SH2000_ARC_CENTRE_TOL_MM;
 
-		while (p < e) {
-			char *q;
-			double x;
+	return tol + 4 * (0.5e-4 * st->unit + st->res_mm);
+}
 
-			if (isspace((unsigned char)*p) || *p == ',') {
-				p++;
-				continue;
-			}
-			x = strtod(p, &q);
-			if (q == p || q > e)
-				return prog_err(c, SH2000_PD_SYNTAX, l->line,
-						(unsigned)(p - l->raw) + l->col + (unsigned)strlen(l->name) + 1,
-						"USE_TOOL_LENGTH_OFFSET: not a number");
-			if (x != 0)
-				return prog_err(c, SH2000_PD_UNSUPPORTED, l->line, l->col,
-						"tool length offsets are not supported (the card has no tool)");
-			p = q;
-		}
+static int cmd_arc_feed(struct prog_ctx *c, struct cstate *st,
+			const struct cline *l)
+{
+	unsigned int a1, a2, an;
+	double v[MAX_ARGS], end[SH2000_AXES];
+	struct sh2000_prog_block *b;
+	int rot, ret;
+
+	if ((ret = nums(c, l, 6, 9, v)) || (ret = no_bc(c, l, 7, v)))
+		return ret;
+	if ((ret = need_feed(c, st, l)))
+		return ret;
+	if (v[4] != floor(v[4]) || v[4] == 0 || fabs(v[4]) > 1e6)
+		return prog_err(c, SH2000_PD_RANGE, l->line, l->arg[4].col,
+				"ARC_FEED: rotation %g is not a non-zero integer", v[4]);
+	rot = (int)v[4];
+	sh2000_plane_axes(st->plane, &a1, &a2, &an);
+	memcpy(end, c->pos, sizeof(end));
+	end[a1] = mpos(st, (int)a1, v[0]);
+	end[a2] = mpos(st, (int)a2, v[1]);
+	end[an] = mpos(st, (int)an, v[5]);
+	if (l->nargs > 6)
+		end[SH2000_PROG_A] = mpos(st, SH2000_PROG_A, v[6]);
+	b = prog_push(c, SH2000_PROG_ARC, l->line, l->col);
+	if (!b)
+		return -ENOMEM;
+	memcpy(b->end, end, sizeof(end));
+	b->feed = st->feed_mm_min / 60;
+	/* rs274 prints 4 decimals: a full circle's end may miss its start by
+	 * the rounding of both prints (the start's maybe in other units) */
+	ret = prog_arc_fill(c, b, st->plane, mpos(st, (int)a1, v[2]),
+			    mpos(st, (int)a2, v[3]), rot > 0,
+			    (unsigned int)abs(rot), arc_tolerance(c, st),
+			    M_SQRT2 * (0.5e-4 * st->unit + st->res_mm) + 1e-9,
+			    l->line, l->col);
+	st->res_mm = 0.5e-4 * st->unit;
+	memcpy(c->pos, end, sizeof(c->pos));
+	if (ret)
+		c->prog->count--;
+	return ret;
+}
+
+static int cmd_feed_rate(struct prog_ctx *c, struct cstate *st,
+			 const struct cline *l)
+{
+	struct sh2000_prog_block *b;
+	double v[MAX_ARGS];
+	int ret;
+
+	if ((ret = nums(c, l, 1, 1, v)))
+		return ret;
+	if (v[0] < 0)
+		return prog_err(c, SH2000_PD_RANGE, l->line, l->arg[0].col,
+				"negative feed rate %g", v[0]);
+	if (v[0] * st->unit == st->feed_mm_min)
 		return 0;
-	}
-	if (name_is(l, "NURBS_FEED"))
+	st->feed_mm_min = v[0] * st->unit;
+	b = prog_push(c, SH2000_PROG_FEED, l->line, l->col);
+	if (!b)
+		return -ENOMEM;
+	b->u.feed_mm_min = st->feed_mm_min;
+	b->feed = st->feed_mm_min / 60;
+	return 0;
+}
+
+static int cmd_feed_mode(struct prog_ctx *c, struct cstate *st,
+			 const struct cline *l)
+{
+	double v[MAX_ARGS];
+	int ret;
+
+	(void)st;
+	if ((ret = nums(c, l, 1, 2, v)))
+		return ret;
+	if (v[l->nargs - 1] != 0)
 		return prog_err(c, SH2000_PD_UNSUPPORTED, l->line, l->col,
-				"NURBS_FEED: rs274 prints only the number of control points, so the curve cannot be rebuilt; read the G-code file with the built-in parser, which reads G5.2/G5.3");
-	if (name_is(l, "MESSAGE") || !strncmp(l->name, "LOG", 3)) {
-		prog_warn_once(c, PW_MESSAGE, SH2000_PD_IGNORED, l->line, l->col,
-			       "%s not acted on: the tools do not display or log program messages (later ones are not reported)",
-			       l->name);
+				"SET_FEED_MODE: only units per minute (G94) is supported");
+	return 0;
+}
+
+/* The word argument of l among words[]: its index, or -1. */
+static int word_arg(const struct cline *l, const char *const *words, int n)
+{
+	for (int i = 0; i < n; i++)
+		if (l->nargs == 1 && arg_is(l, 0, words[i]))
+			return i;
+	return -1;
+}
+
+static int cmd_units(struct prog_ctx *c, struct cstate *st,
+		     const struct cline *l)
+{
+	static const char *const w[3] = {
+		"CANON_UNITS_MM", "CANON_UNITS_INCHES", "CANON_UNITS_CM",
+	};
+	static const double unit[3] = { 1, PROG_MM_PER_INCH, 10 };
+	int i = word_arg(l, w, 3);
+
+	if (i < 0)
+		return prog_err(c, SH2000_PD_UNKNOWN, l->line, l->col,
+				"USE_LENGTH_UNITS: unknown units");
+	st->unit = unit[i];
+	return 0;
+}
+
+static int cmd_plane(struct prog_ctx *c, struct cstate *st,
+		     const struct cline *l)
+{
+	static const char *const w[3] = {
+		"CANON_PLANE_XY", "CANON_PLANE_XZ", "CANON_PLANE_YZ",
+	};
+	int i = word_arg(l, w, 3);
+
+	if (i < 0)
+		return prog_err(c, SH2000_PD_UNSUPPORTED, l->line, l->col,
+				"SELECT_PLANE: only the XY, XZ and YZ planes");
+	st->plane = (enum sh2000_plane)(SH2000_PLANE_XY + i);
+	return 0;
+}
+
+static int cmd_dwell(struct prog_ctx *c, struct cstate *st,
+		     const struct cline *l)
+{
+	struct sh2000_prog_block *b;
+	double v[MAX_ARGS];
+	int ret;
+
+	(void)st;
+	if ((ret = nums(c, l, 1, 1, v)))
+		return ret;
+	if (v[0] < 0)
+		return prog_err(c, SH2000_PD_RANGE, l->line, l->arg[0].col,
+				"negative dwell %g s", v[0]);
+	b = prog_push(c, SH2000_PROG_DWELL, l->line, l->col);
+	if (!b)
+		return -ENOMEM;
+	b->u.dwell_s = v[0];
+	return 0;
+}
+
+static int cmd_stop(struct prog_ctx *c, struct cstate *st,
+		    const struct cline *l)
+{
+	struct sh2000_prog_block *b = prog_push(c, SH2000_PROG_PAUSE, l->line,
+						 l->col);
+
+	(void)st;
+	if (!b)
+		return -ENOMEM;
+	b->u.optional = name_is(l, "OPTIONAL_PROGRAM_STOP");
+	return 0;
+}
+
+static int cmd_end(struct prog_ctx *c, struct cstate *st,
+		   const struct cline *l)
+{
+	struct sh2000_prog_block *b = prog_push(c, SH2000_PROG_END, l->line,
+						 l->col);
+
+	if (!b)
+		return -ENOMEM;
+	b->u.end_code = st->pallet ? 30 : 2;
+	st->ended = true;
+	return 0;
+}
+
+static int cmd_pallet(struct prog_ctx *c, struct cstate *st,
+		      const struct cline *l)
+{
+	(void)c;
+	(void)l;
+	/* rs274 prints it for M30, just before PROGRAM_END */
+	st->pallet = true;
+	return 0;
+}
+
+static int cmd_offsets(struct prog_ctx *c, struct cstate *st,
+		       const struct cline *l)
+{
+	int first = name_is(l, "SET_G5X_OFFSET") ? 1 : 0, ret;
+	double *off = name_is(l, "SET_G92_OFFSET") ? st->g92 : st->g5x;
+	double v[MAX_ARGS];
+
+	if ((ret = nums(c, l, first + 3, first + 6, v)) ||
+	    (ret = no_bc(c, l, first + 4, v)))
+		return ret;
+	for (unsigned int a = 0; a < SH2000_AXES; a++)
+		if (first + (int)a < l->nargs)
+			off[a] = v[first + a] * (a == SH2000_PROG_A ? 1 : st->unit);
+	return 0;
+}
+
+static int cmd_rotation(struct prog_ctx *c, struct cstate *st,
+			const struct cline *l)
+{
+	double v[MAX_ARGS];
+	int ret;
+
+	(void)st;
+	if ((ret = nums(c, l, 1, 1, v)))
+		return ret;
+	if (v[0] != 0)
+		return prog_err(c, SH2000_PD_UNSUPPORTED, l->line, l->col,
+				"SET_XY_ROTATION(%g): rotated coordinate systems are not supported",
+				v[0]);
+	return 0;
+}
+
+static int cmd_tool_offset(struct prog_ctx *c, struct cstate *st,
+			   const struct cline *l)
+{
+	/* "x y z, a b c, u v w": every number must be zero */
+	const char *p = l->raw, *e = l->raw + l->nraw;
+
+	(void)st;
+	while (p < e) {
+		char *q;
+		double x;
+
+		if (isspace((unsigned char)*p) || *p == ',') {
+			p++;
+			continue;
+		}
+		x = strtod(p, &q);
+		if (q == p || q > e)
+			return prog_err(c, SH2000_PD_SYNTAX, l->line,
+					(unsigned)(p - l->raw) + l->col + (unsigned)strlen(l->name) + 1,
+					"USE_TOOL_LENGTH_OFFSET: not a number");
+		if (x != 0)
+			return prog_err(c, SH2000_PD_UNSUPPORTED, l->line, l->col,
+					"tool length offsets are not supported (the card has no tool)");
+		p = q;
+	}
+	return 0;
+}
+
+static int cmd_nurbs_feed(struct prog_ctx *c, struct cstate *st,
+			  const struct cline *l)
+{
+	(void)st;
+	return prog_err(c, SH2000_PD_UNSUPPORTED, l->line, l->col,
+			"NURBS_FEED: rs274 prints only the number of control points, so the curve cannot be rebuilt; read the G-code file with the built-in parser, which reads G5.2/G5.3");
+}
+
+static int cmd_spindle_speed(struct prog_ctx *c, struct cstate *st,
+			     const struct cline *l)
+{
+	double v[MAX_ARGS];
+	int ret;
+
+	(void)st;
+	if ((ret = nums(c, l, 1, 2, v)))
+		return ret;
+	if (v[l->nargs - 1] != 0)
+		prog_warn_once(c, PW_SPEED, SH2000_PD_NOT_ACTED, l->line, l->col,
+			       "SET_SPINDLE_SPEED(%g) (spindle speed) not acted on: the SH-2000TH has no spindle output; later ones are not reported",
+			       v[l->nargs - 1]);
+	return 0;
+}
+
+/* SET_MOTION_CONTROL_MODE(CANON_EXACT_STOP | CANON_EXACT_PATH |
+ * CANON_CONTINUOUS, tolerance) and SET_NAIVECAM_TOLERANCE(q): G61.1, G61,
+ * G64 P Q. The ones rs274 prints while resetting are its defaults, not
+ * the program's. */
+static int path_block(struct prog_ctx *c, const struct cline *l,
+		      enum sh2000_path_mode mode, double tol, double naive)
+{
+	struct sh2000_prog_block *b = prog_push(c, SH2000_PROG_PATH_MODE,
+						 l->line, l->col);
+
+	if (!b)
+		return -ENOMEM;
+	b->u.path.mode = mode;
+	b->u.path.tolerance = tol;
+	b->u.path.naive_tolerance = naive;
+	return 0;
+}
+
+static int cmd_motion_mode(struct prog_ctx *c, struct cstate *st,
+			   const struct cline *l)
+{
+	static const char *const w[3] = {
+		"CANON_CONTINUOUS", "CANON_EXACT_PATH", "CANON_EXACT_STOP",
+	};
+	double tol = 0;
+	int i = -1;
+
+	for (int k = 0; k < 3 && l->nargs >= 1; k++)
+		if (arg_is(l, 0, w[k]))
+			i = k;
+	if (i < 0 || l->nargs > 2)
+		return prog_err(c, SH2000_PD_UNKNOWN, l->line, l->col,
+				"SET_MOTION_CONTROL_MODE: unknown mode");
+	if (l->nargs == 2 && num(c, l, 1, &tol))
+		return -SH2000_PROG_EINVALID;
+	if (tol < 0)
+		return prog_err(c, SH2000_PD_RANGE, l->line, l->arg[1].col,
+				"SET_MOTION_CONTROL_MODE: negative tolerance %g", tol);
+	if (st->resetting)
+		return 0;
+	tol *= st->unit;
+	st->naive_mm = tol;	/* until SET_NAIVECAM_TOLERANCE says */
+	return path_block(c, l, (enum sh2000_path_mode)i, tol, tol);
+}
+
+static int cmd_naivecam(struct prog_ctx *c, struct cstate *st,
+			const struct cline *l)
+{
+	struct sh2000_prog_block *last;
+	double v[MAX_ARGS];
+	int ret;
+
+	if ((ret = nums(c, l, 1, 1, v)))
+		return ret;
+	if (v[0] < 0)
+		return prog_err(c, SH2000_PD_RANGE, l->line, l->arg[0].col,
+				"SET_NAIVECAM_TOLERANCE: negative tolerance %g", v[0]);
+	if (st->resetting)
+		return 0;
+	st->naive_mm = v[0] * st->unit;
+	/* rs274 prints it right after the mode G64 set: one setting */
+	last = c->prog->count ? &c->prog->blocks[c->prog->count - 1] : NULL;
+	if (last && last->kind == SH2000_PROG_PATH_MODE &&
+	    last->pos.line == l->line - 1) {
+		last->u.path.naive_tolerance = st->naive_mm;
 		return 0;
 	}
-	if (name_is(l, "START_SPINDLE_CLOCKWISE") ||
-	    name_is(l, "START_SPINDLE_COUNTERCLOCKWISE") ||
-	    name_is(l, "ORIENT_SPINDLE")) {
-		prog_warn_once(c, PW_SPINDLE, SH2000_PD_NOT_ACTED, l->line, l->col,
-			       "%s (spindle) not acted on: the SH-2000TH has no spindle output; later spindle commands are not reported",
-			       l->name);
-		return 0;
+	return 0;
+}
+
+typedef int (*cmd_fn)(struct prog_ctx *c, struct cstate *st,
+		      const struct cline *l);
+
+static const struct {
+	const char *name;
+	cmd_fn fn;
+} commands[] = {
+	{ "STRAIGHT_TRAVERSE", cmd_straight },
+	{ "STRAIGHT_FEED", cmd_straight },
+	{ "ARC_FEED", cmd_arc_feed },
+	{ "SET_FEED_RATE", cmd_feed_rate },
+	{ "SET_FEED_MODE", cmd_feed_mode },
+	{ "USE_LENGTH_UNITS", cmd_units },
+	{ "SELECT_PLANE", cmd_plane },
+	{ "DWELL", cmd_dwell },
+	{ "PROGRAM_STOP", cmd_stop },
+	{ "OPTIONAL_PROGRAM_STOP", cmd_stop },
+	{ "PROGRAM_END", cmd_end },
+	{ "PALLET_SHUTTLE", cmd_pallet },
+	{ "SET_G5X_OFFSET", cmd_offsets },
+	{ "SET_G92_OFFSET", cmd_offsets },
+	{ "SET_ORIGIN_OFFSETS", cmd_offsets },
+	{ "SET_XY_ROTATION", cmd_rotation },
+	{ "USE_TOOL_LENGTH_OFFSET", cmd_tool_offset },
+	{ "NURBS_FEED", cmd_nurbs_feed },
+	{ "SET_SPINDLE_SPEED", cmd_spindle_speed },
+	{ "SET_MOTION_CONTROL_MODE", cmd_motion_mode },
+	{ "SET_NAIVECAM_TOLERANCE", cmd_naivecam },
+};
+
+/* What rs274 prints while it resets, before the program's own lines. */
+static const char *const reset_sequence[] = {
+	"SET_MOTION_CONTROL_MODE", "SET_NAIVECAM_TOLERANCE", "SET_FEED_MODE",
+	"SET_FEED_RATE", "STOP_SPINDLE_TURNING", "SET_SPINDLE_MODE",
+	"ENABLE_FEED_OVERRIDE", "ENABLE_SPEED_OVERRIDE",
+	"ENABLE_ADAPTIVE_FEED", "ENABLE_FEED_HOLD", "SELECT_PLANE",
+	"SET_FEED_REFERENCE", NULL,
+};
+
+/* Commands accepted and not acted on: a warning once per kind. */
+static const struct {
+	const char *name;
+	unsigned int kind;
+	const char *what;
+} not_acted[] = {
+	{ "START_SPINDLE_CLOCKWISE", PW_SPINDLE, "spindle" },
+	{ "START_SPINDLE_COUNTERCLOCKWISE", PW_SPINDLE, "spindle" },
+	{ "ORIENT_SPINDLE", PW_SPINDLE, "spindle" },
+	{ "FLOOD_ON", PW_COOLANT, "coolant" },
+	{ "MIST_ON", PW_COOLANT, "coolant" },
+	{ "CHANGE_TOOL", PW_TOOL, "tool" },
+	{ "SELECT_TOOL", PW_TOOL, "tool" },
+	{ "SELECT_POCKET", PW_TOOL, "tool" },
+};
+
+static int warn_not_acted(struct prog_ctx *c, const struct cline *l,
+			  unsigned int kind, const char *what)
+{
+	const char *why = kind == PW_SPINDLE ? "has no spindle output" :
+			  kind == PW_COOLANT ? "has no coolant output" :
+			  "has no tool changer";
+
+	return prog_warn_once(c, kind, SH2000_PD_NOT_ACTED, l->line, l->col,
+			      "%s (%s) not acted on: the SH-2000TH %s; later %s commands are not reported",
+			      l->name, what, why, what);
+}
+
+static int do_line(struct prog_ctx *c, struct cstate *st, struct cline *l)
+{
+	size_t i;
+
+	if (name_is(l, "ON_RESET")) {
+		st->resetting = true;
+		st->reset_seen = 0;
+	} else if (st->resetting) {
+		for (i = 0; reset_sequence[i]; i++)
+			if (name_is(l, reset_sequence[i]))
+				break;
+		if (!reset_sequence[i] || (st->reset_seen & (1u << i)))
+			st->resetting = false;
+		else
+			st->reset_seen |= 1u << i;
 	}
-	if (name_is(l, "SET_SPINDLE_SPEED")) {
-		if ((ret = nums(c, l, 1, 2, v)))
-			return ret;
-		if (v[l->nargs - 1] != 0)
-			prog_warn_once(c, PW_SPEED, SH2000_PD_NOT_ACTED, l->line, l->col,
-				       "SET_SPINDLE_SPEED(%g) (spindle speed) not acted on: the SH-2000TH has no spindle output; later ones are not reported",
-				       v[l->nargs - 1]);
-		return 0;
-	}
-	if (name_is(l, "FLOOD_ON") || name_is(l, "MIST_ON")) {
-		prog_warn_once(c, PW_COOLANT, SH2000_PD_NOT_ACTED, l->line, l->col,
-			       "%s (coolant) not acted on: the SH-2000TH has no coolant output; later coolant commands are not reported",
-			       l->name);
-		return 0;
-	}
-	if (name_is(l, "CHANGE_TOOL") || name_is(l, "SELECT_TOOL") ||
-	    name_is(l, "SELECT_POCKET")) {
-		prog_warn_once(c, PW_TOOL, SH2000_PD_NOT_ACTED, l->line, l->col,
-			       "%s (tool) not acted on: the SH-2000TH has no tool changer; later tool commands are not reported",
-			       l->name);
-		return 0;
-	}
+	for (i = 0; i < sizeof(commands) / sizeof(commands[0]); i++)
+		if (name_is(l, commands[i].name))
+			return commands[i].fn(c, st, l);
+	for (i = 0; i < sizeof(not_acted) / sizeof(not_acted[0]); i++)
+		if (name_is(l, not_acted[i].name))
+			return warn_not_acted(c, l, not_acted[i].kind,
+					      not_acted[i].what);
+	if (name_is(l, "MESSAGE") || !strncmp(l->name, "LOG", 3))
+		return prog_warn_once(c, PW_MESSAGE, SH2000_PD_IGNORED, l->line,
+				      l->col,
+				      "%s not acted on: the tools do not display or log program messages (later ones are not reported)",
+				      l->name);
 	if (in_list(l->name, ignored))
 		return 0;
 	if (in_list(l->name, unsupported) || !strncmp(l->name, "SPINDLE.", 8))
@@ -481,39 +713,52 @@ static int do_line(struct prog_ctx *c, struct cstate *st, struct cline *l)
 			"unknown canonical command %s", l->name);
 }
 
-int prog_read_canon(struct prog_ctx *c, const char *text, size_t len)
+static void canon_init(struct prog_ctx *c, void *state)
 {
-	struct cstate st = { .unit = 1, .plane = SH2000_PLANE_XY };
-	unsigned int line = 0;
-	size_t off = 0;
+	struct cstate *st = state;
 
-	while (off < len && !c->stop) {
-		const char *s = text + off;
-		struct cline l;
-		size_t n, i = 0;
+	(void)c;
+	memset(st, 0, sizeof(*st));
+	st->unit = 1;
+	st->plane = SH2000_PLANE_XY;
+}
 
-		off = prog_next_line(text, len, off, &n);
-		line++;
-		while (i < n && isspace((unsigned char)s[i]))
-			i++;
-		if (i == n)
-			continue;
-		if (parse_line(c, s, n, line, &l))
-			continue;
-		if (st.ended) {
-			/* rs274 resets (ON_RESET) after the end: no matter */
-			if (!in_list(l.name, ignored))
-				prog_warn_once(c, PW_AFTER_END, SH2000_PD_IGNORED,
-					       line, l.col,
-					       "%s and anything else after PROGRAM_END is not read",
-					       l.name);
-			continue;
-		}
-		do_line(c, &st, &l);
+static void canon_line(struct prog_ctx *c, void *state, const char *s,
+		       size_t n, unsigned int line)
+{
+	struct cstate *st = state;
+	struct cline l;
+	size_t i = 0;
+
+	while (i < n && isspace((unsigned char)s[i]))
+		i++;
+	if (i == n || parse_line(c, s, n, line, &l))
+		return;
+	if (st->ended) {
+		/* rs274 resets (ON_RESET) after the end: no matter */
+		if (!in_list(l.name, ignored))
+			prog_warn_once(c, PW_AFTER_END, SH2000_PD_IGNORED, line,
+				       l.col,
+				       "%s and anything else after PROGRAM_END is not read",
+				       l.name);
+		return;
 	}
+	do_line(c, st, &l);
+}
+
+static void canon_finish(struct prog_ctx *c, void *state, unsigned int line)
+{
+	struct cstate *st = state;
+
 	/* rs274 stops printing at the first error in the program */
-	if (!st.ended && !c->stop)
+	if (!st->ended && !c->stop)
 		prog_err(c, SH2000_PD_MISSING, line ? line : 1, 1,
 			 "no PROGRAM_END(): rs274 stopped early (an error in the G-code?) or the file is cut short");
-	return c->errors ? -SH2000_PROG_EINVALID : 0;
 }
+
+const struct prog_format_ops prog_canon_ops = {
+	.state_size = sizeof(struct cstate),
+	.init = canon_init,
+	.line = canon_line,
+	.finish = canon_finish,
+};

@@ -98,151 +98,198 @@ static int number(struct prog_ctx *c, const struct field *f,
 	return 0;
 }
 
-int prog_read_csv(struct prog_ctx *c, const char *text, size_t len)
+struct csv_state {
+	int kinds[MAX_COLS], ncols;
+	bool header, first, feed_block;
+	double feed;
+	unsigned int npoints;
+};
+
+/* Column kind of header field f, COL_KINDS if unknown. */
+static int column_kind(const struct field *f)
 {
-	int kinds[MAX_COLS], ncols = 0;
-	bool header = false, first = true, feed_block = false;
-	double feed = c->opt.feed_mm_s > 0 ? c->opt.feed_mm_s : 0;
-	unsigned int line = 0, npoints = 0;
-	size_t off = 0;
+	int k;
 
-	while (off < len && !c->stop) {
-		const char *s = text + off;
-		struct field f[MAX_COLS];
-		double p[SH2000_AXES];
-		double nfeed = feed;
-		struct sh2000_prog_block *b;
-		size_t n;
-		int nf, bad = 0;
+	for (k = 0; k < COL_KINDS; k++)
+		if (f->n == strlen(col_names[k]) &&
+		    !strncasecmp(f->s, col_names[k], f->n))
+			return k;
+	if (f->n == 4 && !strncasecmp(f->s, "feed", 4))
+		return COL_F_MIN;
+	return COL_KINDS;
+}
 
-		off = prog_next_line(text, len, off, &n);
-		line++;
-		if (empty_line(s, n))
-			continue;
-		nf = split(s, n, f);
-		if (first) {
-			first = false;
-			if (nf > 0 && f[0].n && isalpha((unsigned char)f[0].s[0])) {
-				bool seen[COL_KINDS] = { false };
+/* A header line names the columns. */
+static int check_header(struct prog_ctx *c, struct csv_state *st,
+			const struct field *f, int nf, unsigned int line)
+{
+	bool seen[COL_KINDS] = { false };
 
-				header = true;
-				if (nf > MAX_COLS) {
-					prog_err(c, SH2000_PD_SYNTAX, line, 1,
-						 "more than %d columns", MAX_COLS);
-					return -SH2000_PROG_EINVALID;
-				}
-				ncols = nf;
-				for (int i = 0; i < nf; i++) {
-					int k;
+	if (nf > MAX_COLS)
+		return prog_err(c, SH2000_PD_SYNTAX, line, 1,
+				"more than %d columns", MAX_COLS);
+	for (int i = 0; i < nf; i++) {
+		int k = column_kind(&f[i]);
 
-					for (k = 0; k < COL_KINDS; k++)
-						if (f[i].n == strlen(col_names[k]) &&
-						    !strncasecmp(f[i].s, col_names[k], f[i].n))
-							break;
-					if (k == COL_KINDS && f[i].n == 4 &&
-					    !strncasecmp(f[i].s, "feed", 4))
-						k = COL_F_MIN;
-					if (k == COL_KINDS) {
-						prog_err(c, SH2000_PD_UNKNOWN, line, f[i].col,
-							 "unknown column '%.*s' (columns: x, y, z, a, f or feed in mm/min, feed_mm_s)",
-							 (int)f[i].n, f[i].s);
-						return -SH2000_PROG_EINVALID;
-					}
-					if (seen[k] || ((k == COL_F_MIN || k == COL_F_S) &&
-							(seen[COL_F_MIN] || seen[COL_F_S]))) {
-						prog_err(c, SH2000_PD_CONFLICT, line, f[i].col,
-							 "column '%.*s' given twice",
-							 (int)f[i].n, f[i].s);
-						return -SH2000_PROG_EINVALID;
-					}
-					seen[k] = true;
-					kinds[i] = k;
-				}
-				if (!seen[COL_X] && !seen[COL_Y] && !seen[COL_Z] &&
-				    !seen[COL_A]) {
-					prog_err(c, SH2000_PD_MISSING, line, 1,
-						 "header names no axis column (x, y, z, a)");
-					return -SH2000_PROG_EINVALID;
-				}
-				continue;
-			}
-			if (nf < 2 || nf > 5) {
-				prog_err(c, SH2000_PD_SYNTAX, line, 1,
-					 "%d fields: without a header a line is x,y[,z[,a[,f]]] (2 to 5 fields)",
-					 nf > MAX_COLS ? MAX_COLS + 1 : nf);
-				return -SH2000_PROG_EINVALID;
-			}
-			ncols = nf;
-			for (int i = 0; i < nf; i++)
-				kinds[i] = i < 4 ? i : COL_F_MIN;
-		}
-		if (nf != ncols) {
-			prog_err(c, SH2000_PD_SYNTAX, line,
-				 nf > ncols ? f[ncols].col : (unsigned)n + 1,
-				 "%s%d fields, expected %d like the %s",
-				 nf > MAX_COLS ? "more than " : "",
-				 nf > MAX_COLS ? MAX_COLS : nf, ncols,
-				 header ? "header" : "first line");
-			continue;
-		}
-		memcpy(p, c->pos, sizeof(p));
-		for (int i = 0; i < nf; i++) {
-			static const char *const what[COL_KINDS] = {
-				"x", "y", "z", "a", "feed", "feed_mm_s",
-			};
-			double v = 0;
-
-			if (f[i].n == 0)
-				continue;	/* empty: unchanged */
-			if (number(c, &f[i], line, what[kinds[i]], &v)) {
-				bad = 1;
-				break;
-			}
-			if (kinds[i] >= COL_F_MIN) {
-				if (!(v > 0)) {
-					prog_err(c, SH2000_PD_RANGE, line, f[i].col,
-						 "feed %g must be > 0", v);
-					bad = 1;
-					break;
-				}
-				nfeed = kinds[i] == COL_F_MIN ? v / 60.0 : v;
-			} else {
-				p[kinds[i]] = v;
-			}
-		}
-		if (bad)
-			continue;
-		if (nfeed != feed || (!feed_block && npoints > 0 && nfeed > 0)) {
-			b = prog_push(c, SH2000_PROG_FEED, line, 1);
-			if (!b)
-				return -ENOMEM;
-			b->feed = nfeed;
-			b->u.feed_mm_min = nfeed * 60.0;
-			feed = nfeed;
-			feed_block = true;
-		}
-		if (npoints++ == 0) {
-			if (!memcmp(p, c->pos, sizeof(p)))
-				continue;
-			b = prog_push(c, SH2000_PROG_RAPID, line, 1);
-		} else {
-			if (!(feed > 0)) {
-				prog_err(c, SH2000_PD_FEED, line, 1,
-					 "no feed rate for this move: add an f (mm/min) or feed_mm_s column, or give the tool a feed");
-				memcpy(c->pos, p, sizeof(p));
-				continue;
-			}
-			b = prog_push(c, SH2000_PROG_LINE, line, 1);
-			if (b)
-				b->feed = feed;
-		}
-		if (!b)
-			return -ENOMEM;
-		memcpy(b->end, p, sizeof(p));
-		memcpy(c->pos, p, sizeof(p));
+		if (k == COL_KINDS)
+			return prog_err(c, SH2000_PD_UNKNOWN, line, f[i].col,
+					"unknown column '%.*s' (columns: x, y, z, a, f or feed in mm/min, feed_mm_s)",
+					(int)f[i].n, f[i].s);
+		if (seen[k] || ((k == COL_F_MIN || k == COL_F_S) &&
+				(seen[COL_F_MIN] || seen[COL_F_S])))
+			return prog_err(c, SH2000_PD_CONFLICT, line, f[i].col,
+					"column '%.*s' given twice", (int)f[i].n,
+					f[i].s);
+		seen[k] = true;
+		st->kinds[i] = k;
 	}
-	if (npoints == 0 && !c->stop)
+	if (!seen[COL_X] && !seen[COL_Y] && !seen[COL_Z] && !seen[COL_A])
+		return prog_err(c, SH2000_PD_MISSING, line, 1,
+				"header names no axis column (x, y, z, a)");
+	st->ncols = nf;
+	return 0;
+}
+
+/* The first line: a header, or the first point fixing the column count. */
+static bool read_first(struct prog_ctx *c, struct csv_state *st,
+		       const struct field *f, int nf, unsigned int line)
+{
+	st->first = false;
+	if (nf > 0 && f[0].n && isalpha((unsigned char)f[0].s[0])) {
+		st->header = true;
+		/* a bad header ends the reading */
+		if (check_header(c, st, f, nf, line))
+			c->stop = true;
+		return true;
+	}
+	if (nf < 2 || nf > 5) {
+		prog_err(c, SH2000_PD_SYNTAX, line, 1,
+			 "%d fields: without a header a line is x,y[,z[,a[,f]]] (2 to 5 fields)",
+			 nf > MAX_COLS ? MAX_COLS + 1 : nf);
+		c->stop = true;
+		return true;
+	}
+	st->ncols = nf;
+	for (int i = 0; i < nf; i++)
+		st->kinds[i] = i < 4 ? i : COL_F_MIN;
+	return false;
+}
+
+/* The point and feed of a data line (empty fields: unchanged). */
+static int read_values(struct prog_ctx *c, const struct csv_state *st,
+		       const struct field *f, unsigned int line,
+		       double p[SH2000_AXES], double *feed)
+{
+	static const char *const what[COL_KINDS] = {
+		"x", "y", "z", "a", "feed", "feed_mm_s",
+	};
+
+	memcpy(p, c->pos, SH2000_AXES * sizeof(*p));
+	for (int i = 0; i < st->ncols; i++) {
+		int k = st->kinds[i];
+		double v = 0;
+
+		if (f[i].n == 0)
+			continue;
+		if (number(c, &f[i], line, what[k], &v))
+			return -SH2000_PROG_EINVALID;
+		if (k < COL_F_MIN) {
+			p[k] = v;
+			continue;
+		}
+		if (!(v > 0))
+			return prog_err(c, SH2000_PD_RANGE, line, f[i].col,
+					"feed %g must be > 0", v);
+		*feed = k == COL_F_MIN ? v / 60.0 : v;
+	}
+	return 0;
+}
+
+/* The blocks of one point: a feed change, then a rapid to the first
+ * point or a line to the others. */
+static void emit_point(struct prog_ctx *c, struct csv_state *st,
+		       const double p[SH2000_AXES], double nfeed,
+		       unsigned int line)
+{
+	struct sh2000_prog_block *b;
+
+	if (nfeed != st->feed ||
+	    (!st->feed_block && st->npoints > 0 && nfeed > 0)) {
+		b = prog_push(c, SH2000_PROG_FEED, line, 1);
+		if (!b)
+			return;
+		b->feed = nfeed;
+		b->u.feed_mm_min = nfeed * 60.0;
+		st->feed = nfeed;
+		st->feed_block = true;
+	}
+	if (st->npoints++ == 0) {
+		if (!memcmp(p, c->pos, SH2000_AXES * sizeof(*p)))
+			return;
+		b = prog_push(c, SH2000_PROG_RAPID, line, 1);
+	} else if (!(st->feed > 0)) {
+		prog_err(c, SH2000_PD_FEED, line, 1,
+			 "no feed rate for this move: add an f (mm/min) or feed_mm_s column, or give the tool a feed");
+		memcpy(c->pos, p, SH2000_AXES * sizeof(*p));
+		return;
+	} else {
+		b = prog_push(c, SH2000_PROG_LINE, line, 1);
+		if (b)
+			b->feed = st->feed;
+	}
+	if (!b)
+		return;
+	memcpy(b->end, p, SH2000_AXES * sizeof(*p));
+	memcpy(c->pos, p, SH2000_AXES * sizeof(*p));
+}
+
+static void csv_init(struct prog_ctx *c, void *state)
+{
+	struct csv_state *st = state;
+
+	memset(st, 0, sizeof(*st));
+	st->first = true;
+	st->feed = c->opt.feed_mm_s > 0 ? c->opt.feed_mm_s : 0;
+}
+
+static void csv_line(struct prog_ctx *c, void *state, const char *s,
+		     size_t n, unsigned int line)
+{
+	struct csv_state *st = state;
+	struct field f[MAX_COLS];
+	double p[SH2000_AXES], nfeed = st->feed;
+	int nf;
+
+	if (empty_line(s, n))
+		return;
+	nf = split(s, n, f);
+	if (st->first && read_first(c, st, f, nf, line))
+		return;
+	if (nf != st->ncols) {
+		prog_err(c, SH2000_PD_SYNTAX, line,
+			 nf > st->ncols ? f[st->ncols].col : (unsigned)n + 1,
+			 "%s%d fields, expected %d like the %s",
+			 nf > MAX_COLS ? "more than " : "",
+			 nf > MAX_COLS ? MAX_COLS : nf, st->ncols,
+			 st->header ? "header" : "first line");
+		return;
+	}
+	if (!read_values(c, st, f, line, p, &nfeed))
+		emit_point(c, st, p, nfeed, line);
+}
+
+static void csv_finish(struct prog_ctx *c, void *state, unsigned int line)
+{
+	struct csv_state *st = state;
+
+	if (st->npoints == 0 && !c->stop)
 		prog_err(c, SH2000_PD_MISSING, line ? line : 1, 1,
 			 "no points in the file");
-	return c->errors ? -SH2000_PROG_EINVALID : 0;
 }
+
+const struct prog_format_ops prog_csv_ops = {
+	.state_size = sizeof(struct csv_state),
+	.init = csv_init,
+	.line = csv_line,
+	.finish = csv_finish,
+};

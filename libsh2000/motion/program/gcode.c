@@ -212,6 +212,140 @@ static void check_comment(struct prog_ctx *c, const char *s, size_t n,
 		}
 }
 
+/* A comment at s[*i] == '(': checked, skipped. */
+static int lex_comment(struct prog_ctx *c, const char *s, size_t n,
+		       size_t *i, unsigned int line)
+{
+	unsigned int col = (unsigned)*i + 1;
+	size_t j = *i + 1;
+
+	while (j < n && s[j] != ')' && s[j] != '(')
+		j++;
+	if (j >= n)
+		return prog_err(c, SH2000_PD_SYNTAX, line, col,
+				"comment not closed: '(' without ')'");
+	if (s[j] == '(')
+		return prog_err(c, SH2000_PD_SYNTAX, line, (unsigned)j + 1,
+				"nested comment: '(' inside a comment");
+	check_comment(c, s + *i + 1, j - *i - 1, line, col);
+	*i = j + 1;
+	return 0;
+}
+
+/* What is not a word letter where one should start. */
+static int lex_not_word(struct prog_ctx *c, unsigned char ch,
+			unsigned int line, unsigned int col)
+{
+	if (ch == '#')
+		return prog_err(c, SH2000_PD_UNSUPPORTED, line, col,
+				"parameters (#) are not in the built-in parser's subset (LinuxCNC's rs274 reads full RS274NGC)");
+	if (ch == '[')
+		return prog_err(c, SH2000_PD_UNSUPPORTED, line, col,
+				"expressions ([...]) are not in the built-in parser's subset (LinuxCNC's rs274 reads full RS274NGC)");
+	if (isprint(ch))
+		return prog_err(c, SH2000_PD_SYNTAX, line, col,
+				"unexpected character '%c'", ch);
+	return prog_err(c, SH2000_PD_SYNTAX, line, col,
+			"unexpected byte 0x%02x", ch);
+}
+
+static int lex_g(struct prog_ctx *c, struct gline *l, double v,
+		 unsigned int col)
+{
+	long code = fabs(v) < 1000 ? lround(v * 10) : -1;
+	char nb[16], nb2[16];
+	int grp;
+
+	if (code < 0 || code > 9999 || fabs(v * 10 - (double)code) > 1e-4)
+		return prog_err(c, SH2000_PD_UNKNOWN, l->line, col,
+				"G%g is not a G code", v);
+	grp = g_group((int)code);
+	if (grp == G_UNKNOWN)
+		return prog_err(c, SH2000_PD_UNKNOWN, l->line, col,
+				"unknown G code %s", gname((int)code, nb, sizeof(nb)));
+	if (grp == G_UNSUPPORTED)
+		return prog_err(c, SH2000_PD_UNSUPPORTED, l->line, col,
+				"%s is not in the built-in parser's subset (LinuxCNC's rs274 reads full RS274NGC)",
+				gname((int)code, nb, sizeof(nb)));
+	if (l->g[grp] >= 0)
+		return prog_err(c, SH2000_PD_CONFLICT, l->line, col,
+				"%s and %s on one line: both are in modal group %d (%s)",
+				gname(l->g[grp], nb2, sizeof(nb2)),
+				gname((int)code, nb, sizeof(nb)), grp,
+				g_group_name(grp));
+	l->g[grp] = (int)code;
+	l->gcol[grp] = col;
+	return 0;
+}
+
+static int lex_m(struct prog_ctx *c, struct gline *l, double v,
+		 unsigned int col)
+{
+	long code = fabs(v) < 10000 ? lround(v) : -1;
+	int grp;
+
+	if (code < 0 || code > 9999 || fabs(v - (double)code) > 1e-6)
+		return prog_err(c, SH2000_PD_UNKNOWN, l->line, col,
+				"M%g is not an M code", v);
+	grp = m_group((int)code);
+	if (grp == G_UNKNOWN)
+		return prog_err(c, SH2000_PD_UNKNOWN, l->line, col,
+				"unknown M code M%ld", code);
+	if (grp == G_UNSUPPORTED)
+		return prog_err(c, SH2000_PD_UNSUPPORTED, l->line, col,
+				"M%ld is not in the built-in parser's subset", code);
+	/* M7 M8 too: LinuxCNC 2.9 rejects the pair */
+	if (l->m[grp] >= 0)
+		return prog_err(c, SH2000_PD_CONFLICT, l->line, col,
+				"M%d and M%ld on one line: both are in the same modal group",
+				l->m[grp], code);
+	l->m[grp] = (int)code;
+	l->mcol[grp] = col;
+	return 0;
+}
+
+/* Word L with value v (the nwords-th word of the line) into l. */
+static int lex_word(struct prog_ctx *c, struct gline *l, char L, double v,
+		    unsigned int col, unsigned int nwords)
+{
+	int ret = 0;
+
+	switch (L) {
+	case 'N':
+		if (nwords != 1)
+			return prog_err(c, SH2000_PD_SYNTAX, l->line, col,
+					"N word (line number) must begin the line");
+		return 0;
+	case 'G':
+		ret = lex_g(c, l, v, col);
+		break;
+	case 'M':
+		ret = lex_m(c, l, v, col);
+		break;
+	case 'B': case 'C': case 'U': case 'V': case 'W':
+		return prog_err(c, SH2000_PD_NO_AXIS, l->line, col,
+				"the SH-2000TH has no %c axis (its axes are X, Y, Z and the linear A)",
+				L);
+	case 'D': case 'E': case 'H':
+		return prog_err(c, SH2000_PD_UNSUPPORTED, l->line, col,
+				"%c word is not in the built-in parser's subset", L);
+	default:
+		if (HAS(l, L))
+			return prog_err(c, SH2000_PD_CONFLICT, l->line, col,
+					"%c word repeated on one line", L);
+		HAS(l, L) = true;
+		VAL(l, L) = v;
+		COL(l, L) = col;
+		break;
+	}
+	if (ret)
+		return ret;
+	if (!l->first_col)
+		l->first_col = col;
+	l->any_word = true;
+	return 0;
+}
+
 /* Split a line into words; 0, or an error (the line is then dropped). */
 static int lex_line(struct prog_ctx *c, const char *s, size_t n,
 		    unsigned int line, struct gline *l)
@@ -233,8 +367,8 @@ static int lex_line(struct prog_ctx *c, const char *s, size_t n,
 	while (i < n) {
 		unsigned int col = (unsigned)i + 1;
 		unsigned char ch = (unsigned char)s[i];
-		char L;
 		double v = 0;
+		char L;
 		int ret;
 
 		if (is_blank((char)ch)) {
@@ -244,123 +378,22 @@ static int lex_line(struct prog_ctx *c, const char *s, size_t n,
 		if (ch == ';')
 			break;
 		if (ch == '(') {
-			size_t j = i + 1;
-
-			while (j < n && s[j] != ')' && s[j] != '(')
-				j++;
-			if (j >= n)
-				return prog_err(c, SH2000_PD_SYNTAX, line, col,
-						"comment not closed: '(' without ')'");
-			if (s[j] == '(')
-				return prog_err(c, SH2000_PD_SYNTAX, line,
-						(unsigned)j + 1,
-						"nested comment: '(' inside a comment");
-			check_comment(c, s + i + 1, j - i - 1, line, col);
-			i = j + 1;
+			if ((ret = lex_comment(c, s, n, &i, line)))
+				return ret;
 			continue;
 		}
-		if (ch == '#')
-			return prog_err(c, SH2000_PD_UNSUPPORTED, line, col,
-					"parameters (#) are not in the built-in parser's subset (LinuxCNC's rs274 reads full RS274NGC)");
-		if (ch == '[')
-			return prog_err(c, SH2000_PD_UNSUPPORTED, line, col,
-					"expressions ([...]) are not in the built-in parser's subset (LinuxCNC's rs274 reads full RS274NGC)");
-		if (!isalpha(ch)) {
-			if (isprint(ch))
-				return prog_err(c, SH2000_PD_SYNTAX, line, col,
-						"unexpected character '%c'", ch);
-			return prog_err(c, SH2000_PD_SYNTAX, line, col,
-					"unexpected byte 0x%02x", ch);
-		}
+		if (!isalpha(ch))
+			return lex_not_word(c, ch, line, col);
 		L = (char)toupper(ch);
 		i++;
 		if (L == 'O')
 			return prog_err(c, SH2000_PD_UNSUPPORTED, line, col,
 					"O-words (subroutines, loops, conditionals) are not in the built-in parser's subset (LinuxCNC's rs274 reads full RS274NGC)");
 		ret = read_number(c, s, n, &i, line, L, col, &v);
+		if (!ret)
+			ret = lex_word(c, l, L, v, col, ++nwords);
 		if (ret)
 			return ret;
-		nwords++;
-		switch (L) {
-		case 'N':
-			if (nwords != 1)
-				return prog_err(c, SH2000_PD_SYNTAX, line, col,
-						"N word (line number) must begin the line");
-			continue;
-		case 'G': {
-			long code = fabs(v) < 1000 ? lround(v * 10) : -1;
-			int grp;
-			char nb[16];
-
-			if (code < 0 || code > 9999 ||
-			    fabs(v * 10 - (double)code) > 1e-4)
-				return prog_err(c, SH2000_PD_UNKNOWN, line, col,
-						"G%g is not a G code", v);
-			grp = g_group((int)code);
-			if (grp == G_UNKNOWN)
-				return prog_err(c, SH2000_PD_UNKNOWN, line, col,
-						"unknown G code %s",
-						gname((int)code, nb, sizeof(nb)));
-			if (grp == G_UNSUPPORTED)
-				return prog_err(c, SH2000_PD_UNSUPPORTED, line, col,
-						"%s is not in the built-in parser's subset (LinuxCNC's rs274 reads full RS274NGC)",
-						gname((int)code, nb, sizeof(nb)));
-			if (l->g[grp] >= 0) {
-				char nb2[16];
-
-				return prog_err(c, SH2000_PD_CONFLICT, line, col,
-						"%s and %s on one line: both are in modal group %d (%s)",
-						gname(l->g[grp], nb2, sizeof(nb2)),
-						gname((int)code, nb, sizeof(nb)),
-						grp, g_group_name(grp));
-			}
-			l->g[grp] = (int)code;
-			l->gcol[grp] = col;
-			break;
-		}
-		case 'M': {
-			long code = fabs(v) < 10000 ? lround(v) : -1;
-			int grp;
-
-			if (code < 0 || code > 9999 || fabs(v - (double)code) > 1e-6)
-				return prog_err(c, SH2000_PD_UNKNOWN, line, col,
-						"M%g is not an M code", v);
-			grp = m_group((int)code);
-			if (grp == G_UNKNOWN)
-				return prog_err(c, SH2000_PD_UNKNOWN, line, col,
-						"unknown M code M%ld", code);
-			if (grp == G_UNSUPPORTED)
-				return prog_err(c, SH2000_PD_UNSUPPORTED, line, col,
-						"M%ld is not in the built-in parser's subset", code);
-			if (l->m[grp] >= 0) {
-				/* M7 M8 too: LinuxCNC 2.9 rejects the pair */
-				return prog_err(c, SH2000_PD_CONFLICT, line, col,
-						"M%d and M%ld on one line: both are in the same modal group",
-						l->m[grp], code);
-			}
-			l->m[grp] = (int)code;
-			l->mcol[grp] = col;
-			break;
-		}
-		case 'B': case 'C': case 'U': case 'V': case 'W':
-			return prog_err(c, SH2000_PD_NO_AXIS, line, col,
-					"the SH-2000TH has no %c axis (its axes are X, Y, Z and the linear A)",
-					L);
-		case 'D': case 'E': case 'H': case 'Q':
-			return prog_err(c, SH2000_PD_UNSUPPORTED, line, col,
-					"%c word is not in the built-in parser's subset", L);
-		default:
-			if (HAS(l, L))
-				return prog_err(c, SH2000_PD_CONFLICT, line, col,
-						"%c word repeated on one line", L);
-			HAS(l, L) = true;
-			VAL(l, L) = v;
-			COL(l, L) = col;
-			break;
-		}
-		if (!l->first_col)
-			l->first_col = col;
-		l->any_word = true;
 	}
 	return 0;
 }
@@ -663,37 +696,40 @@ static int check_users(struct prog_ctx *c, const struct gline *l, int motion)
 	return 0;
 }
 
-static int exec_line(struct prog_ctx *c, struct gstate *st, struct gline *l)
+/* A line inside an open G5.2 block may hold only X, Y, P and L. */
+static int nurbs_line_check(struct prog_ctx *c, const struct gstate *st,
+			    const struct gline *l)
+{
+	char nb[16];
+
+	for (int i = 0; i < 26; i++)
+		if (l->has[i] && !strchr("XYPL", 'A' + i))
+			return prog_err(c, SH2000_PD_NURBS, l->line, l->col[i],
+					"%c word inside the NURBS block opened by G5.2 at line %u: only X, Y, P and L may appear until G5.3",
+					'A' + i, st->nurbs_line);
+	for (int g = 0; g < GRP_COUNT; g++)
+		if (l->g[g] >= 0 && l->g[g] != 52 && l->g[g] != 53)
+			return prog_err(c, SH2000_PD_NURBS, l->line, l->gcol[g],
+					"%s inside the NURBS block opened by G5.2 at line %u: close it with G5.3 first",
+					gname(l->g[g], nb, sizeof(nb)), st->nurbs_line);
+	for (int g = 0; g < MGRP_COUNT; g++)
+		if (l->m[g] >= 0)
+			return prog_err(c, SH2000_PD_NURBS, l->line, l->mcol[g],
+					"M%d inside the NURBS block opened by G5.2 at line %u: close it with G5.3 first",
+					l->m[g], st->nurbs_line);
+	return 0;
+}
+
+/* The motion this line runs: its own, or the modal one when it has axis
+ * words (LinuxCNC's motion_to_be); *bcol where the block starts. */
+static int line_motion(struct prog_ctx *c, const struct gstate *st,
+		       const struct gline *l, int *motion, unsigned int *bcol)
 {
 	bool axis = HAS(l, 'X') || HAS(l, 'Y') || HAS(l, 'Z') || HAS(l, 'A');
 	int mword = l->g[GRP_MOTION];
-	int motion;
-	unsigned int bcol;
-	double unit;
-	int ret;
 
-	if (st->nurbs_open) {
-		static const char ok[] = "XYPL";
-
-		for (int g = 0; g < GRP_COUNT; g++)
-			if (l->g[g] >= 0 && l->g[g] != 52 && l->g[g] != 53)
-				goto in_nurbs;
-		for (int g = 0; g < MGRP_COUNT; g++)
-			if (l->m[g] >= 0)
-				goto in_nurbs;
-		for (int i = 0; i < 26; i++)
-			if (l->has[i] && !strchr(ok, 'A' + i))
-				goto in_nurbs;
-	}
-	/* which motion this line runs: its own, or the modal one when it has
-	 * axis words (LinuxCNC's motion_to_be) */
-	if (mword >= 0)
-		motion = mword;
-	else if (axis)
-		motion = st->motion;
-	else
-		motion = MOT_NONE;
-	bcol = mword >= 0 ? l->gcol[GRP_MOTION] : l->first_col;
+	*motion = mword >= 0 ? mword : axis ? st->motion : MOT_NONE;
+	*bcol = mword >= 0 ? l->gcol[GRP_MOTION] : l->first_col;
 	if (mword == MOT_G80 && axis)
 		return prog_err(c, SH2000_PD_CONFLICT, l->line, l->gcol[GRP_MOTION],
 				"axis words with G80 (motion off)");
@@ -703,188 +739,246 @@ static int exec_line(struct prog_ctx *c, struct gstate *st, struct gline *l)
 	if (mword == MOT_G53 && axis)
 		return prog_err(c, SH2000_PD_CONFLICT, l->line, l->first_col,
 				"axis words with G5.3 (end of NURBS block)");
-	ret = check_users(c, l, motion);
-	if (ret)
-		return ret;
+	return check_users(c, l, *motion);
+}
 
-	if (HAS(l, 'F')) {
-		/* LinuxCNC sets F (step 4 of its order of execution) before
-		 * it changes units (step 16): F is in the units before the
-		 * line's G20/G21 */
-		double f = VAL(l, 'F');
-		double funit = st->inch ? PROG_MM_PER_INCH : 1.0;
+/* F: LinuxCNC sets the feed (step 4 of its order of execution) before it
+ * changes units (step 16), so F is in the units before the line's
+ * G20/G21. */
+static int do_feed_word(struct prog_ctx *c, struct gstate *st,
+			const struct gline *l)
+{
+	double f = VAL(l, 'F'), unit = st->inch ? PROG_MM_PER_INCH : 1.0;
+	struct sh2000_prog_block *b;
 
-		unit = funit;
-		if (l->g[GRP_UNITS] >= 0 && (l->g[GRP_UNITS] == 200) != st->inch)
-			prog_warn_once(c, PW_UNITS_F, SH2000_PD_ORDER, l->line,
-				       COL(l, 'F'),
-				       "F%g is read in %s, the units before this line's %s, as LinuxCNC does (it sets the feed before it changes units); put G20/G21 on a line of its own (later cases are not reported)",
-				       f, st->inch ? "inches" : "mm",
-				       l->g[GRP_UNITS] == 200 ? "G20" : "G21");
+	if (l->g[GRP_UNITS] >= 0 && (l->g[GRP_UNITS] == 200) != st->inch)
+		prog_warn_once(c, PW_UNITS_F, SH2000_PD_ORDER, l->line, COL(l, 'F'),
+			       "F%g is read in %s, the units before this line's %s, as LinuxCNC does (it sets the feed before it changes units); put G20/G21 on a line of its own (later cases are not reported)",
+			       f, st->inch ? "inches" : "mm",
+			       l->g[GRP_UNITS] == 200 ? "G20" : "G21");
+	if (f < 0)
+		return prog_err(c, SH2000_PD_RANGE, l->line, COL(l, 'F'),
+				"negative feed rate F%g", f);
+	if (f * unit == st->feed_mm_min)
+		return 0;
+	st->feed_mm_min = f * unit;
+	b = prog_push(c, SH2000_PROG_FEED, l->line, COL(l, 'F'));
+	if (!b)
+		return -ENOMEM;
+	b->u.feed_mm_min = st->feed_mm_min;
+	b->feed = feed_mm_s(st);
+	return 0;
+}
 
-		if (f < 0)
-			return prog_err(c, SH2000_PD_RANGE, l->line, COL(l, 'F'),
-					"negative feed rate F%g", f);
-		if (f * unit != st->feed_mm_min) {
-			struct sh2000_prog_block *b;
+static int do_dwell(struct prog_ctx *c, const struct gline *l)
+{
+	struct sh2000_prog_block *b;
 
-			st->feed_mm_min = f * unit;
-			b = prog_push(c, SH2000_PROG_FEED, l->line, COL(l, 'F'));
-			if (!b)
-				return -ENOMEM;
-			b->u.feed_mm_min = st->feed_mm_min;
-			b->feed = feed_mm_s(st);
-		}
-	}
+	if (!HAS(l, 'P'))
+		return prog_err(c, SH2000_PD_MISSING, l->line, l->gcol[GRP_NONMODAL],
+				"G4 without P (dwell seconds)");
+	if (VAL(l, 'P') < 0)
+		return prog_err(c, SH2000_PD_RANGE, l->line, COL(l, 'P'),
+				"G4 P (dwell seconds) is negative");
+	b = prog_push(c, SH2000_PROG_DWELL, l->line, l->gcol[GRP_NONMODAL]);
+	if (!b)
+		return -ENOMEM;
+	b->u.dwell_s = VAL(l, 'P');
+	return 0;
+}
+
+/* G61, G61.1, G64 [P [Q]]: the path control mode, in mm. */
+static int do_path_mode(struct prog_ctx *c, const struct gstate *st,
+			const struct gline *l)
+{
+	double unit = st->inch ? PROG_MM_PER_INCH : 1.0;
+	int code = l->g[GRP_PATH];
+	struct sh2000_prog_block *b;
+
+	if (HAS(l, 'Q') && code != 640)
+		return prog_err(c, SH2000_PD_CONFLICT, l->line, COL(l, 'Q'),
+				"Q word with no G64 to use it");
+	if (code == 640 && HAS(l, 'Q') && !HAS(l, 'P'))
+		return prog_err(c, SH2000_PD_MISSING, l->line, COL(l, 'Q'),
+				"G64 Q (naive CAM tolerance) needs P (blending tolerance)");
+	if ((HAS(l, 'P') && code == 640 && VAL(l, 'P') < 0) ||
+	    (HAS(l, 'Q') && VAL(l, 'Q') < 0))
+		return prog_err(c, SH2000_PD_RANGE, l->line,
+				COL(l, VAL(l, 'P') < 0 ? 'P' : 'Q'),
+				"G64 tolerances must not be negative");
+	b = prog_push(c, SH2000_PROG_PATH_MODE, l->line, l->gcol[GRP_PATH]);
+	if (!b)
+		return -ENOMEM;
+	b->u.path.mode = code == 610 ? SH2000_PATH_EXACT_PATH :
+			 code == 611 ? SH2000_PATH_EXACT_STOP :
+			 SH2000_PATH_BLEND;
+	b->u.path.tolerance = code == 640 && HAS(l, 'P') ? VAL(l, 'P') * unit : 0;
+	/* LinuxCNC: Q defaults to P */
+	b->u.path.naive_tolerance = HAS(l, 'Q') ? VAL(l, 'Q') * unit :
+				    b->u.path.tolerance;
+	return 0;
+}
+
+/* The modal settings of a line, in LinuxCNC's order after F. */
+static int do_modes(struct prog_ctx *c, struct gstate *st,
+		    const struct gline *l)
+{
+	int ret = 0;
+
 	if (l->g[GRP_UNITS] >= 0)
 		st->inch = l->g[GRP_UNITS] == 200;
-	unit = st->inch ? PROG_MM_PER_INCH : 1.0;
 	warn_not_acted(c, l);
 	if (HAS(l, 'A') && st->inch)
 		prog_warn_once(c, PW_A_INCH, SH2000_PD_ORDER, l->line, COL(l, 'A'),
 			       "A%g is read in mm although the program is in inches: G20 does not scale A, as in LinuxCNC (later cases are not reported)",
 			       VAL(l, 'A'));
-	if (l->g[GRP_NONMODAL] == 40) {
-		struct sh2000_prog_block *b;
-
-		if (!HAS(l, 'P'))
-			return prog_err(c, SH2000_PD_MISSING, l->line,
-					l->gcol[GRP_NONMODAL],
-					"G4 without P (dwell seconds)");
-		if (VAL(l, 'P') < 0)
-			return prog_err(c, SH2000_PD_RANGE, l->line, COL(l, 'P'),
-					"G4 P (dwell seconds) is negative");
-		b = prog_push(c, SH2000_PROG_DWELL, l->line, l->gcol[GRP_NONMODAL]);
-		if (!b)
-			return -ENOMEM;
-		b->u.dwell_s = VAL(l, 'P');
-	}
+	if (l->g[GRP_NONMODAL] == 40 && (ret = do_dwell(c, l)))
+		return ret;
 	if (l->g[GRP_PLANE] >= 0)
 		st->plane = (enum sh2000_plane)(l->g[GRP_PLANE] / 10);
-	if (l->g[GRP_PATH] >= 0) {
-		char nb[16];
-
-		prog_warn_once(c, PW_PATHMODE, SH2000_PD_NOT_ACTED, l->line,
-			       l->gcol[GRP_PATH],
-			       "%s (path control mode) not acted on: the planner keeps its own corner tolerance; later G61/G61.1/G64 are not reported",
-			       gname(l->g[GRP_PATH], nb, sizeof(nb)));
-	}
+	if (l->g[GRP_PATH] >= 0 && (ret = do_path_mode(c, st, l)))
+		return ret;
+	if (HAS(l, 'Q') && l->g[GRP_PATH] < 0)
+		return prog_err(c, SH2000_PD_CONFLICT, l->line, COL(l, 'Q'),
+				"Q word with no G64 to use it");
 	if (l->g[GRP_DIST] >= 0)
 		st->incremental = l->g[GRP_DIST] == 910;
 	if (l->g[GRP_ARCDIST] >= 0)
 		st->arc_absolute = l->g[GRP_ARCDIST] == 901;
-	/* G40 G49 G54 G94 select the only state this reader has: nothing to do */
+	/* G40 G49 G54 G94 select the only state this reader has */
+	return 0;
+}
 
+/* The end point of a move: the axis words in the line's units and
+ * distance mode (A is mm even under G20: LinuxCNC never scales A). */
+static int move_target(struct prog_ctx *c, const struct gstate *st,
+		       const struct gline *l, double unit,
+		       double target[SH2000_AXES])
+{
+	static const char axes[] = "XYZA";
+
+	for (unsigned int a = 0; a < SH2000_AXES; a++) {
+		target[a] = c->pos[a];
+		if (HAS(l, axes[a]))
+			target[a] = VAL(l, axes[a]) *
+				    (a == SH2000_PROG_A ? 1 : unit) +
+				    (st->incremental ? c->pos[a] : 0);
+		if (!isfinite(target[a]))
+			return prog_err(c, SH2000_PD_RANGE, l->line,
+					COL(l, axes[a]), "%c target out of range",
+					axes[a]);
+	}
+	return 0;
+}
+
+/* G0, G1, G2, G3 to the line's target; the machine goes on from the
+ * programmed end even when the move has an error. */
+static int do_move(struct prog_ctx *c, struct gstate *st,
+		   const struct gline *l, int motion, unsigned int bcol,
+		   double unit)
+{
+	double target[SH2000_AXES];
+	struct sh2000_prog_block *b;
+	int ret = move_target(c, st, l, unit, target);
+
+	if (ret)
+		return ret;
+	if (motion == MOT_G2 || motion == MOT_G3)
+		ret = do_arc(c, st, l, motion == MOT_G3, bcol, unit, target);
+	else if (motion == MOT_G1 &&
+		 (ret = need_feed(c, st, l->line, bcol, "G1 move")))
+		;
+	else if ((b = prog_push(c, motion == MOT_G0 ? SH2000_PROG_RAPID :
+				SH2000_PROG_LINE, l->line, bcol))) {
+		memcpy(b->end, target, sizeof(b->end));
+		if (motion == MOT_G1)
+			b->feed = feed_mm_s(st);
+	} else {
+		return -ENOMEM;
+	}
+	memcpy(c->pos, target, sizeof(c->pos));
+	return ret;
+}
+
+/* G5.2 points and G5.3; 1 when the line's motion is not NURBS. */
+static int do_nurbs_motion(struct prog_ctx *c, struct gstate *st,
+			   const struct gline *l, int motion,
+			   unsigned int bcol, double unit)
+{
+	int mword = l->g[GRP_MOTION], ret;
+	bool opening;
+
+	if (mword == MOT_G53 && st->nurbs_failed) {
+		/* the block's opening was reported; its end needs no error */
+		st->nurbs_failed = false;
+		st->motion = MOT_NONE;
+		return 0;
+	}
+	if (mword == MOT_G53)
+		return do_nurbs_end(c, st, l, bcol);
+	if (motion != MOT_G52)
+		return 1;
+	if (st->nurbs_failed && mword < 0)
+		return 0;	/* points of a block whose G5.2 line failed */
+	opening = !st->nurbs_open;
+	st->nurbs_failed = false;
+	ret = do_nurbs_point(c, st, l, bcol, unit);
+	if (ret)
+		st->nurbs_failed = opening && !st->nurbs_open;
+	return ret;
+}
+
+/* M0, M1 (pause), M2, M30 (end). */
+static int do_stop_m(struct prog_ctx *c, struct gstate *st,
+		     const struct gline *l)
+{
+	int m = l->m[MGRP_STOP];
+	struct sh2000_prog_block *b;
+
+	b = prog_push(c, m <= 1 ? SH2000_PROG_PAUSE : SH2000_PROG_END, l->line,
+		      l->mcol[MGRP_STOP]);
+	if (!b)
+		return -ENOMEM;
+	if (m <= 1) {
+		b->u.optional = m == 1;
+	} else {
+		b->u.end_code = m;
+		st->ended = true;
+	}
+	return 0;
+}
+
+static int exec_line(struct prog_ctx *c, struct gstate *st, struct gline *l)
+{
+	bool axis = HAS(l, 'X') || HAS(l, 'Y') || HAS(l, 'Z') || HAS(l, 'A');
+	int mword = l->g[GRP_MOTION], motion, ret;
+	unsigned int bcol;
+	double unit;
+
+	if (st->nurbs_open && (ret = nurbs_line_check(c, st, l)))
+		return ret;
+	if ((ret = line_motion(c, st, l, &motion, &bcol)))
+		return ret;
+	if (HAS(l, 'F') && (ret = do_feed_word(c, st, l)))
+		return ret;
+	if ((ret = do_modes(c, st, l)))
+		return ret;
+	unit = st->inch ? PROG_MM_PER_INCH : 1.0;
 	if (mword >= 0 && mword != MOT_G53)
 		st->motion = mword == MOT_G80 ? MOT_NONE : mword;
 	if (mword >= 0 && mword != MOT_G52 && mword != MOT_G53)
 		st->nurbs_failed = false;
 	if (motion == MOT_G52 && st->motion != MOT_G52)
 		st->motion = MOT_G52;
-	if (mword == MOT_G53 && st->nurbs_failed) {
-		/* the block's opening was reported; its end needs no error */
-		st->nurbs_failed = false;
-		st->motion = MOT_NONE;
-	} else if (mword == MOT_G53) {
-		ret = do_nurbs_end(c, st, l, bcol);
-		if (ret)
-			return ret;
-	} else if (motion == MOT_G52 && st->nurbs_failed && mword < 0) {
-		/* control points of a block whose G5.2 line failed */
-	} else if (motion == MOT_G52) {
-		bool opening = !st->nurbs_open;
-
-		st->nurbs_failed = false;
-		ret = do_nurbs_point(c, st, l, bcol, unit);
-		if (ret) {
-			st->nurbs_failed = opening && !st->nurbs_open;
-			return ret;
-		}
-	} else if (motion >= 0 && motion != MOT_G80 &&
-		   (axis || motion == MOT_G2 || motion == MOT_G3)) {
-		double target[SH2000_AXES];
-		static const char axes[] = "XYZA";
-
-		for (unsigned int a = 0; a < SH2000_AXES; a++) {
-			target[a] = c->pos[a];
-			/* A is mm even under G20: LinuxCNC never scales A,
-			 * so a program means the same to rs274 */
-			if (HAS(l, axes[a]))
-				target[a] = VAL(l, axes[a]) *
-					    (a == SH2000_PROG_A ? 1 : unit) +
-					    (st->incremental ? c->pos[a] : 0);
-			if (!isfinite(target[a]))
-				return prog_err(c, SH2000_PD_RANGE, l->line,
-						COL(l, axes[a]),
-						"%c target out of range", axes[a]);
-		}
-		if (motion == MOT_G0 || motion == MOT_G1) {
-			struct sh2000_prog_block *b;
-
-			if (motion == MOT_G1) {
-				ret = need_feed(c, st, l->line, bcol, "G1 move");
-				if (ret) {
-					memcpy(c->pos, target, sizeof(c->pos));
-					return ret;
-				}
-			}
-			b = prog_push(c, motion == MOT_G0 ? SH2000_PROG_RAPID :
-				      SH2000_PROG_LINE, l->line, bcol);
-			if (!b)
-				return -ENOMEM;
-			memcpy(b->end, target, sizeof(b->end));
-			if (motion == MOT_G1)
-				b->feed = feed_mm_s(st);
-		} else {
-			ret = do_arc(c, st, l, motion == MOT_G3, bcol, unit,
-				     target);
-			if (ret) {
-				/* go on from the programmed end */
-				memcpy(c->pos, target, sizeof(c->pos));
-				return ret;
-			}
-		}
-		memcpy(c->pos, target, sizeof(c->pos));
-	}
-
-	if (l->m[MGRP_STOP] >= 0) {
-		int m = l->m[MGRP_STOP];
-		struct sh2000_prog_block *b;
-
-		b = prog_push(c, m <= 1 ? SH2000_PROG_PAUSE : SH2000_PROG_END,
-			      l->line, l->mcol[MGRP_STOP]);
-		if (!b)
-			return -ENOMEM;
-		if (m <= 1)
-			b->u.optional = m == 1;
-		else {
-			b->u.end_code = m;
-			st->ended = true;
-		}
-	}
-	return 0;
-
-in_nurbs:
-	for (int i = 0; i < 26; i++)
-		if (l->has[i] && !strchr("XYPL", 'A' + i))
-			return prog_err(c, SH2000_PD_NURBS, l->line, l->col[i],
-					"%c word inside the NURBS block opened by G5.2 at line %u: only X, Y, P and L may appear until G5.3",
-					'A' + i, st->nurbs_line);
-	for (int g = 0; g < GRP_COUNT; g++)
-		if (l->g[g] >= 0 && l->g[g] != 52 && l->g[g] != 53) {
-			char nb[16];
-
-			return prog_err(c, SH2000_PD_NURBS, l->line, l->gcol[g],
-					"%s inside the NURBS block opened by G5.2 at line %u: close it with G5.3 first",
-					gname(l->g[g], nb, sizeof(nb)), st->nurbs_line);
-		}
-	for (int g = 0; g < MGRP_COUNT; g++)
-		if (l->m[g] >= 0)
-			return prog_err(c, SH2000_PD_NURBS, l->line, l->mcol[g],
-					"M%d inside the NURBS block opened by G5.2 at line %u: close it with G5.3 first",
-					l->m[g], st->nurbs_line);
-	return prog_err(c, SH2000_PD_NURBS, l->line, l->first_col,
-			"bad line inside a NURBS block");
+	ret = do_nurbs_motion(c, st, l, motion, bcol, unit);
+	if (ret == 1 && motion >= 0 && motion != MOT_G80 &&
+	    (axis || motion == MOT_G2 || motion == MOT_G3))
+		ret = do_move(c, st, l, motion, bcol, unit);
+	else if (ret == 1)
+		ret = 0;
+	if (ret)
+		return ret;
+	return l->m[MGRP_STOP] >= 0 ? do_stop_m(c, st, l) : 0;
 }
 
 /* A line with only '%' (and blanks): the RS274 tape delimiter. */
@@ -910,58 +1004,75 @@ static bool blank_line(const char *s, size_t n)
 	return true;
 }
 
-int prog_read_gcode(struct prog_ctx *c, const char *text, size_t len)
+static void gcode_init(struct prog_ctx *c, void *state)
 {
-	struct gstate st = {
-		.plane = SH2000_PLANE_XY,
-		.motion = MOT_NONE,
-	};
-	unsigned int line = 0;
-	size_t off = 0;
+	struct gstate *st = state;
 
-	while (off < len && !c->stop) {
-		const char *s = text + off;
-		size_t n;
-		struct gline l;
+	(void)c;
+	memset(st, 0, sizeof(*st));
+	st->plane = SH2000_PLANE_XY;
+	st->motion = MOT_NONE;
+}
 
-		off = prog_next_line(text, len, off, &n);
-		line++;
-		if (st.ended) {
-			if (!blank_line(s, n) && !percent_line(s, n))
-				prog_warn_once(c, PW_AFTER_END, SH2000_PD_IGNORED,
-					       line, 1,
-					       "text after the program end (M2/M30 or %%) is not read");
-			continue;
-		}
-		if (percent_line(s, n)) {
-			if (!st.seen_content && !st.percent)
-				st.percent = true;
-			else if (st.percent)
-				st.ended = true;
-			else
-				prog_err(c, SH2000_PD_SYNTAX, line, 1,
-					 "'%%' ends a program only when the program starts with '%%'");
-			continue;
-		}
-		if (!blank_line(s, n))
-			st.seen_content = true;
-		if (lex_line(c, s, n, line, &l))
-			continue;
-		if (!l.any_word)
-			continue;
-		exec_line(c, &st, &l);
+static void gcode_line(struct prog_ctx *c, void *state, const char *s,
+		       size_t n, unsigned int line)
+{
+	struct gstate *st = state;
+	struct gline l;
+
+	if (st->ended) {
+		if (!blank_line(s, n) && !percent_line(s, n))
+			prog_warn_once(c, PW_AFTER_END, SH2000_PD_IGNORED, line, 1,
+				       "text after the program end (M2/M30 or %%) is not read");
+		return;
 	}
-	if (st.nurbs_open && !c->stop)
-		prog_err(c, SH2000_PD_NURBS, st.nurbs_line, st.nurbs_col,
+	if (percent_line(s, n)) {
+		if (!st->seen_content && !st->percent)
+			st->percent = true;
+		else if (st->percent)
+			st->ended = true;
+		else
+			prog_err(c, SH2000_PD_SYNTAX, line, 1,
+				 "'%%' ends a program only when the program starts with '%%'");
+		return;
+	}
+	if (!blank_line(s, n))
+		st->seen_content = true;
+	if (lex_line(c, s, n, line, &l) || !l.any_word)
+		return;
+	exec_line(c, st, &l);
+}
+
+static void gcode_finish(struct prog_ctx *c, void *state, unsigned int line)
+{
+	struct gstate *st = state;
+
+	if (st->nurbs_open && !c->stop)
+		prog_err(c, SH2000_PD_NURBS, st->nurbs_line, st->nurbs_col,
 			 "NURBS block opened by G5.2 is not closed by G5.3");
-	if (st.percent && !st.ended && !c->stop)
+	if (st->percent && !st->ended && !c->stop)
 		prog_err(c, SH2000_PD_SYNTAX, line ? line : 1, 1,
 			 "program starts with '%%' but has no closing '%%'");
 	/* as LinuxCNC: a file that just stops may have been cut short */
-	else if (!st.ended && !c->stop)
+	else if (!st->ended && !c->stop)
 		prog_err(c, SH2000_PD_MISSING, line ? line : 1, 1,
 			 "the file ends without M2 or M30 (or a closing '%%'): it may be cut short");
-	free(st.pts);
-	free(st.w);
-	return c->errors ? -SH2000_PROG_EINVALID : 0;
 }
+
+static void gcode_release(void *state)
+{
+	struct gstate *st = state;
+
+	free(st->pts);
+	free(st->w);
+	st->pts = NULL;
+	st->w = NULL;
+}
+
+const struct prog_format_ops prog_gcode_ops = {
+	.state_size = sizeof(struct gstate),
+	.init = gcode_init,
+	.line = gcode_line,
+	.finish = gcode_finish,
+	.release = gcode_release,
+};

@@ -428,7 +428,7 @@ static int read_curve(struct jctx *j, struct json_object *cv, double feed)
 	return ret;
 }
 
-int prog_read_nurbs_json(struct prog_ctx *c, const char *text, size_t len)
+static int read_document(struct prog_ctx *c, const char *text, size_t len)
 {
 	struct json_tokener *tok = json_tokener_new();
 	struct json_object *root, *curves, *o;
@@ -514,3 +514,65 @@ out:
 	json_object_put(root);
 	return c->errors ? -SH2000_PROG_EINVALID : 0;
 }
+
+/* JSON is not read line by line: the lines are gathered and the document
+ * parsed at the end (a NURBS file holds curves, not millions of moves). */
+struct json_state {
+	char *text;
+	size_t len, cap;
+};
+
+static void json_init(struct prog_ctx *c, void *state)
+{
+	(void)c;
+	memset(state, 0, sizeof(struct json_state));
+}
+
+static void json_line(struct prog_ctx *c, void *state, const char *s,
+		      size_t n, unsigned int line)
+{
+	struct json_state *st = state;
+
+	(void)line;
+	/* lines joined by their ends: positions as in the file */
+	if (st->len + n + 1 > st->cap) {
+		size_t cap = (st->len + n + 1) * 2;
+		char *t = realloc(st->text, cap);
+
+		if (!t) {
+			c->oom = c->stop = true;
+			return;
+		}
+		st->text = t;
+		st->cap = cap;
+	}
+	if (line > 1)
+		st->text[st->len++] = '\n';
+	memcpy(st->text + st->len, s, n);
+	st->len += n;
+}
+
+static void json_finish(struct prog_ctx *c, void *state, unsigned int line)
+{
+	struct json_state *st = state;
+
+	(void)line;
+	if (!c->stop)
+		read_document(c, st->text ? st->text : "", st->len);
+}
+
+static void json_release(void *state)
+{
+	struct json_state *st = state;
+
+	free(st->text);
+	memset(st, 0, sizeof(*st));
+}
+
+const struct prog_format_ops prog_json_ops = {
+	.state_size = sizeof(struct json_state),
+	.init = json_init,
+	.line = json_line,
+	.finish = json_finish,
+	.release = json_release,
+};

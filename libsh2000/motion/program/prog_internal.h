@@ -24,7 +24,7 @@ enum prog_warn_kind {
 };
 
 struct prog_ctx {
-	struct sh2000_program *prog;
+	struct sh2000_program *prog;	/* where blocks go */
 	struct sh2000_prog_diags *diags;
 	struct sh2000_prog_options opt;
 	const char *name;
@@ -33,6 +33,7 @@ struct prog_ctx {
 	bool oom;
 	unsigned int warned;	/* enum prog_warn_kind bits */
 	double pos[SH2000_AXES];
+	bool replay;		/* a second pass: warnings were given */
 };
 
 /* Append a diagnostic; returns -SH2000_PROG_EINVALID for an error, 0 for
@@ -48,6 +49,11 @@ int prog_warn_once(struct prog_ctx *c, unsigned int kind,
 		   enum sh2000_prog_diag_code code, unsigned int line,
 		   unsigned int col, const char *fmt, ...)
 	__attribute__((format(printf, 6, 7)));
+
+/* Free the blocks' curves and empty the list (its memory stays). */
+void prog_clear_blocks(struct sh2000_program *p);
+/* Every block of reader r into prog (reader.c). */
+int prog_read_all(struct sh2000_prog_reader *r, struct sh2000_program *prog);
 
 /* A new block at the end of the program with start = end = ctx->pos; NULL
  * when out of memory (ctx->oom set). */
@@ -94,13 +100,25 @@ void prog_nurbs_give(struct prog_nurbs_buf *n, struct sh2000_prog_block *b);
 int prog_nurbs_check(struct prog_ctx *c, const struct sh2000_nurbs *n,
 		     unsigned int line, unsigned int col);
 
-int prog_read_gcode(struct prog_ctx *c, const char *text, size_t len);
-int prog_read_canon(struct prog_ctx *c, const char *text, size_t len);
-int prog_read_csv(struct prog_ctx *c, const char *text, size_t len);
-int prog_read_nurbs_json(struct prog_ctx *c, const char *text, size_t len);
+/*
+ * A reader of one format, fed line by line (reader.c drives it): init
+ * before the first line, line for each (without its end, numbered from 1),
+ * finish after the last (with the last line's number), release at the end
+ * or before a rewind. Blocks go to ctx->prog with prog_push(); ctx->stop
+ * ends the reading early.
+ */
+struct prog_format_ops {
+	size_t state_size;
+	void (*init)(struct prog_ctx *c, void *state);
+	void (*line)(struct prog_ctx *c, void *state, const char *s, size_t n,
+		     unsigned int line);
+	void (*finish)(struct prog_ctx *c, void *state, unsigned int line);
+	void (*release)(void *state);	/* may be NULL */
+};
 
-/* One line of text: [p, p + n) without the line end; returns the offset of
- * the next line or len. */
-size_t prog_next_line(const char *text, size_t len, size_t off, size_t *n);
+extern const struct prog_format_ops prog_gcode_ops;
+extern const struct prog_format_ops prog_canon_ops;
+extern const struct prog_format_ops prog_csv_ops;
+extern const struct prog_format_ops prog_json_ops;
 
 #endif

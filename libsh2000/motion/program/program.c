@@ -136,6 +136,8 @@ int prog_diag(struct prog_ctx *c, enum sh2000_prog_severity sev,
 
 	if (c->stop)
 		return sev == SH2000_PROG_ERROR ? -SH2000_PROG_EINVALID : 0;
+	if (c->replay && sev != SH2000_PROG_ERROR)
+		return 0;	/* given on the first pass */
 	va_start(ap, fmt);
 	ret = diag_vadd(c, sev, code, line, col, fmt, ap);
 	va_end(ap);
@@ -158,7 +160,7 @@ int prog_warn_once(struct prog_ctx *c, unsigned int kind,
 	va_list ap;
 	int ret;
 
-	if ((c->warned & kind) || c->stop)
+	if ((c->warned & kind) || c->stop || c->replay)
 		return 0;
 	c->warned |= kind;
 	va_start(ap, fmt);
@@ -176,6 +178,14 @@ void sh2000_program_init(struct sh2000_program *p)
 
 void sh2000_program_free(struct sh2000_program *p)
 {
+	prog_clear_blocks(p);
+	free(p->blocks);
+	free(p->file);
+	memset(p, 0, sizeof(*p));
+}
+
+void prog_clear_blocks(struct sh2000_program *p)
+{
 	for (size_t i = 0; i < p->count; i++) {
 		struct sh2000_prog_block *b = &p->blocks[i];
 
@@ -186,9 +196,7 @@ void sh2000_program_free(struct sh2000_program *p)
 			free((void *)b->u.nurbs.knots);
 		}
 	}
-	free(p->blocks);
-	free(p->file);
-	memset(p, 0, sizeof(*p));
+	p->count = 0;
 }
 
 struct sh2000_prog_block *prog_push(struct prog_ctx *c,
@@ -271,20 +279,9 @@ const char *sh2000_prog_kind_name(enum sh2000_prog_kind k)
 	case SH2000_PROG_DWELL: return "dwell";
 	case SH2000_PROG_PAUSE: return "pause";
 	case SH2000_PROG_END: return "end";
+	case SH2000_PROG_PATH_MODE: return "path mode";
 	}
 	return "?";
-}
-
-size_t prog_next_line(const char *text, size_t len, size_t off, size_t *n)
-{
-	size_t e = off;
-
-	while (e < len && text[e] != '\n')
-		e++;
-	*n = e - off;
-	if (*n && text[off + *n - 1] == '\r')
-		(*n)--;
-	return e < len ? e + 1 : len;
 }
 
 int sh2000_program_read(struct sh2000_program *prog,
@@ -293,67 +290,18 @@ int sh2000_program_read(struct sh2000_program *prog,
 			const struct sh2000_prog_options *opt,
 			struct sh2000_prog_diags *diags)
 {
-	struct prog_ctx c;
+	struct sh2000_prog_reader *r;
 	int ret;
 
 	sh2000_program_free(prog);
-	if (!name)
-		name = "<program>";
-	if (fmt == SH2000_PROG_AUTO)
-		fmt = sh2000_prog_format_guess(name);
-	memset(&c, 0, sizeof(c));
-	c.prog = prog;
-	c.diags = diags;
-	c.name = name;
-	if (opt)
-		c.opt = *opt;
-	else
-		sh2000_prog_options_default(&c.opt);
-	if (c.opt.max_errors == 0)
-		c.opt.max_errors = 20;
-	memcpy(c.pos, c.opt.start, sizeof(c.pos));
-	if (fmt == SH2000_PROG_AUTO) {
-		prog_err(&c, SH2000_PD_UNKNOWN, 0, 0,
-			 "cannot tell the program format from the name (use .ngc, .nc, .gcode, .canon, .csv or .json, or name the format)");
-		return -SH2000_PROG_EFORMAT;
-	}
-	prog->file = strdup(name);
-	if (!prog->file)
-		return -ENOMEM;
-	for (unsigned int i = 0; i < SH2000_AXES; i++)
-		if (!isfinite(c.opt.start[i]))
-			prog_err(&c, SH2000_PD_RANGE, 0, 0,
-				 "start position of axis %c is not finite",
-				 "XYZA"[i]);
-	if (c.errors == 0) {
-		switch (fmt) {
-		case SH2000_PROG_GCODE:
-			ret = prog_read_gcode(&c, text, len);
-			break;
-		case SH2000_PROG_CANON:
-			ret = prog_read_canon(&c, text, len);
-			break;
-		case SH2000_PROG_CSV:
-			ret = prog_read_csv(&c, text, len);
-			break;
-		case SH2000_PROG_NURBS_JSON:
-			ret = prog_read_nurbs_json(&c, text, len);
-			break;
-		default:
-			ret = -SH2000_PROG_EFORMAT;
-			break;
-		}
-		(void)ret;
-	}
-	if (c.oom) {
+	ret = sh2000_prog_reader_open_text(&r, fmt, name, text, len, opt,
+					   diags);
+	if (!ret)
+		ret = prog_read_all(r, prog);
+	sh2000_prog_reader_close(r);
+	if (ret)
 		sh2000_program_free(prog);
-		return -ENOMEM;
-	}
-	if (c.errors) {
-		sh2000_program_free(prog);
-		return -SH2000_PROG_EINVALID;
-	}
-	return 0;
+	return ret;
 }
 
 int sh2000_program_read_file(struct sh2000_program *prog,
@@ -361,62 +309,16 @@ int sh2000_program_read_file(struct sh2000_program *prog,
 			     const struct sh2000_prog_options *opt,
 			     struct sh2000_prog_diags *diags)
 {
-	bool is_stdin = !strcmp(path, "-");
-	const char *name = is_stdin ? "<stdin>" : path;
-	FILE *f = is_stdin ? stdin : fopen(path, "rb");
-	char *buf = NULL;
-	size_t len = 0, cap = 0;
-	int ret = 0;
+	struct sh2000_prog_reader *r;
+	int ret;
 
 	sh2000_program_free(prog);
-	if (!f) {
-		ret = -errno;
-		goto fail;
-	}
-	for (;;) {
-		size_t n;
-
-		if (len == cap) {
-			size_t ncap = cap ? cap * 2 : 65536;
-			char *nb = realloc(buf, ncap);
-
-			if (!nb) {
-				ret = -ENOMEM;
-				break;
-			}
-			buf = nb;
-			cap = ncap;
-		}
-		n = fread(buf + len, 1, cap - len, f);
-		len += n;
-		if (n == 0) {
-			if (ferror(f))
-				ret = errno ? -errno : -EIO;
-			break;
-		}
-	}
-	if (!is_stdin)
-		fclose(f);
+	ret = sh2000_prog_reader_open(&r, fmt, path, opt, diags);
+	if (!ret)
+		ret = prog_read_all(r, prog);
+	sh2000_prog_reader_close(r);
 	if (ret)
-		goto fail;
-	if (fmt == SH2000_PROG_AUTO && is_stdin)
-		fmt = SH2000_PROG_GCODE;
-	ret = sh2000_program_read(prog, fmt, name, buf ? buf : "", len, opt,
-				  diags);
-	free(buf);
-	return ret;
-fail:
-	free(buf);
-	{
-		struct prog_ctx c;
-
-		memset(&c, 0, sizeof(c));
-		c.diags = diags;
-		c.name = name;
-		c.opt.max_errors = 1000;
-		prog_err(&c, SH2000_PD_SYNTAX, 0, 0, "cannot read: %s",
-			 strerror(-ret));
-	}
+		sh2000_program_free(prog);
 	return ret;
 }
 

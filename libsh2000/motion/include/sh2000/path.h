@@ -46,6 +46,19 @@ enum sh2000_path_output {
 	SH2000_OUTPUT_RAW = 1,
 };
 
+/*
+ * How corners are taken, as LinuxCNC's path control modes: G64 blends
+ * within a tolerance (or as fast as the axes allow without one), G61
+ * visits every programmed point (a corner is only as fast as the axes can
+ * turn it without rounding it: a stop at a sharp one), G61.1 comes to rest
+ * at the end of every block.
+ */
+enum sh2000_path_mode {
+	SH2000_PATH_BLEND = 0,		/* G64 [P [Q]] */
+	SH2000_PATH_EXACT_PATH = 1,	/* G61 */
+	SH2000_PATH_EXACT_STOP = 2,	/* G61.1 */
+};
+
 struct sh2000_path_config {
 	double period_s;		/* coarse period (default 0.002 s) */
 	unsigned int fine_steps;	/* card servo cycles per period (20) */
@@ -54,8 +67,14 @@ struct sh2000_path_config {
 	double jerk;			/* path jerk, mm/s^3 (S-curve) */
 	enum sh2000_path_profile profile;
 	enum sh2000_path_output output;
-	double corner_tol;		/* mm a corner may be rounded (0.01) */
-	double chord_tol;		/* mm sagitta between points (0.005) */
+	enum sh2000_path_mode mode;	/* at the start (BLEND) */
+	/* mm a corner may be rounded (0.01); INFINITY: as fast as the axes
+	 * allow (G64 without P) */
+	double corner_tol;
+	double chord_tol;		/* mm sagitta between points (0.01) */
+	/* mm a run of straight feed moves may deviate from one line and be
+	 * taken as that line (LinuxCNC's naive CAM detector, G64 Q); 0: off */
+	double naive_tol;
 	/* share of each axis' acceleration given to curvature; the rest is
 	 * for acceleration along the path (0.5) */
 	double centripetal_share;
@@ -98,6 +117,18 @@ void sh2000_path_destroy(struct sh2000_path *p);
 
 /* What the last failing call on this planner was unhappy about. */
 const char *sh2000_path_error(const struct sh2000_path *p);
+
+/*
+ * The path control mode for the primitives added from now on, as G-code's
+ * G61 / G61.1 / G64 P<tolerance> Q<naive_tolerance> (mm): BLEND with a
+ * tolerance > 0 rounds corners by at most that and keeps arcs and curves
+ * within it of their chords; BLEND with 0 keeps the best speed (corners
+ * limited by the axes only, chords by the configured chord_tol);
+ * naive_tolerance > 0 merges straight feed moves that stay within it of
+ * one line. -EINVAL for a negative or non-finite tolerance.
+ */
+int sh2000_path_set_mode(struct sh2000_path *p, enum sh2000_path_mode mode,
+			 double tolerance, double naive_tolerance);
 
 /* Tag stored in the points of the primitives added from now on. */
 void sh2000_path_set_seq(struct sh2000_path *p, uint32_t seq);

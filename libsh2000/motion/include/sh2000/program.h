@@ -122,6 +122,7 @@ enum sh2000_prog_kind {
 	SH2000_PROG_DWELL,	/* G4 P: wait */
 	SH2000_PROG_PAUSE,	/* M0/M1: stop until the operator resumes */
 	SH2000_PROG_END,	/* M2/M30 */
+	SH2000_PROG_PATH_MODE,	/* G61, G61.1, G64 [P [Q]] */
 };
 
 /*
@@ -147,6 +148,11 @@ struct sh2000_prog_block {
 		double dwell_s;		/* DWELL: seconds */
 		bool optional;		/* PAUSE: M1 (optional stop) */
 		int end_code;		/* END: 2 (M2) or 30 (M30) */
+		struct {		/* PATH_MODE, for sh2000_path_set_mode */
+			enum sh2000_path_mode mode;
+			double tolerance;	/* P in mm; 0: none given */
+			double naive_tolerance;	/* Q in mm (P without Q) */
+		} path;
 	} u;
 };
 
@@ -209,6 +215,51 @@ int sh2000_program_read_file(struct sh2000_program *prog,
 			     const struct sh2000_prog_options *opt,
 			     struct sh2000_prog_diags *diags);
 
+/* ---- reading block by block, in constant memory ------------------------- */
+
+/*
+ * A reader hands out a program's blocks one at a time, holding only the
+ * current line's: a program of any length is read, checked and run in the
+ * same memory (JSON NURBS files excepted: they are parsed whole). It can
+ * be rewound for a second pass, the usual way being a first pass that
+ * checks and plans everything and a second that streams it to the card.
+ * Standard input ("-") is spooled to a temporary file for that.
+ *
+ * Errors and warnings go to diags (which must outlive the reader) as the
+ * lines are read; reading goes on after an error to find more, up to
+ * max_errors. After a rewind warnings are not given again, and an error
+ * (the file changed since) makes next() fail.
+ */
+struct sh2000_prog_reader;
+
+/* 0; -errno (the file cannot be read: an error in diags too),
+ * -SH2000_PROG_EFORMAT or -SH2000_PROG_EINVALID (bad options); *out is
+ * NULL on failure. */
+int sh2000_prog_reader_open(struct sh2000_prog_reader **out,
+			    enum sh2000_prog_format fmt, const char *path,
+			    const struct sh2000_prog_options *opt,
+			    struct sh2000_prog_diags *diags);
+/* The same over text in memory (not copied: it must outlive the reader). */
+int sh2000_prog_reader_open_text(struct sh2000_prog_reader **out,
+				 enum sh2000_prog_format fmt, const char *name,
+				 const char *text, size_t len,
+				 const struct sh2000_prog_options *opt,
+				 struct sh2000_prog_diags *diags);
+/*
+ * The next block: 1 and *b (valid until the next call), 0 at the end of
+ * the program (or where reading stopped at max_errors), -ENOMEM or -EIO,
+ * or -SH2000_PROG_EINVALID for an error found after a rewind.
+ */
+int sh2000_prog_reader_next(struct sh2000_prog_reader *r,
+			    const struct sh2000_prog_block **b);
+/* Back to the first block (the machine at opt->start again). */
+int sh2000_prog_reader_rewind(struct sh2000_prog_reader *r);
+/* Errors found since the last open or rewind. */
+unsigned int sh2000_prog_reader_errors(const struct sh2000_prog_reader *r);
+/* The number of the line read last. */
+unsigned int sh2000_prog_reader_line(const struct sh2000_prog_reader *r);
+void sh2000_prog_reader_close(struct sh2000_prog_reader *r);
+
 /* ---- geometry helpers for consumers and tests ---------------------------- */
 
 /* Point at fraction s (0..1) of a LINE, RAPID, ARC or NURBS block (NURBS:
@@ -221,9 +272,9 @@ const char *sh2000_prog_kind_name(enum sh2000_prog_kind k);
 /* ---- planning a program --------------------------------------------------- */
 
 /* Add one block to a planner: RAPID as a point-to-point move, LINE, ARC
- * and NURBS as path primitives; the other kinds add nothing (the caller
- * acts on FEED, DWELL, PAUSE and END). 0 or the planner's negative error
- * (sh2000_path_error() has the words). */
+ * and NURBS as path primitives, PATH_MODE as sh2000_path_set_mode(); the
+ * other kinds add nothing (the caller acts on FEED, DWELL, PAUSE and END).
+ * 0 or the planner's negative error (sh2000_path_error() has the words). */
 int sh2000_path_add_block(struct sh2000_path *p,
 			  const struct sh2000_prog_block *b);
 

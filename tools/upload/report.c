@@ -28,8 +28,9 @@ void upl_report_progress(struct upl_report *rp,
 	if (done > rp->total_points)
 		done = rp->total_points;
 	pct = (int)(done * 100u / rp->total_points);
-	if (rp->prog && p->seq >= 0 && (uint64_t)p->seq < rp->prog->count)
-		line = rp->prog->blocks[p->seq].pos.line;
+	/* the points' tag is their block's line (sh2000_run_program) */
+	if (p->seq > 0 && p->seq <= (int64_t)UINT32_MAX)
+		line = (unsigned int)p->seq;
 	if (rp->bar) {
 		uint64_t now = wall_ns();
 		char bar[41];

@@ -610,6 +610,11 @@ void sh2000_run_stop(struct sh2000_run *r)
 	sh2000_path_stop(r->path);
 }
 
+int sh2000_run_stop_requested(const struct sh2000_run *r)
+{
+	return r->stopped;
+}
+
 void sh2000_run_pause(struct sh2000_run *r)
 {
 	sh2000_path_pause(r->path);

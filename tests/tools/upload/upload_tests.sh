@@ -276,7 +276,7 @@ t_pause() {
 t_fault() {
 	expect 4 "a run into the limit switch" -- "$UPLOAD" -q -d sim "$DATA/limit.ngc"
 	has "sim: axis 0: limit switch" err
-	has "limit.ngc:3:1: the card was running this block" err
+	has "limit.ngc:3: the card was running this block" err
 	# a program path longer than the message buffer: the location is cut
 	# short, the buffer is not overrun (ASan saw a stack overflow here)
 	local long
@@ -323,7 +323,7 @@ t_shm() {
 	# arc of arc.ngc's line 5 runs from X10 to X0
 	"$PROBE" sim:$name 0 soft_min 5 >/dev/null || fail "setting soft_min"
 	expect 5 "beyond a soft limit on sim:$name" -- "$UPLOAD" -q -d sim:$name "$DATA/arc.ngc"
-	has "arc.ngc:5:1: error: X 4\.9[0-9]* mm is beyond the soft limit 5.0000 mm" err
+	has "arc.ngc:5: error: X 4\.9[0-9]* mm is beyond the soft limit 5.0000 mm" err
 	"$PROBE" sim:$name >p4
 	cmp -s p1 p4 || { fail "the card changed after a soft-limit error"; cat p1 p4; }
 	stop_sim
@@ -342,7 +342,7 @@ t_shm_stop() {
 	wait $pid
 	local rc=$?
 	[ "$rc" = 7 ] || { fail "SIGINT: exit $rc, expected 7"; cat stop.err; }
-	has "long.ngc:[0-9]+:1: stopped by the operator" stop.err
+	has "long.ngc:[0-9]+: stopped by the operator" stop.err
 	"$PROBE" sim:$name >p
 	has "state=1 fill=0" p
 	# a second signal is an emergency stop

@@ -28,6 +28,7 @@
 #include <stdint.h>
 
 #include "sh2000/path.h"
+#include "sh2000/program.h"
 #include "sh2000/sh2000.h"
 
 #ifdef __cplusplus
@@ -136,6 +137,9 @@ int sh2000_run_dwell(struct sh2000_run *r, double seconds);
 
 /* Decelerate to rest on the path and discard the rest of the plan. */
 void sh2000_run_stop(struct sh2000_run *r);
+/* 1 once sh2000_run_stop() was called, until sh2000_run_finish() reports
+ * it (-ECANCELED). */
+int sh2000_run_stop_requested(const struct sh2000_run *r);
 /* Decelerate to rest on the path; sh2000_run_finish() returns -EAGAIN. */
 void sh2000_run_pause(struct sh2000_run *r);
 void sh2000_run_resume(struct sh2000_run *r);
@@ -162,6 +166,68 @@ struct sh2000_run_stats {
 };
 
 void sh2000_run_stats(const struct sh2000_run *r, struct sh2000_run_stats *st);
+
+/* ---- a whole program in two passes, in constant memory ------------------ */
+
+/*
+ * The way to run a program (sh2000-upload is the worked example): open a
+ * reader (program.h), plan all of it once with sh2000_program_plan() --
+ * every error in the program, every planner error and every planned point
+ * beyond a soft limit is found before anything moves -- then rewind the
+ * reader and stream it with sh2000_run_program(). Neither pass holds more
+ * than the planner's look-ahead window and the current line.
+ */
+struct sh2000_program_opts {
+	double override;		/* feed override (1) */
+	int optional_stop;		/* M1 pauses like M0 (0: skipped) */
+	/* the card's soft limits the plan must keep (NULL: none) */
+	const struct sh2000_limits *limits;
+};
+
+void sh2000_program_opts_default(struct sh2000_program_opts *o);
+
+struct sh2000_program_plan {
+	uint64_t blocks;	/* read */
+	uint64_t points;	/* coarse points planned */
+	double seconds;		/* planned time, dwells included */
+	unsigned int moved;	/* bit a: axis a moves */
+	uint64_t optional_skipped;	/* M1 not paused at (optional_stop 0) */
+	/* a failure: "file:line[:column]" of the block and the reason */
+	char where[256];
+	char error[320];
+};
+
+/*
+ * The first pass: read r from where it stands to the end, plan every
+ * block with pc and check each planned point against o->limits. 0 (plan
+ * filled); -SH2000_EPROGRAM when the program has errors (they are in the
+ * reader's diags); -SH2000_ELIMIT, -EINVAL... when a block cannot be
+ * planned or leaves the limits (plan->where and plan->error say which and
+ * why); -ENOMEM, -EIO.
+ */
+int sh2000_program_plan(struct sh2000_prog_reader *r,
+			const struct sh2000_path_config *pc,
+			const struct sh2000_program_opts *o,
+			struct sh2000_program_plan *plan);
+
+/* At an M0 (or M1 with optional_stop) the card is at rest: return 0 to go
+ * on, or a negative error to end the run with it. */
+typedef int (*sh2000_program_pause_fn)(void *ctx,
+				       const struct sh2000_prog_block *b);
+
+/*
+ * The second pass: stream every block of r through run (created on the
+ * card with the same path config), dwelling at G4 and calling pause at
+ * M0/M1. The tag of the points is the block's line (the progress
+ * callback's seq). 0 when the program ended at rest; -ECANCELED after
+ * sh2000_run_stop(); -EAGAIN never (pauses are the callback's); other
+ * errors as sh2000_run_finish() (the card is stopped,
+ * sh2000_run_error()). An error in the program now (the file changed
+ * since the first pass) is -SH2000_EPROGRAM.
+ */
+int sh2000_run_program(struct sh2000_run *run, struct sh2000_prog_reader *r,
+		       const struct sh2000_program_opts *o,
+		       sh2000_program_pause_fn pause, void *ctx);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,201 @@
+// SPDX-License-Identifier: MIT
+/*
+ * A whole program in two passes (run.h): plan and check everything, then
+ * stream it. Both passes read the program block by block, so a program of
+ * any length runs in the memory of the planner's window and one line.
+ */
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "sh2000/run.h"
+
+void sh2000_program_opts_default(struct sh2000_program_opts *o)
+{
+	memset(o, 0, sizeof(*o));
+	o->override = 1.0;
+}
+
+/* Blocks that stop the motion first: G4, and M0 (M1 when it pauses). */
+static int halts(const struct sh2000_prog_block *b,
+		 const struct sh2000_program_opts *o)
+{
+	return b->kind == SH2000_PROG_DWELL ||
+	       (b->kind == SH2000_PROG_PAUSE &&
+		(!b->u.optional || o->optional_stop));
+}
+
+/* ---- the first pass -------------------------------------------------------- */
+
+struct plan_ctx {
+	struct sh2000_program_plan *plan;
+	const struct sh2000_limits *limits;
+	const struct sh2000_path_config *pc;
+	double start[SH2000_AXES];
+	const char *file;
+	int bad;
+};
+
+static int plan_sink(void *ctx, const struct sh2000_path_point *pt)
+{
+	struct plan_ctx *c = ctx;
+	double mm[SH2000_AXES];
+	unsigned int a;
+
+	c->plan->points++;
+	for (a = 0; a < SH2000_AXES; a++)
+		if (pt->mm[a] != c->start[a])
+			c->plan->moved |= 1u << a;
+	if (!c->limits)
+		return 0;
+	/* the runner applies the same rule to the same points later */
+	memcpy(mm, pt->mm, sizeof(mm));
+	if (sh2000_limits_apply(c->limits, mm, c->plan->error,
+				sizeof(c->plan->error)) < 0) {
+		/* the point belongs to the block tagged with this line */
+		snprintf(c->plan->where, sizeof(c->plan->where), "%s:%u",
+			 c->file, pt->seq);
+		c->bad = 1;
+		return -SH2000_ELIMIT;
+	}
+	return 0;
+}
+
+/* Plan one block (or finish the motion before a halt). */
+static int plan_block(struct sh2000_path *p, const struct sh2000_prog_block *b,
+		      const struct sh2000_program_opts *o,
+		      struct sh2000_program_plan *plan)
+{
+	if (halts(b, o)) {
+		if (b->kind == SH2000_PROG_DWELL)
+			plan->seconds += b->u.dwell_s;
+		return sh2000_path_finish(p);
+	}
+	if (b->kind == SH2000_PROG_PAUSE)
+		plan->optional_skipped++;
+	sh2000_path_set_seq(p, b->pos.line);
+	return sh2000_path_add_block(p, b);
+}
+
+static int plan_all(struct sh2000_prog_reader *r, struct sh2000_path *p,
+		    const struct sh2000_program_opts *o, struct plan_ctx *c)
+{
+	const struct sh2000_prog_block *b = NULL;
+	int got = 0, e = 0;
+
+	while (!e && (got = sh2000_prog_reader_next(r, &b)) > 0) {
+		c->plan->blocks++;
+		c->file = b->pos.file;
+		if (b->kind == SH2000_PROG_END)
+			break;
+		if (sh2000_prog_reader_errors(r))
+			continue;	/* read on for the errors; plan nothing */
+		e = plan_block(p, b, o, c->plan);
+		if (e && !c->bad) {
+			sh2000_prog_block_where(b, c->plan->where,
+						sizeof(c->plan->where));
+			snprintf(c->plan->error, sizeof(c->plan->error), "%s",
+				 sh2000_path_error(p));
+		}
+	}
+	if (got < 0)
+		return got;
+	/* the rest, for its errors: a program with errors is reported as
+	 * such, not by its plan */
+	while (got > 0 && (got = sh2000_prog_reader_next(r, &b)) > 0)
+		;
+	if (sh2000_prog_reader_errors(r))
+		return -SH2000_EPROGRAM;
+	if (!e)
+		e = sh2000_path_finish(p);
+	if (e && !c->bad && !c->plan->error[0])
+		snprintf(c->plan->error, sizeof(c->plan->error), "%s",
+			 sh2000_path_error(p));
+	return got < 0 ? got : e;
+}
+
+int sh2000_program_plan(struct sh2000_prog_reader *r,
+			const struct sh2000_path_config *pc,
+			const struct sh2000_program_opts *o,
+			struct sh2000_program_plan *plan)
+{
+	struct sh2000_program_opts def;
+	struct plan_ctx c;
+	struct sh2000_path *p;
+	int e;
+
+	if (!o) {
+		sh2000_program_opts_default(&def);
+		o = &def;
+	}
+	memset(plan, 0, sizeof(*plan));
+	memset(&c, 0, sizeof(c));
+	c.plan = plan;
+	c.limits = o->limits;
+	c.pc = pc;
+	c.file = "";
+	memcpy(c.start, pc->start, sizeof(c.start));
+	e = sh2000_path_create(&p, pc, plan_sink, &c, plan->error,
+			       sizeof(plan->error));
+	if (e)
+		return e;
+	e = sh2000_path_set_override(p, o->override);
+	if (!e)
+		e = plan_all(r, p, o, &c);
+	plan->seconds += (double)plan->points * pc->period_s;
+	sh2000_path_destroy(p);
+	return e;
+}
+
+/* ---- the second pass ------------------------------------------------------- */
+
+/* A block that holds the motion: finish what is planned, then dwell or
+ * pause. 1 for a skipped M1. */
+static int run_halt(struct sh2000_run *run, const struct sh2000_prog_block *b,
+		    sh2000_program_pause_fn pause, void *ctx)
+{
+	int e = sh2000_run_finish(run);
+
+	if (e)
+		return e;
+	if (b->kind == SH2000_PROG_DWELL)
+		return sh2000_run_dwell(run, b->u.dwell_s);
+	return pause ? pause(ctx, b) : 0;
+}
+
+int sh2000_run_program(struct sh2000_run *run, struct sh2000_prog_reader *r,
+		       const struct sh2000_program_opts *o,
+		       sh2000_program_pause_fn pause, void *ctx)
+{
+	struct sh2000_path *p = sh2000_run_path(run);
+	const struct sh2000_prog_block *b;
+	struct sh2000_program_opts def;
+	int got = 0, e = 0;
+
+	if (!o) {
+		sh2000_program_opts_default(&def);
+		o = &def;
+	}
+	while (!e && !sh2000_run_stop_requested(run) &&
+	       (got = sh2000_prog_reader_next(r, &b)) > 0) {
+		if (b->kind == SH2000_PROG_END)
+			break;
+		if (halts(b, o)) {
+			e = run_halt(run, b, pause, ctx);
+			continue;
+		}
+		sh2000_path_set_seq(p, b->pos.line);
+		e = sh2000_path_add_block(p, b);
+		/* planned before: a card failure while the look-ahead
+		 * streamed, or a stop; finish says which */
+		if (e) {
+			e = sh2000_run_finish(run);
+			return e ? e : -EIO;
+		}
+	}
+	if (!e && got < 0)
+		e = got;
+	if (!e)
+		e = sh2000_run_finish(run);
+	return e;
+}

@@ -387,11 +387,34 @@ static int card_contour(enum shape s, int raw, int ff, double *emax,
 }
 #endif
 
-int main(void)
+static void print_throughput(void)
+{
+	int raw;
+
+	printf("Throughput (CPU time of this thread, sink discards the points):\n");
+	printf("%-40s %-12s %16s\n", "program", "output", "points/s");
+	for (raw = 1; raw >= 0; raw--) {
+		printf("%-40s %-12s %16.0f\n", "20000 lines of 0.5 mm, 300 mm/s",
+		       raw ? "raw" : "compensated", throughput(0, raw));
+		printf("%-40s %-12s %16.0f\n", "200 NURBS circles R 5, 300 mm/s",
+		       raw ? "raw" : "compensated", throughput(1, raw));
+		printf("%-40s %-12s %16.0f\n", "100 free-form NURBS + lines",
+		       raw ? "raw" : "compensated", throughput(2, raw));
+	}
+	printf("(real time needs %d points/s at a 2 ms period)\n", 500);
+}
+
+/* bench_planner [throughput]: everything, or the throughput table alone */
+int main(int argc, char **argv)
 {
 	struct sh2000_path_stats st;
 	enum shape s;
 	int raw;
+
+	if (argc > 1 && !strcmp(argv[1], "throughput")) {
+		print_throughput();
+		return 0;
+	}
 
 	printf("Planner benchmark: R %.0f mm circle at %.0f mm/s, 2 ms coarse period, 20 fine steps,\n"
 	       "defaults otherwise (vmax 500 mm/s, amax 50000 mm/s^2, jerk 5e6 mm/s^3, S-curve),\n"
@@ -475,16 +498,6 @@ card_done:
 	printf("Through the card model: not built (needs libsh2000).\n\n");
 #endif
 
-	printf("Throughput (CPU time of this thread, sink discards the points):\n");
-	printf("%-40s %-12s %16s\n", "program", "output", "points/s");
-	for (raw = 1; raw >= 0; raw--) {
-		printf("%-40s %-12s %16.0f\n", "20000 lines of 0.5 mm, 300 mm/s",
-		       raw ? "raw" : "compensated", throughput(0, raw));
-		printf("%-40s %-12s %16.0f\n", "200 NURBS circles R 5, 300 mm/s",
-		       raw ? "raw" : "compensated", throughput(1, raw));
-		printf("%-40s %-12s %16.0f\n", "100 free-form NURBS + lines",
-		       raw ? "raw" : "compensated", throughput(2, raw));
-	}
-	printf("(real time needs %d points/s at a 2 ms period)\n", 500);
+	print_throughput();
 	return 0;
 }

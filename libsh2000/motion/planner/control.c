@@ -212,38 +212,32 @@ static struct pl_block *head(struct sh2000_path *p)
 	return &p->blk[p->head];
 }
 
-/* One substep; returns 1 when the motion has come to rest. */
-static int substep(struct sh2000_path *p, double h)
+/*
+ * The limits ahead that can matter in a substep of length h from the
+ * current state, into p->cons as (distance, speed) pairs: a descending
+ * staircase, since a limit no lower than a nearer one is met by meeting
+ * that one and holding the speed, and nothing further than any stop from
+ * the fastest this substep can lead to. Each block's limit is local: its
+ * junction and the feeds of it and of the block before; the controller
+ * checks every limit ahead from the exact state, so no backward pass is
+ * needed. A stop at the end of what is queued closes the list.
+ */
+static unsigned int limits_ahead(struct sh2000_path *p, double h,
+				 double level, int halt)
 {
-	struct pl_block *b = head(p);
 	const struct pl_limits *lim = &p->lim;
-	int trap = isinf(lim->J), halt = p->paused || p->stopping;
-	double J = trap ? lim->A : lim->J, vup, dh, d, ds, v, a, jl, jh, level, zone;
-	struct ctl c;
+	int trap = isinf(lim->J);
+	double zone = 2.0 * p->cfg.period_s, vup = p->v + lim->A * h, dh, d;
 	unsigned int i, n = 0;
 
-	c.lim = lim;
-	c.trap = trap;
-	c.h = h;
-	c.v = p->v;
-	c.a = p->a;
-	c.vcur = halt ? 0.0 : pl_cap(p, b);
-	zone = 2.0 * p->cfg.period_s;
-	if (b->corner && p->s < zone * b->vb)
-		c.vcur = fmin(c.vcur, b->vb);
-	/* limits further away than any stop from here cannot matter */
-	vup = p->v + lim->A * h;
 	dh = vup * (h + zone) +
 	     pl_brake_dist(lim, vup, trap ? 0.0 : lim->A, 0.0) + 1e-9;
-	/* Only a descending staircase of limits matters: one that is no
-	 * lower than a nearer one (or the current block's) is met by
-	 * meeting that one and holding the speed. Nor does a limit above
-	 * any speed this substep can lead to. */
-	level = fmin(c.vcur, vup + (trap ? 0.0 : lim->A * lim->A / (2.0 * J)));
-	d = b->L - p->s;
+	level = fmin(level, vup + (trap ? 0.0 : lim->A * lim->A /
+				   (2.0 * lim->J)));
+	d = head(p)->L - p->s;
 	for (i = 1; i < p->count && d <= dh; i++) {
-		struct pl_block *k = &p->blk[(p->head + i) % p->cap];
-		double V = halt ? 0.0 : k->vb;
+		const struct pl_block *k = pl_block_at(p, i);
+		double V = halt ? 0.0 : pl_entry_limit(p, i);
 
 		if (V < level) {
 			/* the card's spline spans two periods either side
@@ -260,112 +254,146 @@ static int substep(struct sh2000_path *p, double h)
 		p->cons[2 * n + 1] = 0.0;
 		n++;
 	}
-	c.cons = p->cons;
-	c.n = n;
-	/* at rest a hair before a stop (exact stop, end of the queue): the
-	 * transitions land within rounding of it; step onto it */
-	if (n && p->cons[2 * n - 1] == 0.0 && p->cons[2 * n - 2] < 1e-6 &&
-	    p->v < 1e-4 && !halt) {
-		p->s += fmax(p->cons[2 * n - 2], 0.0);
-		p->dist_now += fmax(p->cons[2 * n - 2], 0.0);
-		p->v = p->a = 0.0;
-		goto moved;
-	}
+	return n;
+}
 
+/* Brake towards the binding speed; if that still leaves a limit ahead
+ * out of reach, towards the lowest such one. */
+static void brake(const struct ctl *c, double *ds, double *v, double *a)
+{
+	double vt = danger(c);
+	int trap = c->trap;
+	unsigned int i, k;
+
+	for (i = 0; i <= c->n; i++) {
+		double lowest = vt;
+
+		follow(c, vt, ds, v, a);
+		for (k = 0; k < c->n; k++) {
+			double dd = c->cons[2 * k] - *ds, V = c->cons[2 * k + 1];
+
+			if (V < lowest &&
+			    (dd <= 0.0 ? *v > V + V_EPS :
+			     pl_brake_dist(c->lim, *v, trap ? 0.0 : *a, V) >
+			     dd + 1e-12))
+				lowest = V;
+		}
+		if (lowest == vt)
+			break;
+		vt = lowest;
+	}
+}
+
+/* The bisection for the extreme jerk that passes ok(), between lo and hi;
+ * want_low: the lowest that passes, else the highest. 16 halvings leave
+ * the jerk within 2J / 65536 of the extreme, far below what the
+ * profile's other roundings give away. */
+static double bisect(const struct ctl *c, int (*ok)(const struct ctl *, double),
+		     double lo, double hi, int want_low)
+{
+	unsigned int i;
+
+	for (i = 0; i < 16; i++) {
+		double m = 0.5 * (lo + hi);
+
+		if (ok(c, m) == want_low)
+			hi = m;
+		else
+			lo = m;
+	}
+	return want_low ? hi : lo;
+}
+
+/*
+ * The step of this substep: the largest jerk (S-curve) or acceleration
+ * (trapezoid) that keeps every limit ahead reachable and never runs
+ * backwards. Cheap cases first: full jerk, then the exact transition to
+ * the current limit (cruise, and no chattering around it); the bisection
+ * only when neither will do.
+ */
+static void choose_step(const struct ctl *c, double *ds, double *v, double *a)
+{
+	double J = c->trap ? c->lim->A : c->lim->J, jl, jh;
+
+	if (upper_ok(c, J) && lower_ok(c, J)) {
+		step_state(c, J, ds, v, a);
+		if (c->trap)
+			*a = J;
+		return;
+	}
+	if (c->v <= c->vcur + V_EPS) {
+		follow(c, c->vcur, ds, v, a);
+		if (cons_ok(c, *ds, *v, *a))
+			return;
+	}
 	/* the lowest jerk that does not run backwards ... */
-	jl = -J;
-	if (!lower_ok(&c, jl)) {
-		double lo = -J, hi = J;
-
-		for (i = 0; i < 24; i++) {
-			double m = 0.5 * (lo + hi);
-
-			if (lower_ok(&c, m))
-				hi = m;
-			else
-				lo = m;
-		}
-		jl = hi;
-	}
+	jl = lower_ok(c, -J) ? -J : bisect(c, lower_ok, -J, J, 1);
 	/* ... and the highest that keeps every limit reachable */
-	if (upper_ok(&c, J)) {
-		jh = J;
-	} else if (!upper_ok(&c, jl)) {
-		jh = NAN;
-	} else {
-		double lo = jl, hi = J;
-
-		for (i = 0; i < 24; i++) {
-			double m = 0.5 * (lo + hi);
-
-			if (upper_ok(&c, m))
-				lo = m;
-			else
-				hi = m;
-		}
-		jh = lo;
+	jh = upper_ok(c, jl) ? bisect(c, upper_ok, jl, J, 0) : NAN;
+	if (isnan(jh) || !lower_ok(c, jh)) {
+		brake(c, ds, v, a);
+		return;
 	}
-	if (isnan(jh) || !lower_ok(&c, jh)) {
-		/* brake towards the binding speed; if that still leaves a
-		 * limit ahead out of reach, towards the lowest such one */
-		double vt = danger(&c);
+	step_state(c, jh, ds, v, a);
+	if (c->trap)
+		*a = jh;
+}
 
-		for (i = 0; i <= n; i++) {
-			double lowest = vt;
-			unsigned int k;
+/* Past the end of the head block into the next ones. */
+static void advance_blocks(struct sh2000_path *p)
+{
+	struct pl_block *b = head(p);
 
-			follow(&c, vt, &ds, &v, &a);
-			for (k = 0; k < n; k++) {
-				double dd = p->cons[2 * k] - ds;
-				double V = p->cons[2 * k + 1];
-
-				if (V < lowest &&
-				    (dd <= 0.0 ? v > V + V_EPS :
-				     pl_brake_dist(lim, v, trap ? 0.0 : a, V) >
-				     dd + 1e-12))
-					lowest = V;
-			}
-			if (lowest == vt)
-				break;
-			vt = lowest;
-		}
-	} else if (jh < J && c.v <= c.vcur + V_EPS &&
-		   (follow(&c, c.vcur, &ds, &v, &a), cons_ok(&c, ds, v, a))) {
-		/* only the current limit binds: reach it exactly, no
-		 * chattering around the cruise speed */
-	} else {
-		step_state(&c, jh, &ds, &v, &a);
-		if (trap)
-			a = jh;
-	}
-	if (v < 0.0)
-		v = 0.0;
-	if (ds < 0.0)
-		ds = 0.0;
-	p->s += ds;
-	p->v = v;
-	p->a = a;
-	p->dist_now += ds;
-moved:
 	while (p->s >= b->L) {
-		if (p->count > 1) {
-			p->s -= b->L;
-			pop_head(p);
-			b = head(p);
-		} else {
+		if (p->count <= 1) {
 			p->s = b->L;
 			break;
 		}
+		p->s -= b->L;
+		pop_head(p);
+		b = head(p);
 	}
-	if (p->v <= 1e-12 && fabs(p->a) <= 1e-9) {
-		if (p->count == 1 && p->s >= b->L) {
-			p->v = p->a = 0.0;
-			return 1;
-		}
-		if (halt) {
-			p->v = p->a = 0.0;
-			return 1;
-		}
+}
+
+/* One substep; returns 1 when the motion has come to rest. */
+static int substep(struct sh2000_path *p, double h)
+{
+	struct pl_block *b = head(p);
+	int halt = p->paused || p->stopping;
+	double zone = 2.0 * p->cfg.period_s, ds, v, a;
+	struct ctl c;
+	unsigned int n;
+
+	c.lim = &p->lim;
+	c.trap = isinf(p->lim.J);
+	c.h = h;
+	c.v = p->v;
+	c.a = p->a;
+	c.vcur = halt ? 0.0 : pl_cap(p, b);
+	if (b->corner && p->s < zone * b->vj)
+		c.vcur = fmin(c.vcur, b->vj);
+	n = limits_ahead(p, h, c.vcur, halt);
+	c.cons = p->cons;
+	c.n = n;
+	if (n && p->cons[2 * n - 1] == 0.0 && p->cons[2 * n - 2] < 1e-6 &&
+	    p->v < 1e-4 && !halt) {
+		/* at rest a hair before a stop (exact stop, end of the
+		 * queue): the transitions land within rounding of it */
+		ds = fmax(p->cons[2 * n - 2], 0.0);
+		v = a = 0.0;
+	} else {
+		choose_step(&c, &ds, &v, &a);
+	}
+	p->s += fmax(ds, 0.0);
+	p->dist_now += fmax(ds, 0.0);
+	p->v = fmax(v, 0.0);
+	p->a = a;
+	advance_blocks(p);
+	b = head(p);
+	if (p->v <= 1e-12 && fabs(p->a) <= 1e-9 &&
+	    ((p->count == 1 && p->s >= b->L) || halt)) {
+		p->v = p->a = 0.0;
+		return 1;
 	}
 	return 0;
 }

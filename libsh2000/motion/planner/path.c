@@ -221,7 +221,6 @@ int sh2000_path_set_override(struct sh2000_path *p, double factor)
 		return pl_err(p, -EINVAL, "override must be in (0, 2]: got %g",
 			      factor);
 	p->override = factor;
-	pl_backward_all(p);
 	return 0;
 }
 

@@ -54,7 +54,6 @@ struct pl_block {
 	double vlim;		/* what the geometry and axes allow, mm/s */
 	double feed;		/* programmed, mm/s (may be INFINITY) */
 	double vj;		/* limit at the junction into this block */
-	double vb;		/* backward pass: max speed at the start */
 	int stop_after;		/* exact stop at the end (point-to-point) */
 	int corner;		/* the junction into it is a corner */
 	double t0[SH2000_AXES], t1[SH2000_AXES];	/* unit tangents at start and end */
@@ -94,10 +93,19 @@ void pl_trans_plan(const struct pl_limits *lim, double v, double a,
 /* Distance to reach a speed <= vt from (v, a), a ending at 0. */
 double pl_brake_dist(const struct pl_limits *lim, double v, double a,
 		     double vt);
+/* Length of the transition from v0 to v1, both at rest acceleration. */
+double pl_trans_len(const struct pl_limits *lim, double v0, double v1);
 /* Largest start speed (a = 0) that can slow to v1 (a = 0) within L. */
 double pl_reach_back(const struct pl_limits *lim, double v1, double L);
-/* Advance (s, v, a) by dt with constant jerk j. */
-void pl_integrate(double *s, double *v, double *a, double j, double dt);
+/* Advance (s, v, a) by dt with constant jerk j (inline: the controller's
+ * innermost step). */
+static inline void pl_integrate(double *s, double *v, double *a, double j,
+				double dt)
+{
+	*s += dt * (*v + dt * (*a / 2.0 + dt * j / 6.0));
+	*v += dt * (*a + dt * j / 2.0);
+	*a += dt * j;
+}
 
 /* ---- the planner ------------------------------------------------------ */
 
@@ -166,8 +174,11 @@ int pl_make_room(struct sh2000_path *p);
 /* One coarse period. Returns 1 if the motion is at rest with nothing
  * (more) to do, 0 otherwise, negative on a sink error. */
 int pl_period(struct sh2000_path *p);
-/* Recompute every block's backward-pass speed (override changed). */
-void pl_backward_all(struct sh2000_path *p);
+/* Block i of the window (0: the head). */
+const struct pl_block *pl_block_at(const struct sh2000_path *p, unsigned int i);
+/* How fast block i >= 1 may be entered: its junction, its feed and the
+ * feed of the block before (with the override). */
+double pl_entry_limit(const struct sh2000_path *p, unsigned int i);
 /* A stop has come to rest: drop the rest of the program. */
 void pl_stopped(struct sh2000_path *p);
 double pl_cap(const struct sh2000_path *p, const struct pl_block *b);

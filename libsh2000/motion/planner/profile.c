@@ -14,13 +14,6 @@
 
 #include "planner.h"
 
-void pl_integrate(double *s, double *v, double *a, double j, double dt)
-{
-	*s += dt * (*v + dt * (*a / 2.0 + dt * j / 6.0));
-	*v += dt * (*a + dt * j / 2.0);
-	*a += dt * j;
-}
-
 void pl_trans_plan(const struct pl_limits *lim, double v, double a,
 		   double v1, struct pl_trans *tr)
 {
@@ -97,8 +90,9 @@ double pl_brake_dist(const struct pl_limits *lim, double v, double a,
 	return s;
 }
 
-/* Length of a transition between two speeds at rest acceleration. */
-static double trans_len(const struct pl_limits *lim, double v0, double v1)
+/* Length of a transition between two speeds at rest acceleration: the
+ * mean speed times its time (the S-curve is symmetric). */
+double pl_trans_len(const struct pl_limits *lim, double v0, double v1)
 {
 	double dv = fabs(v0 - v1), t;
 
@@ -111,22 +105,34 @@ static double trans_len(const struct pl_limits *lim, double v0, double v1)
 	return 0.5 * (v0 + v1) * t;
 }
 
+/*
+ * The inverse of pl_trans_len in closed form: the start speed v1 + dv of
+ * a transition of length L down to v1. Without reaching A (dv < A^2/J),
+ * L = (2 v1 + dv) sqrt(dv / J): with x = sqrt(dv) the cubic
+ * x^3 + 2 v1 x - L sqrt(J) = 0, whose one real root is taken in its
+ * hyperbolic form (no cancellation when v1 is large). Reaching A,
+ * L = (2 v1 + dv)(dv / A + A / J) / 2, a quadratic in dv.
+ */
 double pl_reach_back(const struct pl_limits *lim, double v1, double L)
 {
-	double lo = v1, hi = sqrt(v1 * v1 + 2.0 * lim->A * L);
-	int i;
+	double A = lim->A, J = lim->J, p, q, x, dv, b, c;
 
 	if (L <= 0.0)
 		return v1;
-	if (isinf(lim->J))
-		return hi;
-	for (i = 0; i < 48 && hi - lo > 1e-12 * hi; i++) {
-		double m = 0.5 * (lo + hi);
-
-		if (trans_len(lim, m, v1) <= L)
-			lo = m;
-		else
-			hi = m;
+	if (isinf(J))
+		return sqrt(v1 * v1 + 2.0 * A * L);
+	p = 2.0 * v1;
+	q = L * sqrt(J);
+	if (p < 1e-9 * cbrt(q * q))
+		x = cbrt(q);
+	else
+		x = 2.0 * sqrt(p / 3.0) *
+		    sinh(asinh(1.5 * q / p * sqrt(3.0 / p)) / 3.0);
+	dv = x * x;
+	if (dv >= A * A / J) {
+		b = 2.0 * v1 + A * A / J;
+		c = 2.0 * v1 * A * A / J - 2.0 * L * A;
+		dv = -2.0 * c / (b + sqrt(b * b - 4.0 * c));
 	}
-	return lo;
+	return v1 + dv;
 }

@@ -1,34 +1,27 @@
 // SPDX-License-Identifier: MIT
 /*
  * The look-ahead window: a ring of blocks. Queueing a block sets its
- * junction speed and runs the backward pass (the largest speed each block
- * may be entered with and still slow down for everything after it) only
- * as far back as an entry speed changes. Dropping blocks (a stop, a
- * reset) releases the curves they refer to.
+ * junction speed; a block's entry limit is local (its junction and the
+ * feeds on both sides) and the controller checks every limit ahead from
+ * its exact state, so there is no backward pass to redo when a block
+ * comes. Dropping blocks (a stop, a reset) releases the curves they refer
+ * to.
  */
 #include <math.h>
 #include <string.h>
 
 #include "planner.h"
 
-static double vb_of(struct sh2000_path *p, unsigned int i)
+const struct pl_block *pl_block_at(const struct sh2000_path *p, unsigned int i)
 {
-	struct pl_block *b = &p->blk[(p->head + i) % p->cap];
-	struct pl_block *prev = &p->blk[(p->head + i - 1) % p->cap];
-	double next = 0.0, v;
-
-	if (i + 1 < p->count)
-		next = p->blk[(p->head + i + 1) % p->cap].vb;
-	v = fmin(b->vj, fmin(pl_cap(p, b), pl_cap(p, prev)));
-	return fmin(v, pl_reach_back(&p->lim, next, b->L));
+	return &p->blk[(p->head + i) % p->cap];
 }
 
-void pl_backward_all(struct sh2000_path *p)
+double pl_entry_limit(const struct sh2000_path *p, unsigned int i)
 {
-	unsigned int i;
+	const struct pl_block *b = pl_block_at(p, i);
 
-	for (i = p->count; i-- > 1;)
-		p->blk[(p->head + i) % p->cap].vb = vb_of(p, i);
+	return fmin(b->vj, fmin(pl_cap(p, b), pl_cap(p, pl_block_at(p, i - 1))));
 }
 
 void pl_push_block(struct sh2000_path *p, struct pl_block *b)
@@ -54,15 +47,6 @@ void pl_push_block(struct sh2000_path *p, struct pl_block *b)
 	p->blk[(p->head + p->count) % p->cap] = *b;
 	p->count++;
 	p->blocks++;
-	/* the backward pass, as far as anything changes */
-	for (i = p->count; i-- > 1;) {
-		struct pl_block *k = &p->blk[(p->head + i) % p->cap];
-		double v = vb_of(p, i);
-
-		if (i + 1 < p->count && v == k->vb)
-			break;
-		k->vb = v;
-	}
 }
 
 void pl_drop_blocks(struct sh2000_path *p)

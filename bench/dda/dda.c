@@ -127,7 +127,7 @@ static int arc_piece(struct dda_run *run, int64_t cx, int64_t cy,
 	(void)ccw;
 	while (cntx || cnty) {
 		unsigned int mask = 0;
-		/* the seed's swapped integrands, read before either moves */
+		/* the DDA paper's swapped integrands, read before either moves */
 		uint64_t jx = (uint64_t)(llabs(y) ? llabs(y) : 1) << k;
 		uint64_t jy = (uint64_t)(llabs(x) ? llabs(x) : 1) << k;
 

@@ -6,7 +6,7 @@
  *    NURBS test curve, raw versus compensated: the fine path computed with
  *    the shared sh2000_bspline over the emitted points, and the card
  *    model's own fine set-points (through libsh2000's `sim` card);
- *  - seed 002's DDA on the same circle as a baseline (10 nm and 1 um);
+ *  - the DDA paper's [R3] DDA on the same circle as a baseline (10 nm and 1 um);
  *  - NURBS chord error and feed fluctuation;
  *  - following error of the simulated axes on the circle, PID alone versus
  *    PID plus velocity and acceleration feed-forward;
@@ -444,10 +444,10 @@ int main(int argc, char **argv)
 	}
 	printf("(fine path: sh2000_bspline over the emitted points, the card's window and END padding;\n"
 	       " chord err: largest sagitta between consecutive points; feed fluct: largest |chord - planned\n"
-	       " step| / step, with the corrector and with seed 001's prediction alone; corr/step: Newton\n"
+	       " step| / step, with the corrector and with the NURBS interpolator paper's [R2] prediction alone; corr/step: Newton\n"
 	       " corrections per step)\n\n");
 
-	printf("DDA baseline (seed 002, 24-bit, half-loading, normalised), the same circle:\n");
+	printf("DDA baseline (the DDA paper [R3], 24-bit, half-loading, normalised), the same circle:\n");
 	printf("%-18s %14s %14s %14s\n", "resolution", "max err (um)",
 	       "rms err (um)", "cycles");
 	{

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /*
- * Seed 002's DDA interpolator: lines in 3 axes and arcs in 2 end exactly
+ * The DDA paper's [R3] DDA interpolator: lines in 3 axes and arcs in 2 end exactly
  * where they should with exactly |delta| pulses per axis, stay within a
  * count of the ideal geometry, half-loading halves the error, and
  * left-shift normalisation makes the pulses even (the fastest axis pulses
@@ -70,7 +70,7 @@ static void run_line(const int32_t s[3], const int32_t e[3], int half,
 
 static void test_dda_line(void **st)
 {
-	/* the seed's examples: (0,0,0) -> (10,12,0), and a triangle */
+	/* the DDA paper's examples: (0,0,0) -> (10,12,0), and a triangle */
 	static const int32_t pts[][3] = {
 		{ 0, 0, 0 }, { 10, 12, 0 }, { 15, 6, 0 }, { 0, 0, 0 },
 		{ -300, 7, 1200 }, { 5, -4000, 13 },
@@ -127,7 +127,7 @@ static void test_dda_arc(void **st)
 	int ccw;
 
 	(void)st;
-	/* the seed's quarter: (15,0) -> (0,15) ccw; and R 5, 8 */
+	/* the DDA paper's quarter: (15,0) -> (0,15) ccw; and R 5, 8 */
 	for (ccw = 0; ccw <= 1; ccw++) {
 		static const int32_t R[] = { 5, 8, 15, 1000, 20000 };
 		unsigned int i;

@@ -16,7 +16,7 @@
  * When no choice is safe (a limit just dropped), it follows the transition
  * to the lowest violated speed exactly.
  *
- * Samples on a NURBS go through seed 001's parameter predictor
+ * Samples on a NURBS go through the NURBS interpolator paper's [R2] parameter predictor
  * u(i+1) = 2.5 u(i) - 2 u(i-1) + 0.5 u(i-2) and a Newton corrector that
  * makes the chord of each step equal to the planned step.
  */

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /*
- * Velocity-profile arithmetic along the path (seed 003's trapezoid and
+ * Velocity-profile arithmetic along the path (the single-axis controller paper's [R4] trapezoid and
  * 7-phase S-curve, generalised to start from any acceleration): the
  * time-optimal transition from (v, a) to (v1, 0) under |a| <= A and
  * |jerk| <= J, its length, and the reverse question the look-ahead asks

@@ -52,7 +52,7 @@
 #define SH2000_W_CMD_RESULT		9u
 #define SH2000_W_CMD_VALUE_LO		10u
 #define SH2000_W_CMD_VALUE_HI		11u
-/* C: the last rejected segment record (seed 004's CNCERR). COUNT changes
+/* C: the last rejected segment record (the CNC communication paper's [R5] CNCERR). COUNT changes
  * on every rejection, so a repeated SEQ is still seen as new. */
 #define SH2000_W_REJECT_SEQ		12u
 #define SH2000_W_REJECT_REASON		13u

@@ -6,8 +6,8 @@
  * Each period is cut into a few substeps. In each substep the controller
  * picks the largest jerk (S-curve) or acceleration (trapezoid) that keeps
  * it able to honour every speed limit ahead: the current block's, each
- * later block's entry speed from the backward pass (corners, slower
- * blocks) and a stop at the end of what is queued. "Able" is exact: the
+ * later block's entry limit (corners, slower blocks) and a stop at the end
+ * of what is queued. "Able" is exact: the
  * time-optimal transition from the state reached to the limit's speed must
  * fit in the distance left before it (profile.c). So the motion accelerates
  * across blocks, never reaches cruise on a short move, always can stop at
@@ -16,9 +16,11 @@
  * When no choice is safe (a limit just dropped), it follows the transition
  * to the lowest violated speed exactly.
  *
- * Samples on a NURBS go through the NURBS interpolator paper's [R2] parameter predictor
- * u(i+1) = 2.5 u(i) - 2 u(i-1) + 0.5 u(i-2) and a Newton corrector that
- * makes the chord of each step equal to the planned step.
+ * A speed limit holds a little before it drops and after it rises, and
+ * the cruise stays a hair below the programmed feed (feed_zone and
+ * feed_margin, set in path.c): the card's spline spreads every change over
+ * a few periods, and the feed is measured on what the card does. Samples
+ * on a NURBS come from nurbs_step.c.
  */
 #include <errno.h>
 #include <math.h>
@@ -241,8 +243,13 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 
 		if (V < level) {
 			/* the card's spline spans two periods either side
-			 * of a corner: the corner speed holds over them */
-			p->cons[2 * n] = k->corner ? d - zone * V : d;
+			 * of a corner: the corner speed holds over them; a
+			 * lower speed limit holds from feed_zone before */
+			double t = k->corner ? zone : 0.0;
+
+			if (pl_cap(p, k) < pl_prev_cap(p, k))
+				t = fmax(t, p->feed_zone);
+			p->cons[2 * n] = d - t * V;
 			p->cons[2 * n + 1] = V;
 			n++;
 			level = V;
@@ -372,6 +379,9 @@ static int substep(struct sh2000_path *p, double h)
 	c.vcur = halt ? 0.0 : pl_cap(p, b);
 	if (b->corner && p->s < zone * b->vj)
 		c.vcur = fmin(c.vcur, b->vj);
+	/* a higher limit only once the lower one is feed_zone behind */
+	if (!halt && p->s < p->feed_zone * pl_prev_cap(p, b))
+		c.vcur = fmin(c.vcur, fmax(pl_prev_cap(p, b), 0.0));
 	n = limits_ahead(p, h, c.vcur, halt);
 	c.cons = p->cons;
 	c.n = n;
@@ -399,119 +409,6 @@ static int substep(struct sh2000_path *p, double h)
 }
 
 /* ---- sampling ----------------------------------------------------------- */
-
-static double norm(const double *x)
-{
-	double s = 0.0;
-	unsigned int a;
-
-	for (a = 0; a < SH2000_AXES; a++)
-		s += x[a] * x[a];
-	return sqrt(s);
-}
-
-static void sample_nurbs(struct sh2000_path *p, struct pl_block *b,
-			 double ds, double q[SH2000_AXES])
-{
-	struct pl_nurbs *nb = b->g.nurbs.nb;
-	double u, c[SH2000_AXES], d1[SH2000_AXES], diff[SH2000_AXES], *hu = p->hist_u;
-	unsigned int a, it;
-
-	if (p->hist_id == nb->id && p->hist_n >= 1) {
-		if (p->hist_n >= 3)
-			u = 2.5 * hu[0] - 2.0 * hu[1] + 0.5 * hu[2];
-		else if (p->hist_n == 2)
-			u = 2.0 * hu[0] - hu[1];
-		else
-			u = hu[0] + (b->g.nurbs.u1 - b->g.nurbs.u0) * ds / b->L;
-		u = fmin(fmax(u, hu[0]), nb->umax);
-		if (ds > 1e-12) {
-			double chord, w[SH2000_AXES], e[SH2000_AXES], m[SH2000_AXES], wp = 0.0, sag;
-
-			for (it = 0; it < 12; it++) {
-				double f, fp = 0.0, ch;
-
-				pl_nurbs_eval(nb, u, c, d1, NULL);
-				for (a = 0; a < SH2000_AXES; a++)
-					diff[a] = c[a] - p->hist_c[a];
-				ch = norm(diff);
-				f = ch - ds;
-				if (it == 0 && p->hist_n >= 3 && ds > 1e-6 &&
-				    u < nb->umax)
-					p->feed_fluct_pred = fmax(p->feed_fluct_pred,
-								  fabs(f) / ds);
-				if (fabs(f) < 1e-12)
-					break;
-				p->nurbs_corr++;
-				for (a = 0; a < SH2000_AXES; a++)
-					fp += diff[a] * d1[a];
-				fp = ch > 0.0 ? fp / ch : norm(d1);
-				if (fp <= 0.0)
-					fp = norm(d1);
-				if (fp <= 0.0)
-					break;
-				u = fmin(fmax(u - f / fp, hu[0]), nb->umax);
-				if (u == nb->umax && f < 0.0)
-					break;
-			}
-			pl_nurbs_eval(nb, u, c, NULL, NULL);
-			for (a = 0; a < SH2000_AXES; a++)
-				diff[a] = c[a] - p->hist_c[a];
-			chord = norm(diff);
-			if (u < nb->umax && ds > 1e-6)
-				p->feed_fluct = fmax(p->feed_fluct,
-						     fabs(chord - ds) / ds);
-			/* sagitta at the middle parameter */
-			if (chord > 0.0) {
-				pl_nurbs_eval(nb, 0.5 * (u + hu[0]), m, NULL,
-					      NULL);
-				for (a = 0; a < SH2000_AXES; a++) {
-					e[a] = diff[a] / chord;
-					w[a] = m[a] - p->hist_c[a];
-					wp += w[a] * e[a];
-				}
-				for (a = 0; a < SH2000_AXES; a++)
-					w[a] -= wp * e[a];
-				sag = norm(w);
-				p->chord_err = fmax(p->chord_err, sag);
-			}
-			p->nurbs_steps++;
-		} else {
-			u = hu[0];
-			pl_nurbs_eval(nb, u, c, NULL, NULL);
-		}
-	} else {
-		/* entering the curve: invert the arc length in the block */
-		double s = fmin(fmax(p->s, 0.0), b->L);
-
-		u = b->g.nurbs.u0 + (b->g.nurbs.u1 - b->g.nurbs.u0) * s / b->L;
-		for (it = 0; it < 4; it++) {
-			double l = pl_nurbs_length(nb, b->g.nurbs.u0, u);
-
-			pl_nurbs_eval(nb, u, c, d1, NULL);
-			if (norm(d1) <= 0.0)
-				break;
-			u = fmin(fmax(u + (s - l) / norm(d1), b->g.nurbs.u0),
-				 b->g.nurbs.u1);
-		}
-		pl_nurbs_eval(nb, u, c, NULL, NULL);
-	}
-	/* the planner's distance follows the curve's arc length */
-	if (u <= b->g.nurbs.u1)
-		p->s = pl_nurbs_length(nb, b->g.nurbs.u0, u);
-	else
-		p->s = b->L + pl_nurbs_length(nb, b->g.nurbs.u1, u);
-	if (p->hist_id != nb->id)
-		p->hist_n = 0;
-	hu[2] = hu[1];
-	hu[1] = hu[0];
-	hu[0] = u;
-	if (p->hist_n < 3)
-		p->hist_n++;
-	p->hist_id = nb->id;
-	memcpy(p->hist_c, c, sizeof(c));
-	memcpy(q, c, sizeof(c));
-}
 
 /* ---- output ------------------------------------------------------------ */
 
@@ -591,7 +488,7 @@ int pl_period(struct sh2000_path *p)
 		p->s = 0.0;
 		p->hist_id = 0;
 	} else if (head(p)->type == BLK_NURBS) {
-		sample_nurbs(p, head(p), ds, q);
+		pl_nurbs_sample(p, head(p), ds, q);
 	} else {
 		pl_block_pos(head(p), p->s, q);
 		p->hist_id = 0;

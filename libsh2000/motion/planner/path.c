@@ -173,6 +173,18 @@ int sh2000_path_create(struct sh2000_path **out,
 	if (cfg->profile == SH2000_PROFILE_TRAPEZOID &&
 	    cfg->output == SH2000_OUTPUT_COMPENSATED)
 		p->lim.A /= 1.75;
+	/* The card's compensated spline rings above the speed a transition
+	 * ends at, by about 0.004 J T^2 (0.004 A T for the trapezoid's
+	 * acceleration steps), measured on its fine set-points (the feed test
+	 * in tests/planner); the cruise keeps 25 % more below the feed. A
+	 * change spreads over the spline's two periods either side, and the
+	 * compensation's ringing over about six. */
+	if (cfg->output == SH2000_OUTPUT_COMPENSATED)
+		p->feed_margin = 0.005 *
+				 (isinf(p->lim.J) ? p->lim.A * cfg->period_s :
+				  p->lim.J * cfg->period_s * cfg->period_s);
+	p->feed_zone = cfg->period_s *
+		       (cfg->output == SH2000_OUTPUT_RAW ? 2.0 : 6.0);
 	p->cap = cfg->window;
 	p->blk = pl_alloc(p, p->cap * sizeof(*p->blk));
 	if (!p->blk) {

@@ -53,6 +53,9 @@ struct pl_block {
 	double L;		/* length along the path, mm */
 	double vlim;		/* what the geometry and axes allow, mm/s */
 	double feed;		/* programmed, mm/s (may be INFINITY) */
+	/* the block before: a rise in the speed limit waits until the card
+	 * has left that block's speed behind (queue.c) */
+	double prev_feed, prev_vlim;
 	double vj;		/* limit at the junction into this block */
 	int stop_after;		/* exact stop at the end (point-to-point) */
 	int corner;		/* the junction into it is a corner */
@@ -122,6 +125,14 @@ struct sh2000_path {
 	/* limits in path terms */
 	struct pl_limits lim;
 	double amin;		/* smallest axis acceleration */
+	/* s: how long before a drop and after a rise of the speed limit the
+	 * lower limit holds, so that the card's spline, which spreads a
+	 * change over this many periods, never carries the higher speed
+	 * into the slower block */
+	double feed_zone;
+	/* mm/s the cruise stays below the programmed feed: what the card's
+	 * compensated spline rings above a speed a transition ends at */
+	double feed_margin;
 	unsigned int substeps;
 
 	/* the look-ahead window: a ring of blocks */
@@ -131,6 +142,7 @@ struct sh2000_path {
 	double pending_feed;
 	double *cons;		/* controller scratch: (distance, speed) */
 	double qend[SH2000_AXES];	/* end of the queued primitives */
+	double tail_feed, tail_vlim;	/* of the last block queued */
 	double tend[SH2000_AXES];	/* tangent there (0: none / after a stop) */
 	int stop_next;		/* next block starts from rest */
 	uint32_t seq;
@@ -150,6 +162,7 @@ struct sh2000_path {
 	unsigned int hist_n;
 	double hist_u[3];
 	double hist_c[SH2000_AXES];
+	double hist_speed;	/* |C'| at hist_u[0] */
 
 	/* output */
 	struct sh2000_bscomp *comp;
@@ -176,12 +189,18 @@ int pl_make_room(struct sh2000_path *p);
 int pl_period(struct sh2000_path *p);
 /* Block i of the window (0: the head). */
 const struct pl_block *pl_block_at(const struct sh2000_path *p, unsigned int i);
+/* The speed limit of the block before b (with the override). */
+double pl_prev_cap(const struct sh2000_path *p, const struct pl_block *b);
 /* How fast block i >= 1 may be entered: its junction, its feed and the
  * feed of the block before (with the override). */
 double pl_entry_limit(const struct sh2000_path *p, unsigned int i);
 /* A stop has come to rest: drop the rest of the program. */
 void pl_stopped(struct sh2000_path *p);
 double pl_cap(const struct sh2000_path *p, const struct pl_block *b);
+/* nurbs_step.c: the point of NURBS block b after the controller moved ds
+ * along it (p->s is corrected to the arc the step took). */
+void pl_nurbs_sample(struct sh2000_path *p, struct pl_block *b, double ds,
+		     double q[SH2000_AXES]);
 /* expand.c: expand as much of the pending NURBS as fits; 1 when fully
  * queued. */
 int pl_nurbs_expand(struct sh2000_path *p);

@@ -17,11 +17,18 @@ const struct pl_block *pl_block_at(const struct sh2000_path *p, unsigned int i)
 	return &p->blk[(p->head + i) % p->cap];
 }
 
+double pl_prev_cap(const struct sh2000_path *p, const struct pl_block *b)
+{
+	return fmin(b->prev_vlim, fmax(b->prev_feed * p->override -
+				       p->feed_margin,
+				       0.5 * b->prev_feed * p->override));
+}
+
 double pl_entry_limit(const struct sh2000_path *p, unsigned int i)
 {
 	const struct pl_block *b = pl_block_at(p, i);
 
-	return fmin(b->vj, fmin(pl_cap(p, b), pl_cap(p, pl_block_at(p, i - 1))));
+	return fmin(b->vj, fmin(pl_cap(p, b), pl_prev_cap(p, b)));
 }
 
 void pl_push_block(struct sh2000_path *p, struct pl_block *b)
@@ -41,6 +48,15 @@ void pl_push_block(struct sh2000_path *p, struct pl_block *b)
 	b->corner = !isinf(b->vj);
 	if (b->feed == 0.0)
 		b->feed = INFINITY;
+	if (p->stop_next || !p->blocks) {
+		b->prev_feed = b->feed;
+		b->prev_vlim = b->vlim;
+	} else {
+		b->prev_feed = p->tail_feed;
+		b->prev_vlim = p->tail_vlim;
+	}
+	p->tail_feed = b->feed;
+	p->tail_vlim = b->vlim;
 	p->stop_next = b->stop_after;
 	memcpy(p->tend, b->t1, sizeof(p->tend));
 	memcpy(p->qend, b->p1, sizeof(p->qend));

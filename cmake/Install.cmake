@@ -4,12 +4,24 @@
 # after all targets exist; every version below is PROJECT_VERSION.
 #
 # Components, one Debian package each:
-#   runtime -> libsh2000       libsh2000.so.0 (+ the real file)
-#   dev     -> libsh2000-dev   headers, libsh2000.a, libsh2000.so, sh2000.pc,
-#                              lib/cmake/sh2000/
-#   tools   -> sh2000-tools    sh2000ctl, sh2000-sim, sh2000-upload, man pages
-#   dkms    -> sh2000-dkms     driver sources in src/sh2000-<ver>/ with
-#                              dkms.conf, the udev rule, the modprobe example
+#   runtime    -> libsh2000            libsh2000.so.0 (+ the real file)
+#   motion     -> libsh2000-motion     libsh2000-motion.so.0
+#   sim        -> libsh2000-sim        libsh2000-sim.so.0
+#   dev        -> libsh2000-dev        device, protocol and ioctl headers,
+#                                      libsh2000.a, libsh2000.so, sh2000.pc,
+#                                      lib/cmake/sh2000/ (config, version,
+#                                      sh2000Targets*.cmake)
+#   motion_dev -> libsh2000-motion-dev path.h, program.h, run.h, the .a, the
+#                                      .so link, sh2000-motion.pc,
+#                                      sh2000MotionTargets*.cmake
+#   sim_dev    -> libsh2000-sim-dev    sim.h, sh2000_cardsim.h, the .a, the
+#                                      .so link, sh2000-sim.pc,
+#                                      sh2000SimTargets*.cmake
+#   tools      -> sh2000-tools         sh2000ctl, sh2000-sim, sh2000-upload,
+#                                      man pages
+#   dkms       -> sh2000-dkms          driver sources in src/sh2000-<ver>/
+#                                      with dkms.conf, the udev rule, the
+#                                      modprobe example
 
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
@@ -26,14 +38,14 @@ set(SH2000_PKG_VERSION ${PROJECT_VERSION})
 add_custom_target(sh2000_installables)
 
 # ---- versions: one project version ----------------------------------------
-# The library's VERSION is set in libsh2000/src and the driver's in
+# The libraries' VERSION is set in libsh2000/*/CMakeLists.txt, the driver's in
 # driver/sh2000_core.h; they must say the same as project().
-if(TARGET sh2000)
-  get_target_property(_sh2000_libver sh2000 VERSION)
+foreach(t sh2000 sh2000_motion sh2000_sim)
+  get_target_property(_sh2000_libver ${t} VERSION)
   if(NOT _sh2000_libver STREQUAL PROJECT_VERSION)
-    message(WARNING "libsh2000 VERSION ${_sh2000_libver} != project version ${PROJECT_VERSION}")
+    message(WARNING "${t} VERSION ${_sh2000_libver} != project version ${PROJECT_VERSION}")
   endif()
-endif()
+endforeach()
 file(STRINGS ${PROJECT_SOURCE_DIR}/driver/sh2000_core.h _sh2000_drv
   REGEX "^#define[ \t]+SH2000_DRIVER_VERSION[ \t]")
 string(REGEX REPLACE ".*\"(.*)\".*" "\\1" _sh2000_drv "${_sh2000_drv}")
@@ -45,77 +57,95 @@ endif()
 # Each layer (cmake/Sh2000Library.cmake) is a shared and a static library;
 # their targets carry build-tree include paths only as BUILD_INTERFACE.
 # Installed consumers get <prefix>/include (headers as <sh2000/...>).
-foreach(t sh2000 sh2000_motion sh2000_sim)
-  add_dependencies(sh2000_installables ${t} ${t}_static)
-endforeach()
-set_target_properties(sh2000 PROPERTIES EXPORT_NAME sh2000)
-set_target_properties(sh2000_static PROPERTIES EXPORT_NAME sh2000_static)
-set_target_properties(sh2000_motion PROPERTIES EXPORT_NAME motion)
-set_target_properties(sh2000_motion_static PROPERTIES EXPORT_NAME motion_static)
-set_target_properties(sh2000_sim PROPERTIES EXPORT_NAME sim)
-set_target_properties(sh2000_sim_static PROPERTIES EXPORT_NAME sim_static)
-install(TARGETS sh2000 sh2000_motion sh2000_sim EXPORT sh2000Targets
-  LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
-    COMPONENT runtime
-    NAMELINK_COMPONENT dev)
-install(TARGETS sh2000_static sh2000_motion_static sh2000_sim_static
-  EXPORT sh2000Targets
-  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev)
-foreach(t sh2000_static sh2000_motion_static sh2000_sim_static)
+#
+# _sh2000_install_layer(<target> <export name> <runtime comp> <dev comp>
+#                       <export set> <header folders...>)
+# The shared library goes to <runtime comp> (its namelink to <dev comp>),
+# the static one, the layer's public headers, its CMake targets file
+# (sh2000::<export name> and sh2000::<export name>_static) and its
+# pkg-config file to <dev comp>: one Debian package each.
+function(_sh2000_install_layer target export runtime dev set)
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${export})
+  set_target_properties(${target}_static PROPERTIES EXPORT_NAME ${export}_static)
+  add_dependencies(sh2000_installables ${target} ${target}_static)
+  install(TARGETS ${target} EXPORT ${set}
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+      COMPONENT ${runtime}
+      NAMELINK_COMPONENT ${dev})
+  install(TARGETS ${target}_static EXPORT ${set}
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT ${dev})
   # `cmake --install --strip` and the packages (CPACK_STRIP_FILES) strip the
-  # shared libraries and the tools; strip the archives' debug sections too,
+  # shared libraries and the tools; strip the archive's debug sections too,
   # as Debian's dh_strip does (they hold the build machine's paths).
   install(CODE "
     if(CMAKE_INSTALL_DO_STRIP)
       execute_process(COMMAND \"${CMAKE_STRIP}\" --strip-debug --enable-deterministic-archives
-        \"\$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:${t}>\")
-    endif()" COMPONENT dev)
-endforeach()
+        \"\$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:${target}_static>\")
+    endif()" COMPONENT ${dev})
+  install(EXPORT ${set} NAMESPACE sh2000::
+    DESTINATION ${SH2000_CMAKEDIR} COMPONENT ${dev})
+  # Every layer's public headers land in include/sh2000/ (they include
+  # each other as "sh2000/..."); each -dev package holds its own.
+  foreach(dir IN LISTS ARGN)
+    install(DIRECTORY ${dir}/sh2000 DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+      COMPONENT ${dev} FILES_MATCHING PATTERN "*.h")
+  endforeach()
+  get_target_property(pc ${target} OUTPUT_NAME)
+  configure_file(${CMAKE_CURRENT_FUNCTION_LIST_DIR}/${pc}.pc.in
+    ${PROJECT_BINARY_DIR}/${pc}.pc @ONLY)
+  install(FILES ${PROJECT_BINARY_DIR}/${pc}.pc
+    DESTINATION ${SH2000_PKGCONFIGDIR} COMPONENT ${dev})
+endfunction()
 
-# Public headers, all in include/sh2000/, one folder per layer in the
-# source tree. They include each other as "sh2000/...". The driver's ioctl
-# ABI is there too for programs that talk to /dev/sh2000-N themselves
+# Installed, libsh2000-motion.a's json-c is json-c's own CMake target
+# (Debian's libjson-c-dev ships it); PkgConfig::JSONC is this build's.
+get_target_property(_sh2000_mlibs sh2000_motion_static INTERFACE_LINK_LIBRARIES)
+list(TRANSFORM _sh2000_mlibs REPLACE "PkgConfig::JSONC"
+  "$<BUILD_INTERFACE:PkgConfig::JSONC>$<INSTALL_INTERFACE:json-c::json-c>")
+set_target_properties(sh2000_motion_static PROPERTIES
+  INTERFACE_LINK_LIBRARIES "${_sh2000_mlibs}")
+
+set(_sh2000_src ${PROJECT_SOURCE_DIR}/libsh2000)
+# libsh2000: the device, the protocol's headers and the driver's ioctl ABI
+# for programs that talk to /dev/sh2000-N themselves
 # (#include <sh2000/uapi/sh2000.h>).
-foreach(layer protocol device motion sim)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/libsh2000/${layer}/include/sh2000
-    DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT dev
-    FILES_MATCHING PATTERN "*.h")
-endforeach()
+_sh2000_install_layer(sh2000 sh2000 runtime dev sh2000Targets
+  ${_sh2000_src}/device/include ${_sh2000_src}/protocol/include)
 install(FILES ${PROJECT_SOURCE_DIR}/driver/uapi/sh2000.h
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/sh2000/uapi COMPONENT dev)
+_sh2000_install_layer(sh2000_motion motion motion motion_dev sh2000MotionTargets
+  ${_sh2000_src}/motion/include)
+_sh2000_install_layer(sh2000_sim sim sim sim_dev sh2000SimTargets
+  ${_sh2000_src}/sim/include)
 
-# pkg-config: the shared library; `pkg-config --static` adds what
-# libsh2000.a needs.
-configure_file(${CMAKE_CURRENT_LIST_DIR}/sh2000.pc.in
-  ${PROJECT_BINARY_DIR}/sh2000.pc @ONLY)
-install(FILES ${PROJECT_BINARY_DIR}/sh2000.pc
-  DESTINATION ${SH2000_PKGCONFIGDIR} COMPONENT dev)
-
-# CMake: find_package(sh2000) gives sh2000::sh2000 (shared) and
-# sh2000::sh2000_static.
-if(TARGET sh2000)
-  install(EXPORT sh2000Targets NAMESPACE sh2000::
-    DESTINATION ${SH2000_CMAKEDIR} COMPONENT dev)
-  configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/sh2000Config.cmake.in
-    ${PROJECT_BINARY_DIR}/sh2000Config.cmake
-    INSTALL_DESTINATION ${SH2000_CMAKEDIR})
-  # Same major: compatible (SONAME rule in docs/install.md). While the
-  # major is 0, a minor is a new ABI too.
-  if(PROJECT_VERSION_MAJOR EQUAL 0)
-    set(_sh2000_compat SameMinorVersion)
-  else()
-    set(_sh2000_compat SameMajorVersion)
-  endif()
-  write_basic_package_version_file(${PROJECT_BINARY_DIR}/sh2000ConfigVersion.cmake
-    VERSION ${PROJECT_VERSION} COMPATIBILITY ${_sh2000_compat})
-  install(FILES
-    ${PROJECT_BINARY_DIR}/sh2000Config.cmake
-    ${PROJECT_BINARY_DIR}/sh2000ConfigVersion.cmake
-    DESTINATION ${SH2000_CMAKEDIR} COMPONENT dev)
+# CMake: find_package(sh2000 [COMPONENTS motion sim]) gives sh2000::sh2000
+# and sh2000::sh2000_static, and per component sh2000::<comp> and
+# sh2000::<comp>_static (cmake/sh2000Config.cmake.in). The config and
+# version files are libsh2000-dev's; each component's targets file is its
+# -dev package's.
+configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/sh2000Config.cmake.in
+  ${PROJECT_BINARY_DIR}/sh2000Config.cmake
+  INSTALL_DESTINATION ${SH2000_CMAKEDIR})
+# Same major: compatible (SONAME rule in docs/install.md). While the
+# major is 0, a minor is a new ABI too.
+if(PROJECT_VERSION_MAJOR EQUAL 0)
+  set(_sh2000_compat SameMinorVersion)
+else()
+  set(_sh2000_compat SameMajorVersion)
 endif()
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/sh2000ConfigVersion.cmake
+  VERSION ${PROJECT_VERSION} COMPATIBILITY ${_sh2000_compat})
+install(FILES
+  ${PROJECT_BINARY_DIR}/sh2000Config.cmake
+  ${PROJECT_BINARY_DIR}/sh2000ConfigVersion.cmake
+  DESTINATION ${SH2000_CMAKEDIR} COMPONENT dev)
 
 install(FILES ${PROJECT_SOURCE_DIR}/docs/library.md ${PROJECT_SOURCE_DIR}/docs/protocol.md
   DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/doc/libsh2000-dev COMPONENT dev)
+install(FILES ${PROJECT_SOURCE_DIR}/docs/planner.md ${PROJECT_SOURCE_DIR}/docs/programs.md
+  DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/doc/libsh2000-motion-dev COMPONENT motion_dev)
+install(FILES ${PROJECT_SOURCE_DIR}/docs/cardmodel.md
+  DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/doc/libsh2000-sim-dev COMPONENT sim_dev)
 
 # ---- the tools ------------------------------------------------------------
 # Whatever tools exist when configuring (they arrive one by one).
@@ -128,38 +158,6 @@ foreach(t IN LISTS SH2000_TOOLS)
     list(APPEND SH2000_TOOLS_INSTALLED ${t})
   endif()
 endforeach()
-
-# Do the tools load libsh2000.so (then sh2000-tools depends on libsh2000)
-# or carry libsh2000.a? Follows the link libraries of the tools' targets.
-function(_sh2000_links_shared out)
-  set(todo ${ARGN})
-  set(seen)
-  set(found OFF)
-  while(todo)
-    list(POP_FRONT todo t)
-    if(t IN_LIST seen OR NOT TARGET ${t})
-      continue()
-    endif()
-    list(APPEND seen ${t})
-    if(t STREQUAL "sh2000")
-      set(found ON)
-      break()
-    endif()
-    get_target_property(_type ${t} TYPE)
-    set(_libs)
-    if(NOT _type STREQUAL "INTERFACE_LIBRARY")
-      get_target_property(_libs ${t} LINK_LIBRARIES)
-    endif()
-    get_target_property(_ilibs ${t} INTERFACE_LINK_LIBRARIES)
-    foreach(l IN LISTS _libs _ilibs)
-      if(l AND NOT l MATCHES "NOTFOUND$")
-        list(APPEND todo ${l})
-      endif()
-    endforeach()
-  endwhile()
-  set(${out} ${found} PARENT_SCOPE)
-endfunction()
-_sh2000_links_shared(SH2000_TOOLS_NEED_LIB ${SH2000_TOOLS_INSTALLED})
 
 # Man pages. The packages ship them gzipped, as Debian does: cpack
 # compresses them in its staging tree (cmake/debian/prebuild.cmake), so a

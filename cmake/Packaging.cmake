@@ -3,8 +3,9 @@
 #   cmake -S . -B build/pkg -DCMAKE_INSTALL_PREFIX=/usr
 #   cmake --build build/pkg -j2 && (cd build/pkg && cpack -G DEB)
 #
-# gives libsh2000, libsh2000-dev, sh2000-tools and sh2000-dkms, version
-# PROJECT_VERSION-SH2000_DEB_RELEASE. Debian packages live in /usr: cpack
+# gives libsh2000, libsh2000-motion, libsh2000-sim, their -dev packages,
+# sh2000-tools and sh2000-dkms, version PROJECT_VERSION-SH2000_DEB_RELEASE
+# (docs/install.md has the table). Debian packages live in /usr: cpack
 # refuses another prefix (see cmake/CPackOptions.cmake.in).
 
 set(SH2000_DEB_RELEASE 1 CACHE STRING "Debian revision of the packages")
@@ -34,7 +35,7 @@ set(CPACK_SH2000_DEBIAN_DIR ${CMAKE_CURRENT_LIST_DIR}/debian)
 # The changelog's date: now, or SOURCE_DATE_EPOCH for a reproducible build.
 string(TIMESTAMP CPACK_SH2000_DATE "%a, %d %b %Y %H:%M:%S +0000" UTC)
 set(CPACK_DEB_COMPONENT_INSTALL ON)
-set(CPACK_COMPONENTS_ALL runtime dev dkms)
+set(CPACK_COMPONENTS_ALL runtime motion sim dev motion_dev sim_dev dkms)
 if(SH2000_TOOLS_INSTALLED)
   list(APPEND CPACK_COMPONENTS_ALL tools)
 endif()
@@ -43,55 +44,145 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_RELEASE ${SH2000_DEB_RELEASE})
 set(CPACK_DEBIAN_PACKAGE_MAINTAINER "${SH2000_DEB_MAINTAINER}")
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
-# dpkg-shlibdeps fills in libc6, libjson-c5, ...; libsh2000's own shlibs
-# file (below) is what other packages' shlibdeps use for libsh2000.so.0.
-set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 
-# libsh2000: libsh2000.so.0. ABI rule (docs/install.md): compatible changes
-# keep the SONAME and need ">= the version that added them"; an incompatible
-# change bumps the SONAME (and Debian's rule would then rename the package).
+# ---- Depends between our own packages: shlibs --------------------------
+# dpkg-shlibdeps fills in every package's Depends from the libraries its
+# binaries load: libc6, libjson-c5, and ours. For ours it needs what
+# Debian's dh_makeshlibs gives it: a shlibs line per library (written here
+# once, shipped as each library package's DEBIAN/shlibs so that programs
+# built against the installed packages depend right, and handed to this
+# build's own dpkg-shlibdeps runs as debian/shlibs.local by
+# cmake/debian/prebuild.cmake) and the libraries themselves (the build
+# tree's, -l below). CPack's own shlibs generation knows one policy for all
+# packages; ours differ:
+#   libsh2000, libsh2000-motion: ">=" this version (the ABI rule in
+#     docs/install.md: additions keep the SONAME);
+#   libsh2000-sim: "=" this version (no ABI promise to applications).
+# libsh2000-sim talks to libsh2000 through a private contract (the `sim`
+# provider), so its own dependency on libsh2000 is "=" too: the sim
+# component's shlibs.local says so.
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS_PRIVATE_DIRS ${CMAKE_LIBRARY_OUTPUT_DIRECTORY})
+set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS OFF)
+set(_sh2000_shlibs_dir ${PROJECT_BINARY_DIR}/debian/shlibs)
+# _sh2000_shlibs(<out var> <library target> <package> <op>)
+function(_sh2000_shlibs out target pkg op)
+  get_target_property(name ${target} OUTPUT_NAME)
+  get_target_property(sover ${target} SOVERSION)
+  set(line "lib${name} ${sover} ${pkg} (${op} ${_debver})")
+  file(CONFIGURE OUTPUT ${_sh2000_shlibs_dir}/${pkg}/shlibs CONTENT "${line}\n")
+  set(${out} "${line}" PARENT_SCOPE)
+endfunction()
+_sh2000_shlibs(_l_device sh2000 libsh2000 ">=")
+_sh2000_shlibs(_l_motion sh2000_motion libsh2000-motion ">=")
+_sh2000_shlibs(_l_sim sh2000_sim libsh2000-sim "=")
+string(REPLACE "(>=" "(=" _l_device_exact "${_l_device}")
+file(CONFIGURE OUTPUT ${_sh2000_shlibs_dir}/shlibs.local
+  CONTENT "${_l_device}\n${_l_motion}\n${_l_sim}\n")
+file(CONFIGURE OUTPUT ${_sh2000_shlibs_dir}/sim/shlibs.local
+  CONTENT "${_l_device_exact}\n${_l_motion}\n${_l_sim}\n")
+set(CPACK_SH2000_SHLIBS_DIR ${_sh2000_shlibs_dir})
+
+# ---- the runtime libraries -----------------------------------------------
+# ABI rule (docs/install.md): compatible changes keep the SONAME and need
+# ">= the version that added them"; an incompatible change bumps the
+# SONAME (and Debian's rule would then rename the package). ldconfig by
+# trigger, as Debian's library packages do (CPack's own postinst/postrm
+# call it too).
+set(_sh2000_ldconfig ${CMAKE_CURRENT_LIST_DIR}/debian/libsh2000/triggers)
+
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_NAME libsh2000)
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_SECTION libs)
 set(CPACK_DEBIAN_RUNTIME_DESCRIPTION
 "SH-2000TH motion card library (runtime)
 libsh2000 drives the SH-2000TH ISA motion controller through the sh2000
-kernel driver (/dev/sh2000-N), direct port I/O or the simulated card
+kernel driver (/dev/sh2000-N), direct port I/O or a simulated card
 (sim, sim:NAME). This package holds the shared library.")
+# `sim` loads libsh2000-sim.so.0 (dlopen) for any program that links
+# libsh2000: apt installs it by default, a production machine may leave
+# it out (then `sim` says to install it). Not Depends: libsh2000-sim
+# depends on libsh2000, and real cards need no card model.
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_RECOMMENDS "libsh2000-sim")
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_SUGGESTS "sh2000-dkms, sh2000-tools")
-# (CPack writes a shlibs file for every package with a SONAME: only this one.)
-set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON)
-set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS_POLICY ">=")
-# ldconfig by trigger, as Debian's library packages do (CPack's own
-# postinst/postrm call it too).
-set(CPACK_DEBIAN_RUNTIME_PACKAGE_CONTROL_EXTRA ${CMAKE_CURRENT_LIST_DIR}/debian/libsh2000/triggers)
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_CONTROL_EXTRA
+  ${_sh2000_shlibs_dir}/libsh2000/shlibs ${_sh2000_ldconfig})
 
+set(CPACK_DEBIAN_MOTION_PACKAGE_NAME libsh2000-motion)
+set(CPACK_DEBIAN_MOTION_PACKAGE_SECTION libs)
+set(CPACK_DEBIAN_MOTION_DESCRIPTION
+"SH-2000TH motion card library: motion (runtime)
+libsh2000-motion plans and runs motion on an SH-2000TH card opened with
+libsh2000: geometry, the look-ahead planner, the streaming runner, homing,
+soft limits and the program readers (G-code, rs274 canonical output, CSV,
+NURBS JSON). This package holds the shared library.")
+set(CPACK_DEBIAN_MOTION_PACKAGE_CONTROL_EXTRA
+  ${_sh2000_shlibs_dir}/libsh2000-motion/shlibs ${_sh2000_ldconfig})
+
+set(CPACK_DEBIAN_SIM_PACKAGE_NAME libsh2000-sim)
+set(CPACK_DEBIAN_SIM_PACKAGE_SECTION libs)
+set(CPACK_DEBIAN_SIM_DESCRIPTION
+"SH-2000TH motion card library: simulated card (runtime)
+libsh2000-sim is a model of the SH-2000TH card (FPGA, dual-port RAM, DSP
+firmware, servo loops, linear-motor plant) with fault injection and a
+shared-memory server. libsh2000 loads it for the device string sim; the
+sh2000-sim tool serves it for sim:NAME. This package holds the shared
+library.")
+set(CPACK_DEBIAN_SIM_PACKAGE_CONTROL_EXTRA
+  ${_sh2000_shlibs_dir}/libsh2000-sim/shlibs ${_sh2000_ldconfig})
+
+# ---- development packages -------------------------------------------------
+# Each -dev package depends on its library of exactly this build and on
+# the -dev packages of what its static library and headers need.
 set(CPACK_DEBIAN_DEV_PACKAGE_NAME libsh2000-dev)
 set(CPACK_DEBIAN_DEV_PACKAGE_SECTION libdevel)
 set(CPACK_DEBIAN_DEV_DESCRIPTION
 "SH-2000TH motion card library (development files)
-Headers (<sh2000/sh2000.h>, <sh2000/path.h>, <sh2000/sim.h>, the protocol
-and the driver's ioctl ABI), the static library, libsh2000.so, sh2000.pc
-for pkg-config and the CMake package (find_package(sh2000) gives
-sh2000::sh2000 and sh2000::sh2000_static).")
-# The static library needs libm and pthreads (in libc6-dev); the ioctl
-# header includes <linux/ioctl.h>.
+Headers of the device API and the protocol (<sh2000/sh2000.h>,
+<sh2000/card.h>, <sh2000/sh2000_protocol.h>, <sh2000/bspline.h>) and the
+driver's ioctl ABI (<sh2000/uapi/sh2000.h>), libsh2000.a, libsh2000.so,
+sh2000.pc for pkg-config and the CMake package: find_package(sh2000) gives
+sh2000::sh2000 and sh2000::sh2000_static; its components motion and sim
+come with libsh2000-motion-dev and libsh2000-sim-dev.")
+# The static library needs libm, libdl and pthreads (in libc6-dev); the
+# ioctl header includes <linux/ioctl.h>.
 set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS "libsh2000 (= ${_debver}), libc6-dev | libc-dev, linux-libc-dev")
 
+set(CPACK_DEBIAN_MOTION_DEV_PACKAGE_NAME libsh2000-motion-dev)
+set(CPACK_DEBIAN_MOTION_DEV_PACKAGE_SECTION libdevel)
+set(CPACK_DEBIAN_MOTION_DEV_DESCRIPTION
+"SH-2000TH motion card library: motion (development files)
+Headers (<sh2000/path.h>, <sh2000/program.h>, <sh2000/run.h>),
+libsh2000-motion.a, libsh2000-motion.so, sh2000-motion.pc and the CMake
+component: find_package(sh2000 COMPONENTS motion) gives sh2000::motion
+and sh2000::motion_static.")
+# json-c: libsh2000-motion.a links it (sh2000-motion.pc's Requires.private,
+# json-c::json-c in the CMake targets).
+set(CPACK_DEBIAN_MOTION_DEV_PACKAGE_DEPENDS
+  "libsh2000-motion (= ${_debver}), libsh2000-dev (= ${_debver}), libjson-c-dev")
+
+set(CPACK_DEBIAN_SIM_DEV_PACKAGE_NAME libsh2000-sim-dev)
+set(CPACK_DEBIAN_SIM_DEV_PACKAGE_SECTION libdevel)
+set(CPACK_DEBIAN_SIM_DEV_DESCRIPTION
+"SH-2000TH motion card library: simulated card (development files)
+Headers (<sh2000/sim.h>, <sh2000/sh2000_cardsim.h>), libsh2000-sim.a,
+libsh2000-sim.so, sh2000-sim.pc and the CMake component:
+find_package(sh2000 COMPONENTS sim) gives sh2000::sim and
+sh2000::sim_static.")
+set(CPACK_DEBIAN_SIM_DEV_PACKAGE_DEPENDS
+  "libsh2000-sim (= ${_debver}), libsh2000-dev (= ${_debver})")
+
+# ---- tools and driver ------------------------------------------------------
 set(CPACK_DEBIAN_TOOLS_PACKAGE_NAME sh2000-tools)
 set(CPACK_DEBIAN_TOOLS_PACKAGE_SECTION utils)
 set(CPACK_DEBIAN_TOOLS_DESCRIPTION
 "SH-2000TH motion card tools
-sh2000ctl (status, commands, parameters), sh2000-sim (serves a simulated
-card for sim:NAME) and sh2000-upload (G-code, canonical, CSV and NURBS
-programs to the card), with their man pages.")
-# The tools link libsh2000.a today; should they load libsh2000.so, they
-# need exactly this build of it (its internals may change in a release).
-if(SH2000_TOOLS_NEED_LIB)
-  set(CPACK_DEBIAN_TOOLS_PACKAGE_DEPENDS "libsh2000 (= ${_debver})")
-endif()
+sh2000ctl (status, commands, parameters, moves), sh2000-sim (serves a
+simulated card for sim:NAME) and sh2000-upload (G-code, canonical, CSV
+and NURBS programs to the card), with their man pages.")
+# Depends from dpkg-shlibdeps: libsh2000 and libsh2000-motion (>=),
+# libsh2000-sim (=, sh2000-sim links it, and it makes `-d sim` work).
 set(CPACK_DEBIAN_TOOLS_PACKAGE_RECOMMENDS "sh2000-dkms")
-
 # sh2000-dkms: sources in /usr/src/sh2000-<ver>/, built by DKMS for each
 # kernel; the udev rule; the postinst adds the sh2000 group.
 set(CPACK_DEBIAN_DKMS_PACKAGE_NAME sh2000-dkms)
@@ -117,6 +208,10 @@ set(CPACK_DEBIAN_DKMS_PACKAGE_CONTROL_EXTRA
 include(CPack)
 
 cpack_add_component(runtime DISPLAY_NAME "libsh2000")
+cpack_add_component(motion DISPLAY_NAME "libsh2000-motion" DEPENDS runtime)
+cpack_add_component(sim DISPLAY_NAME "libsh2000-sim" DEPENDS runtime)
 cpack_add_component(dev DISPLAY_NAME "libsh2000-dev" DEPENDS runtime)
-cpack_add_component(tools DISPLAY_NAME "sh2000-tools" DEPENDS runtime)
+cpack_add_component(motion_dev DISPLAY_NAME "libsh2000-motion-dev" DEPENDS motion dev)
+cpack_add_component(sim_dev DISPLAY_NAME "libsh2000-sim-dev" DEPENDS sim dev)
+cpack_add_component(tools DISPLAY_NAME "sh2000-tools" DEPENDS runtime motion sim)
 cpack_add_component(dkms DISPLAY_NAME "sh2000-dkms")

@@ -3,6 +3,8 @@
 # (dh_installdocs, dh_installchangelogs, dh_compress) would add.
 #  - usr/share/doc/<package>/copyright and changelog.Debian.gz in each package
 #  - man pages gzipped
+# and what this build's dpkg-shlibdeps runs (CPackDeb, in each package's
+# staging directory) read: debian/shlibs.local (cmake/Packaging.cmake).
 # gzip -9n: no name, no time stamp, so the packages are reproducible.
 
 file(GLOB _components LIST_DIRECTORIES true "${CPACK_TEMPORARY_DIRECTORY}/*")
@@ -31,6 +33,23 @@ foreach(dir IN LISTS _components)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "gzip ${doc}/changelog.Debian failed")
   endif()
+  # Only where CPackDeb runs dpkg-shlibdeps (ELF files), as it removes
+  # debian/ afterwards: anywhere else it would be packaged.
+  file(GLOB_RECURSE elfs LIST_DIRECTORIES false "${dir}/*")
+  foreach(f IN LISTS elfs)
+    if(NOT IS_SYMLINK "${f}")
+      file(READ "${f}" magic LIMIT 4 HEX)
+      if(magic STREQUAL "7f454c46")
+        set(shlibs "${CPACK_SH2000_SHLIBS_DIR}/${comp}/shlibs.local")
+        if(NOT EXISTS "${shlibs}")
+          set(shlibs "${CPACK_SH2000_SHLIBS_DIR}/shlibs.local")
+        endif()
+        file(MAKE_DIRECTORY "${dir}/debian")
+        file(COPY_FILE "${shlibs}" "${dir}/debian/shlibs.local")
+        break()
+      endif()
+    endif()
+  endforeach()
 endforeach()
 
 file(GLOB_RECURSE _files LIST_DIRECTORIES false "${CPACK_TEMPORARY_DIRECTORY}/*")

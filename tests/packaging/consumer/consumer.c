@@ -1,14 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * A program outside the project, built against the installed libsh2000
- * (pkg-config and find_package): every public header compiles on its own
- * from <prefix>/include, and the library drives the in-process simulated
- * card.
+ * alone (pkg-config sh2000, find_package(sh2000)): it opens the card named
+ * on the command line and prints its state and the versions. On `sim`
+ * libsh2000 loads libsh2000-sim.so.0 itself: the program neither links
+ * nor includes anything of it.
  */
 #include <sh2000/sh2000.h>
 #include <sh2000/sh2000_protocol.h>
-#include <sh2000/path.h>
-#include <sh2000/sim.h>
 #include <sh2000/uapi/sh2000.h>
 
 #include <stdio.h>

@@ -51,6 +51,15 @@ void pl_block_pos(const struct pl_block *b, double s, double pos[SH2000_AXES])
 	case BLK_ARC:
 		sh2000_arc_point(&b->g.arc, b->p0, b->p1, f, pos);
 		break;
+	case BLK_BLEND: {
+		double th = b->g.blend.phi * f;
+
+		for (a = 0; a < SH2000_AXES; a++)
+			pos[a] = b->g.blend.c[a] +
+				 b->g.blend.R * (cos(th) * b->g.blend.u[a] +
+						 sin(th) * b->g.blend.w[a]);
+		break;
+	}
 	default:
 		pl_nurbs_eval(b->g.nurbs.nb, b->g.nurbs.u0 +
 			      (b->g.nurbs.u1 - b->g.nurbs.u0) * f, pos, NULL,
@@ -244,10 +253,10 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 		if (V < level) {
 			/* the card's spline spans two periods either side
 			 * of a corner: the corner speed holds over them; a
-			 * lower speed limit holds from feed_zone before */
+			 * lower feed holds from feed_zone before */
 			double t = k->corner ? zone : 0.0;
 
-			if (pl_cap(p, k) < pl_prev_cap(p, k))
+			if (k->feed < k->prev_feed)
 				t = fmax(t, p->feed_zone);
 			p->cons[2 * n] = d - t * V;
 			p->cons[2 * n + 1] = V;
@@ -379,8 +388,9 @@ static int substep(struct sh2000_path *p, double h)
 	c.vcur = halt ? 0.0 : pl_cap(p, b);
 	if (b->corner && p->s < zone * b->vj)
 		c.vcur = fmin(c.vcur, b->vj);
-	/* a higher limit only once the lower one is feed_zone behind */
-	if (!halt && p->s < p->feed_zone * pl_prev_cap(p, b))
+	/* a higher feed only once the lower one is feed_zone behind */
+	if (!halt && b->feed > b->prev_feed &&
+	    p->s < p->feed_zone * pl_prev_cap(p, b))
 		c.vcur = fmin(c.vcur, fmax(pl_prev_cap(p, b), 0.0));
 	n = limits_ahead(p, h, c.vcur, halt);
 	c.cons = p->cons;

@@ -128,6 +128,26 @@ static double enter(struct sh2000_path *p, const struct pl_block *b,
 	return u;
 }
 
+/* The arc length from the head block's start to the curve's end: the
+ * blocks of this curve in the window. */
+static double to_curve_end(const struct sh2000_path *p,
+			   const struct pl_nurbs *nb)
+{
+	double s = 0.0;
+	unsigned int i;
+
+	for (i = 0; i < p->count; i++) {
+		const struct pl_block *k = pl_block_at(p, i);
+
+		if (k->type != BLK_NURBS || k->g.nurbs.nb != nb)
+			break;
+		s += k->L;
+		if (k->g.nurbs.u1 >= nb->umax)
+			break;
+	}
+	return s;
+}
+
 void pl_nurbs_sample(struct sh2000_path *p, struct pl_block *b, double ds,
 		     double q[SH2000_AXES])
 {
@@ -139,8 +159,12 @@ void pl_nurbs_sample(struct sh2000_path *p, struct pl_block *b, double ds,
 		u = fmin(fmax(predict(p, b, ds), hu[0]), nb->umax);
 		if (ds > 1e-12) {
 			u = step(p, nb, u, ds, c, &len);
-			/* the step may run past the block: the arc it took */
-			p->s += len - ds;
+			/* the arc the step took; at the curve's end, the end
+			 * of its blocks (whatever rounding the sums left) */
+			if (u >= nb->umax)
+				p->s = to_curve_end(p, nb);
+			else
+				p->s += len - ds;
 		} else {
 			u = hu[0];
 			pl_nurbs_eval(nb, u, c, NULL, NULL);

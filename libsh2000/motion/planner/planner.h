@@ -45,7 +45,7 @@ double pl_nurbs_frame(const struct pl_nurbs *nb, double u,
 
 /* ---- blocks ----------------------------------------------------------- */
 
-enum { BLK_LINE = 1, BLK_ARC = 2, BLK_NURBS = 3 };
+enum { BLK_LINE = 1, BLK_ARC = 2, BLK_NURBS = 3, BLK_BLEND = 4 };
 
 struct pl_block {
 	int type;
@@ -66,6 +66,12 @@ struct pl_block {
 			double d[SH2000_AXES];	/* unit direction */
 		} line;
 		struct sh2000_arc arc;	/* resolved (geometry.h) */
+		struct {	/* a corner's arc in any plane (blend.c) */
+			double c[SH2000_AXES];	/* centre */
+			double u[SH2000_AXES];	/* centre to start, unit */
+			double w[SH2000_AXES];	/* tangent at the start */
+			double R, phi;		/* radius, angle */
+		} blend;
 		struct {
 			struct pl_nurbs *nb;
 			double u0, u1;
@@ -197,6 +203,11 @@ double pl_entry_limit(const struct sh2000_path *p, unsigned int i);
 /* A stop has come to rest: drop the rest of the program. */
 void pl_stopped(struct sh2000_path *p);
 double pl_cap(const struct sh2000_path *p, const struct pl_block *b);
+/* blend.c: cut the corner between the last line queued and line b (not
+ * yet queued) with a tangent arc within the tolerance: 1 and the arc in
+ * *arc (the tail and b shortened), or 0. */
+int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
+		    struct pl_block *arc);
 /* nurbs_step.c: the point of NURBS block b after the controller moved ds
  * along it (p->s is corrected to the arc the step took). */
 void pl_nurbs_sample(struct sh2000_path *p, struct pl_block *b, double ds,

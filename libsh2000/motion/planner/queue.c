@@ -31,7 +31,18 @@ double pl_entry_limit(const struct sh2000_path *p, unsigned int i)
 	return fmin(b->vj, fmin(pl_cap(p, b), pl_prev_cap(p, b)));
 }
 
+static void push_one(struct sh2000_path *p, struct pl_block *b);
+
 void pl_push_block(struct sh2000_path *p, struct pl_block *b)
+{
+	struct pl_block arc;
+
+	if (pl_blend_corner(p, b, &arc))
+		push_one(p, &arc);
+	push_one(p, b);
+}
+
+static void push_one(struct sh2000_path *p, struct pl_block *b)
 {
 	unsigned int i;
 	double nt = 0.0;

@@ -11,16 +11,22 @@
 
 #include "harness.h"
 
-/* 40 records of a slow ramp on axis 0 (the last without END). */
-static void push_ramp(struct harness *h, unsigned int n)
+/* Records first..last of a slow ramp on axis 0 (none with END). */
+static void push_ramp_from(struct harness *h, unsigned int first,
+			   unsigned int last)
 {
 	int32_t p[SH2000_AXES] = { 0, 0, 0, 0 };
 	unsigned int i;
 
-	for (i = 1; i <= n; i++) {
+	for (i = first; i <= last; i++) {
 		p[0] = (int32_t)(i * i * 100);
 		assert_int_equal(h_push(h, p, (uint16_t)i, 0), 0);
 	}
+}
+
+static void push_ramp(struct harness *h, unsigned int n)
+{
+	push_ramp_from(h, 1, n);
 }
 
 static void heartbeat_stop(void **state)
@@ -35,9 +41,10 @@ static void heartbeat_stop(void **state)
 	assert_int_equal(h_word(h, SH2000_W_HEARTBEAT), hb);
 	/* the rest of the firmware runs: commands are answered */
 	assert_int_equal(h_cmd(h, SH2000_CMD_NOP, 0, 0, 0, NULL), SH2000_RES_OK);
+	/* the firmware went on counting: the cell takes its next write */
 	sh2000_fw_inject(h->fw, SH2000_INJECT_CLEAR, 0, 0);
 	h_cycles(h, 1);
-	assert_int_equal(h_word(h, SH2000_W_HEARTBEAT), (uint16_t)(hb + 1));
+	assert_true((uint16_t)(h_word(h, SH2000_W_HEARTBEAT) - hb) > 200);
 }
 
 static void dsp_stall(void **state)
@@ -126,18 +133,55 @@ static void limit(void **state)
 	assert_true(h_word(h, SH2000_W_AXIS_FAULTS(0)) & SH2000_AXIS_FAULT_HARD_LIMIT);
 }
 
+/* The host's next record write does not reach the RAM: the slot keeps
+ * its old words, and the firmware finds the gap in the SEQ numbers. */
 static void drop(void **state)
 {
 	struct harness *h = *state;
+	unsigned int slot = (h->head + 5u) % SH2000_RING_RECORDS;
+	unsigned int seq_w = SH2000_W_RING_BASE + slot * SH2000_RECORD_WORDS +
+			     SH2000_REC_SEQ;
 
-	push_ramp(h, 20);
+	push_ramp(h, 5);
 	h_cycles(h, 3 * 20);
 	sh2000_fw_inject(h->fw, SH2000_INJECT_DROP_SEGMENT, 0, 0);
-	h_cycles(h, 20);
-	assert_int_equal(h_word(h, SH2000_W_REJECT_SEQ), 4);
+	push_ramp_from(h, 6, 20);
+	h_cycles(h, 4 * 20);
+	assert_int_equal(h_word(h, SH2000_W_REJECT_SEQ), 6);
 	assert_int_equal(h_word(h, SH2000_W_REJECT_REASON), SH2000_REJECT_DROPPED);
 	assert_true(h_word(h, SH2000_W_FAULTS) & SH2000_FAULT_REJECTED);
 	assert_int_equal(h_fill(h), 0);
+	/* the RAM holds what it held before: record 6 never arrived */
+	assert_int_not_equal(h_word(h, seq_w), 6);
+}
+
+/* Records first..last at 100 counts a coarse period, waiting for room. */
+static void push_slow(struct harness *h, unsigned int first,
+		      unsigned int last)
+{
+	unsigned int i;
+
+	for (i = first; i <= last; i++) {
+		int32_t p[SH2000_AXES] = { (int32_t)(i * 100), 0, 0, 0 };
+
+		while (h_push(h, p, (uint16_t)i, 0))
+			h_cycles(h, 1);
+	}
+}
+
+/* Once the ring has gone round, the lost write leaves a valid record 64
+ * numbers older in the slot: its check word passes, its SEQ does not. */
+static void drop_stale(void **state)
+{
+	struct harness *h = *state;
+
+	push_slow(h, 1, 70);
+	sh2000_fw_inject(h->fw, SH2000_INJECT_DROP_SEGMENT, 0, 0);
+	push_slow(h, 71, 75);
+	h_cycles(h, 70 * 20);
+	assert_int_equal(h_word(h, SH2000_W_REJECT_SEQ), 71);
+	assert_int_equal(h_word(h, SH2000_W_REJECT_REASON), SH2000_REJECT_DROPPED);
+	assert_true(h_word(h, SH2000_W_FAULTS) & SH2000_FAULT_REJECTED);
 }
 
 static void counter_glitch(void **state)
@@ -192,6 +236,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(jam, h_setup_enabled, h_teardown),
 		cmocka_unit_test_setup_teardown(limit, h_setup_enabled, h_teardown),
 		cmocka_unit_test_setup_teardown(drop, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(drop_stale, h_setup_enabled, h_teardown),
 		cmocka_unit_test_setup_teardown(counter_glitch, h_setup_enabled, h_teardown),
 		cmocka_unit_test_setup_teardown(dac_saturation, h_setup_enabled, h_teardown),
 		cmocka_unit_test_setup_teardown(soft_limit, h_setup_enabled, h_teardown),

@@ -178,17 +178,27 @@ int sh2000_sim_server_attach(struct sh2000_sim_server **out, uint16_t *ram,
 	return 0;
 }
 
-/* Sleep until `due` (CLOCK_MONOTONIC ns), unless stopped. A server that
- * fell far behind (stopped, overloaded) starts counting from now instead
- * of running a burst of cycles to catch up; returns the new due time. */
-static uint64_t wait_until(struct sh2000_sim_server *s, uint64_t due,
-			   uint64_t period)
+/*
+ * How far behind its schedule a server may fall and still catch up by
+ * running the missed cycles back to back: the card's oscillator does not
+ * stop when the host deschedules the server, so its cycles per host second
+ * stay exact. Half the default host timeout, so a burst cannot by itself
+ * starve the host heartbeat watchdog; further behind (a stopped process)
+ * the server resumes from now and those cycles are lost.
+ */
+#define SERVER_CATCH_UP_NS	50000000ull
+
+/* Sleep until `due` (CLOCK_MONOTONIC ns), unless stopped or already
+ * late; returns the due time the schedule goes on from. */
+static uint64_t wait_until(struct sh2000_sim_server *s, uint64_t due)
 {
 	uint64_t now = sim_mono_ns();
 	struct timespec ts;
 
-	if (now > due + 100 * period)
+	if (now > due + SERVER_CATCH_UP_NS)
 		return now;
+	if (now >= due)
+		return due;
 	ts.tv_sec = (time_t)(due / 1000000000ull);
 	ts.tv_nsec = (long)(due % 1000000000ull);
 	while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) ==
@@ -217,7 +227,7 @@ int sh2000_sim_server_run(struct sh2000_sim_server *s)
 			__atomic_store_n(&s->shm->cycles, c, __ATOMIC_RELAXED);
 		if (s->flags & SH2000_SIM_SERVER_FREE_RUN)
 			continue;
-		due = wait_until(s, due + host_ns, host_ns);
+		due = wait_until(s, due + host_ns);
 	}
 	if (s->shm)
 		__atomic_store_n(&s->shm->running, 0, __ATOMIC_RELEASE);

@@ -6,6 +6,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <cmocka.h>
 
@@ -187,9 +188,14 @@ static void drop_stale(void **state)
 static void counter_glitch(void **state)
 {
 	struct harness *h = *state;
+	uint32_t c0;
 
 	h_cycles(h, 10);
+	c0 = sh2000_board_read(h->fw->hw, 0, SH2000_HWREG_COUNTER);
 	sh2000_fw_inject(h->fw, SH2000_INJECT_COUNTER_GLITCH, 0, 0);
+	/* 2^20 counts in the register, wrapped to 28 bits */
+	assert_int_equal(sh2000_board_read(h->fw->hw, 0, SH2000_HWREG_COUNTER),
+			 (c0 + 0x100000u) & SH2000_COUNTER_MASK);
 	h_cycles(h, 1);
 	assert_true(h_word(h, SH2000_W_AXIS_FAULTS(0)) & SH2000_AXIS_FAULT_COUNTER);
 	assert_false(h_word(h, SH2000_W_AXIS_STATE(0)) & SH2000_AXIS_ENABLED);
@@ -227,6 +233,106 @@ static void soft_limit(void **state)
 	assert_true(h_word(h, SH2000_W_AXIS_STATE(0)) & SH2000_AXIS_ENABLED);
 }
 
+/* A jammed carriage stops the scale: the counter register freezes, the
+ * firmware's following error (set-point minus encoder) grows with the
+ * set-point and FERR fires when it crosses FERR_LIMIT, not before. */
+static void jam_through_encoder(void **state)
+{
+	struct harness *h = *state;
+	struct sh2000_board *b = h->fw->hw;
+	double limit = h->fw->dsp.ax[0].prm.ferr_limit, err = 0.0;
+	unsigned int k;
+	uint32_t c0;
+
+	push_ramp(h, 40);
+	h_cycles(h, 200);
+	sh2000_fw_inject(h->fw, SH2000_INJECT_JAM, 0, 0);
+	h_cycles(h, 1);
+	c0 = sh2000_board_read(b, 0, SH2000_HWREG_COUNTER);
+	h_trace(h, 4000);
+	for (k = 0; k < 4000; k++) {
+		h_cycles(h, 1);
+		assert_int_equal(sh2000_board_read(b, 0, SH2000_HWREG_COUNTER), c0);
+		if (h_word(h, SH2000_W_AXIS_FAULTS(0)))
+			break;
+		err = h->trace[h->trace_len - 1].axis[0].fine_cmd -
+		      h->trace[h->trace_len - 1].axis[0].actual;
+		assert_true(fabs(err) <= limit);
+	}
+	assert_int_equal(h_word(h, SH2000_W_AXIS_FAULTS(0)), SH2000_AXIS_FAULT_FERR);
+	/* the last cycle before the fault was within one set-point step of
+	 * the limit: the error grew to it */
+	printf("# jam: FERR %u cycles after the carriage stopped, error %.0f counts the cycle before (limit %.0f)\n",
+	       k + 1, err, limit);
+	assert_true(fabs(err) > limit - 500.0);
+}
+
+/* A glitch below the counter-jump check is taken for motion: the counter
+ * register jumps by exactly N, the firmware's position with it, and the
+ * loop drives the carriage N counts the other way (a position lost that
+ * only the machine knows). */
+static void glitch_small(void **state)
+{
+	struct harness *h = *state;
+	struct sh2000_board *b = h->fw->hw;
+	const struct sh2000_plant *pl = sh2000_board_plant(b, 1);
+	const int32_t n[2] = { 300, -700 };
+	unsigned int i;
+
+	h_cycles(h, 100);
+	for (i = 0; i < 2; i++) {
+		uint32_t c0 = sh2000_board_read(b, 1, SH2000_HWREG_COUNTER);
+		int64_t s0 = sh2000_plant_scale(pl), act0 = h->fw->dsp.ax[1].act;
+
+		assert_int_equal(sh2000_fw_inject(h->fw, SH2000_INJECT_COUNTER_GLITCH,
+						  1, (unsigned int)n[i]), 0);
+		assert_int_equal(sh2000_counter_delta(sh2000_board_read(b, 1,
+						SH2000_HWREG_COUNTER), c0), n[i]);
+		h_cycles(h, 1);
+		assert_true(h->fw->dsp.ax[1].act == act0 + n[i]);
+		h_cycles(h, 2000);
+		assert_int_equal(h_word(h, SH2000_W_AXIS_FAULTS(1)), 0);
+		assert_true(llabs(sh2000_plant_scale(pl) - s0 + n[i]) <= 2);
+	}
+	assert_int_equal(sh2000_fw_inject(h->fw, SH2000_INJECT_COUNTER_GLITCH,
+					  SH2000_AXES, 1), -22);
+}
+
+/* A stall of N interrupts: nothing the firmware writes changes for N
+ * cycles, then it goes on by itself; the card's clock kept running. */
+static void stall_n(void **state)
+{
+	struct harness *h = *state;
+	struct sh2000_probe p0, p1;
+	uint16_t hb;
+
+	h_cycles(h, 10);
+	sh2000_fw_probe(h->fw, &p0);
+	hb = h_word(h, SH2000_W_HEARTBEAT);
+	sh2000_fw_inject(h->fw, SH2000_INJECT_DSP_STALL, 0, 50);
+	h_cycles(h, 50);
+	assert_int_equal(h_word(h, SH2000_W_HEARTBEAT), hb);
+	h_cycles(h, 1);
+	assert_int_equal(h_word(h, SH2000_W_HEARTBEAT), (uint16_t)(hb + 1));
+	sh2000_fw_probe(h->fw, &p1);
+	assert_int_equal(p1.servo_cycle - p0.servo_cycle, 1);
+	assert_int_equal(p1.time_ns - p0.time_ns, 51 * 100000);
+}
+
+/* RAM_FLIP's mask in arg's upper half; 0x0010 when it is 0. */
+static void flip_mask(void **state)
+{
+	struct harness *h = *state;
+	unsigned int w = SH2000_W_RING_BASE + 5;
+	uint16_t v = h_word(h, w);
+
+	assert_int_equal(sh2000_fw_inject(h->fw, SH2000_INJECT_RAM_FLIP, 0,
+					  w | 0x8300u << 16), 0);
+	assert_int_equal(h_word(h, w), v ^ 0x8300u);
+	assert_int_equal(sh2000_fw_inject(h->fw, SH2000_INJECT_RAM_FLIP, 0, w), 0);
+	assert_int_equal(h_word(h, w), v ^ 0x8310u);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -240,6 +346,10 @@ int main(void)
 		cmocka_unit_test_setup_teardown(counter_glitch, h_setup_enabled, h_teardown),
 		cmocka_unit_test_setup_teardown(dac_saturation, h_setup_enabled, h_teardown),
 		cmocka_unit_test_setup_teardown(soft_limit, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(jam_through_encoder, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(glitch_small, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(stall_n, h_setup_enabled, h_teardown),
+		cmocka_unit_test_setup_teardown(flip_mask, h_setup_enabled, h_teardown),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

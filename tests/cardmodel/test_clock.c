@@ -121,7 +121,7 @@ static void served_drift(void **state)
 	static uint16_t ram[2][SH2000_RAM_WORDS];
 	const double ppm[2] = { 20000.0, -20000.0 };
 	struct sh2000_sim_server *s[2];
-	struct timespec warm = { 0, 100000000 }, run = { 1, 0 };
+	struct timespec warm = { 0, 100000000 }, run = { 2, 0 };
 	uint64_t c0[2], c1[2], t0, t1;
 	double rate[2], want[2];
 	unsigned int i;
@@ -147,9 +147,12 @@ static void served_drift(void **state)
 		want[i] = 1e9 / (PERIOD_NS * (1.0 + ppm[i] * 1e-6));
 		printf("# served card at %+g ppm: %.1f servo cycles per host second (expected %.1f)\n",
 		       ppm[i], rate[i], want[i]);
-		/* never ahead of its clock; a loaded machine may cost cycles
-		 * past the server's catch-up window */
-		assert_true(rate[i] < want[i] * 1.002 && rate[i] > want[i] * 0.5);
+		/* never ahead of its clock: at most the cycles the window
+		 * holds plus those of a catch-up (50 ms) that started before
+		 * it; a loaded machine may cost cycles past that window */
+		assert_true((double)(c1[i] - c0[i]) <=
+			    ((double)(t1 - t0) + 50e6) / 1e9 * want[i] + 1.0);
+		assert_true(rate[i] > want[i] * 0.5);
 		sh2000_sim_server_destroy(s[i]);
 	}
 	/* both lose alike under load: their ratio is the steady measure,

@@ -181,9 +181,10 @@ int sh2000_sim_server_attach(struct sh2000_sim_server **out, uint16_t *ram,
 /*
  * How far behind its schedule a server may fall and still catch up by
  * running the missed cycles back to back: the card's oscillator does not
- * stop when the host deschedules the server, so its cycles per host second
- * stay exact. Half the default host timeout, so a burst cannot by itself
- * starve the host heartbeat watchdog; further behind (a stopped process)
+ * stop when the system deschedules the server, so its cycles per host
+ * second stay exact on a loaded machine. Half the default host timeout:
+ * when the host was descheduled too, a longer burst of cycles without its
+ * heartbeat would latch a host timeout on a moving card. Further behind
  * the server resumes from now and those cycles are lost.
  */
 #define SERVER_CATCH_UP_NS	50000000ull

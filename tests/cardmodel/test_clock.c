@@ -122,7 +122,7 @@ static void served_drift(void **state)
 	const double ppm[2] = { 20000.0, -20000.0 };
 	struct sh2000_sim_server *s[2];
 	struct timespec warm = { 0, 100000000 }, run = { 2, 0 };
-	uint64_t c0[2], c1[2], t0, t1;
+	uint64_t c0[2], c1[2], t0, t1, t_start = mono_ns();
 	double rate[2], want[2];
 	unsigned int i;
 
@@ -147,19 +147,20 @@ static void served_drift(void **state)
 		want[i] = 1e9 / (PERIOD_NS * (1.0 + ppm[i] * 1e-6));
 		printf("# served card at %+g ppm: %.1f servo cycles per host second (expected %.1f)\n",
 		       ppm[i], rate[i], want[i]);
-		/* never ahead of its clock: at most the cycles the window
-		 * holds plus those of a catch-up (50 ms) that started before
-		 * it; a loaded machine may cost cycles past that window */
-		assert_true((double)(c1[i] - c0[i]) <=
-			    ((double)(t1 - t0) + 50e6) / 1e9 * want[i] + 1.0);
+		/* never ahead of its clock: the first cycle at the start,
+		 * each next one a period of host time later at the earliest */
+		assert_true((double)c1[i] <=
+			    1.0 + (double)(t1 - t_start) * 1e-9 * want[i]);
+		/* a loaded machine may cost cycles, never add any */
 		assert_true(rate[i] > want[i] * 0.5);
 		sh2000_sim_server_destroy(s[i]);
 	}
-	/* both lose alike under load: their ratio is the steady measure,
-	 * 4 % from 1 */
+	/* a lag at either end of the window shifts a rate, seldom by
+	 * more than a few ms in 2 s: the ratio is 0.9608, and 1 if the
+	 * oscillators were ignored */
 	printf("# ratio %.4f (expected %.4f)\n", rate[0] / rate[1],
 	       want[0] / want[1]);
-	assert_true(fabs(rate[0] / rate[1] / (want[0] / want[1]) - 1.0) < 0.015);
+	assert_true(rate[0] / rate[1] > 0.93 && rate[0] / rate[1] < 0.985);
 }
 
 int main(void)

@@ -23,6 +23,9 @@ struct board_axis {
 	unsigned int forced;	/* injected: limit inputs forced, bit0 -, bit1 + */
 };
 
+/* SH2000_INJECT_DROP_SEGMENT: the one place the board knows the
+ * protocol's ring (where records live, the TAIL word), as the injector
+ * must to lose one record's write. */
 struct record_drop {
 	int armed;
 	uint16_t record;	/* number of the record whose write is lost */

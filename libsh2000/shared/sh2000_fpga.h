@@ -2,11 +2,14 @@
 /*
  * The one user-space model of the FPGA's host side (docs/card.md): four
  * registers, the 10-bit address counter into the dual-port RAM, and
- * counters of the port cycles issued. The card model drives it, the
- * sim:NAME backend emulates the FPGA with it on its side of a served RAM,
- * and the tests check it. Header-only and private: it is compiled into
- * each library that needs it and exported by none. (The kernel's own model
- * in driver/ is independent, as kernel code must be.)
+ * counters of the port cycles issued. The card model's board carries one
+ * for a host in the same process (sh2000_cardsim), the sim:NAME backend
+ * emulates the FPGA with it on its side of a served RAM, and the tests
+ * check it. Header-only and private: it is compiled into each library that
+ * needs it and exported by none. (The kernel's own model in driver/ is
+ * independent, as kernel code must be.) The FPGA's DSP side (encoder
+ * counters, index latches, switch inputs, DAC) is the card model's
+ * alone: libsh2000/sim/cardmodel/board.h.
  *
  * The dual-port RAM is touched by both sides at once: every access is a
  * 16-bit atomic load or store, as on the real part.

@@ -4,8 +4,10 @@
  * /sh2000-NAME (sh2000_shm.h) plays the dual-port RAM, and the firmware
  * runs one servo cycle per servo period in real time (or back to back
  * with SH2000_SIM_SERVER_FREE_RUN); or the same on a RAM the caller
- * mapped (sh2000_sim_server_attach). Injections and probes take the
- * server's mutex, so they land between two cycles.
+ * mapped (sh2000_sim_server_attach). A cycle lasts the card's servo period
+ * as its oscillator makes it (sh2000_sim_server_set_clock_ppm) in
+ * CLOCK_MONOTONIC time. Injections and probes take the server's mutex, so
+ * they land between two cycles.
  */
 #include <errno.h>
 #include <pthread.h>
@@ -19,6 +21,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "card_internal.h"
 #include "sh2000/sim.h"
 #include "sh2000/sh2000_protocol.h"
 #include "sh2000_fpga.h"
@@ -175,47 +178,57 @@ int sh2000_sim_server_attach(struct sh2000_sim_server **out, uint16_t *ram,
 	return 0;
 }
 
+/*
+ * How far behind its schedule a server may fall and still catch up by
+ * running the missed cycles back to back: the card's oscillator does not
+ * stop when the system deschedules the server, so its cycles per host
+ * second stay exact on a loaded machine. Half the default host timeout:
+ * when the host was descheduled too, a longer burst of cycles without its
+ * heartbeat would latch a host timeout on a moving card. Further behind
+ * the server resumes from now and those cycles are lost.
+ */
+#define SERVER_CATCH_UP_NS	50000000ull
+
+/* Sleep until `due` (CLOCK_MONOTONIC ns), unless stopped or already
+ * late; returns the due time the schedule goes on from. */
+static uint64_t wait_until(struct sh2000_sim_server *s, uint64_t due)
+{
+	uint64_t now = sim_mono_ns();
+	struct timespec ts;
+
+	if (now > due + SERVER_CATCH_UP_NS)
+		return now;
+	if (now >= due)
+		return due;
+	ts.tv_sec = (time_t)(due / 1000000000ull);
+	ts.tv_nsec = (long)(due % 1000000000ull);
+	while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) ==
+		       EINTR &&
+	       !__atomic_load_n(&s->stop, __ATOMIC_ACQUIRE))
+		;
+	return due;
+}
+
 int sh2000_sim_server_run(struct sh2000_sim_server *s)
 {
-	struct timespec next;
-	uint64_t period = 0;
+	uint64_t due = sim_mono_ns();
 
-	clock_gettime(CLOCK_MONOTONIC, &next);
 	if (s->shm)
 		__atomic_store_n(&s->shm->running, 1, __ATOMIC_RELEASE);
 	while (!__atomic_load_n(&s->stop, __ATOMIC_ACQUIRE)) {
-		uint64_t c;
+		uint64_t c, host_ns;
 
 		pthread_mutex_lock(&s->lock);
-		sh2000_fw_cycle(s->fw);
-		period = sh2000_fw_servo_period_ns(s->fw);
+		/* how long this cycle lasts in host time: the card's period
+		 * through its oscillator's error */
+		host_ns = sh2000_card_cycle(s->fw);
 		pthread_mutex_unlock(&s->lock);
 		c = __atomic_add_fetch(&s->cycles, 1, __ATOMIC_RELAXED);
 		if (s->shm)
 			__atomic_store_n(&s->shm->cycles, c, __ATOMIC_RELAXED);
 		if (s->flags & SH2000_SIM_SERVER_FREE_RUN)
 			continue;
-		next.tv_nsec += (long)period;
-		while (next.tv_nsec >= 1000000000L) {
-			next.tv_nsec -= 1000000000L;
-			next.tv_sec++;
-		}
-		{
-			/* fell far behind (stopped, overloaded): catch up now
-			 * instead of running a burst of cycles */
-			uint64_t now = sim_mono_ns();
-			uint64_t due = (uint64_t)next.tv_sec * 1000000000ull +
-				       (uint64_t)next.tv_nsec;
-
-			if (now > due + 100 * period) {
-				next.tv_sec = (time_t)(now / 1000000000ull);
-				next.tv_nsec = (long)(now % 1000000000ull);
-			}
-		}
-		while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next,
-				       NULL) == EINTR &&
-		       !__atomic_load_n(&s->stop, __ATOMIC_ACQUIRE))
-			;
+		due = wait_until(s, due + host_ns);
 	}
 	if (s->shm)
 		__atomic_store_n(&s->shm->running, 0, __ATOMIC_RELEASE);
@@ -291,6 +304,16 @@ int sh2000_sim_server_probe(struct sh2000_sim_server *s,
 uint64_t sh2000_sim_server_cycles(struct sh2000_sim_server *s)
 {
 	return __atomic_load_n(&s->cycles, __ATOMIC_RELAXED);
+}
+
+int sh2000_sim_server_set_clock_ppm(struct sh2000_sim_server *s, double ppm)
+{
+	int r;
+
+	pthread_mutex_lock(&s->lock);
+	r = sh2000_fw_set_clock_ppm(s->fw, ppm);
+	pthread_mutex_unlock(&s->lock);
+	return r < 0 ? -EINVAL : 0;
 }
 
 const char *sh2000_sim_server_shm_name(const struct sh2000_sim_server *s)

@@ -162,6 +162,7 @@ struct sp_call {
 	sh2000_fw_observer obs;
 	void *obs_arg;
 	struct sh2000_cardsim *card;
+	double ppm;
 };
 
 static int sp_dispatch(const struct sh2000_ports *p, void *arg)
@@ -236,6 +237,19 @@ int sh2000_sim_set_observer(struct sh2000 *h, sh2000_fw_observer fn,
 			    void *ctx)
 {
 	struct sp_call c = { .fn = do_observer, .obs = fn, .obs_arg = ctx };
+
+	return call(h, &c);
+}
+
+static int do_clock(struct simport *sp, struct sp_call *c)
+{
+	return sh2000_fw_set_clock_ppm(sh2000_cardsim_fw(sp->card), c->ppm) < 0 ?
+		       -EINVAL : 0;
+}
+
+int sh2000_sim_set_clock_ppm(struct sh2000 *h, double ppm)
+{
+	struct sp_call c = { .fn = do_clock, .ppm = ppm };
 
 	return call(h, &c);
 }

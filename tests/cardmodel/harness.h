@@ -10,7 +10,7 @@
 
 #include <stdint.h>
 
-#include "cardmodel.h"
+#include "card_internal.h"
 
 struct harness {
 	uint16_t ram[SH2000_RAM_WORDS];

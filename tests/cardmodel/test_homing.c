@@ -75,9 +75,9 @@ static double switch_point(unsigned int debounce, double *overrun)
 	/* the reference point is HOME_OFFSET and the axis rests on it */
 	assert_int_equal(cmd[0], 12345);
 	assert_true(abs(sh2000_counter_delta(act[0], 12345)) <= 2);
-	x = h->fw->ax[0].plant.x_mm;
+	x = sh2000_board_plant(h->fw->hw, 0)->x_mm;
 	/* deepest set-point in the old coordinates, relative to the latch */
-	*overrun = (h->fw->ax[0].home_latch - deepest) / 1e5;
+	*overrun = (h->fw->dsp.ax[0].home_latch - deepest) / 1e5;
 	h_fini(h);
 	return x;
 }
@@ -126,7 +126,7 @@ static void index_pulse(void **state)
 	h_snapshot(h, cmd, act);
 	assert_int_equal(cmd[0], 0);
 	/* the index mark below the switch point is at -1 mm */
-	assert_true(fabs(h->fw->ax[0].plant.x_mm + 1.0) < 0.0001);
+	assert_true(fabs(sh2000_board_plant(h->fw->hw, 0)->x_mm + 1.0) < 0.0001);
 	h_fini(h);
 }
 
@@ -139,12 +139,12 @@ static void starts_on_switch(void **state)
 	home(h, 0);
 	assert_int_equal(h_word(h, SH2000_W_FAULTS), 0);
 	assert_true(h_word(h, SH2000_W_AXIS_STATE(0)) & SH2000_AXIS_HOMED);
-	x_ref = h->fw->ax[0].plant.x_mm;
+	x_ref = sh2000_board_plant(h->fw->hw, 0)->x_mm;
 	h_fini(h);
 	/* the same reference as when starting off the switch */
 	h = start(3.0, 0.0);
 	home(h, 0);
-	assert_true(fabs(h->fw->ax[0].plant.x_mm - x_ref) < 0.003);
+	assert_true(fabs(sh2000_board_plant(h->fw->hw, 0)->x_mm - x_ref) < 0.003);
 	h_fini(h);
 }
 

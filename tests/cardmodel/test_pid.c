@@ -9,7 +9,7 @@
 #include <stdio.h>
 #include <cmocka.h>
 
-#include "cardmodel.h"
+#include "card_internal.h"
 
 static void formula(void **state)
 {
@@ -50,8 +50,9 @@ static void clamp_and_ff(void **state)
 
 static void step_response(void **state)
 {
+	static uint16_t ram[SH2000_RAM_WORDS];
 	struct sh2000_sim_config cfg;
-	struct sh2000_plant pl;
+	struct sh2000_board *b;
 	struct sh2000_pid p;
 	struct sh2000_pid_gains g;
 	const struct sh2000_param_info *kp = sh2000_param_lookup(SH2000_P_KP);
@@ -66,14 +67,18 @@ static void step_response(void **state)
 	g.kvff = g.kaff = 0.0;
 	g.dac_limit = 32767;
 	sh2000_sim_config_default(&cfg);
-	sh2000_plant_init(&pl, &cfg.axis[0]);
+	assert_int_equal(sh2000_board_create(&b, ram, &cfg), 0);
 	sh2000_pid_reset(&p);
+	/* the loop closed through the board's registers, as the firmware
+	 * closes it: counter in, DAC out, the plant runs a period */
 	for (k = 0; k < 2000; k++) {	/* 200 ms */
 		int16_t dac;
 
-		x = (double)sh2000_counter_delta(sh2000_plant_counter(&pl), 0);
+		x = (double)sh2000_counter_delta(
+			sh2000_board_read(b, 0, SH2000_HWREG_COUNTER), 0);
 		dac = sh2000_pid_step(&p, &g, target - x, 0, 0, T);
-		sh2000_plant_step(&pl, dac, SH2000_DAC_PM10V, T);
+		sh2000_board_write(b, 0, SH2000_HWREG_DAC, (uint16_t)dac);
+		sh2000_board_run(b, (uint64_t)(T * 1e9));
 		if (x > peak)
 			peak = x;
 		if (fabs(target - x) > 20.0)
@@ -86,6 +91,7 @@ static void step_response(void **state)
 	assert_true(peak < 1.3 * target);	/* damped */
 	assert_true(settle >= 0 && settle * T < 0.05);	/* settles */
 	assert_true(fabs(target - x) <= 2.0);	/* integral removes the rest */
+	sh2000_board_destroy(b);
 }
 
 int main(void)

@@ -49,19 +49,19 @@ static void body(void **state)
 		p[3] = -(int32_t)(i * 1000);
 		h_push(&h, p, (uint16_t)i, i == 30 ? SH2000_REC_F_END : 0);
 	}
-	while ((h.fw->cycle + 1) % 10)
+	while ((h.fw->dsp.cycle + 1) % 10)
 		h_cycles(&h, 1);
 	h_cycles(&h, 301);	/* lands on a publication */
-	assert_int_equal(h.fw->cycle % 10, 0);
+	assert_int_equal(h.fw->dsp.cycle % 10, 0);
 	h_snapshot(&h, cmd, act);
 	t = h_word(&h, SH2000_W_SNAP_TIME_LO) |
 	    ((uint32_t)h_word(&h, SH2000_W_SNAP_TIME_HI) << 16);
-	assert_int_equal(t, (uint32_t)h.fw->cycle);
+	assert_int_equal(t, (uint32_t)h.fw->dsp.cycle);
 	for (a = 0; a < SH2000_AXES; a++) {
-		assert_int_equal(cmd[a], (int32_t)nearbyint(h.fw->ax[a].cmd));
-		assert_int_equal(act[a], h.fw->ax[a].counter);
+		assert_int_equal(cmd[a], (int32_t)nearbyint(h.fw->dsp.ax[a].cmd));
+		assert_int_equal(act[a], h.fw->dsp.ax[a].counter);
 		assert_int_equal((int16_t)h_word(&h, SH2000_W_SNAP_AXIS(a) + SH2000_SNAP_DAC),
-				 h.fw->ax[a].dac);
+				 h.fw->dsp.ax[a].dac);
 	}
 	assert_true(cmd[0] > 0 && cmd[3] < 0);
 	h_fini(&h);

@@ -168,11 +168,11 @@ static void rejections(void **state)
 	run_bad(h, bad, 0x8000, 0);
 	expect_reject(h, 10, SH2000_REJECT_RESERVED);
 	/* within the 5% margin: accepted */
-	bad[0] = (int32_t)(h->fw->ax[0].act + step * 1.04);
+	bad[0] = (int32_t)(h->fw->dsp.ax[0].act + step * 1.04);
 	{
 		int32_t p[SH2000_AXES] = { 0, 0, 0, 0 };
 
-		p[0] = (int32_t)h->fw->ax[0].act;
+		p[0] = (int32_t)h->fw->dsp.ax[0].act;
 		h_push(h, p, 1, 0);
 		h_push(h, bad, 2, SH2000_REC_F_END);
 		h_cycles(h, 200);

@@ -10,7 +10,7 @@
 #include <stdio.h>
 #include <cmocka.h>
 
-#include "cardmodel.h"
+#include "card_internal.h"
 
 #define CYCLES 300000u
 
@@ -38,7 +38,7 @@ static void torn(void **state)
 	(void)state;
 	assert_int_equal(sh2000_fw_create(&fw, ram, NULL), 0);
 	/* publish every cycle so that the reader often overlaps */
-	fw->status_period = 1;
+	fw->dsp.status_period = 1;
 	assert_int_equal(pthread_create(&th, NULL, card, fw), 0);
 	while (!__atomic_load_n(&done, __ATOMIC_ACQUIRE)) {
 		uint16_t end, begin, lo, hi;

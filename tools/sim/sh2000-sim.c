@@ -77,6 +77,10 @@ static void usage(FILE *f)
 "                     of at least 2048 bytes\n"
 "  -F, --free-run     run servo cycles back to back (faster than real time)\n"
 "                     instead of one per servo period\n"
+"  -c, --clock-ppm N  the card's oscillator is off by N ppm (a real number,\n"
+"                     -100000..100000): a servo period lasts\n"
+"                     nominal * (1 + N * 1e-6) of real time; N > 0 is a slow\n"
+"                     card (default 0)\n"
 "  -r, --ready-fd FD  write \"ready\\n\" to file descriptor FD once serving,\n"
 "                     then close it\n"
 "  -q, --quiet        print nothing on stdout (errors still go to stderr)\n"
@@ -105,8 +109,23 @@ static void print_ready(int quiet, int ready_fd)
 	}
 }
 
-static int serve_name(const char *name, unsigned int flags, int quiet,
-		      int ready_fd)
+/* How the card is served: the options that apply to both ways. */
+struct serve_opts {
+	unsigned int flags;
+	double ppm;
+	int quiet, ready_fd;
+};
+
+/* "real time", "free-running", with the clock's error if any. */
+static void print_mode(const struct serve_opts *o)
+{
+	printf("%s", (o->flags & SH2000_SIM_SERVER_FREE_RUN) ? "free-running" :
+							       "real time");
+	if (o->ppm != 0.0)
+		printf(", clock %+g ppm", o->ppm);
+}
+
+static int serve_name(const char *name, const struct serve_opts *o)
 {
 	struct sh2000_sim_server *s;
 	char path[256], msg[512];
@@ -117,26 +136,29 @@ static int serve_name(const char *name, unsigned int flags, int quiet,
 	snprintf(path, sizeof(path), "/dev/shm/sh2000-%s", name);
 	stale = stat(path, &sb) == 0;
 	msg[0] = '\0';
-	r = sh2000_sim_server_create(&s, name, NULL, flags, msg, sizeof(msg));
+	r = sh2000_sim_server_create(&s, name, NULL, o->flags, msg,
+				     sizeof(msg));
 	if (r < 0) {
 		sh2000_tool_msg("%s", msg[0] ? msg : sh2000_strerror(r));
 		return SH2000_EXIT_DEVICE;
 	}
+	/* checked when parsed: cannot fail */
+	(void)sh2000_sim_server_set_clock_ppm(s, o->ppm);
 	served = s;
 	if (stale)
 		sh2000_tool_msg("sim:%s: replaced %s left by a server that is gone",
 				name, sh2000_sim_server_shm_name(s));
-	if (!quiet) {
-		printf("sh2000-sim: serving sim:%s at %s (pid %d, %s)\n", name,
-		       sh2000_sim_server_shm_name(s), (int)getpid(),
-		       (flags & SH2000_SIM_SERVER_FREE_RUN) ? "free-running" :
-							      "real time");
+	if (!o->quiet) {
+		printf("sh2000-sim: serving sim:%s at %s (pid %d, ", name,
+		       sh2000_sim_server_shm_name(s), (int)getpid());
+		print_mode(o);
+		printf(")\n");
 		fflush(stdout);
 	}
-	print_ready(quiet, ready_fd);
+	print_ready(o->quiet, o->ready_fd);
 	if (!stop_requested)
 		r = sh2000_sim_server_run(s);
-	if (!quiet) {
+	if (!o->quiet) {
 		printf("sh2000-sim: stopped after %llu servo cycles, %s removed\n",
 		       (unsigned long long)sh2000_sim_server_cycles(s),
 		       sh2000_sim_server_shm_name(s));
@@ -150,8 +172,7 @@ static int serve_name(const char *name, unsigned int flags, int quiet,
 /* The card model on a RAM someone else owns: the kernel simulated card's
  * DSP page (one page, MAP_SHARED only) or a plain file. The library's
  * server runs it, with the same real-time loop as for sim:NAME. */
-static int serve_attach(const char *path, unsigned int flags, int quiet,
-			int ready_fd)
+static int serve_attach(const char *path, const struct serve_opts *o)
 {
 	long page = sysconf(_SC_PAGESIZE);
 	size_t maplen = page > 0 ? (size_t)page : 4096;
@@ -194,24 +215,25 @@ static int serve_attach(const char *path, unsigned int flags, int quiet,
 	}
 	close(fd);
 	msg[0] = '\0';
-	r = sh2000_sim_server_attach(&s, ram, NULL, flags, msg, sizeof(msg));
+	r = sh2000_sim_server_attach(&s, ram, NULL, o->flags, msg, sizeof(msg));
 	if (r < 0) {
 		sh2000_tool_msg("%s: %s", path, msg[0] ? msg : sh2000_strerror(r));
 		munmap(ram, maplen);
 		return SH2000_EXIT_CARD;
 	}
+	(void)sh2000_sim_server_set_clock_ppm(s, o->ppm);
 	served = s;
-	if (!quiet) {
-		printf("sh2000-sim: card model attached to %s (pid %d, %s)\n",
-		       path, (int)getpid(),
-		       (flags & SH2000_SIM_SERVER_FREE_RUN) ? "free-running" :
-							      "real time");
+	if (!o->quiet) {
+		printf("sh2000-sim: card model attached to %s (pid %d, ", path,
+		       (int)getpid());
+		print_mode(o);
+		printf(")\n");
 		fflush(stdout);
 	}
-	print_ready(quiet, ready_fd);
+	print_ready(o->quiet, o->ready_fd);
 	if (!stop_requested)
 		r = sh2000_sim_server_run(s);
-	if (!quiet) {
+	if (!o->quiet) {
 		printf("sh2000-sim: stopped after %llu servo cycles, %s detached\n",
 		       (unsigned long long)sh2000_sim_server_cycles(s), path);
 		fflush(stdout);
@@ -222,61 +244,52 @@ static int serve_attach(const char *path, unsigned int flags, int quiet,
 	return r < 0 ? SH2000_EXIT_CARD : SH2000_EXIT_OK;
 }
 
-int main(int argc, char **argv)
+/* One option (getopt's c, optarg). Returns -1 to go on, else the exit
+ * status main() returns. */
+static int option(int c, const char *arg, const char **attach,
+		  struct serve_opts *o)
 {
-	static const struct option opts[] = {
-		{ "attach", required_argument, NULL, 'a' },
-		{ "free-run", no_argument, NULL, 'F' },
-		{ "ready-fd", required_argument, NULL, 'r' },
-		{ "quiet", no_argument, NULL, 'q' },
-		{ "help", no_argument, NULL, 'h' },
-		{ "version", no_argument, NULL, 'V' },
-		{ NULL, 0, NULL, 0 },
-	};
-	const char *attach = NULL;
-	unsigned int flags = 0;
-	int quiet = 0, ready_fd = -1, c, r;
 	long l;
 
-	sh2000_tool_init("sh2000-sim");
-	opterr = 0;
-	while ((c = getopt_long(argc, argv, "+a:Fr:qhV", opts, NULL)) != -1) {
-		switch (c) {
-		case 'a':
-			attach = optarg;
-			break;
-		case 'F':
-			flags |= SH2000_SIM_SERVER_FREE_RUN;
-			break;
-		case 'r':
-			if (sh2000_tool_long(optarg, 0, 1 << 20, &l) < 0)
-				return sh2000_tool_usage(NULL,
-					"--ready-fd: '%s' is not a file descriptor",
-					optarg);
-			if (fcntl((int)l, F_GETFD) < 0)
-				return sh2000_tool_usage(NULL,
-					"--ready-fd: %ld is not open", l);
-			ready_fd = (int)l;
-			break;
-		case 'q':
-			quiet = 1;
-			break;
-		case 'h':
-			usage(stdout);
-			return SH2000_EXIT_OK;
-		case 'V':
-			sh2000_tool_print_version(SH2000_TOOLS_VERSION);
-			return SH2000_EXIT_OK;
-		case '?':
-		default:
-			if (optopt && optopt != '?')
-				return sh2000_tool_usage(NULL,
-					"option -%c: unknown or missing its argument",
-					optopt);
-			return sh2000_tool_usage(NULL, "unknown option '%s'",
-						 argv[optind - 1]);
-		}
+	switch (c) {
+	case 'a':
+		*attach = arg;
+		return -1;
+	case 'F':
+		o->flags |= SH2000_SIM_SERVER_FREE_RUN;
+		return -1;
+	case 'c':
+		if (sh2000_tool_double(arg, &o->ppm) < 0 ||
+		    o->ppm < -100000.0 || o->ppm > 100000.0)
+			return sh2000_tool_usage(NULL,
+				"--clock-ppm: '%s' is not a number in -100000..100000",
+				arg);
+		return -1;
+	case 'r':
+		if (sh2000_tool_long(arg, 0, 1 << 20, &l) < 0)
+			return sh2000_tool_usage(NULL,
+				"--ready-fd: '%s' is not a file descriptor", arg);
+		if (fcntl((int)l, F_GETFD) < 0)
+			return sh2000_tool_usage(NULL,
+				"--ready-fd: %ld is not open", l);
+		o->ready_fd = (int)l;
+		return -1;
+	case 'q':
+		o->quiet = 1;
+		return -1;
+	case 'h':
+		usage(stdout);
+		return SH2000_EXIT_OK;
+	case 'V':
+		sh2000_tool_print_version(SH2000_TOOLS_VERSION);
+		return SH2000_EXIT_OK;
+	default:
+		return -2;	/* getopt's '?': main() words it */
 	}
+}
+
+static int operands(int argc, char **argv, const char *attach)
+{
 	if (attach && optind != argc)
 		return sh2000_tool_usage(NULL,
 			"--attach takes no NAME (got '%s')", argv[optind]);
@@ -292,12 +305,49 @@ int main(int argc, char **argv)
 			return sh2000_tool_usage(NULL,
 				"bad NAME '%s': 1..64 characters, no '/'", n);
 	}
+	return -1;
+}
+
+int main(int argc, char **argv)
+{
+	static const struct option opts[] = {
+		{ "attach", required_argument, NULL, 'a' },
+		{ "free-run", no_argument, NULL, 'F' },
+		{ "clock-ppm", required_argument, NULL, 'c' },
+		{ "ready-fd", required_argument, NULL, 'r' },
+		{ "quiet", no_argument, NULL, 'q' },
+		{ "help", no_argument, NULL, 'h' },
+		{ "version", no_argument, NULL, 'V' },
+		{ NULL, 0, NULL, 0 },
+	};
+	struct serve_opts o = { .flags = 0, .ppm = 0.0, .quiet = 0,
+				.ready_fd = -1 };
+	const char *attach = NULL;
+	int c, r;
+
+	sh2000_tool_init("sh2000-sim");
+	opterr = 0;
+	while ((c = getopt_long(argc, argv, "+a:Fc:r:qhV", opts, NULL)) != -1) {
+		r = option(c, optarg, &attach, &o);
+		if (r == -2 && optopt && optopt != '?')
+			return sh2000_tool_usage(NULL,
+				"option -%c: unknown or missing its argument",
+				optopt);
+		if (r == -2)
+			return sh2000_tool_usage(NULL, "unknown option '%s'",
+						 argv[optind - 1]);
+		if (r >= 0)
+			return r;
+	}
+	r = operands(argc, argv, attach);
+	if (r >= 0)
+		return r;
 	r = install_signals();
 	if (r < 0) {
 		sh2000_tool_msg("sigaction: %s", strerror(-r));
 		return SH2000_EXIT_CARD;
 	}
 	if (attach)
-		return serve_attach(attach, flags, quiet, ready_fd);
-	return serve_name(argv[optind], flags, quiet, ready_fd);
+		return serve_attach(attach, &o);
+	return serve_name(argv[optind], &o);
 }

@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The card model's internal interface: the state of each part, fixed size,
- * so the whole card is one allocation made before the first servo cycle.
+ * The firmware's internal interface: the state of each part of the DSP's
+ * program, fixed size, allocated before the first servo cycle. The
+ * firmware reaches the card only through board.h (FPGA registers, the
+ * dual-port RAM); the machine behind them is not visible from here.
  * Not installed, not used by the library: sh2000_cardsim.h is the API.
  */
 #ifndef SH2000_CARDMODEL_H
@@ -10,10 +12,10 @@
 #include <stdint.h>
 
 #include "sh2000/bspline.h"
-#include "sh2000/sh2000_cardsim.h"
 #include "sh2000/sh2000_protocol.h"
-#include "sh2000_fpga.h"
 #include "sh2000_hw.h"
+
+#include "board.h"
 
 /* ---- interp.c: B-spline window ---- */
 
@@ -47,39 +49,9 @@ void sh2000_pid_reset(struct sh2000_pid *p);
 int16_t sh2000_pid_step(struct sh2000_pid *p, const struct sh2000_pid_gains *g,
 			double e, double v, double a, double tau);
 
-/* ---- plant.c: one axis' motor, switches and encoder ---- */
-
-struct sh2000_plant {
-	struct sh2000_plant_config cfg;
-	double x_mm;		/* physical position */
-	double v_mm_s;		/* physical velocity */
-	int64_t enc_offset;	/* counter = floor(x * scale) + offset */
-	int jammed;		/* injected: the carriage does not move */
-	int force_limit;	/* injected: bit0 - switch, bit1 + switch */
-	int index_seen;		/* an index mark passed in the last step */
-	uint32_t index_latch;	/* counter value latched at that mark */
-	double cache_T, cache_e;	/* exp(-b T / m) for the last T */
-	uint64_t steps;		/* servo periods integrated (switch chatter) */
-};
-
-void sh2000_plant_init(struct sh2000_plant *p,
-		       const struct sh2000_plant_config *cfg);
-/* Integrates one servo period with the DAC code held (zero-order hold). */
-void sh2000_plant_step(struct sh2000_plant *p, int16_t dac, unsigned int range,
-		       double T);
-uint32_t sh2000_plant_counter(const struct sh2000_plant *p);
-/* The FPGA's counter preset: from now on the counter reads `value` here. */
-void sh2000_plant_preset(struct sh2000_plant *p, uint32_t value);
-int sh2000_plant_limit_neg(const struct sh2000_plant *p);
-int sh2000_plant_limit_pos(const struct sh2000_plant *p);
-int sh2000_plant_home(const struct sh2000_plant *p);
-/* Volts per DAC code for a range (unipolar ranges: mid-scale is 0 V at
- * the amplifier, docs/cardmodel.md). */
-double sh2000_dac_volts_per_code(unsigned int range);
-
 /* ---- firmware.c: protocol v1 ---- */
 
-struct sh2000_axis_params {
+struct sh2000_fw_params {
 	double scale, kp, ti, td, kvff, kaff;
 	int32_t dac_range, dac_limit, ferr_limit, soft_min, soft_max;
 	double vmax, amax, home_vel;
@@ -98,15 +70,16 @@ enum sh2000_home_phase {
 };
 
 struct sh2000_fw_axis {
-	struct sh2000_axis_params prm;
+	struct sh2000_fw_params prm;
 	struct sh2000_pid pid;
-	struct sh2000_plant plant;
 	uint16_t state;		/* SH2000_AXIS_* */
 	uint16_t faults;	/* SH2000_AXIS_FAULT_* */
 	uint32_t counter;	/* last sampled 28-bit counter */
 	int64_t act;		/* the counter, extended */
 	int32_t delta;		/* counter change in this cycle */
 	int limit;		/* switch bits this cycle: 1 -, 2 + */
+	int index_seen;		/* the FPGA latched an index mark */
+	uint32_t index_latch;	/* the counter at that mark */
 	double cmd, cmd_v, cmd_a;	/* set-point and its derivatives */
 	double stop_a;		/* deceleration of a controlled stop */
 	int16_t dac;
@@ -119,8 +92,9 @@ struct sh2000_fw_axis {
 	double home_latch;	/* counter (extended) at the reference */
 };
 
-struct sh2000_fw {
-	uint16_t *ram;
+/* What the DSP's memory holds: the firmware's whole state. */
+struct sh2000_dsp {
+	struct sh2000_board *hw;	/* registers and RAM (board.h) */
 	struct sh2000_fw_axis ax[SH2000_AXES];
 	struct sh2000_interp ip;
 	/* global parameters */
@@ -135,15 +109,11 @@ struct sh2000_fw {
 	unsigned int fine_k;	/* fine steps done in this coarse period */
 	uint64_t stop_left;	/* servo cycles left in a controlled stop */
 	uint16_t seg_seq;	/* SEQ of the last record consumed */
+	int have_seq;		/* seg_seq belongs to this motion */
 	unsigned int pad_left;	/* END padding periods still to run */
 	int ending;		/* END record seen */
 	unsigned int status_div;
-	uint64_t cycle;
-	uint64_t time_ns;
-	/* injection */
-	int hb_frozen, stalled, drop_next;
-	sh2000_fw_observer observer;
-	void *observer_ctx;
+	uint64_t cycle;		/* servo interrupts taken */
 };
 
 static inline int sh2000_axis_enabled(const struct sh2000_fw_axis *ax)
@@ -152,7 +122,7 @@ static inline int sh2000_axis_enabled(const struct sh2000_fw_axis *ax)
 }
 
 /* RUNNING, STOPPING or HOMING: what "while moving" means everywhere. */
-static inline int sh2000_fw_in_motion(const struct sh2000_fw *fw)
+static inline int sh2000_fw_in_motion(const struct sh2000_dsp *fw)
 {
 	return fw->state == SH2000_STATE_RUNNING ||
 	       fw->state == SH2000_STATE_STOPPING ||
@@ -160,24 +130,30 @@ static inline int sh2000_fw_in_motion(const struct sh2000_fw *fw)
 }
 
 /* firmware.c */
-void sh2000_fw_publish_words(struct sh2000_fw *fw);
-double sh2000_fw_servo_s(const struct sh2000_fw *fw);
+/* Power-up on a board: parameters, RAM words, the magic last. */
+void sh2000_dsp_boot(struct sh2000_dsp *fw, struct sh2000_board *hw);
+/* One servo interrupt (protocol v1's cycle); the DAC outputs are then
+ * held until the next. */
+void sh2000_dsp_interrupt(struct sh2000_dsp *fw);
+uint64_t sh2000_dsp_servo_period_ns(const struct sh2000_dsp *fw);
+void sh2000_fw_publish_words(struct sh2000_dsp *fw);
+double sh2000_fw_servo_s(const struct sh2000_dsp *fw);
 /* Set-point of axis a becomes x, at rest; the window holds x. */
-void sh2000_fw_hold_at(struct sh2000_fw *fw, unsigned int a, double x);
+void sh2000_fw_hold_at(struct sh2000_dsp *fw, unsigned int a, double x);
 /* The FPGA counter preset: the axis reads `pos` here from now on. */
-void sh2000_fw_set_position(struct sh2000_fw *fw, unsigned int a, int64_t pos);
+void sh2000_fw_set_position(struct sh2000_dsp *fw, unsigned int a, int64_t pos);
 
 /* params.c: results are SH2000_RES_* */
-uint16_t sh2000_fw_get_param(struct sh2000_fw *fw, unsigned int axis,
+uint16_t sh2000_fw_get_param(struct sh2000_dsp *fw, unsigned int axis,
 			    unsigned int id, uint32_t *out);
-uint16_t sh2000_fw_set_param(struct sh2000_fw *fw, unsigned int axis,
+uint16_t sh2000_fw_set_param(struct sh2000_dsp *fw, unsigned int axis,
 			    unsigned int id, uint32_t bits);
-void sh2000_fw_default_params(struct sh2000_fw *fw);
+void sh2000_fw_default_params(struct sh2000_dsp *fw);
 
 /* homing.c */
-uint16_t sh2000_home_start(struct sh2000_fw *fw, unsigned int axis,
+uint16_t sh2000_home_start(struct sh2000_dsp *fw, unsigned int axis,
 			   uint32_t flags);
-void sh2000_home_cycle(struct sh2000_fw *fw, double T);
+void sh2000_home_cycle(struct sh2000_dsp *fw, double T);
 void sh2000_home_abort(struct sh2000_fw_axis *ax);
 
 #endif /* SH2000_CARDMODEL_H */

@@ -8,29 +8,31 @@
  *   4. at most one command;
  *   5. ring and motion: records, B-spline, controlled stop or homing;
  *   6. PID + feed-forward per axis, following-error and DAC checks;
- *   7. DAC out (the plant integrates one servo period);
+ *   7. DAC out (the board then holds it until the next interrupt);
  *   8. publish the status words and, every STATUS_PERIOD cycles, the
  *      versioned snapshot.
- * Everything is in struct sh2000_fw, allocated once; nothing allocates or
- * blocks inside a cycle.
+ * Everything is in struct sh2000_dsp, allocated once; nothing allocates or
+ * blocks inside a cycle. The card is reached only through board.h: the
+ * FPGA's registers and the dual-port RAM.
  */
 #include <math.h>
-#include <stdlib.h>
 
 #include "cardmodel.h"
 
-#define RD(fw, w)	sh2000_dpram_read((fw)->ram, (w))
-#define WR(fw, w, v)	sh2000_dpram_write((fw)->ram, (w), (uint16_t)(v))
+#define RD(fw, w)	sh2000_board_ram_read((fw)->hw, (w))
+#define WR(fw, w, v)	sh2000_board_ram_write((fw)->hw, (w), (uint16_t)(v))
+#define REG(fw, a, r)	sh2000_board_read((fw)->hw, (a), (r))
+#define SETREG(fw, a, r, v) sh2000_board_write((fw)->hw, (a), (r), (v))
 
 #define is_enabled	sh2000_axis_enabled
 #define in_motion	sh2000_fw_in_motion
 
-double sh2000_fw_servo_s(const struct sh2000_fw *fw)
+double sh2000_fw_servo_s(const struct sh2000_dsp *fw)
 {
-	return (double)sh2000_fw_servo_period_ns(fw) * 1e-9;
+	return (double)sh2000_dsp_servo_period_ns(fw) * 1e-9;
 }
 
-uint64_t sh2000_fw_servo_period_ns(const struct sh2000_fw *fw)
+uint64_t sh2000_dsp_servo_period_ns(const struct sh2000_dsp *fw)
 {
 	return (uint64_t)fw->coarse_us * 1000u / (uint64_t)fw->fine_steps;
 }
@@ -38,7 +40,7 @@ uint64_t sh2000_fw_servo_period_ns(const struct sh2000_fw *fw)
 /* ---- holding, stopping ---- */
 
 /* Set-point of axis a becomes x, at rest; the window holds x. */
-void sh2000_fw_hold_at(struct sh2000_fw *fw, unsigned int a, double x)
+void sh2000_fw_hold_at(struct sh2000_dsp *fw, unsigned int a, double x)
 {
 	struct sh2000_fw_axis *ax = &fw->ax[a];
 
@@ -48,14 +50,14 @@ void sh2000_fw_hold_at(struct sh2000_fw *fw, unsigned int a, double x)
 	sh2000_interp_hold(&fw->ip, a, x);
 }
 
-static void discard_ring(struct sh2000_fw *fw)
+static void discard_ring(struct sh2000_dsp *fw)
 {
 	fw->tail = RD(fw, SH2000_W_HEAD);
 	WR(fw, SH2000_W_TAIL, fw->tail);
 }
 
 /* The motion is over: every axis holds where its set-point is. */
-static void settle(struct sh2000_fw *fw)
+static void settle(struct sh2000_dsp *fw)
 {
 	unsigned int a;
 
@@ -76,7 +78,7 @@ static void settle(struct sh2000_fw *fw)
  * path keeps its direction) and no axis exceeds its AMAX. The ring is
  * discarded.
  */
-static void begin_stop(struct sh2000_fw *fw)
+static void begin_stop(struct sh2000_dsp *fw)
 {
 	double T = sh2000_fw_servo_s(fw), tstop = 0.0;
 	uint64_t n;
@@ -107,7 +109,7 @@ static void begin_stop(struct sh2000_fw *fw)
 	fw->state = SH2000_STATE_STOPPING;
 }
 
-static void stop_step(struct sh2000_fw *fw, double T)
+static void stop_step(struct sh2000_dsp *fw, double T)
 {
 	unsigned int a;
 
@@ -126,7 +128,7 @@ static void stop_step(struct sh2000_fw *fw, double T)
 		settle(fw);
 }
 
-static void card_fault(struct sh2000_fw *fw, uint16_t bit)
+static void card_fault(struct sh2000_dsp *fw, uint16_t bit)
 {
 	fw->faults |= bit;
 	begin_stop(fw);
@@ -134,7 +136,7 @@ static void card_fault(struct sh2000_fw *fw, uint16_t bit)
 		fw->state = SH2000_STATE_FAULT;
 }
 
-static void disable_axis(struct sh2000_fw *fw, unsigned int a)
+static void disable_axis(struct sh2000_dsp *fw, unsigned int a)
 {
 	struct sh2000_fw_axis *ax = &fw->ax[a];
 
@@ -145,7 +147,7 @@ static void disable_axis(struct sh2000_fw *fw, unsigned int a)
 	sh2000_fw_hold_at(fw, a, (double)ax->act);
 }
 
-static void axis_fault(struct sh2000_fw *fw, unsigned int a, uint16_t bit,
+static void axis_fault(struct sh2000_dsp *fw, unsigned int a, uint16_t bit,
 		       int disable)
 {
 	fw->ax[a].faults |= bit;
@@ -156,7 +158,7 @@ static void axis_fault(struct sh2000_fw *fw, unsigned int a, uint16_t bit,
 
 /* ---- emergency stop ---- */
 
-static void estop(struct sh2000_fw *fw)
+static void estop(struct sh2000_dsp *fw)
 {
 	unsigned int a;
 
@@ -181,37 +183,44 @@ static void estop(struct sh2000_fw *fw)
 
 /* ---- sampling and axis checks ---- */
 
-/* The FPGA's counters and the switch inputs, latched at the start of the
- * cycle: the position every decision of this cycle uses. */
-static void read_inputs(struct sh2000_fw *fw)
+/* The FPGA's counters, switch inputs and index latches, read at the start
+ * of the cycle: the position every decision of this cycle uses. A latched
+ * index mark is taken and the latch armed for the next. */
+static void read_inputs(struct sh2000_dsp *fw)
 {
 	unsigned int a;
 
 	for (a = 0; a < SH2000_AXES; a++) {
 		struct sh2000_fw_axis *ax = &fw->ax[a];
-		uint32_t c = sh2000_plant_counter(&ax->plant);
+		uint32_t c = REG(fw, a, SH2000_HWREG_COUNTER);
+		uint32_t in = REG(fw, a, SH2000_HWREG_INPUTS);
 		uint16_t st = ax->state;
 
 		ax->delta = sh2000_counter_delta(c, ax->counter);
 		ax->counter = c;
 		ax->act += ax->delta;
-		ax->limit = (sh2000_plant_limit_neg(&ax->plant) ? 1 : 0) |
-			    (sh2000_plant_limit_pos(&ax->plant) ? 2 : 0);
+		ax->limit = ((in & SH2000_HWIN_LIMIT_NEG) ? 1 : 0) |
+			    ((in & SH2000_HWIN_LIMIT_POS) ? 2 : 0);
+		ax->index_seen = (in & SH2000_HWIN_INDEX) != 0;
+		if (ax->index_seen) {
+			ax->index_latch = REG(fw, a, SH2000_HWREG_INDEX_LATCH);
+			SETREG(fw, a, SH2000_HWREG_INDEX_ARM, 1);
+		}
 		st &= (uint16_t)~(SH2000_AXIS_LIMIT_NEG | SH2000_AXIS_LIMIT_POS |
 				  SH2000_AXIS_HOME_SW);
 		if (ax->limit & 1)
 			st |= SH2000_AXIS_LIMIT_NEG;
 		if (ax->limit & 2)
 			st |= SH2000_AXIS_LIMIT_POS;
-		if (sh2000_plant_home(&ax->plant))
+		if (in & SH2000_HWIN_HOME)
 			st |= SH2000_AXIS_HOME_SW;
-		if (ax->plant.index_seen && ax->home != HOME_NONE)
+		if (ax->index_seen && ax->home != HOME_NONE)
 			st |= SH2000_AXIS_INDEX;
 		ax->state = st;
 	}
 }
 
-static void check_axes(struct sh2000_fw *fw, double T)
+static void check_axes(struct sh2000_dsp *fw, double T)
 {
 	unsigned int a;
 
@@ -242,7 +251,7 @@ static void check_axes(struct sh2000_fw *fw, double T)
 
 /* ---- host heartbeat ---- */
 
-static void host_watchdog(struct sh2000_fw *fw)
+static void host_watchdog(struct sh2000_dsp *fw)
 {
 	uint16_t h = RD(fw, SH2000_W_HOST_HEARTBEAT);
 
@@ -255,14 +264,14 @@ static void host_watchdog(struct sh2000_fw *fw)
 	if (fw->host_timeout_ms > 0 &&
 	    (fw->state == SH2000_STATE_RUNNING ||
 	     fw->state == SH2000_STATE_HOMING) &&
-	    fw->host_hb_cycles * sh2000_fw_servo_period_ns(fw) >=
+	    fw->host_hb_cycles * sh2000_dsp_servo_period_ns(fw) >=
 		    (uint64_t)fw->host_timeout_ms * 1000000u)
 		card_fault(fw, SH2000_FAULT_HOST_TIMEOUT);
 }
 
 /* ---- commands ---- */
 
-static uint16_t cmd_enable(struct sh2000_fw *fw, uint32_t mask, int on)
+static uint16_t cmd_enable(struct sh2000_dsp *fw, uint32_t mask, int on)
 {
 	unsigned int a;
 
@@ -297,7 +306,7 @@ static uint16_t cmd_enable(struct sh2000_fw *fw, uint32_t mask, int on)
 	return SH2000_RES_OK;
 }
 
-static void reset(struct sh2000_fw *fw)
+static void reset(struct sh2000_dsp *fw)
 {
 	unsigned int a;
 
@@ -321,20 +330,20 @@ static void reset(struct sh2000_fw *fw)
 }
 
 /* The FPGA's counter preset: the axis reads `pos` from now on. */
-void sh2000_fw_set_position(struct sh2000_fw *fw, unsigned int a, int64_t pos)
+void sh2000_fw_set_position(struct sh2000_dsp *fw, unsigned int a, int64_t pos)
 {
 	struct sh2000_fw_axis *ax = &fw->ax[a];
 
-	sh2000_plant_preset(&ax->plant, (uint32_t)((uint64_t)pos &
-						   SH2000_COUNTER_MASK));
-	ax->counter = sh2000_plant_counter(&ax->plant);
+	SETREG(fw, a, SH2000_HWREG_PRESET,
+	       (uint32_t)((uint64_t)pos & SH2000_COUNTER_MASK));
+	ax->counter = REG(fw, a, SH2000_HWREG_COUNTER);
 	ax->act = pos;
 	ax->pid.e1 = 0.0;
 	ax->pid.e2 = 0.0;
 	sh2000_fw_hold_at(fw, a, (double)pos);
 }
 
-static uint16_t execute(struct sh2000_fw *fw, uint16_t op, uint16_t axis,
+static uint16_t execute(struct sh2000_dsp *fw, uint16_t op, uint16_t axis,
 			uint16_t param, uint32_t arg, uint32_t *value)
 {
 	switch (op) {
@@ -372,7 +381,7 @@ static uint16_t execute(struct sh2000_fw *fw, uint16_t op, uint16_t axis,
 	}
 }
 
-static void command(struct sh2000_fw *fw)
+static void command(struct sh2000_dsp *fw)
 {
 	uint16_t seq = RD(fw, SH2000_W_CMD_SEQ);
 	uint16_t op, axis, param, lo, hi, res;
@@ -400,7 +409,7 @@ static void command(struct sh2000_fw *fw)
 
 /* ---- segment ring ---- */
 
-static void reject(struct sh2000_fw *fw, uint16_t seq, uint16_t reason)
+static void reject(struct sh2000_dsp *fw, uint16_t seq, uint16_t reason)
 {
 	WR(fw, SH2000_W_REJECT_SEQ, seq);
 	WR(fw, SH2000_W_REJECT_REASON, reason);
@@ -415,15 +424,15 @@ static int32_t rec_pos(const uint16_t *rec, unsigned int a)
 			 ((uint32_t)rec[SH2000_REC_POS_HI(a)] << 16));
 }
 
-static uint16_t validate(struct sh2000_fw *fw, const uint16_t *rec)
+static uint16_t validate(struct sh2000_dsp *fw, const uint16_t *rec)
 {
 	double step_max = 0.0;
 	unsigned int a;
 
-	if (fw->drop_next) {
-		fw->drop_next = 0;
+	/* within a motion the host numbers records consecutively: another
+	 * SEQ means the record it wrote never reached the RAM */
+	if (fw->have_seq && rec[SH2000_REC_SEQ] != (uint16_t)(fw->seg_seq + 1u))
 		return SH2000_REJECT_DROPPED;
-	}
 	if (rec[SH2000_REC_CHECK] != sh2000_record_check(rec))
 		return SH2000_REJECT_CHECKSUM;
 	if (rec[SH2000_REC_RESERVED] || (rec[SH2000_REC_FLAGS] &
@@ -453,7 +462,7 @@ static uint16_t validate(struct sh2000_fw *fw, const uint16_t *rec)
 
 /* Start of a coarse period while running: the next point of the window.
  * Returns 0 if the card stopped instead. */
-static int next_point(struct sh2000_fw *fw, uint16_t fill)
+static int next_point(struct sh2000_dsp *fw, uint16_t fill)
 {
 	uint16_t rec[SH2000_RECORD_WORDS], why;
 	unsigned int a, i, base;
@@ -475,12 +484,16 @@ static int next_point(struct sh2000_fw *fw, uint16_t fill)
 		rec[i] = RD(fw, base + i);
 	fw->tail++;
 	WR(fw, SH2000_W_TAIL, fw->tail);
-	fw->seg_seq = rec[SH2000_REC_SEQ];
 	why = validate(fw, rec);
 	if (why != SH2000_REJECT_NONE) {
-		reject(fw, rec[SH2000_REC_SEQ], why);
+		/* a lost record is reported by the number it should have had */
+		reject(fw, why == SH2000_REJECT_DROPPED ?
+				   (uint16_t)(fw->seg_seq + 1u) :
+				   rec[SH2000_REC_SEQ], why);
 		return 0;
 	}
+	fw->seg_seq = rec[SH2000_REC_SEQ];
+	fw->have_seq = 1;
 	for (a = 0; a < SH2000_AXES; a++) {
 		double p = is_enabled(&fw->ax[a]) ? (double)rec_pos(rec, a) :
 						    (double)fw->ax[a].act;
@@ -496,7 +509,7 @@ static int next_point(struct sh2000_fw *fw, uint16_t fill)
 	return 1;
 }
 
-static void run_step(struct sh2000_fw *fw, uint16_t fill, double T)
+static void run_step(struct sh2000_dsp *fw, uint16_t fill, double T)
 {
 	double Tc = (double)fw->coarse_us * 1e-6, t;
 	unsigned int a;
@@ -530,7 +543,7 @@ static void run_step(struct sh2000_fw *fw, uint16_t fill, double T)
 
 /* Rejected while a fault is latched: the host learns the first record it
  * pushed after the fault was not executed. */
-static void reject_all(struct sh2000_fw *fw)
+static void reject_all(struct sh2000_dsp *fw)
 {
 	unsigned int base = SH2000_W_RING_BASE +
 			    (fw->tail % SH2000_RING_RECORDS) *
@@ -543,7 +556,7 @@ static void reject_all(struct sh2000_fw *fw)
 
 /* ---- motion by state ---- */
 
-static void motion(struct sh2000_fw *fw, double T)
+static void motion(struct sh2000_dsp *fw, double T)
 {
 	uint16_t fill = (uint16_t)(RD(fw, SH2000_W_HEAD) - fw->tail);
 
@@ -556,6 +569,7 @@ static void motion(struct sh2000_fw *fw, double T)
 		if (fill == 0)
 			break;
 		fw->state = SH2000_STATE_RUNNING;
+		fw->have_seq = 0;
 		fw->fine_k = 0;
 		fw->host_hb_cycles = 0;
 		run_step(fw, fill, T);
@@ -581,7 +595,7 @@ static void motion(struct sh2000_fw *fw, double T)
 
 /* ---- the servo loop ---- */
 
-static void servo(struct sh2000_fw *fw, double T)
+static void servo(struct sh2000_dsp *fw, double T)
 {
 	unsigned int a;
 
@@ -628,13 +642,13 @@ static void servo(struct sh2000_fw *fw, double T)
 	}
 }
 
-static void put32(struct sh2000_fw *fw, unsigned int w, uint32_t v)
+static void put32(struct sh2000_dsp *fw, unsigned int w, uint32_t v)
 {
 	WR(fw, w, v & 0xffffu);
 	WR(fw, w + 1u, v >> 16);
 }
 
-static void publish_snapshot(struct sh2000_fw *fw)
+static void publish_snapshot(struct sh2000_dsp *fw)
 {
 	uint16_t s = (uint16_t)(fw->snap_seq + 1u);
 	unsigned int a;
@@ -658,7 +672,7 @@ static void publish_snapshot(struct sh2000_fw *fw)
 	fw->snap_seq = s;
 }
 
-void sh2000_fw_publish_words(struct sh2000_fw *fw)
+void sh2000_fw_publish_words(struct sh2000_dsp *fw)
 {
 	unsigned int a;
 
@@ -670,45 +684,21 @@ void sh2000_fw_publish_words(struct sh2000_fw *fw)
 	WR(fw, SH2000_W_STATE, fw->state);
 }
 
-void sh2000_fw_probe(const struct sh2000_fw *fw, struct sh2000_probe *p)
-{
-	unsigned int a;
-
-	p->servo_cycle = fw->cycle;
-	p->time_ns = fw->time_ns;
-	p->state = fw->state;
-	for (a = 0; a < SH2000_AXES; a++) {
-		const struct sh2000_fw_axis *ax = &fw->ax[a];
-
-		p->axis[a].fine_cmd = ax->cmd;
-		p->axis[a].actual = (double)ax->act;
-		p->axis[a].velocity = ax->plant.v_mm_s *
-				      ax->plant.cfg.counts_per_mm;
-		p->axis[a].dac = ax->dac;
-	}
-}
-
-static void step_plants(struct sh2000_fw *fw, double T)
+/* DAC out: each axis' code goes to the DAC7744, which holds it until the
+ * next interrupt writes again. */
+static void dac_out(struct sh2000_dsp *fw)
 {
 	unsigned int a;
 
 	for (a = 0; a < SH2000_AXES; a++)
-		sh2000_plant_step(&fw->ax[a].plant, fw->ax[a].dac,
-				  (unsigned int)fw->ax[a].prm.dac_range, T);
+		SETREG(fw, a, SH2000_HWREG_DAC, (uint16_t)fw->ax[a].dac);
 }
 
-void sh2000_fw_cycle(struct sh2000_fw *fw)
+void sh2000_dsp_interrupt(struct sh2000_dsp *fw)
 {
-	uint64_t Tns = sh2000_fw_servo_period_ns(fw);
-	double T = (double)Tns * 1e-9;
+	double T = sh2000_fw_servo_s(fw);
 	uint16_t req;
 
-	if (fw->stalled) {
-		/* no firmware: the DAC holds its last output */
-		step_plants(fw, T);
-		fw->time_ns += Tns;
-		return;
-	}
 	fw->cycle++;
 	read_inputs(fw);
 	req = RD(fw, SH2000_W_ESTOP_REQ);
@@ -718,82 +708,36 @@ void sh2000_fw_cycle(struct sh2000_fw *fw)
 		WR(fw, SH2000_W_ESTOP_ACK, req);
 	}
 	check_axes(fw, T);
-	if (!fw->hb_frozen)
-		WR(fw, SH2000_W_HEARTBEAT, ++fw->heartbeat);
+	WR(fw, SH2000_W_HEARTBEAT, ++fw->heartbeat);
 	host_watchdog(fw);
 	command(fw);
 	motion(fw, T);
 	servo(fw, T);
-	step_plants(fw, T);
-	fw->time_ns += Tns;
+	dac_out(fw);
 	sh2000_fw_publish_words(fw);
 	if (++fw->status_div >= (unsigned int)fw->status_period) {
 		fw->status_div = 0;
 		publish_snapshot(fw);
 	}
-	if (fw->observer) {
-		struct sh2000_probe p;
-
-		sh2000_fw_probe(fw, &p);
-		fw->observer(fw->observer_ctx, &p);
-	}
-}
-
-void sh2000_fw_set_observer(struct sh2000_fw *fw, sh2000_fw_observer fn,
-			    void *ctx)
-{
-	fw->observer = fn;
-	fw->observer_ctx = ctx;
 }
 
 /* ---- boot ---- */
 
-void sh2000_sim_config_default(struct sh2000_sim_config *cfg)
+void sh2000_dsp_boot(struct sh2000_dsp *fw, struct sh2000_board *hw)
 {
-	unsigned int a;
-
-	for (a = 0; a < SH2000_AXES; a++) {
-		struct sh2000_plant_config *p = &cfg->axis[a];
-
-		p->mass_kg = 2.0;
-		p->friction_ns_per_m = 20.0;
-		p->force_n_per_v = 20.0;
-		p->counts_per_mm = 100000.0;
-		p->limit_neg_mm = -5.0;
-		p->limit_pos_mm = 605.0;
-		p->home_mm = 0.0;
-		p->index_period_mm = 1.0;
-		p->start_mm = 300.0;
-		p->home_bounce_mm = 0.0;
-	}
-}
-
-int sh2000_fw_create(struct sh2000_fw **out, uint16_t *ram,
-		     const struct sh2000_sim_config *cfg)
-{
-	struct sh2000_sim_config def;
-	struct sh2000_fw *fw;
 	unsigned int a, w;
 
-	if (!out || !ram)
-		return -22;	/* -EINVAL */
-	if (!cfg) {
-		sh2000_sim_config_default(&def);
-		cfg = &def;
-	}
-	fw = calloc(1, sizeof(*fw));
-	if (!fw)
-		return -12;	/* -ENOMEM */
-	fw->ram = ram;
+	fw->hw = hw;
 	WR(fw, SH2000_W_STATE, SH2000_STATE_BOOT);
 	sh2000_fw_default_params(fw);
 	for (a = 0; a < SH2000_AXES; a++) {
 		struct sh2000_fw_axis *ax = &fw->ax[a];
 
-		sh2000_plant_init(&ax->plant, &cfg->axis[a]);
-		ax->counter = sh2000_plant_counter(&ax->plant);
+		ax->counter = REG(fw, a, SH2000_HWREG_COUNTER);
 		ax->act = ax->counter;
 		ax->prev_limit = 0;
+		SETREG(fw, a, SH2000_HWREG_INDEX_ARM, 1);
+		SETREG(fw, a, SH2000_HWREG_DAC, 0);
 		sh2000_fw_hold_at(fw, a, (double)ax->act);
 	}
 	/* Whatever the host left in its words is history, not a request. */
@@ -812,11 +756,4 @@ int sh2000_fw_create(struct sh2000_fw **out, uint16_t *ram,
 	publish_snapshot(fw);
 	WR(fw, SH2000_W_VERSION, SH2000_PROTO_VERSION);
 	WR(fw, SH2000_W_MAGIC, SH2000_PROTO_MAGIC);
-	*out = fw;
-	return 0;
-}
-
-void sh2000_fw_destroy(struct sh2000_fw *fw)
-{
-	free(fw);
 }

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /*
  * Homing on the home switch with debounce, optionally finishing on the
- * encoder index (seed 003); docs/protocol.md section 13. Each homing axis
+ * encoder index ([R4]); docs/protocol.md section 13. Each homing axis
  * runs its own small state machine; the card is HOMING while any runs.
  */
 #include <math.h>
@@ -14,7 +14,7 @@ void sh2000_home_abort(struct sh2000_fw_axis *ax)
 	ax->state &= (uint16_t)~SH2000_AXIS_HOMING;
 }
 
-uint16_t sh2000_home_start(struct sh2000_fw *fw, unsigned int axis,
+uint16_t sh2000_home_start(struct sh2000_dsp *fw, unsigned int axis,
 			   uint32_t flags)
 {
 	struct sh2000_fw_axis *ax;
@@ -77,7 +77,7 @@ static int move_to(struct sh2000_fw_axis *ax, double target, double vcap,
 	return 0;
 }
 
-static void home_step(struct sh2000_fw *fw, unsigned int a, double T)
+static void home_step(struct sh2000_dsp *fw, unsigned int a, double T)
 {
 	struct sh2000_fw_axis *ax = &fw->ax[a];
 	double speed = fabs(ax->prm.home_vel), dir;
@@ -123,9 +123,9 @@ static void home_step(struct sh2000_fw *fw, unsigned int a, double T)
 		break;
 	case HOME_CREEP:
 		ramp(ax, dir * speed / SH2000_FW_HOME_CREEP_DIV, T);
-		if (ax->plant.index_seen) {
+		if (ax->index_seen) {
 			ax->home_latch = (double)(ax->act +
-				sh2000_counter_delta(ax->plant.index_latch,
+				sh2000_counter_delta(ax->index_latch,
 						     ax->counter));
 			ax->home = HOME_STOP2;
 		}
@@ -151,7 +151,7 @@ static void home_step(struct sh2000_fw *fw, unsigned int a, double T)
 	}
 }
 
-void sh2000_home_cycle(struct sh2000_fw *fw, double T)
+void sh2000_home_cycle(struct sh2000_dsp *fw, double T)
 {
 	unsigned int a, busy = 0;
 

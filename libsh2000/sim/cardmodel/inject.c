@@ -1,66 +1,59 @@
 // SPDX-License-Identifier: MIT
 /*
- * Fault injection. Each injection acts where the real fault would (the
- * firmware, the RAM, the mechanics, a switch) so that it surfaces through
- * the protocol exactly as the real fault would; docs/cardmodel.md lists
- * what the host sees for each.
+ * Fault injection. Every fault acts on the hardware (the machine, a switch
+ * input, an encoder counter, the dual-port RAM) or on the firmware's
+ * scheduling (its servo interrupt), never on the firmware's own state, so
+ * the firmware meets it as it would meet the real one and the host sees
+ * what the firmware makes of it; docs/cardmodel.md lists both.
  */
-#include "cardmodel.h"
+#include "card_internal.h"
+
+/* Default glitch: 2^20 counts, far beyond any step the counter may make. */
+#define GLITCH_DEFAULT	0x100000
+
+static int flip(struct sh2000_fw *fw, unsigned int arg)
+{
+	uint16_t mask = (uint16_t)(arg >> 16);
+
+	/* one bit by default: the smallest corruption a check word must see */
+	return sh2000_board_flip(fw->hw, arg & 0xffffu, mask ? mask : 0x0010u);
+}
+
+static void clear(struct sh2000_fw *fw)
+{
+	fw->stall_left = 0;
+	sh2000_board_clear_faults(fw->hw);
+}
 
 int sh2000_fw_inject(struct sh2000_fw *fw, enum sh2000_inject what,
 		     unsigned int axis, unsigned int arg)
 {
-	unsigned int a;
-
 	if (!fw)
 		return -22;
 	switch (what) {
 	case SH2000_INJECT_NONE:
 		return 0;
 	case SH2000_INJECT_HEARTBEAT_STOP:
-		fw->hb_frozen = 1;
-		return 0;
+		/* the firmware writes it; the RAM cell does not take it */
+		return sh2000_board_stick(fw->hw, SH2000_W_HEARTBEAT);
 	case SH2000_INJECT_DSP_STALL:
-		fw->stalled = 1;
+		fw->stall_left = arg ? arg : SH2000_STALL_FOREVER;
 		return 0;
 	case SH2000_INJECT_RAM_FLIP:
-		if (arg >= SH2000_RAM_WORDS)
-			return -22;
-		/* one bit: the smallest corruption the check word must see */
-		sh2000_dpram_write(fw->ram, arg,
-				   (uint16_t)(sh2000_dpram_read(fw->ram, arg) ^
-					      0x0010u));
-		return 0;
+		return flip(fw, arg);
 	case SH2000_INJECT_JAM:
-		if (axis >= SH2000_AXES)
-			return -22;
-		fw->ax[axis].plant.jammed = 1;
-		return 0;
+		return sh2000_board_jam(fw->hw, axis, 1);
 	case SH2000_INJECT_LIMIT:
-		if (axis >= SH2000_AXES)
-			return -22;
-		fw->ax[axis].plant.force_limit |= arg ? 2 : 1;
-		return 0;
+		return sh2000_board_force_limit(fw->hw, axis, arg ? 2u : 1u);
 	case SH2000_INJECT_DROP_SEGMENT:
-		fw->drop_next = 1;
+		sh2000_board_drop_record(fw->hw);
 		return 0;
 	case SH2000_INJECT_CLEAR:
-		fw->hb_frozen = 0;
-		fw->stalled = 0;
-		fw->drop_next = 0;
-		for (a = 0; a < SH2000_AXES; a++) {
-			fw->ax[a].plant.jammed = 0;
-			fw->ax[a].plant.force_limit = 0;
-		}
+		clear(fw);
 		return 0;
 	case SH2000_INJECT_COUNTER_GLITCH:
-		if (axis >= SH2000_AXES)
-			return -22;
-		/* the FPGA counter jumps, as after a lost scale signal */
-		sh2000_plant_preset(&fw->ax[axis].plant,
-				    sh2000_plant_counter(&fw->ax[axis].plant) +
-					    (arg ? arg : 0x100000u));
-		return 0;
+		return sh2000_board_glitch(fw->hw, axis,
+					   arg ? (int32_t)arg : GLITCH_DEFAULT);
 	default:
 		return -22;
 	}

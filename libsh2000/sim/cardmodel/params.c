@@ -8,7 +8,7 @@
 
 #include "cardmodel.h"
 
-static double *axis_f(struct sh2000_axis_params *p, unsigned int id)
+static double *axis_f(struct sh2000_fw_params *p, unsigned int id)
 {
 	switch (id) {
 	case SH2000_P_SCALE: return &p->scale;
@@ -24,7 +24,7 @@ static double *axis_f(struct sh2000_axis_params *p, unsigned int id)
 	}
 }
 
-static int32_t *axis_i(struct sh2000_axis_params *p, unsigned int id)
+static int32_t *axis_i(struct sh2000_fw_params *p, unsigned int id)
 {
 	switch (id) {
 	case SH2000_P_DAC_RANGE: return &p->dac_range;
@@ -38,7 +38,7 @@ static int32_t *axis_i(struct sh2000_axis_params *p, unsigned int id)
 	}
 }
 
-static int32_t *global_i(struct sh2000_fw *fw, unsigned int id)
+static int32_t *global_i(struct sh2000_dsp *fw, unsigned int id)
 {
 	switch (id) {
 	case SH2000_GP_COARSE_PERIOD_US: return &fw->coarse_us;
@@ -70,7 +70,7 @@ static int timing_ok(int64_t coarse_us, int64_t fine)
 	return ns % fine == 0 && ns / fine >= (int64_t)SH2000_FW_MIN_SERVO_NS;
 }
 
-uint16_t sh2000_fw_get_param(struct sh2000_fw *fw, unsigned int axis,
+uint16_t sh2000_fw_get_param(struct sh2000_dsp *fw, unsigned int axis,
 			    unsigned int id, uint32_t *out)
 {
 	const struct sh2000_param_info *pi = sh2000_param_lookup(id);
@@ -92,7 +92,7 @@ uint16_t sh2000_fw_get_param(struct sh2000_fw *fw, unsigned int axis,
 	return SH2000_RES_OK;
 }
 
-uint16_t sh2000_fw_set_param(struct sh2000_fw *fw, unsigned int axis,
+uint16_t sh2000_fw_set_param(struct sh2000_dsp *fw, unsigned int axis,
 			    unsigned int id, uint32_t bits)
 {
 	const struct sh2000_param_info *pi = sh2000_param_lookup(id);
@@ -127,10 +127,13 @@ uint16_t sh2000_fw_set_param(struct sh2000_fw *fw, unsigned int axis,
 		*axis_f(&fw->ax[axis].prm, id) = v;
 	else
 		*axis_i(&fw->ax[axis].prm, id) = (int32_t)v;
+	if (id == SH2000_P_DAC_RANGE)	/* the DAC7744's range is hardware */
+		sh2000_board_write(fw->hw, axis, SH2000_HWREG_DAC_RANGE,
+				   (uint32_t)v);
 	return SH2000_RES_OK;
 }
 
-void sh2000_fw_default_params(struct sh2000_fw *fw)
+void sh2000_fw_default_params(struct sh2000_dsp *fw)
 {
 	unsigned int a, id;
 
@@ -147,4 +150,7 @@ void sh2000_fw_default_params(struct sh2000_fw *fw)
 		}
 	for (id = SH2000_GP_FIRST; id < SH2000_GP_END; id++)
 		*global_i(fw, id) = (int32_t)sh2000_param_lookup(id)->def;
+	for (a = 0; a < SH2000_AXES; a++)
+		sh2000_board_write(fw->hw, a, SH2000_HWREG_DAC_RANGE,
+				   (uint32_t)fw->ax[a].prm.dac_range);
 }

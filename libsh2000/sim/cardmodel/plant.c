@@ -3,26 +3,32 @@
  * One axis of the machine: a linear motor (mass m, viscous friction b,
  * force constant k incl. the amplifier) driven by the DAC voltage,
  *   m dv/dt = k V - b v,
- * integrated exactly over a servo period with V held (zero-order hold);
- * limit and home switches at fixed positions; an optical scale whose
- * counts go into the FPGA's 28-bit counter, which wraps; index marks every
- * index_period_mm whose crossing latches the counter (as the FPGA would).
+ * integrated exactly over a period with V held (zero-order hold); limit and
+ * home switches at fixed positions; an optical scale with index marks
+ * every index_period_mm. What the FPGA makes of the scale's pulses (the
+ * 28-bit counter, the index latch) is the board's (board.c).
  */
 #include <math.h>
 
-#include "cardmodel.h"
+#include "plant.h"
 
-double sh2000_dac_volts_per_code(unsigned int range)
+void sh2000_sim_config_default(struct sh2000_sim_config *cfg)
 {
-	switch (range) {
-	case SH2000_DAC_0_5V:
-		return 5.0 / 65536.0;
-	case SH2000_DAC_0_10V:
-		return 10.0 / 65536.0;
-	case SH2000_DAC_PM5V:
-		return 5.0 / 32768.0;
-	default:
-		return 10.0 / 32768.0;
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		struct sh2000_plant_config *p = &cfg->axis[a];
+
+		p->mass_kg = 2.0;
+		p->friction_ns_per_m = 20.0;
+		p->force_n_per_v = 20.0;
+		p->counts_per_mm = 100000.0;
+		p->limit_neg_mm = -5.0;
+		p->limit_pos_mm = 605.0;
+		p->home_mm = 0.0;
+		p->index_period_mm = 1.0;
+		p->start_mm = 300.0;
+		p->home_bounce_mm = 0.0;
 	}
 }
 
@@ -37,31 +43,36 @@ void sh2000_plant_init(struct sh2000_plant *p,
 	p->cfg = *cfg;
 	p->x_mm = cfg->start_mm;
 	p->v_mm_s = 0.0;
-	/* An incremental scale: the counter powers up at 0. */
-	p->enc_offset = -counts_at(p, cfg->start_mm);
 	p->jammed = 0;
-	p->force_limit = 0;
-	p->index_seen = 0;
-	p->index_latch = 0;
+	p->index_crossed = 0;
+	p->index_mark = 0;
 	p->cache_T = -1.0;
 	p->cache_e = 0.0;
 	p->steps = 0;
 }
 
-static uint32_t wrap(int64_t c)
+/* Did the carriage pass an index mark between x0 and the new x? */
+static void find_index(struct sh2000_plant *p, double x0)
 {
-	return (uint32_t)((uint64_t)c & SH2000_COUNTER_MASK);
+	double per = p->cfg.index_period_mm, k0, k1;
+
+	if (per <= 0.0)
+		return;
+	k0 = floor(x0 / per);
+	k1 = floor(p->x_mm / per);
+	if (k0 != k1) {
+		p->index_crossed = 1;
+		p->index_mark = counts_at(p, (k1 > k0 ? k1 : k0) * per);
+	}
 }
 
-void sh2000_plant_step(struct sh2000_plant *p, int16_t dac, unsigned int range,
-		       double T)
+void sh2000_plant_step(struct sh2000_plant *p, double volts, double T)
 {
 	double m = p->cfg.mass_kg, b = p->cfg.friction_ns_per_m;
-	double F = p->cfg.force_n_per_v * dac * sh2000_dac_volts_per_code(range);
+	double F = p->cfg.force_n_per_v * volts;
 	double v0 = p->v_mm_s * 1e-3, x0 = p->x_mm, v1, dx;
-	double per = p->cfg.index_period_mm;
 
-	p->index_seen = 0;
+	p->index_crossed = 0;
 	p->steps++;
 	if (p->jammed) {
 		p->v_mm_s = 0.0;
@@ -82,37 +93,22 @@ void sh2000_plant_step(struct sh2000_plant *p, int16_t dac, unsigned int range,
 	}
 	p->x_mm = x0 + dx * 1e3;
 	p->v_mm_s = v1 * 1e3;
-	if (per > 0.0) {
-		double k0 = floor(x0 / per), k1 = floor(p->x_mm / per);
-
-		if (k0 != k1) {
-			double mark = (k1 > k0 ? k1 : k0) * per;
-
-			p->index_seen = 1;
-			p->index_latch = wrap(counts_at(p, mark) + p->enc_offset);
-		}
-	}
+	find_index(p, x0);
 }
 
-uint32_t sh2000_plant_counter(const struct sh2000_plant *p)
+int64_t sh2000_plant_scale(const struct sh2000_plant *p)
 {
-	return wrap(counts_at(p, p->x_mm) + p->enc_offset);
-}
-
-void sh2000_plant_preset(struct sh2000_plant *p, uint32_t value)
-{
-	p->enc_offset = (int64_t)(value & SH2000_COUNTER_MASK) -
-			counts_at(p, p->x_mm);
+	return counts_at(p, p->x_mm);
 }
 
 int sh2000_plant_limit_neg(const struct sh2000_plant *p)
 {
-	return (p->force_limit & 1) || p->x_mm <= p->cfg.limit_neg_mm;
+	return p->x_mm <= p->cfg.limit_neg_mm;
 }
 
 int sh2000_plant_limit_pos(const struct sh2000_plant *p)
 {
-	return (p->force_limit & 2) || p->x_mm >= p->cfg.limit_pos_mm;
+	return p->x_mm >= p->cfg.limit_pos_mm;
 }
 
 int sh2000_plant_home(const struct sh2000_plant *p)
@@ -121,4 +117,9 @@ int sh2000_plant_home(const struct sh2000_plant *p)
 	if (fabs(p->x_mm - p->cfg.home_mm) < p->cfg.home_bounce_mm)
 		return (p->steps / 3u) & 1u;
 	return p->x_mm <= p->cfg.home_mm;
+}
+
+double sh2000_plant_velocity(const struct sh2000_plant *p)
+{
+	return p->v_mm_s * p->cfg.counts_per_mm;
 }

@@ -9,7 +9,11 @@ expect 2 "$SIM" "$(printf 'n%.0s' $(seq 65))" && err_has "bad NAME"
 expect 2 "$SIM" --ready-fd x n && err_has "--ready-fd: 'x' is not a file descriptor"
 expect 2 "$SIM" --ready-fd 77 n && err_has "--ready-fd: 77 is not open"
 expect 2 "$SIM" --attach && err_has "option -a"
-expect 0 "$SIM" --help && out_has "^Usage: sh2000-sim" && out_has "--attach PATH"
+expect 2 "$SIM" --clock-ppm fast n && err_has "--clock-ppm: 'fast' is not a number in -100000..100000"
+expect 2 "$SIM" -c 100001 n && err_has "--clock-ppm: '100001' is not a number"
+expect 2 "$SIM" -c && err_has "option -c"
+expect 0 "$SIM" --help && out_has "^Usage: sh2000-sim" && out_has "--attach PATH" &&
+	out_has "--clock-ppm N"
 expect 0 "$SIM" -V && out_has "^sh2000-sim [0-9.]+$" &&
 	out_has "^libsh2000 [0-9.]+ \(libsh2000\.so\.[0-9]+\)$" &&
 	out_has "^protocol 1\.[0-9]+$" && out_has "^driver ABI [0-9]+$"

@@ -76,9 +76,10 @@ enum sh2000_reject_reason {
 	SH2000_REJECT_SOFT_LIMIT = 4,	/* point beyond a soft limit */
 	SH2000_REJECT_DISABLED = 5,	/* moves an axis that is not enabled */
 	SH2000_REJECT_STATE = 6,	/* card not in a state to move */
-	/* v1.0 addition: the record was consumed but not executed (the card
-	 * model's SH2000_INJECT_DROP_SEGMENT; a real card uses it for a
-	 * record lost inside the firmware). Handled like any rejection. */
+	/* v1.0 addition: a record was lost before it reached the RAM: within
+	 * a motion its successor's SEQ is not the previous + 1 (the card
+	 * model's SH2000_INJECT_DROP_SEGMENT loses the write). REJECT_SEQ is
+	 * the lost record's number. Handled like any rejection. */
 	SH2000_REJECT_DROPPED = 7,
 };
 

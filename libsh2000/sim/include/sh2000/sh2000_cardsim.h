@@ -1,8 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The simulated SH-2000TH card: FPGA registers and address counter, the
- * dual-port RAM, the DSP firmware (protocol v1, fine interpolation, PID) and
- * a plant per axis (linear motor, switches, 28-bit encoder).
+ * The simulated SH-2000TH card in three layers (docs/cardmodel.md): the DSP
+ * firmware (protocol v1, fine interpolation, PID); the board it sees only
+ * through FPGA registers (28-bit encoder counters, index latches, switch
+ * inputs, DAC outputs) and the dual-port RAM, with its oscillator; and
+ * behind the board a plant per axis (linear motor, switches, scale).
  *
  * Two ways to use it:
  *  - sh2000_cardsim_*: a whole card in virtual time, driven through the four
@@ -52,17 +54,27 @@ void sh2000_sim_config_default(struct sh2000_sim_config *cfg);
 
 /* ---- fault injection ---- */
 
+/* Each acts on the hardware or on the firmware's scheduling, never on the
+ * firmware's state; the firmware reacts as it would to the real fault. */
 enum sh2000_inject {
 	SH2000_INJECT_NONE = 0,
-	SH2000_INJECT_HEARTBEAT_STOP,	/* firmware runs, heartbeat frozen */
-	SH2000_INJECT_DSP_STALL,	/* firmware stops entirely */
-	SH2000_INJECT_RAM_FLIP,		/* flip bits of RAM word `arg` once */
-	SH2000_INJECT_JAM,		/* axis stuck: following error grows */
-	SH2000_INJECT_LIMIT,		/* trip a hard limit switch of axis */
-	SH2000_INJECT_DROP_SEGMENT,	/* firmware skips the next record */
+	/* the RAM cell HEARTBEAT no longer takes the firmware's writes */
+	SH2000_INJECT_HEARTBEAT_STOP,
+	/* the firmware gets no servo interrupt for `arg` cycles (0: until
+	 * SH2000_INJECT_CLEAR); the board runs on, the DAC holds */
+	SH2000_INJECT_DSP_STALL,
+	/* XOR bits into a RAM word once: arg = word | mask << 16 (mask 0:
+	 * 0x0010) */
+	SH2000_INJECT_RAM_FLIP,
+	SH2000_INJECT_JAM,		/* the carriage of axis does not move */
+	/* a limit switch input of axis reads active (arg 0: -, else +) */
+	SH2000_INJECT_LIMIT,
+	/* the host's write of its next record (number HEAD) does not reach
+	 * the RAM: the slot keeps its old words */
+	SH2000_INJECT_DROP_SEGMENT,
 	SH2000_INJECT_CLEAR,		/* undo every injection */
-	/* Addition: the axis' 28-bit counter jumps by `arg` counts once
-	 * (0: 2^20), as after a glitch on the scale lines. */
+	/* Addition: the axis' 28-bit counter jumps by (int32_t)arg counts
+	 * once (0: 2^20), as after a glitch on the scale lines. */
 	SH2000_INJECT_COUNTER_GLITCH,
 };
 
@@ -95,8 +107,18 @@ int sh2000_fw_create(struct sh2000_fw **out, uint16_t *ram,
 void sh2000_fw_destroy(struct sh2000_fw *fw);
 /* One servo cycle: read host words, interpolate, PID, plant, publish. */
 void sh2000_fw_cycle(struct sh2000_fw *fw);
-/* Servo period currently configured (coarse period / fine steps). */
+/* Servo period currently configured (coarse period / fine steps), in the
+ * card's own time. */
 uint64_t sh2000_fw_servo_period_ns(const struct sh2000_fw *fw);
+/*
+ * Addition: the card oscillator's error. A servo period then lasts
+ * nominal * (1 + ppm * 1e-6) of host time: ppm > 0 is a slow card, fewer
+ * cycles per host second. |ppm| <= 100000, else -22 and nothing changes.
+ * The card's own time (probe time_ns, snapshot TIME) still counts nominal
+ * periods; the plant moves in host time.
+ */
+int sh2000_fw_set_clock_ppm(struct sh2000_fw *fw, double ppm);
+double sh2000_fw_clock_ppm(const struct sh2000_fw *fw);
 int sh2000_fw_inject(struct sh2000_fw *fw, enum sh2000_inject what,
 		     unsigned int axis, unsigned int arg);
 void sh2000_fw_probe(const struct sh2000_fw *fw, struct sh2000_probe *p);
@@ -116,8 +138,11 @@ void sh2000_cardsim_destroy(struct sh2000_cardsim *c);
 /* The FPGA's registers (SH2000_REG_*): one port cycle each. */
 void sh2000_cardsim_out(struct sh2000_cardsim *c, unsigned int reg, uint16_t v);
 uint16_t sh2000_cardsim_in(struct sh2000_cardsim *c, unsigned int reg);
-/* Let card time pass without port cycles (a host that waits). */
+/* Let host time pass without port cycles (a host that waits). Servo
+ * cycles fall at the card's periods in host time (sh2000_fw_set_clock_ppm
+ * on sh2000_cardsim_fw()). */
 void sh2000_cardsim_advance(struct sh2000_cardsim *c, uint64_t ns);
+/* Host time, starting at 0. */
 uint64_t sh2000_cardsim_now_ns(const struct sh2000_cardsim *c);
 /* The firmware inside, for injection and probing. */
 struct sh2000_fw *sh2000_cardsim_fw(struct sh2000_cardsim *c);

@@ -43,6 +43,10 @@ int sh2000_sim_probe(struct sh2000 *h, struct sh2000_probe *p);
 /* fn runs after every servo cycle, inside the library's calls on h. */
 int sh2000_sim_set_observer(struct sh2000 *h, sh2000_fw_observer fn,
 			    void *ctx);
+/* Addition: the card oscillator's error in ppm (sh2000_fw_set_clock_ppm):
+ * in virtual time, the card's cycles per host second become
+ * 1 / (period * (1 + ppm * 1e-6)). -EINVAL beyond +-100000. */
+int sh2000_sim_set_clock_ppm(struct sh2000 *h, double ppm);
 
 /* ---- serving a card for `sim:NAME` ---------------------------------- */
 
@@ -86,6 +90,10 @@ int sh2000_sim_server_inject(struct sh2000_sim_server *s,
 int sh2000_sim_server_probe(struct sh2000_sim_server *s,
 			    struct sh2000_probe *p);
 uint64_t sh2000_sim_server_cycles(struct sh2000_sim_server *s);
+/* Addition: the served card's oscillator error; the server then runs one
+ * cycle every period * (1 + ppm * 1e-6) of CLOCK_MONOTONIC. Applied
+ * between two cycles. -EINVAL beyond +-100000. */
+int sh2000_sim_server_set_clock_ppm(struct sh2000_sim_server *s, double ppm);
 /* The shared-memory object's name ("/sh2000-NAME"; "" when attached). */
 const char *sh2000_sim_server_shm_name(const struct sh2000_sim_server *s);
 

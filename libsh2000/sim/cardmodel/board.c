@@ -1,0 +1,325 @@
+// SPDX-License-Identifier: MIT
+/*
+ * The board: the FPGA (encoder counters with their 28-bit wrap, index
+ * latches, switch inputs; the host side's address counter in
+ * sh2000_fpga.h), the DAC7744, the dual-port RAM, the oscillator, and the
+ * machine behind them (one plant per axis). The firmware reaches it only
+ * through board.h; faults are injected here, in the hardware, so that the
+ * firmware meets them the way it would meet the real ones.
+ */
+#include <math.h>
+#include <stdlib.h>
+
+#include "board_sim.h"
+#include "sh2000/sh2000_protocol.h"
+
+struct board_axis {
+	struct sh2000_plant plant;
+	int64_t offset;		/* counter = scale + offset, wrapped */
+	uint32_t latch;		/* index latch */
+	int latched;		/* HWIN_INDEX */
+	int16_t dac;		/* DAC7744 output code */
+	unsigned int range;	/* enum sh2000_dac_range */
+	unsigned int forced;	/* injected: limit inputs forced, bit0 -, bit1 + */
+};
+
+/* SH2000_INJECT_DROP_SEGMENT: the one place the board knows the
+ * protocol's ring (where records live, the TAIL word), as the injector
+ * must to lose one record's write. */
+struct record_drop {
+	int armed;
+	uint16_t record;	/* number of the record whose write is lost */
+	uint16_t stale[SH2000_RECORD_WORDS];	/* what its slot held */
+};
+
+struct sh2000_board {
+	uint16_t *ram;
+	struct sh2000_fpga host;
+	struct board_axis ax[SH2000_AXES];
+	double ppm;		/* oscillator error */
+	double carry_ns;	/* host-time fraction not yet handed out */
+	int stuck;		/* RAM word the DSP cannot write, or -1 */
+	struct record_drop drop;
+};
+
+static uint32_t wrap(int64_t c)
+{
+	return (uint32_t)((uint64_t)c & SH2000_COUNTER_MASK);
+}
+
+int sh2000_board_create(struct sh2000_board **out, uint16_t *ram,
+			const struct sh2000_sim_config *cfg)
+{
+	struct sh2000_board *b;
+	unsigned int a;
+
+	if (!out || !ram || !cfg)
+		return -22;
+	b = calloc(1, sizeof(*b));
+	if (!b)
+		return -12;
+	b->ram = ram;
+	sh2000_fpga_init(&b->host, ram);
+	b->stuck = -1;
+	for (a = 0; a < SH2000_AXES; a++) {
+		struct board_axis *x = &b->ax[a];
+
+		sh2000_plant_init(&x->plant, &cfg->axis[a]);
+		/* an incremental scale: the counter powers up at 0 */
+		x->offset = -sh2000_plant_scale(&x->plant);
+		x->range = SH2000_DAC_PM10V;
+	}
+	*out = b;
+	return 0;
+}
+
+void sh2000_board_destroy(struct sh2000_board *b)
+{
+	free(b);
+}
+
+/* ---- the firmware's view (board.h) ---- */
+
+static uint32_t inputs(const struct board_axis *x)
+{
+	uint32_t in = 0;
+
+	if (x->latched)
+		in |= SH2000_HWIN_INDEX;
+	if ((x->forced & 1u) || sh2000_plant_limit_neg(&x->plant))
+		in |= SH2000_HWIN_LIMIT_NEG;
+	if ((x->forced & 2u) || sh2000_plant_limit_pos(&x->plant))
+		in |= SH2000_HWIN_LIMIT_POS;
+	if (sh2000_plant_home(&x->plant))
+		in |= SH2000_HWIN_HOME;
+	return in;
+}
+
+uint32_t sh2000_board_read(struct sh2000_board *b, unsigned int axis,
+			   unsigned int reg)
+{
+	const struct board_axis *x;
+
+	if (axis >= SH2000_AXES)
+		return 0;
+	x = &b->ax[axis];
+	switch (reg) {
+	case SH2000_HWREG_COUNTER:
+		return wrap(sh2000_plant_scale(&x->plant) + x->offset);
+	case SH2000_HWREG_INPUTS:
+		return inputs(x);
+	case SH2000_HWREG_INDEX_LATCH:
+		return x->latch;
+	case SH2000_HWREG_DAC:
+		return (uint16_t)x->dac;
+	case SH2000_HWREG_DAC_RANGE:
+		return x->range;
+	default:	/* write-only or not decoded */
+		return 0;
+	}
+}
+
+void sh2000_board_write(struct sh2000_board *b, unsigned int axis,
+			unsigned int reg, uint32_t v)
+{
+	struct board_axis *x;
+
+	if (axis >= SH2000_AXES)
+		return;
+	x = &b->ax[axis];
+	switch (reg) {
+	case SH2000_HWREG_PRESET:
+		x->offset = (int64_t)(v & SH2000_COUNTER_MASK) -
+			    sh2000_plant_scale(&x->plant);
+		break;
+	case SH2000_HWREG_INDEX_ARM:
+		x->latched = 0;
+		break;
+	case SH2000_HWREG_DAC:
+		x->dac = (int16_t)(uint16_t)v;
+		break;
+	case SH2000_HWREG_DAC_RANGE:
+		if (v <= SH2000_DAC_PM10V)
+			x->range = v;
+		break;
+	default:	/* read-only or not decoded */
+		break;
+	}
+}
+
+/* The record whose write was lost: its slot is read for the first time,
+ * so the RAM shows what it would have held without the write. */
+static void apply_drop(struct sh2000_board *b, unsigned int w)
+{
+	unsigned int base = SH2000_W_RING_BASE +
+			    (b->drop.record % SH2000_RING_RECORDS) *
+				    SH2000_RECORD_WORDS, i;
+
+	if (w < base || w >= base + SH2000_RECORD_WORDS ||
+	    sh2000_dpram_read(b->ram, SH2000_W_TAIL) != b->drop.record)
+		return;
+	for (i = 0; i < SH2000_RECORD_WORDS; i++)
+		sh2000_dpram_write(b->ram, base + i, b->drop.stale[i]);
+	b->drop.armed = 0;
+}
+
+uint16_t sh2000_board_ram_read(struct sh2000_board *b, unsigned int w)
+{
+	if (b->drop.armed)
+		apply_drop(b, w);
+	return sh2000_dpram_read(b->ram, w);
+}
+
+void sh2000_board_ram_write(struct sh2000_board *b, unsigned int w,
+			    uint16_t v)
+{
+	if ((int)w == b->stuck)
+		return;
+	sh2000_dpram_write(b->ram, w, v);
+}
+
+/* ---- running the machine ---- */
+
+/* DAC7744 volts per code for a range (unipolar ranges: the amplifier
+ * takes mid-scale as 0 V, docs/cardmodel.md). */
+static double volts_per_code(unsigned int range)
+{
+	switch (range) {
+	case SH2000_DAC_0_5V:
+		return 5.0 / 65536.0;
+	case SH2000_DAC_0_10V:
+		return 10.0 / 65536.0;
+	case SH2000_DAC_PM5V:
+		return 5.0 / 32768.0;
+	default:
+		return 10.0 / 32768.0;
+	}
+}
+
+static uint64_t host_ns(struct sh2000_board *b, uint64_t card_ns)
+{
+	double t = (double)card_ns * b->ppm * 1e-6 + b->carry_ns;
+	double whole = floor(t);
+
+	b->carry_ns = t - whole;
+	return (uint64_t)((int64_t)card_ns + (int64_t)whole);
+}
+
+uint64_t sh2000_board_run(struct sh2000_board *b, uint64_t card_ns)
+{
+	uint64_t ns = host_ns(b, card_ns);
+	double T = (double)ns * 1e-9;
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		struct board_axis *x = &b->ax[a];
+
+		sh2000_plant_step(&x->plant, x->dac * volts_per_code(x->range),
+				  T);
+		/* the first mark after ARM is latched; later ones wait */
+		if (x->plant.index_crossed && !x->latched) {
+			x->latch = wrap(x->plant.index_mark + x->offset);
+			x->latched = 1;
+		}
+	}
+	return ns;
+}
+
+int sh2000_board_set_clock_ppm(struct sh2000_board *b, double ppm)
+{
+	if (!(fabs(ppm) <= SH2000_BOARD_PPM_MAX))
+		return -22;
+	b->ppm = ppm;
+	return 0;
+}
+
+double sh2000_board_clock_ppm(const struct sh2000_board *b)
+{
+	return b->ppm;
+}
+
+struct sh2000_fpga *sh2000_board_host(struct sh2000_board *b)
+{
+	return &b->host;
+}
+
+uint16_t *sh2000_board_ram(struct sh2000_board *b)
+{
+	return b->ram;
+}
+
+const struct sh2000_plant *sh2000_board_plant(const struct sh2000_board *b,
+					      unsigned int axis)
+{
+	return axis < SH2000_AXES ? &b->ax[axis].plant : NULL;
+}
+
+/* ---- injected faults ---- */
+
+int sh2000_board_jam(struct sh2000_board *b, unsigned int axis, int on)
+{
+	if (axis >= SH2000_AXES)
+		return -22;
+	b->ax[axis].plant.jammed = on != 0;
+	return 0;
+}
+
+int sh2000_board_force_limit(struct sh2000_board *b, unsigned int axis,
+			     unsigned int bits)
+{
+	if (axis >= SH2000_AXES)
+		return -22;
+	b->ax[axis].forced |= bits & 3u;
+	return 0;
+}
+
+int sh2000_board_glitch(struct sh2000_board *b, unsigned int axis,
+			int32_t counts)
+{
+	if (axis >= SH2000_AXES)
+		return -22;
+	b->ax[axis].offset += counts;
+	return 0;
+}
+
+int sh2000_board_flip(struct sh2000_board *b, unsigned int w, uint16_t mask)
+{
+	if (w >= SH2000_RAM_WORDS)
+		return -22;
+	sh2000_dpram_write(b->ram, w,
+			   (uint16_t)(sh2000_dpram_read(b->ram, w) ^ mask));
+	return 0;
+}
+
+int sh2000_board_stick(struct sh2000_board *b, unsigned int w)
+{
+	if (w >= SH2000_RAM_WORDS)
+		return -22;
+	b->stuck = (int)w;
+	return 0;
+}
+
+void sh2000_board_drop_record(struct sh2000_board *b)
+{
+	uint16_t head = sh2000_dpram_read(b->ram, SH2000_W_HEAD);
+	unsigned int base = SH2000_W_RING_BASE +
+			    (head % SH2000_RING_RECORDS) * SH2000_RECORD_WORDS,
+		     i;
+
+	for (i = 0; i < SH2000_RECORD_WORDS; i++)
+		b->drop.stale[i] = sh2000_dpram_read(b->ram, base + i);
+	b->drop.record = head;
+	b->drop.armed = 1;
+}
+
+void sh2000_board_clear_faults(struct sh2000_board *b)
+{
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		b->ax[a].plant.jammed = 0;
+		b->ax[a].forced = 0;
+	}
+	b->stuck = -1;
+	b->drop.armed = 0;
+}

@@ -1,0 +1,40 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The machine behind the card (one axis): a linear motor driven by the
+ * amplifier's voltage, the carriage's limit and home switches, and the
+ * optical scale with its index marks. Only the board (board.c) and the
+ * tests touch it: the firmware sees none of this, only the FPGA's
+ * registers the board derives from it (board.h).
+ */
+#ifndef SH2000_PLANT_H
+#define SH2000_PLANT_H
+
+#include <stdint.h>
+
+#include "sh2000/sh2000_cardsim.h"
+
+struct sh2000_plant {
+	struct sh2000_plant_config cfg;
+	double x_mm;		/* physical position */
+	double v_mm_s;		/* physical velocity */
+	int jammed;		/* injected: the carriage does not move */
+	int index_crossed;	/* an index mark passed in the last step */
+	int64_t index_mark;	/* the scale's count at that mark */
+	double cache_T, cache_e;	/* exp(-b T / m) for the last T */
+	uint64_t steps;		/* periods integrated (switch chatter) */
+};
+
+void sh2000_plant_init(struct sh2000_plant *p,
+		       const struct sh2000_plant_config *cfg);
+/* Integrates `T` seconds with the amplifier's input `volts` held. */
+void sh2000_plant_step(struct sh2000_plant *p, double volts, double T);
+/* The scale's count at the carriage: floor(x * counts_per_mm). The FPGA
+ * counts its pulses; where its counter starts is the board's business. */
+int64_t sh2000_plant_scale(const struct sh2000_plant *p);
+int sh2000_plant_limit_neg(const struct sh2000_plant *p);
+int sh2000_plant_limit_pos(const struct sh2000_plant *p);
+int sh2000_plant_home(const struct sh2000_plant *p);
+/* Carriage velocity in scale counts per second (probes). */
+double sh2000_plant_velocity(const struct sh2000_plant *p);
+
+#endif /* SH2000_PLANT_H */

@@ -317,6 +317,8 @@ static const char *const units[SH2000_GP_END] = {
 	[SH2000_GP_FINE_STEPS] = "servo cycles",
 	[SH2000_GP_HOST_TIMEOUT_MS] = "ms",
 	[SH2000_GP_STATUS_PERIOD] = "servo cycles",
+	[SH2000_GP_TIME_SCALE] = "1/10000 of full rate",
+	[SH2000_GP_TIME_RAMP_MS] = "ms",
 };
 
 /* Parameters the library scales from mm to counts (x counts/mm). */

@@ -52,6 +52,10 @@ static const struct sh2000_param_info global_params[SH2000_GP_END -
 	  60000.0, 0, 100.0 },
 	{ SH2000_GP_STATUS_PERIOD, "status_period", SH2000_PT_I32, 1.0,
 	  1000.0, 0, 10.0 },
+	{ SH2000_GP_TIME_SCALE, "time_scale", SH2000_PT_I32, 0.0,
+	  SH2000_TIME_SCALE_FULL, 0, SH2000_TIME_SCALE_FULL },
+	{ SH2000_GP_TIME_RAMP_MS, "time_ramp_ms", SH2000_PT_I32, 1.0,
+	  60000.0, 0, 100.0 },
 };
 
 const struct sh2000_param_info *sh2000_param_lookup(unsigned int id)

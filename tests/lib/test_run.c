@@ -169,12 +169,19 @@ static void test_pause_resume(void **state)
 	CHECK(sh2000_path_line(sh2000_run_path(r), b, 50.0));
 	assert_int_equal(sh2000_run_finish(r), -EAGAIN);
 	assert_true(o.acted);
+	/* the card holds on the path with the rest of the motion queued
+	 * (protocol 1.1's time base) */
+	assert_true(sh2000_run_held(r));
 	on_segment_short(h, a, b);
 	{
 		struct sh2000_status st;
 
 		CHECK(sh2000_poll(h, &st));
-		assert_int_equal(st.card_state, SH2000_STATE_IDLE);
+		assert_int_equal(st.card_state, SH2000_STATE_RUNNING);
+		assert_true(st.queue_fill > 0);
+		/* and stays there while the host keeps beating */
+		CHECK(sh2000_run_hold_wait(r, 200));
+		on_segment_short(h, a, b);
 	}
 	sh2000_run_resume(r);
 	assert_int_equal(sh2000_run_finish(r), 0);

@@ -13,7 +13,7 @@
 
 #include "upload.h"
 
-volatile sig_atomic_t upl_stop_flag, upl_resume_flag;
+volatile sig_atomic_t upl_stop_flag, upl_resume_flag, upl_hold_flag;
 
 static void on_stop(int sig)
 {
@@ -26,6 +26,13 @@ static void on_resume(int sig)
 {
 	(void)sig;
 	upl_resume_flag = 1;
+	upl_hold_flag = 0;
+}
+
+static void on_hold(int sig)
+{
+	(void)sig;
+	upl_hold_flag = 1;
 }
 
 void upl_signals(void)
@@ -39,6 +46,8 @@ void upl_signals(void)
 	sigaction(SIGTERM, &sa, NULL);
 	sa.sa_handler = on_resume;
 	sigaction(SIGUSR1, &sa, NULL);
+	sa.sa_handler = on_hold;
+	sigaction(SIGUSR2, &sa, NULL);
 }
 
 void upl_on_sample(void *ctx, const struct sh2000_run_sample *s)
@@ -64,6 +73,19 @@ void upl_on_progress(void *ctx, const struct sh2000_run_progress *p)
 		upl_report_end(&rc->rep);
 		sh2000_tool_msg("emergency stop (second signal)");
 		sh2000_estop(rc->h, 100);
+	}
+	/* feed hold (SIGUSR2) and its end (SIGUSR1), on the card's time
+	 * base when it has one */
+	if (upl_hold_flag && rc->run && !rc->holding) {
+		rc->holding = 1;
+		upl_report_end(&rc->rep);
+		sh2000_tool_msg("feed hold (SIGUSR2); SIGUSR1 resumes");
+		sh2000_run_pause(rc->run);
+	} else if (!upl_hold_flag && rc->holding) {
+		rc->holding = 0;
+		upl_resume_flag = 0;
+		sh2000_tool_msg("resuming from the feed hold");
+		sh2000_run_resume(rc->run);
 	}
 	if (p->seq >= 0)
 		rc->seq = p->seq;

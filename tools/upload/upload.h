@@ -65,7 +65,7 @@ void upl_source_close(struct upl_source *s);
 
 /* ---- execute.c -------------------------------------------------------- */
 
-extern volatile sig_atomic_t upl_stop_flag, upl_resume_flag;
+extern volatile sig_atomic_t upl_stop_flag, upl_resume_flag, upl_hold_flag;
 
 struct upl_trace;
 
@@ -84,12 +84,14 @@ struct upl_runctx {
 	struct upl_trace *trace;
 	struct upl_report rep;
 	int stop_sent, estop_sent;
+	int holding;		/* a feed hold is on */
 	int stdin_eof;
 	int pause_error;	/* the card failed while paused */
 	int64_t seq;		/* the line the card was at, last poll */
 };
 
-/* SIGINT/SIGTERM stop on the path (a second: estop), SIGUSR1 resumes. */
+/* SIGINT/SIGTERM stop on the path (a second: estop), SIGUSR2 holds the
+ * feed, SIGUSR1 resumes (a hold or an M0). */
 void upl_signals(void);
 void upl_on_sample(void *ctx, const struct sh2000_run_sample *s);
 void upl_on_progress(void *ctx, const struct sh2000_run_progress *p);

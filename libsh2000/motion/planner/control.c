@@ -422,30 +422,45 @@ static int substep(struct sh2000_path *p, double h)
 
 /* ---- output ------------------------------------------------------------ */
 
-static int sink_point(struct sh2000_path *p, const double x[SH2000_AXES],
-		      unsigned int flags)
+/* A point for the sink, queued: the sink may hold it (-EAGAIN, a feed hold
+ * on the card) and take it later; nothing the controller made is lost. */
+static void queue_point(struct sh2000_path *p, const double x[SH2000_AXES],
+			unsigned int flags)
 {
-	struct sh2000_path_point pt;
+	struct sh2000_path_point *pt;
 	unsigned int a;
-	int r;
 
-	memset(&pt, 0, sizeof(pt));
+	pt = &p->outq[(p->outq_head + p->outq_n) % PL_OUTQ];
+	p->outq_n++;
+	memset(pt, 0, sizeof(*pt));
 	for (a = 0; a < SH2000_AXES; a++) {
-		pt.mm[a] = x[a];
+		pt->mm[a] = x[a];
 		if (p->cfg.counts_per_mm[a] > 0.0)
-			pt.counts[a] = (int32_t)llround(x[a] *
-							p->cfg.counts_per_mm[a]);
+			pt->counts[a] = (int32_t)llround(x[a] *
+							 p->cfg.counts_per_mm[a]);
 	}
-	pt.flags = flags;
-	pt.seq = p->count ? head(p)->seq : p->seq;
-	pt.index = p->points;
+	pt->flags = flags;
+	pt->seq = p->count ? head(p)->seq : p->seq;
+	pt->index = p->points;
 	p->points++;
 	if (flags & SH2000_PATH_F_END)
 		p->motions++;
-	r = p->sink(p->ctx, &pt);
-	if (r < 0) {
-		p->fail = r;
-		return pl_err(p, r, "the sink failed: %d", r);
+}
+
+/* Hand the queued points to the sink, oldest first. */
+static int drain(struct sh2000_path *p)
+{
+	while (p->outq_n) {
+		int r = p->sink(p->ctx, &p->outq[p->outq_head]);
+
+		if (r == -EAGAIN)
+			return pl_err(p, r, "the sink holds the points (a feed hold); call again");
+		if (r < 0) {
+			p->fail = r;
+			return pl_err(p, r, "the sink failed: %d", r);
+		}
+		p->outq_head = (p->outq_head + 1) % PL_OUTQ;
+		p->outq_n--;
 	}
 	return 0;
 }
@@ -453,15 +468,17 @@ static int sink_point(struct sh2000_path *p, const double x[SH2000_AXES],
 static int emit(struct sh2000_path *p, const double q[SH2000_AXES], int end)
 {
 	double P[SH2000_AXES];
-	int r = 0, last;
+	int last;
 
-	if (!p->comp)
-		return sink_point(p, q, end ? SH2000_PATH_F_END : 0);
+	if (!p->comp) {
+		queue_point(p, q, end ? SH2000_PATH_F_END : 0);
+		return drain(p);
+	}
 	if (sh2000_bscomp_push(p->comp, q, P))
-		r = sink_point(p, P, 0);
-	while (!r && end && sh2000_bscomp_flush(p->comp, P, &last))
-		r = sink_point(p, P, last ? SH2000_PATH_F_END : 0);
-	return r;
+		queue_point(p, P, 0);
+	while (end && sh2000_bscomp_flush(p->comp, P, &last))
+		queue_point(p, P, last ? SH2000_PATH_F_END : 0);
+	return drain(p);
 }
 
 int pl_period(struct sh2000_path *p)
@@ -473,6 +490,9 @@ int pl_period(struct sh2000_path *p)
 	if (p->fail)
 		return pl_err(p, p->fail, "the sink failed (%d); reset the planner",
 			      p->fail);
+	r = drain(p);
+	if (r)
+		return r;
 	if (!p->moving) {
 		if (p->pending)
 			pl_nurbs_expand(p);

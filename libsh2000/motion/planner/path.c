@@ -274,6 +274,7 @@ int sh2000_path_reset(struct sh2000_path *p, const double pos[SH2000_AXES])
 	pl_drop_blocks(p);
 	memcpy(p->pos, pos, sizeof(p->pos));
 	p->fail = 0;
+	p->outq_n = 0;
 	p->paused = 0;
 	p->moving = 0;
 	p->comp_started = 0;

@@ -26,6 +26,10 @@ struct pl_nurbs {
 	size_t bytes;		/* what the copy holds */
 };
 
+/* Points the planner can hold for a sink that cannot take them yet: one
+ * period's plus a whole compensation flush (2 * 64 + 3 at most). */
+#define PL_OUTQ 160u
+
 /* Sub-blocks per non-empty knot span. */
 #define PL_NURBS_SUBDIV 16u
 
@@ -170,7 +174,10 @@ struct sh2000_path {
 	double hist_c[SH2000_AXES];
 	double hist_speed;	/* |C'| at hist_u[0] */
 
-	/* output */
+	/* output: points the sink has not taken yet (at most one period's
+	 * and a compensation flush) */
+	struct sh2000_path_point outq[PL_OUTQ];
+	unsigned int outq_head, outq_n;
 	struct sh2000_bscomp *comp;
 	int comp_started;
 	uint64_t points, motions, blocks;

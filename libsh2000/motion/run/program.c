@@ -149,12 +149,52 @@ int sh2000_program_plan(struct sh2000_prog_reader *r,
 
 /* ---- the second pass ------------------------------------------------------- */
 
+/* A feed hold on the card (sh2000_run_pause() from a callback): keep the
+ * card's heartbeat and the callbacks going until it ends. */
+static int wait_hold(struct sh2000_run *run)
+{
+	int e = 0;
+
+	while (!e && sh2000_run_held(run) && !sh2000_run_stop_requested(run))
+		e = sh2000_run_hold_wait(run, 100);
+	return e;
+}
+
+/* sh2000_run_finish() through any feed holds. */
+static int finish(struct sh2000_run *run)
+{
+	int e;
+
+	while ((e = sh2000_run_finish(run)) == -EAGAIN &&
+	       sh2000_run_held(run)) {
+		e = wait_hold(run);
+		if (e)
+			break;
+	}
+	return e;
+}
+
+/* Add a block; a full window during a feed hold waits for its end. */
+static int add_block(struct sh2000_run *run, const struct sh2000_prog_block *b)
+{
+	struct sh2000_path *p = sh2000_run_path(run);
+	int e;
+
+	while ((e = sh2000_path_add_block(p, b)) == -EAGAIN &&
+	       sh2000_run_held(run)) {
+		e = wait_hold(run);
+		if (e)
+			break;
+	}
+	return e;
+}
+
 /* A block that holds the motion: finish what is planned, then dwell or
  * pause. 1 for a skipped M1. */
 static int run_halt(struct sh2000_run *run, const struct sh2000_prog_block *b,
 		    sh2000_program_pause_fn pause, void *ctx)
 {
-	int e = sh2000_run_finish(run);
+	int e = finish(run);
 
 	if (e)
 		return e;
@@ -185,17 +225,17 @@ int sh2000_run_program(struct sh2000_run *run, struct sh2000_prog_reader *r,
 			continue;
 		}
 		sh2000_path_set_seq(p, b->pos.line);
-		e = sh2000_path_add_block(p, b);
+		e = add_block(run, b);
 		/* planned before: a card failure while the look-ahead
 		 * streamed, or a stop; finish says which */
 		if (e) {
-			e = sh2000_run_finish(run);
+			e = finish(run);
 			return e ? e : -EIO;
 		}
 	}
 	if (!e && got < 0)
 		e = got;
 	if (!e)
-		e = sh2000_run_finish(run);
+		e = finish(run);
 	return e;
 }

@@ -31,6 +31,14 @@ struct sh2000_run {
 	unsigned int n;			/* points in buf */
 	int in_motion;			/* pushed a batch without END */
 	int stopped;			/* sh2000_run_stop() was called */
+	int end_held;			/* buf ends with the motion's END */
+	/* the card's time base (protocol 1.1): hold and override there */
+	int tb;				/* the card has one */
+	int held;			/* a feed hold is asked for */
+	int tb_dirty;			/* ... or changed, not sent yet */
+	double tb_factor;		/* the override the card carries */
+	int32_t hold_cmd[SH2000_AXES];	/* set-points at the last poll */
+	unsigned int hold_still;	/* polls they stayed the same */
 	int failed;			/* the sink failed: r->err says why */
 	int err_live;			/* r->err is about the last run call */
 	double last_mm[SH2000_AXES];
@@ -209,6 +217,35 @@ static int poll_once(struct sh2000_run *r)
 	return 0;
 }
 
+/* Send the time base's target if it changed: 0 for a hold, else the
+ * override the card carries. */
+static int tb_apply(struct sh2000_run *r)
+{
+	double v;
+	int e;
+
+	if (!r->tb_dirty)
+		return 0;
+	r->tb_dirty = 0;
+	r->hold_still = 0;
+	v = r->held ? 0.0 : llround(r->tb_factor * SH2000_TIME_SCALE_FULL);
+	e = sh2000_param_set(r->h, SH2000_GLOBAL, SH2000_GP_TIME_SCALE, v);
+	return e < 0 ? lib_fail(r, e, "time base") : 0;
+}
+
+/* Held and the set-points still over two polls: at rest. */
+static int held_at_rest(struct sh2000_run *r)
+{
+	unsigned int a, same = 1;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		same &= r->st.axis[a].cmd_counts == r->hold_cmd[a];
+		r->hold_cmd[a] = r->st.axis[a].cmd_counts;
+	}
+	r->hold_still = same ? r->hold_still + 1 : 0;
+	return r->hold_still >= 2;
+}
+
 static uint64_t wait_step(const struct sh2000_run *r, unsigned int records)
 {
 	uint64_t ns = (uint64_t)records * r->coarse_ns / 2u;
@@ -235,7 +272,10 @@ static int wait_card(struct sh2000_run *r, unsigned int need, int idle)
 	int e;
 
 	for (;;) {
-		if (r->sim && !idle && !r->cfg.progress) {
+		e = tb_apply(r);
+		if (e)
+			return e;
+		if (r->sim && !idle && !r->cfg.progress && !r->held) {
 			/* the observer samples; a cheap look at the ring */
 			e = sh2000_wait_space(r->h, need, r->cfg.stall_ms);
 			if (e < 0) {
@@ -267,7 +307,12 @@ static int wait_card(struct sh2000_run *r, unsigned int need, int idle)
 		if (idle ? fill == 0 && r->st.card_state == SH2000_STATE_IDLE :
 		    SH2000_RING_RECORDS - fill >= need)
 			break;
-		if (fill != last_fill) {
+		if (r->held) {
+			/* a feed hold: at rest, the caller hears of it */
+			if (held_at_rest(r))
+				return -EAGAIN;
+			last_change = sh2000_now_ns(r->h);
+		} else if (fill != last_fill) {
 			last_fill = fill;
 			last_change = sh2000_now_ns(r->h);
 		} else if (r->cfg.stall_ms >= 0 &&
@@ -292,25 +337,23 @@ room:
 	return 0;
 }
 
-static int flush(struct sh2000_run *r, int end)
+/* Push k records from the front of the buffer (END on them if end);
+ * the rest moves to the front. */
+static int push_front(struct sh2000_run *r, unsigned int k, int end)
 {
-	unsigned int n = r->n;
-	int e;
+	int e = wait_card(r, k, 0);
 
-	if (!n)
-		return 0;
-	e = wait_card(r, n, 0);
 	if (e)
 		return e;
 	for (;;) {
 		e = sh2000_push_counts(r->h,
 				       (const int32_t (*)[SH2000_AXES])r->buf,
-				       n, end ? SH2000_PUSH_END : 0);
+				       k, end ? SH2000_PUSH_END : 0);
 		/* the room was there a moment ago: only another writer takes
 		 * it, which one controlling handle per card rules out */
 		if (e != -SH2000_EQUEUE_FULL)
 			break;
-		e = wait_card(r, n, 0);
+		e = wait_card(r, k, 0);
 		if (e)
 			return e;
 	}
@@ -319,10 +362,36 @@ static int flush(struct sh2000_run *r, int end)
 			r->stats.underruns++;
 		return lib_fail(r, e, "push");
 	}
-	r->n = 0;
-	r->stats.points += n;
+	memmove(r->buf, r->buf + k, (r->n - k) * sizeof(r->buf[0]));
+	r->n -= k;
+	r->stats.points += k;
 	r->stats.batches++;
+	return 0;
+}
+
+/* Push the buffer: a batch at a time, the priming batch first in a new
+ * motion (a buffer that filled up during a feed hold goes in batches, so
+ * the ring never has to run dry to take it). */
+static int flush(struct sh2000_run *r, int end)
+{
+	int e = 0;
+
+	if (!r->n)
+		return 0;
+	while (!e && r->n) {
+		unsigned int k = r->in_motion ? r->cfg.batch : r->cfg.prime;
+
+		if (k > r->n)
+			k = r->n;
+		e = push_front(r, k, end && k == r->n);
+		if (!e && r->n)
+			r->in_motion = 1;
+	}
+	if (e)
+		return e;
 	r->in_motion = !end;
+	if (end)
+		r->end_held = 0;
 	return 0;
 }
 
@@ -360,6 +429,17 @@ static void reset_plan(struct sh2000_run *r)
 	r->failed = 0;
 }
 
+/* A push that failed: -EAGAIN (a feed hold: the planner keeps the point)
+ * as it is; anything else stops the card, and _finish() resets the plan. */
+static int sink_fail(struct sh2000_run *r, int e)
+{
+	if (e && e != -EAGAIN) {
+		r->failed = e;
+		halt_card(r);
+	}
+	return e;
+}
+
 static int sink(void *ctx, const struct sh2000_path_point *pt)
 {
 	struct sh2000_run *r = ctx;
@@ -372,6 +452,12 @@ static int sink(void *ctx, const struct sh2000_path_point *pt)
 
 	if (r->failed)
 		return r->failed;
+	/* a batch the card could not take during a feed hold goes first */
+	if (r->n == SH2000_RING_RECORDS || r->end_held) {
+		e = flush(r, r->end_held);
+		if (e)
+			return sink_fail(r, e);
+	}
 	memcpy(mm, pt->mm, sizeof(mm));
 	e = sh2000_limits_apply(&r->limits, mm, why, sizeof(why));
 	if (e < 0) {
@@ -400,16 +486,13 @@ static int sink(void *ctx, const struct sh2000_path_point *pt)
 	lim = r->in_motion ? r->cfg.batch : r->cfg.prime;
 	if (pt->flags & SH2000_PATH_F_END) {
 		r->stats.motions++;
+		r->end_held = 1;
 		e = flush(r, 1);
 	} else {
 		e = r->n >= lim ? flush(r, 0) : 0;
 	}
-	if (e) {
-		/* the card stops now; the planner is reset by _finish() */
-		r->failed = e;
-		halt_card(r);
-	}
-	return e;
+	/* held: the point is in the batch, which waits for the resume */
+	return e == -EAGAIN ? 0 : sink_fail(r, e);
 }
 
 int sh2000_run_create(struct sh2000_run **out, struct sh2000 *h,
@@ -507,6 +590,12 @@ int sh2000_run_create(struct sh2000_run **out, struct sh2000 *h,
 			goto err;
 		}
 	}
+	/* a card with a time base (protocol 1.1) holds and overrides
+	 * itself; it starts at full rate */
+	e = sh2000_param_set(h, SH2000_GLOBAL, SH2000_GP_TIME_SCALE,
+			     SH2000_TIME_SCALE_FULL);
+	r->tb = e == 0;
+	r->tb_factor = 1.0;
 	*out = r;
 	return 0;
 err:
@@ -548,10 +637,13 @@ int sh2000_run_finish(struct sh2000_run *r)
 		reset_plan(r);
 		return e;
 	}
-	/* a motion always ends with END, which flushes: nothing is held */
-	e = flush(r, 1);
+	/* a motion always ends with END, which flushes: nothing is left
+	 * but what a feed hold keeps back */
+	e = flush(r, r->end_held);
 	if (!e)
 		e = wait_card(r, 0, 1);
+	if (e == -EAGAIN)
+		return e;	/* a feed hold: at rest on the path */
 	if (!e) {
 		e = sh2000_wait_idle(r->h, r->cfg.stall_ms);
 		if (e < 0)
@@ -617,21 +709,63 @@ int sh2000_run_stop_requested(const struct sh2000_run *r)
 
 void sh2000_run_pause(struct sh2000_run *r)
 {
-	sh2000_path_pause(r->path);
+	if (!r->tb) {
+		sh2000_path_pause(r->path);
+		return;
+	}
+	r->held = 1;
+	r->tb_dirty = 1;
 }
 
 void sh2000_run_resume(struct sh2000_run *r)
 {
-	sh2000_path_resume(r->path);
+	if (!r->tb) {
+		sh2000_path_resume(r->path);
+		return;
+	}
+	r->held = 0;
+	r->tb_dirty = 1;
 }
 
+int sh2000_run_held(const struct sh2000_run *r)
+{
+	return r->tb && r->held;
+}
+
+/* Up to full rate on the card's time base, above it in the plan. */
 int sh2000_run_set_override(struct sh2000_run *r, double factor)
 {
-	int e = sh2000_path_set_override(r->path, factor);
+	int card = r->tb && factor <= 1.0;
+	int e = sh2000_path_set_override(r->path, card ? 1.0 : factor);
 
 	if (e)
 		return fail(r, e, "override: %s", sh2000_path_error(r->path));
+	if (r->tb) {
+		r->tb_factor = card ? factor : 1.0;
+		r->tb_dirty = 1;
+	}
 	return 0;
+}
+
+int sh2000_run_hold_wait(struct sh2000_run *r, unsigned int ms)
+{
+	uint64_t end = sh2000_now_ns(r->h) + (uint64_t)ms * 1000000ull;
+	int e = 0;
+
+	while (!e && sh2000_now_ns(r->h) < end) {
+		e = tb_apply(r);
+		if (!e)
+			e = poll_once(r);
+		if (e)
+			break;
+		progress(r);
+		if (!sh2000_run_held(r) || r->stopped)
+			break;
+		e = sh2000_sleep_ns(r->h, 1000000ull);
+		if (e < 0)
+			return lib_fail(r, e, "waiting");
+	}
+	return e;
 }
 
 const char *sh2000_run_error(const struct sh2000_run *r)

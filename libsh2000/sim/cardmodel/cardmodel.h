@@ -99,6 +99,11 @@ struct sh2000_dsp {
 	struct sh2000_interp ip;
 	/* global parameters */
 	int32_t coarse_us, fine_steps, host_timeout_ms, status_period;
+	int32_t time_scale, time_ramp_ms;
+	/* the time base (timebase.c): rate, its derivative, and each axis'
+	 * set-point velocity and acceleration at full rate */
+	double tb_sigma, tb_rate;
+	double tb_v[SH2000_AXES], tb_a[SH2000_AXES];
 	/* protocol state */
 	unsigned int state;
 	uint16_t faults;
@@ -106,7 +111,8 @@ struct sh2000_dsp {
 	uint16_t reject_count;
 	uint16_t host_hb;
 	uint64_t host_hb_cycles;	/* cycles since HOST_HEARTBEAT changed */
-	unsigned int fine_k;	/* fine steps done in this coarse period */
+	double fine_t;		/* where in the coarse period, 0..1 */
+	int need_point;		/* the next cycle starts a coarse period */
 	uint64_t stop_left;	/* servo cycles left in a controlled stop */
 	uint16_t seg_seq;	/* SEQ of the last record consumed */
 	int have_seq;		/* seg_seq belongs to this motion */
@@ -128,6 +134,9 @@ static inline int sh2000_fw_in_motion(const struct sh2000_dsp *fw)
 	       fw->state == SH2000_STATE_STOPPING ||
 	       fw->state == SH2000_STATE_HOMING;
 }
+
+/* timebase.c: the rate of this servo cycle (fw->tb_sigma, fw->tb_rate) */
+void sh2000_tb_step(struct sh2000_dsp *fw, double T);
 
 /* firmware.c */
 /* Power-up on a board: parameters, RAM words, the magic last. */

@@ -67,7 +67,8 @@ static void settle(struct sh2000_dsp *fw)
 	}
 	fw->ending = 0;
 	fw->pad_left = 0;
-	fw->fine_k = 0;
+	fw->fine_t = 0.0;
+	fw->need_point = 1;
 	fw->stop_left = 0;
 	fw->state = fw->faults ? SH2000_STATE_FAULT : SH2000_STATE_IDLE;
 }
@@ -175,7 +176,8 @@ static void estop(struct sh2000_dsp *fw)
 	discard_ring(fw);
 	fw->ending = 0;
 	fw->pad_left = 0;
-	fw->fine_k = 0;
+	fw->fine_t = 0.0;
+	fw->need_point = 1;
 	fw->stop_left = 0;
 	fw->faults |= SH2000_FAULT_ESTOP;
 	fw->state = SH2000_STATE_ESTOP;
@@ -323,7 +325,8 @@ static void reset(struct sh2000_dsp *fw)
 	discard_ring(fw);
 	fw->ending = 0;
 	fw->pad_left = 0;
-	fw->fine_k = 0;
+	fw->fine_t = 0.0;
+	fw->need_point = 1;
 	fw->stop_left = 0;
 	fw->host_hb_cycles = 0;
 	fw->state = SH2000_STATE_IDLE;
@@ -509,29 +512,33 @@ static int next_point(struct sh2000_dsp *fw, uint16_t fill)
 	return 1;
 }
 
-static void run_step(struct sh2000_dsp *fw, uint16_t fill, double T)
+/* The set-points at t of the window, at the time base's rate: velocity
+ * scaled by sigma, acceleration by sigma^2 plus sigma' v. */
+static void eval_window(struct sh2000_dsp *fw, double t)
 {
-	double Tc = (double)fw->coarse_us * 1e-6, t;
+	double Tc = (double)fw->coarse_us * 1e-6, s = fw->tb_sigma, v, acc;
 	unsigned int a;
 
-	if (fw->fine_k == 0 && !next_point(fw, fill)) {
-		/* decelerate from this very cycle: no set-point hiccup */
-		if (fw->state == SH2000_STATE_STOPPING)
-			stop_step(fw, T);
-		return;
-	}
-	fw->fine_k++;
-	t = (double)fw->fine_k / (double)fw->fine_steps;
 	for (a = 0; a < SH2000_AXES; a++) {
 		struct sh2000_fw_axis *ax = &fw->ax[a];
 
-		if (is_enabled(ax))
-			sh2000_interp_eval(&fw->ip, a, t, Tc, &ax->cmd,
-					   &ax->cmd_v, &ax->cmd_a);
+		if (!is_enabled(ax))
+			continue;
+		sh2000_interp_eval(&fw->ip, a, t, Tc, &ax->cmd, &v, &acc);
+		fw->tb_v[a] = v;
+		fw->tb_a[a] = acc;
+		ax->cmd_v = s * v;
+		ax->cmd_a = s * s * acc + fw->tb_rate * v;
 	}
-	if (fw->fine_k < (unsigned int)fw->fine_steps)
-		return;
-	fw->fine_k = 0;
+}
+
+/* A coarse period is complete: past END's padding, the motion is over. */
+static void period_done(struct sh2000_dsp *fw)
+{
+	unsigned int a;
+
+	fw->fine_t = 0.0;
+	fw->need_point = 1;
 	if (fw->ending && fw->pad_left == 0) {
 		/* the end point exactly, not the polynomial's rounding */
 		for (a = 0; a < SH2000_AXES; a++)
@@ -539,6 +546,45 @@ static void run_step(struct sh2000_dsp *fw, uint16_t fill, double T)
 				fw->ax[a].cmd = sh2000_interp_last(&fw->ip, a);
 		settle(fw);
 	}
+}
+
+static void run_step(struct sh2000_dsp *fw, uint16_t fill, double T)
+{
+	double t;
+
+	if (fw->need_point) {
+		if (!next_point(fw, fill)) {
+			/* decelerate from this very cycle: no set-point
+			 * hiccup */
+			if (fw->state == SH2000_STATE_STOPPING)
+				stop_step(fw, T);
+			return;
+		}
+		fw->need_point = 0;
+	}
+	sh2000_tb_step(fw, T);
+	t = fw->fine_t + fw->tb_sigma / (double)fw->fine_steps;
+	if (t > 1.0 + 1e-9) {
+		/* the period ends inside this cycle: on into the next */
+		if (fw->ending && fw->pad_left == 0) {
+			eval_window(fw, 1.0);
+			period_done(fw);
+			return;
+		}
+		if (!next_point(fw, fill)) {
+			if (fw->state == SH2000_STATE_STOPPING)
+				stop_step(fw, T);
+			return;
+		}
+		t -= 1.0;
+	}
+	if (t >= 1.0 - 1e-9) {
+		eval_window(fw, 1.0);
+		period_done(fw);
+		return;
+	}
+	fw->fine_t = t;
+	eval_window(fw, t);
 }
 
 /* Rejected while a fault is latched: the host learns the first record it
@@ -570,7 +616,8 @@ static void motion(struct sh2000_dsp *fw, double T)
 			break;
 		fw->state = SH2000_STATE_RUNNING;
 		fw->have_seq = 0;
-		fw->fine_k = 0;
+		fw->fine_t = 0.0;
+	fw->need_point = 1;
 		fw->host_hb_cycles = 0;
 		run_step(fw, fill, T);
 		break;
@@ -730,6 +777,9 @@ void sh2000_dsp_boot(struct sh2000_dsp *fw, struct sh2000_board *hw)
 	fw->hw = hw;
 	WR(fw, SH2000_W_STATE, SH2000_STATE_BOOT);
 	sh2000_fw_default_params(fw);
+	fw->tb_sigma = 1.0;	/* full rate until the host says otherwise */
+	fw->tb_rate = 0.0;
+	fw->need_point = 1;
 	for (a = 0; a < SH2000_AXES; a++) {
 		struct sh2000_fw_axis *ax = &fw->ax[a];
 

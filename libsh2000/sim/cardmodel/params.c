@@ -45,6 +45,8 @@ static int32_t *global_i(struct sh2000_dsp *fw, unsigned int id)
 	case SH2000_GP_FINE_STEPS: return &fw->fine_steps;
 	case SH2000_GP_HOST_TIMEOUT_MS: return &fw->host_timeout_ms;
 	case SH2000_GP_STATUS_PERIOD: return &fw->status_period;
+	case SH2000_GP_TIME_SCALE: return &fw->time_scale;
+	case SH2000_GP_TIME_RAMP_MS: return &fw->time_ramp_ms;
 	default: return NULL;
 	}
 }
@@ -57,6 +59,7 @@ static int live_param(unsigned int id)
 	case SH2000_P_KP: case SH2000_P_TI: case SH2000_P_TD:
 	case SH2000_P_KVFF: case SH2000_P_KAFF: case SH2000_P_FERR_LIMIT:
 	case SH2000_GP_HOST_TIMEOUT_MS: case SH2000_GP_STATUS_PERIOD:
+	case SH2000_GP_TIME_SCALE: case SH2000_GP_TIME_RAMP_MS:
 		return 1;
 	default:
 		return 0;

@@ -5,7 +5,7 @@
 S=(-d sim)
 
 expect 0 "$CTL" "${S[@]}" info && out_has "^device +sim$" &&
-	out_has "^card protocol +1\.0$" && out_has "coarse period 2000 us, 20 fine steps" &&
+	out_has "^card protocol +$PMAJ\.$PMIN$" && out_has "coarse period 2000 us, 20 fine steps" &&
 	out_has "^scale +x 100000, y 100000, z 100000, a 100000 counts/mm$" &&
 	out_has "^port cycles +[0-9]+ clears"
 expect 0 "$CTL" "${S[@]}" status && out_has "^state +idle +faults -" &&

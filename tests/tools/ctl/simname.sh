@@ -26,7 +26,7 @@ expect 0 "$CTL" "${D[@]}" params x ferr_limit=0.5
 expect 0 "$CTL" "${D[@]}" params x ferr_limit && out_has "^ferr_limit = 0.5$"
 # dump shows the card's words, the heartbeat (word 3) advancing
 expect 0 "$CTL" "${D[@]}" dump 1-3 && h1=$(printf '%s\n' "$out" | awk '{print $4}') &&
-	out_has "^0x001: 5348 0100 [0-9a-f]{4}$"
+	out_has "^0x001: 5348 $(printf %04x $((PROTO_VERSION))) [0-9a-f]{4}$"
 sleep 0.05
 expect 0 "$CTL" "${D[@]}" dump 3 && h2=$(printf '%s\n' "$out" | awk '{print $2}')
 checks=$((checks + 1))

@@ -128,3 +128,10 @@ finish() {
 	echo "all $checks checks passed"
 	exit 0
 }
+
+# The protocol version this tree speaks, from its header (PMAJ.PMIN, and
+# PROTO_VERSION as the card's VERSION word).
+CARD_H="$(dirname "${BASH_SOURCE[0]}")/../../../libsh2000/protocol/include/sh2000/card.h"
+PMAJ=$(sed -n 's/^#define[ \t]*SH2000_PROTO_MAJOR[ \t]*\([0-9]*\)u*.*/\1/p' "$CARD_H")
+PMIN=$(sed -n 's/^#define[ \t]*SH2000_PROTO_MINOR[ \t]*\([0-9]*\)u*.*/\1/p' "$CARD_H")
+PROTO_VERSION=$((PMAJ * 256 + PMIN))

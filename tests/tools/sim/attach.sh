@@ -28,7 +28,10 @@ checks=$((checks + 1))
 grep -q "^sh2000-sim: card model attached to $RAM (pid $SIM_PID, real time)$" "$T/out" ||
 	fail "stdout: $(cat "$T/out")"
 checks=$((checks + 1))
-[ "$(word 1)" = $((0x5348)) ] && [ "$(word 2)" = $((0x0100)) ] ||
+CARD_H="$(dirname "$0")/../../../libsh2000/protocol/include/sh2000/card.h"
+pmaj=$(sed -n 's/^#define[ \t]*SH2000_PROTO_MAJOR[ \t]*\([0-9]*\)u*.*/\1/p' "$CARD_H")
+pmin=$(sed -n 's/^#define[ \t]*SH2000_PROTO_MINOR[ \t]*\([0-9]*\)u*.*/\1/p' "$CARD_H")
+[ "$(word 1)" = $((0x5348)) ] && [ "$(word 2)" = $((pmaj * 256 + pmin)) ] ||
 	fail "magic/version: $(word 1) $(word 2)"
 checks=$((checks + 1))
 [ "$(word 5)" = 1 ] || fail "state $(word 5), expected 1 (idle)"

@@ -363,6 +363,38 @@ t_shm_stop() {
 	stop_sim
 }
 
+# A feed hold (SIGUSR2) on a served card: the card comes to rest on the
+# path with the motion still queued and stays there, SIGUSR1 resumes, the
+# program ends where it should.
+t_shm_hold() {
+	local name=upload-hold-$$ i a b
+	start_sim $name
+	rm -f hold.err
+	"$UPLOAD" -d sim:$name "$DATA/long.ngc" >out 2>hold.err &
+	local pid=$!
+	for i in $(seq 200); do grep -q "progress" hold.err 2>/dev/null && break; sleep 0.05; done
+	sleep 0.3
+	kill -USR2 $pid
+	sleep 0.6
+	"$PROBE" sim:$name >p1
+	sleep 0.3
+	"$PROBE" sim:$name >p2
+	has "feed hold \(SIGUSR2\)" hold.err
+	has "state=2 " p1
+	grep -q "fill=0 " p1 && fail "held with nothing queued: $(cat p1)"
+	a=$(sed 's/.*cmd=\([^ ]*\).*/\1/' p1)
+	b=$(sed 's/.*cmd=\([^ ]*\).*/\1/' p2)
+	[ "$a" = "$b" ] || fail "moved while held: $a -> $b"
+	kill -USR1 $pid
+	wait $pid
+	local rc=$?
+	[ "$rc" = 0 ] || { fail "resumed run: exit $rc"; cat hold.err; }
+	has "resuming from the feed hold" hold.err
+	"$PROBE" sim:$name >p
+	has "state=1 fill=0" p
+	stop_sim
+}
+
 # An operator's STOP from another program (sh2000ctl in a second terminal):
 # the upload says so and exits 7, and the card is left idle with nothing
 # latched (pushing on would have had the next record rejected).
@@ -386,7 +418,7 @@ t_shm_other_stop() {
 }
 
 case ${1:-} in
-geometry|raw|override|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop|shm_other_stop)
+geometry|raw|override|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop|shm_hold|shm_other_stop)
 	"t_$1" ;;
 *) echo "usage: upload_tests.sh TEST"; exit 2 ;;
 esac

@@ -140,10 +140,24 @@ void sh2000_run_stop(struct sh2000_run *r);
 /* 1 once sh2000_run_stop() was called, until sh2000_run_finish() reports
  * it (-ECANCELED). */
 int sh2000_run_stop_requested(const struct sh2000_run *r);
-/* Decelerate to rest on the path; sh2000_run_finish() returns -EAGAIN. */
+/*
+ * Feed hold: decelerate to rest on the path; sh2000_run_finish() (and a
+ * primitive added while the window is full) returns -EAGAIN once the card
+ * is at rest. On a card with a time base (protocol 1.1, docs/protocol.md
+ * 8.4) the card itself holds, starting within one servo cycle of the
+ * request however much is queued; otherwise the planner decelerates. The
+ * request is sent at the run's next poll (callbacks may ask).
+ */
 void sh2000_run_pause(struct sh2000_run *r);
 void sh2000_run_resume(struct sh2000_run *r);
-/* Feed override, 0 < factor <= 2. */
+/* 1 while a card-side feed hold is asked for. */
+int sh2000_run_held(const struct sh2000_run *r);
+/* During a card-side hold: keep the card's host heartbeat, the polls and
+ * the progress callback going for up to ms of card time, or until the
+ * hold ends (a callback resumed) or a stop. 0, or the card's error. */
+int sh2000_run_hold_wait(struct sh2000_run *r, unsigned int ms);
+/* Feed override, 0 < factor <= 2: on the card's time base up to 1 (at
+ * once), in the plan above it. */
 int sh2000_run_set_override(struct sh2000_run *r, double factor);
 
 /* What the last failure was, with the card's or planner's words. */

@@ -19,7 +19,7 @@ extern "C" {
 #endif
 
 #define SH2000_PROTO_MAJOR		1u
-#define SH2000_PROTO_MINOR		0u
+#define SH2000_PROTO_MINOR		1u
 #define SH2000_PROTO_VERSION		((SH2000_PROTO_MAJOR << 8) | SH2000_PROTO_MINOR)
 #define SH2000_PROTO_VERSION_MAJOR(v)	(((v) >> 8) & 0xffu)
 #define SH2000_PROTO_VERSION_MINOR(v)	((v) & 0xffu)
@@ -150,9 +150,15 @@ enum sh2000_param {
 	SH2000_GP_FINE_STEPS = 33,		/* I32 servo cycles per coarse, 1..1000 */
 	SH2000_GP_HOST_TIMEOUT_MS = 34,		/* I32 ms, 0 = off, <= 60000 */
 	SH2000_GP_STATUS_PERIOD = 35,		/* I32 servo cycles, 1..1000 */
+	/* protocol 1.1: the card's time base (docs/protocol.md 8.4) */
+	SH2000_GP_TIME_SCALE = 36,		/* I32 0..SH2000_TIME_SCALE_FULL */
+	SH2000_GP_TIME_RAMP_MS = 37,		/* I32 ms for a 0..1 ramp, 1..60000 */
 	SH2000_GP_FIRST = SH2000_GP_COARSE_PERIOD_US,
-	SH2000_GP_END = 36,
+	SH2000_GP_END = 38,
 };
+
+/* TIME_SCALE at full rate: the rate is TIME_SCALE / FULL (0.01 % steps). */
+#define SH2000_TIME_SCALE_FULL	10000
 
 enum sh2000_dac_range {
 	SH2000_DAC_0_5V = 0,

@@ -19,7 +19,7 @@
 #define CMD_POLL_NS	20000ull
 #define ESTOP_POLL_NS	5000ull
 
-static const char *op_name(unsigned int op)
+const char *sh2000_cmd_op_name(unsigned int op)
 {
 	static const char *const n[] = {
 		"nop", "enable", "disable", "set_param", "get_param", "home",
@@ -29,7 +29,7 @@ static const char *op_name(unsigned int op)
 	return op < sizeof(n) / sizeof(n[0]) ? n[op] : "?";
 }
 
-static int result_error(unsigned int res)
+int sh2000_cmd_result_error(unsigned int res)
 {
 	if (res >= SH2000_RES_BAD_OP && res <= SH2000_RES_DISABLED)
 		return -(SH2000_ECMD_OP + (int)res - SH2000_RES_BAD_OP);
@@ -74,7 +74,7 @@ int sh2000_command_locked(struct sh2000 *h, unsigned int op,
 	h->cmd_busy = 1;
 
 	snprintf(what, sizeof(what), "command %s (axis %u, param %u, arg %d)",
-		 op_name(op), axis == SH2000_AXIS_GLOBAL ? 0xffffu : axis,
+		 sh2000_cmd_op_name(op), axis == SH2000_AXIS_GLOBAL ? 0xffffu : axis,
 		 param, arg);
 	r = sh2000_arb_cmd_take(h);
 	if (r == -EAGAIN)
@@ -106,7 +106,7 @@ int sh2000_command_locked(struct sh2000 *h, unsigned int op,
 	h->cmd_seq = seq;
 
 	snprintf(what, sizeof(what), "command %s (seq %u, axis %u, param %u, arg %d)",
-		 op_name(op), seq, axis == SH2000_AXIS_GLOBAL ? 0xffffu : axis,
+		 sh2000_cmd_op_name(op), seq, axis == SH2000_AXIS_GLOBAL ? 0xffffu : axis,
 		 param, arg);
 	t0 = sh2000_now_locked(h);
 	limit = (uint64_t)(timeout_ms < 0 ? SH2000_CMD_TIMEOUT_MS : timeout_ms) *
@@ -124,7 +124,7 @@ int sh2000_command_locked(struct sh2000 *h, unsigned int op,
 		sh2000_hold_wait(h, CMD_POLL_NS);
 	}
 	if (ack[1] != SH2000_RES_OK) {
-		r = sh2000_fail(h, result_error(ack[1]), "%s: card answered %s",
+		r = sh2000_fail(h, sh2000_cmd_result_error(ack[1]), "%s: card answered %s",
 				what, sh2000_result_name(ack[1]));
 		goto out;
 	}
@@ -154,7 +154,7 @@ static int command(struct sh2000 *h, unsigned int op, unsigned int axis,
 
 	pthread_mutex_lock(&h->lock);
 	if (changes_motion(op))
-		r = sh2000_arb_motion_begin(h, op_name(op));
+		r = sh2000_arb_motion_begin(h, sh2000_cmd_op_name(op));
 	if (!r) {
 		r = sh2000_command_locked(h, op, axis, param, arg, value,
 					  SH2000_CMD_TIMEOUT_MS);

@@ -14,8 +14,8 @@
 /* Pause between re-reads once the immediate ones are spent. */
 #define TORN_WAIT_NS	20000ull
 
-static void decode(struct sh2000 *h, const uint16_t *w,
-		   struct sh2000_status *st)
+void sh2000_status_decode(struct sh2000 *h, const uint16_t *w,
+			  struct sh2000_status *st)
 {
 	unsigned int a;
 
@@ -30,6 +30,9 @@ static void decode(struct sh2000 *h, const uint16_t *w,
 	st->reject_seq = w[SH2000_W_REJECT_SEQ];
 	st->reject_reason = w[SH2000_W_REJECT_REASON];
 	st->reject_count = w[SH2000_W_REJECT_COUNT];
+	h->tail = w[SH2000_W_TAIL];
+	h->tail_seen = 1;
+	h->estop_ack_seen = w[SH2000_W_ESTOP_ACK];
 	{
 		uint32_t c = (uint32_t)sh2000_w32(&w[SH2000_W_SNAP_TIME_LO]);
 
@@ -138,7 +141,7 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 	h->host_hb_ns = now;
 	st->retries = tries;
 	st->host_time_ns = now;
-	decode(h, w, st);
+	sh2000_status_decode(h, w, st);
 	st->heartbeat_age_ns = sh2000_hb_note(h, st->heartbeat, now);
 	/* the same heartbeat as long ago: wrapped, or stopped? Watch it
 	 * until it moves or the limit says stopped */

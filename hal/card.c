@@ -174,18 +174,8 @@ static void axis_outputs(struct hsc_card *c, const struct hsc_in *in,
 		o->counts = (int32_t)ax->pos_counts;
 		o->encoder_position = (double)ax->pos_counts / k;
 		o->f_error = (double)ax->ferr_counts / k;
-		/*
-		 * LinuxCNC compares position-fb with the command it sent a
-		 * tick ago; the card plays that command only after the ring
-		 * and the B-spline (several ms). Feedback aligned with that
-		 * delay is the command less the card's tracking error at
-		 * the snapshot, so LinuxCNC's following error is the card's.
-		 */
-		if (c->streaming && c->have_cmd)
-			o->position_fb = ((double)c->last_cmd[a] -
-					  (double)ax->ferr_counts) / k;
-		else
-			o->position_fb = o->encoder_position;
+		/* aligned with the command's delay (feedback.c) */
+		o->position_fb = hsc_feedback_counts(c, a) / k;
 		o->amp_fault = ax->faults != 0;
 		o->home_sw = !!(ax->state & SH2000_AXIS_HOME_SW);
 		o->limit_pos = !!(ax->state & SH2000_AXIS_LIMIT_POS);
@@ -212,13 +202,16 @@ void hsc_read(struct hsc_card *c, const struct hsc_in *in,
 		c->period_ns = period_ns;
 		c->configured = 0;
 		c->cfg_step = 0;
+		c->servo_ns = period_ns / hsc_fine_steps(period_ns);
 	}
 	r = sh2000_poll_once(c->h, &st);
 	if (r == 0) {
 		c->lost = 0;
 		note_status(c, &st);
+		c->snap_t = hsc_snap_time(c, late_ns);
+		hsc_delay_update(c);
 		hsc_tb_update(&c->tb, c->tick, st.heartbeat, late_ns,
-			      c->period_ns, HSC_SERVO_NS);
+			      c->period_ns, c->servo_ns);
 	} else if (r != -EAGAIN) {
 		/* stopped heartbeat, lost firmware, I/O error */
 		if (!c->lost)

@@ -118,9 +118,15 @@ struct hsc_card {
 	uint64_t estop_tick;
 	uint64_t tick;
 
-	/* commands in counts, one per tick (history for the resampler) */
+	/* commands in counts, one per tick: hist[tick % HSC_HISTORY] */
 	int32_t hist[HSC_HISTORY][SH2000_AXES];
 	uint64_t hist_n;	/* entries written */
+	uint64_t hist_tick;	/* tick of the newest */
+	long servo_ns;		/* the card's servo period as configured */
+	int queue_target;	/* records, as the pin last said */
+	double snap_t;		/* host time of the snapshot, ticks */
+	int delay_valid;
+	double delay;		/* command to card set-point, ticks */
 	int32_t last_cmd[SH2000_AXES];
 	int have_cmd;
 
@@ -155,6 +161,15 @@ void hsc_write(struct hsc_card *c, const struct hsc_in *in,
 int hsc_moving(unsigned int state);
 int hsc_faulted(const struct sh2000_status *st);
 unsigned int hsc_enabled(const struct sh2000_status *st);
+
+/* Servo cycles per coarse period for a thread period (write.c). */
+int hsc_fine_steps(long period_ns);
+
+/* feedback.c: the delay from command to the card's set-point, measured
+ * on a fresh snapshot; position-fb of an axis, in counts. */
+double hsc_snap_time(const struct hsc_card *c, long late_ns);
+void hsc_delay_update(struct hsc_card *c);
+double hsc_feedback_counts(const struct hsc_card *c, unsigned int a);
 
 /* timebase.c */
 void hsc_tb_reset(struct hsc_timebase *tb);

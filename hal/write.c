@@ -32,7 +32,7 @@ static void start(struct hsc_card *c, unsigned int op, unsigned int axis,
 
 /* Fine steps for a coarse period: servo cycles near HSC_SERVO_NS that
  * divide it exactly (the card's rule). */
-static int fine_steps(long period_ns)
+int hsc_fine_steps(long period_ns)
 {
 	long n = period_ns / HSC_SERVO_NS;
 
@@ -52,7 +52,7 @@ static int fine_steps(long period_ns)
  */
 static void configure(struct hsc_card *c)
 {
-	int n = fine_steps(c->period_ns);
+	int n = hsc_fine_steps(c->period_ns);
 
 	if (c->period_ns % 1000 || c->period_ns / 1000 < 100 ||
 	    c->period_ns / 1000 > 100000) {
@@ -234,6 +234,7 @@ void hsc_write(struct hsc_card *c, const struct hsc_in *in,
 		return;
 	if (target > (int)sh2000_queue_size(c->h) - 4)
 		target = (int)sh2000_queue_size(c->h) - 4;
+	c->queue_target = target;
 	c->want_mask = 0;
 	for (a = 0; a < SH2000_AXES; a++)
 		if (in->axis[a].enable)
@@ -244,13 +245,15 @@ void hsc_write(struct hsc_card *c, const struct hsc_in *in,
 
 	if (command_counts(c, in, cmd) == 0) {
 		memcpy(c->last_cmd, cmd, sizeof(cmd));
-		memcpy(c->hist[c->hist_n % HSC_HISTORY], cmd, sizeof(cmd));
-		c->hist_n++;
 		c->have_cmd = 1;
 	} else if (c->streaming) {
 		c->sfault = HSC_SF_POINT;
 		c->streaming = 0;
 	}
+	/* one entry per tick (a bad command repeats the last good one) */
+	memcpy(c->hist[c->tick % HSC_HISTORY], c->last_cmd, sizeof(cmd));
+	c->hist_n++;
+	c->hist_tick = c->tick;
 	if (c->ending && c->st_fresh && !hsc_moving(c->st.card_state))
 		c->ending = 0;
 	check_stream(c);

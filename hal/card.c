@@ -71,7 +71,7 @@ int hsc_open(struct hsc_card *c, int index, const char *device, char *msg,
 	if (r == 0)
 		r = sh2000_poll(c->h, &st);
 	if (r < 0) {
-		snprintf(msg, len, "%s: %s", device, sh2000_last_error(c->h));
+		snprintf(msg, len, "%s", sh2000_last_error(c->h));
 		sh2000_close(c->h);
 		c->h = NULL;
 		return r;
@@ -127,6 +127,11 @@ static void io_thread_setup(struct hsc_card *c)
 
 static void note_status(struct hsc_card *c, const struct sh2000_status *st)
 {
+	/* a new latched fault: say which (no port cycles: it decodes *st) */
+	if (hsc_faulted(st) && !(c->st_valid && hsc_faulted(&c->st)) &&
+	    sh2000_status_error(c->h, st) < 0)
+		snprintf(c->err, sizeof(c->err), "card: %s",
+			 sh2000_last_error(c->h));
 	/* count underruns by the fault bit's rising edge */
 	if ((st->card_faults & SH2000_FAULT_UNDERRUN) &&
 	    !(c->last_faults & SH2000_FAULT_UNDERRUN))
@@ -149,8 +154,7 @@ static void finish_command(struct hsc_card *c)
 			c->cfg_step++;
 		return;
 	}
-	snprintf(c->err, sizeof(c->err), "%s: %s", c->device,
-		 sh2000_last_error(c->h));
+	snprintf(c->err, sizeof(c->err), "%s", sh2000_last_error(c->h));
 	if (c->cmd_op == SH2000_CMD_SET_PARAM && !c->configured)
 		c->sfault = HSC_SF_CONFIG;
 	else if (c->cmd_op != SH2000_CMD_ENABLE)
@@ -215,8 +219,7 @@ void hsc_read(struct hsc_card *c, const struct hsc_in *in,
 	} else if (r != -EAGAIN) {
 		/* stopped heartbeat, lost firmware, I/O error */
 		if (!c->lost)
-			snprintf(c->err, sizeof(c->err), "%s: %s", c->device,
-				 sh2000_last_error(c->h));
+			snprintf(c->err, sizeof(c->err), "%s", sh2000_last_error(c->h));
 		c->lost = 1;
 		c->streaming = 0;
 		if (!c->sfault)

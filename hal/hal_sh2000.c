@@ -148,9 +148,12 @@ static void write_funct(void *arg, long period)
 	report(t);
 }
 
+/* The card's axes by the names the tools give them (sh2000ctl). */
+static const char axis_name[SH2000_AXES] = { 'x', 'y', 'z', 'a' };
+
 #define AXIS_PIN(type, dir, field, name) do { \
 	r = hal_pin_##type##_newf(dir, &x->field, comp_id, \
-				  "sh2000.%d.%u." name, n, a); \
+				  "sh2000.%d.%c." name, n, axis_name[a]); \
 	if (r < 0) \
 		return r; \
 } while (0)
@@ -172,7 +175,7 @@ static int export_axis(int n, unsigned int a, struct pins_axis *x,
 	AXIS_PIN(bit, HAL_OUT, limit_neg, "limit-neg");
 	AXIS_PIN(bit, HAL_IO, index_enable, "index-enable");
 	r = hal_param_float_newf(HAL_RW, &x->position_scale, comp_id,
-				 "sh2000.%d.%u.position-scale", n, a);
+				 "sh2000.%d.%c.position-scale", n, axis_name[a]);
 	x->position_scale = scale;
 	return r;
 }

@@ -111,6 +111,7 @@ struct hsc_card {
 	unsigned int want_mask;	/* enable pins */
 	int streaming;
 	int stream_ticks;
+	int seen_running;	/* the card has run this stream */
 	int ending;		/* END pushed, waiting for idle */
 	enum hsc_stream_fault sfault;
 	int reset_edge, reset_last;

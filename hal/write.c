@@ -23,8 +23,7 @@ static void start(struct hsc_card *c, unsigned int op, unsigned int axis,
 		c->cmd_op = op;
 		c->cmd_arg = (unsigned int)arg;
 	} else if (r != -EAGAIN) {
-		snprintf(c->err, sizeof(c->err), "%s: %s", c->device,
-			 sh2000_last_error(c->h));
+		snprintf(c->err, sizeof(c->err), "%s", sh2000_last_error(c->h));
 		c->sfault = op == SH2000_CMD_SET_PARAM ? HSC_SF_CONFIG :
 			    HSC_SF_COMMAND;
 	}
@@ -127,8 +126,7 @@ static void push(struct hsc_card *c, unsigned int flags)
 	point(c, pt);
 	r = sh2000_push_point(c->h, pt, flags);
 	if (r < 0 && r != -EAGAIN && r != -SH2000_EQUEUE_FULL) {
-		snprintf(c->err, sizeof(c->err), "%s: %s", c->device,
-			 sh2000_last_error(c->h));
+		snprintf(c->err, sizeof(c->err), "%s", sh2000_last_error(c->h));
 		c->sfault = HSC_SF_COMMAND;
 		c->streaming = 0;
 	}
@@ -141,7 +139,19 @@ static void check_stream(struct hsc_card *c)
 		return;
 	if (hsc_faulted(&c->st)) {
 		c->streaming = 0;	/* the card stopped: its fault says why */
-	} else if (c->stream_ticks > 2 && !hsc_moving(c->st.card_state)) {
+		return;
+	}
+	if (c->st.card_state == SH2000_STATE_RUNNING)
+		c->seen_running = 1;
+	/*
+	 * A STOP command from another program: the card decelerates
+	 * (STOPPING without a fault) and goes idle with the ring discarded.
+	 * A card that has simply not started on the first records yet (a
+	 * served model that was descheduled) is idle too, but has not been
+	 * seen running.
+	 */
+	if (c->st.card_state == SH2000_STATE_STOPPING ||
+	    (c->seen_running && c->st.card_state == SH2000_STATE_IDLE)) {
 		snprintf(c->err, sizeof(c->err),
 			 "%s: the card left the motion (state %s): stopped by another program",
 			 c->device, sh2000_state_name(c->st.card_state));
@@ -160,6 +170,7 @@ static void start_stream(struct hsc_card *c, int target)
 	for (i = 0; i < target; i++)
 		push(c, 0);
 	c->streaming = c->sfault == HSC_SF_NONE;
+	c->seen_running = 0;
 	c->stream_ticks = -1;	/* this tick's point is in the batch */
 }
 

@@ -200,6 +200,7 @@ void hsc_read(struct hsc_card *c, const struct hsc_in *in,
 
 	c->tick++;
 	c->st_fresh = 0;
+	c->late_ns = late_ns > 0 ? late_ns : 0;
 	if (!c->io_thread_ready)
 		io_thread_setup(c);
 	if (period_ns > 0 && period_ns != c->period_ns) {
@@ -212,16 +213,19 @@ void hsc_read(struct hsc_card *c, const struct hsc_in *in,
 	if (r == 0) {
 		c->lost = 0;
 		note_status(c, &st);
-		c->snap_t = hsc_snap_time(c, late_ns);
+		c->snap_t = hsc_snap_time(c);
+		hsc_clock_offset(c, late_ns);
 		hsc_delay_update(c);
-		hsc_tb_update(&c->tb, c->tick, st.heartbeat, late_ns,
-			      c->period_ns, c->servo_ns);
+		if (hsc_tb_update(&c->tb, c->tick, st.heartbeat, late_ns,
+				  c->period_ns, c->servo_ns))
+			c->delay_valid = 0;	/* the card's clock jumped */
 	} else if (r != -EAGAIN) {
 		/* stopped heartbeat, lost firmware, I/O error */
 		if (!c->lost)
 			snprintf(c->err, sizeof(c->err), "%s", sh2000_last_error(c->h));
 		c->lost = 1;
 		c->streaming = 0;
+		c->delay_valid = 0;
 		if (!c->sfault)
 			c->sfault = HSC_SF_LOST;
 	}
@@ -242,6 +246,8 @@ void hsc_read(struct hsc_card *c, const struct hsc_in *in,
 	out->card_state = (int32_t)c->st.card_state;
 	out->queue_fill = (int32_t)c->st.queue_fill;
 	out->underruns = c->underruns;
+	out->delay_ms = c->delay_valid ?
+		(c->delay + c->clock_off) * (double)c->period_ns * 1e-6 : 0;
 	out->fault = c->lost || hsc_faulted(&c->st) || c->sfault != HSC_SF_NONE;
 	out->ok = !out->fault && c->st_valid;
 }

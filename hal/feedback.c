@@ -19,7 +19,8 @@
  * If it does not (a lost record, a card that stopped on its own), the
  * difference shows in LinuxCNC's following error too.
  *
- * Time is in ticks (coarse periods). D is measured by matching the
+ * Time is in coarse periods: commands by tick, the snapshot by the
+ * card's servo cycle (hsc_snap_time). D is measured by matching the
  * set-point against the history while the command moves steadily (where
  * the match is unambiguous and the B-spline's smoothing of accelerations
  * does not bias it), and filtered: while the time base is locked it is
@@ -64,15 +65,40 @@ static int history_at(const struct hsc_card *c, double u,
 	return 0;
 }
 
-/* Host time of the snapshot, in ticks: the read's time less the
- * snapshot's age (HEARTBEAT counts the same servo cycles as SNAP_TIME). */
-double hsc_snap_time(const struct hsc_card *c, long late_ns)
+/*
+ * Time of the snapshot in the card's own time, in coarse periods: its
+ * servo cycle over the cycles per period. The card plays one record per
+ * coarse period of its clock, so in this time base the delay from a
+ * command to its playing is constant as long as the card runs the stream
+ * without a gap, whatever the servo thread's lateness or the PC's clock.
+ */
+double hsc_snap_time(const struct hsc_card *c)
+{
+	double n = c->servo_ns > 0 ? (double)c->period_ns / (double)c->servo_ns :
+		   10.0;
+
+	return (double)c->st.card_cycle / n;
+}
+
+/*
+ * For the delay-ms pin only: the PC's time of the snapshot (the read's
+ * time less the snapshot's age; HEARTBEAT counts the same servo cycles as
+ * SNAP_TIME) minus its card time, filtered: the delay in card time plus
+ * this is the delay a person measures.
+ */
+void hsc_clock_offset(struct hsc_card *c, long late_ns)
 {
 	uint16_t age = (uint16_t)(c->st.heartbeat - (uint16_t)c->st.card_cycle);
 	double per = c->period_ns > 0 ? (double)c->period_ns : 1e6;
+	double host = (double)c->tick + (double)late_ns / per -
+		      (double)age * (double)c->servo_ns / per;
+	double off = host - c->snap_t;
 
-	return (double)c->tick + (double)late_ns / per -
-	       (double)age * (double)c->servo_ns / per;
+	if (!c->clock_off_valid || fabs(off - c->clock_off) > 2.0)
+		c->clock_off = off;
+	else
+		c->clock_off += 0.01 * (off - c->clock_off);
+	c->clock_off_valid = 1;
 }
 
 /* One fresh snapshot: measure the delay where the motion allows. */
@@ -85,7 +111,10 @@ void hsc_delay_update(struct hsc_card *c)
 	if (!c->streaming || !en)
 		return;
 	t = c->snap_t;
-	u = t - (c->delay_valid ? c->delay : (double)c->queue_target + 2.0);
+	/* first guess: the card plays the record pushed about fill + 2
+	 * ticks ago (the ring, then the B-spline window) */
+	u = c->delay_valid ? t - c->delay :
+	    (double)c->hist_tick - (double)c->st.queue_fill - 2.0;
 	if (history_at(c, u, pos, vel) < 0)
 		return;
 	for (a = 0; a < SH2000_AXES; a++) {

@@ -45,6 +45,7 @@ struct pins_axis {
 struct pins_card {
 	hal_bit_t *ok, *estop, *fault, *fault_reset;
 	hal_s32_t *queue_fill, *card_state, *pll_correction_ns;
+	hal_float_t *delay_ms;
 	hal_u32_t *underruns, *port_cycles;
 	hal_s32_t queue_target;
 	struct pins_axis axis[SH2000_AXES];
@@ -92,6 +93,7 @@ static void pins_out(struct instance *t)
 	*p->underruns = t->out.underruns;
 	*p->port_cycles = t->out.port_cycles;
 	*p->pll_correction_ns = t->out.pll_correction_ns;
+	*p->delay_ms = t->out.delay_ms;
 	for (a = 0; a < SH2000_AXES; a++) {
 		struct pins_axis *x = &p->axis[a];
 		const struct hsc_axis_out *o = &t->out.axis[a];
@@ -207,6 +209,7 @@ static int export_card(int n, struct instance *t)
 	CARD_PIN(u32, HAL_OUT, underruns, "underruns");
 	CARD_PIN(u32, HAL_OUT, port_cycles, "port-cycles");
 	CARD_PIN(s32, HAL_OUT, pll_correction_ns, "pll-correction-ns");
+	CARD_PIN(float, HAL_OUT, delay_ms, "delay-ms");
 	r = hal_param_s32_newf(HAL_RW, &p->queue_target, comp_id,
 			       "sh2000.%d.queue-target", n);
 	if (r < 0)

@@ -18,6 +18,9 @@
 /* Records queued ahead of the card by default: 4 ms at a 1 ms period, so
  * a servo thread late by up to 3 ms does not starve the card. */
 #define HSC_QUEUE_TARGET	4
+/* How far the fill may stray from the target before the stream stalls
+ * or drops a point (the clock correction normally keeps it within 1). */
+#define HSC_FILL_SLACK		8
 /* Servo cycles per coarse period the driver aims at (100 us at 1 ms). */
 #define HSC_SERVO_NS		100000
 
@@ -53,6 +56,7 @@ struct hsc_out {
 	uint32_t underruns;
 	uint32_t port_cycles;	/* of the last read + write */
 	int32_t pll_correction_ns;
+	double delay_ms;	/* command to the card's set-point, 0 unknown */
 	struct hsc_axis_out axis[SH2000_AXES];
 };
 
@@ -124,10 +128,13 @@ struct hsc_card {
 	uint64_t hist_n;	/* entries written */
 	uint64_t hist_tick;	/* tick of the newest */
 	long servo_ns;		/* the card's servo period as configured */
+	long late_ns;		/* this tick's lateness */
 	int queue_target;	/* records, as the pin last said */
-	double snap_t;		/* host time of the snapshot, ticks */
+	double snap_t;		/* card time of the snapshot, periods */
 	int delay_valid;
-	double delay;		/* command to card set-point, ticks */
+	double delay;		/* command to card set-point, card time */
+	int clock_off_valid;
+	double clock_off;	/* PC time - card time of snapshots */
 	int32_t last_cmd[SH2000_AXES];
 	int have_cmd;
 
@@ -168,14 +175,16 @@ int hsc_fine_steps(long period_ns);
 
 /* feedback.c: the delay from command to the card's set-point, measured
  * on a fresh snapshot; position-fb of an axis, in counts. */
-double hsc_snap_time(const struct hsc_card *c, long late_ns);
+double hsc_snap_time(const struct hsc_card *c);
+void hsc_clock_offset(struct hsc_card *c, long late_ns);
 void hsc_delay_update(struct hsc_card *c);
 double hsc_feedback_counts(const struct hsc_card *c, unsigned int a);
 
 /* timebase.c */
 void hsc_tb_reset(struct hsc_timebase *tb);
-/* A heartbeat read `late_ns` after the tick's start. */
-void hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
-		   long late_ns, long period_ns, long servo_ns);
+/* A heartbeat read `late_ns` after the tick's start. Returns 1 when the
+ * card's clock jumped (the reference starts again). */
+int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
+		  long late_ns, long period_ns, long servo_ns);
 
 #endif /* HSC_H */

@@ -40,13 +40,13 @@ static double clamp(double v, double lim)
 	return v > lim ? lim : v < -lim ? -lim : v;
 }
 
-void hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
-		   long late_ns, long period_ns, long servo_ns)
+int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
+		  long late_ns, long period_ns, long servo_ns)
 {
 	double per_tick, x, eps, y;
 
 	if (period_ns <= 0 || servo_ns <= 0)
-		return;
+		return 0;
 	per_tick = (double)period_ns / (double)servo_ns;	/* cycles */
 	if (!tb->locked) {
 		/* the reference: this tick is phase zero */
@@ -57,7 +57,7 @@ void hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 		tb->off = -(double)late_ns / (double)period_ns;
 		tb->phase = 0;
 		tb->locked = 1;
-		return;
+		return 0;
 	}
 	tb->hb_ext += (uint16_t)(hb - tb->hb_last);
 	tb->hb_last = hb;
@@ -68,7 +68,7 @@ void hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 	if (fabs(eps) > TB_RELOCK) {
 		tb->locked = 0;
 		hsc_tb_update(tb, tick, hb, late_ns, period_ns, servo_ns);
-		return;
+		return 1;
 	}
 	tb->phase = eps;
 	tb->integ = clamp(tb->integ + TB_KI * eps, TB_LIMIT);
@@ -76,4 +76,5 @@ void hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 	tb->rate = tb->integ;
 	/* a card ahead (eps > 0) needs shorter ticks */
 	tb->correction = clamp(-y, TB_LIMIT);
+	return 0;
 }

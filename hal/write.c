@@ -171,6 +171,7 @@ static void start_stream(struct hsc_card *c, int target)
 		push(c, 0);
 	c->streaming = c->sfault == HSC_SF_NONE;
 	c->seen_running = 0;
+	c->delay_valid = 0;
 	c->stream_ticks = -1;	/* this tick's point is in the batch */
 }
 
@@ -180,14 +181,27 @@ static void stream(struct hsc_card *c, int target)
 
 	if (c->stream_ticks++ < 0)
 		return;
-	/* one point per tick; the clock correction keeps the fill. These
-	 * bounds catch what it has not caught up with yet (judged on a
-	 * fresh status only: a torn one is a tick old). */
-	if (c->st_fresh && fill > target + 2)
-		return;
+	/*
+	 * One point per tick; the clock correction keeps the fill. Only
+	 * when that fails (a card that slipped, a thread that fell far
+	 * behind) does the stream stall a point or drop one, which moves
+	 * the card's timeline by a tick: the measured delay is void then.
+	 * A tick that runs late sees the card ahead by its lateness.
+	 */
+	if (c->st_fresh) {
+		int ahead = fill + (int)(c->late_ns / c->period_ns);
+
+		if (ahead > target + HSC_FILL_SLACK ||
+		    fill >= (int)sh2000_queue_size(c->h) - 1) {
+			c->delay_valid = 0;
+			return;
+		}
+		if (ahead < target - HSC_FILL_SLACK && fill < 2) {
+			c->delay_valid = 0;
+			push(c, 0);
+		}
+	}
 	push(c, 0);
-	if (c->st_fresh && fill < target - 2)
-		push(c, 0);
 }
 
 static void commands(struct hsc_card *c, const struct hsc_in *in, int target)

@@ -81,6 +81,7 @@ struct hsc_timebase {
 	double off;		/* lateness of the reference read, records */
 	double integ;		/* PI integrator, records per tick */
 	double phase;		/* last phase error, records */
+	int outliers;		/* readings skipped in a row */
 	double rate;		/* card records per tick - 1 (estimate) */
 	double correction;	/* thread period correction, fraction */
 };

@@ -17,9 +17,15 @@
 
 #include "hsc.h"
 
-/* PI gains on the phase error, in records per tick per record. */
-#define TB_KP		0.02
-#define TB_KI		0.0004
+/* PI gains on the phase error, in records per tick per record: a time
+ * constant of some 300 ticks. Clocks drift by tens of ppm (1e-4 records
+ * per tick at most), so a slow loop follows them easily and averages the
+ * heartbeat's quantisation and the read's jitter. */
+#define TB_KP		0.006
+#define TB_KI		0.00002
+/* A single phase reading this far from the last one is a late read or a
+ * card that was descheduled for a moment, not the clock: skipped. */
+#define TB_OUTLIER	0.3
 /* rtapi_app limits a correction to 1 % of the period. */
 #define TB_LIMIT	0.01
 /* A phase error this large is not drift: the card restarted, or the
@@ -56,6 +62,7 @@ int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 		tb->tick0 = tick;
 		tb->off = -(double)late_ns / (double)period_ns;
 		tb->phase = 0;
+		tb->outliers = 0;
 		tb->locked = 1;
 		return 0;
 	}
@@ -70,6 +77,11 @@ int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 		hsc_tb_update(tb, tick, hb, late_ns, period_ns, servo_ns);
 		return 1;
 	}
+	if (fabs(eps - tb->phase) > TB_OUTLIER && tb->outliers < 10) {
+		tb->outliers++;
+		return 0;
+	}
+	tb->outliers = 0;
 	tb->phase = eps;
 	tb->integ = clamp(tb->integ + TB_KI * eps, TB_LIMIT);
 	y = TB_KP * eps + tb->integ;

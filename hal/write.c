@@ -190,13 +190,15 @@ static void stream(struct hsc_card *c, int target)
 	 */
 	if (c->st_fresh) {
 		int ahead = fill + (int)(c->late_ns / c->period_ns);
+		int slack = target / 2 > HSC_FILL_SLACK ? target / 2 :
+			    HSC_FILL_SLACK;
 
-		if (ahead > target + HSC_FILL_SLACK ||
+		if (ahead > target + slack ||
 		    fill >= (int)sh2000_queue_size(c->h) - 1) {
 			c->delay_valid = 0;
 			return;
 		}
-		if (ahead < target - HSC_FILL_SLACK && fill < 2) {
+		if (ahead < target - slack && fill < 2) {
 			c->delay_valid = 0;
 			push(c, 0);
 		}

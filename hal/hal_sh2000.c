@@ -246,6 +246,13 @@ int rtapi_app_main(void)
 	if (comp_id < 0)
 		return comp_id;
 	for (i = 0; i < MAX_CARDS && device[i] && device[i][0]; i++) {
+		if (!strcmp(device[i], "sim")) {
+			rtapi_print_msg(RTAPI_MSG_ERR,
+					"hal_sh2000: sh2000.%d: sim is a card in virtual time, not for a real-time thread: serve one with sh2000-sim NAME and give sim:NAME\n",
+					i);
+			r = -EINVAL;
+			goto fail;
+		}
 		r = hsc_open(&inst[i].card, i, device[i], msg, sizeof(msg));
 		if (r < 0) {
 			rtapi_print_msg(RTAPI_MSG_ERR, "hal_sh2000: sh2000.%d: %s\n",

@@ -210,13 +210,12 @@ set(CPACK_DEBIAN_DKMS_PACKAGE_CONTROL_EXTRA
   ${PROJECT_BINARY_DIR}/debian/sh2000-dkms/prerm)
 
 # sh2000-linuxcnc: hal_sh2000 (libsh2000 linked in statically), its man
-# page, the sample machine and docs/linuxcnc.md. The module's only
-# libraries are libc and libm; its rtapi_* and hal_* symbols are
-# rtapi_app's, which dpkg-shlibdeps cannot see: Depends by hand.
+# page, the sample machine and docs/linuxcnc.md. dpkg-shlibdeps finds libc;
+# the module's rtapi_* and hal_* symbols are rtapi_app's: that Depends by
+# hand.
 set(CPACK_DEBIAN_LINUXCNC_PACKAGE_NAME sh2000-linuxcnc)
 set(CPACK_DEBIAN_LINUXCNC_PACKAGE_SECTION misc)
-set(CPACK_DEBIAN_LINUXCNC_PACKAGE_SHLIBDEPS OFF)
-set(CPACK_DEBIAN_LINUXCNC_PACKAGE_DEPENDS "linuxcnc-uspace (>= 2.9.0~pre1), libc6")
+set(CPACK_DEBIAN_LINUXCNC_PACKAGE_DEPENDS "linuxcnc-uspace (>= 2.9.0~pre1)")
 set(CPACK_DEBIAN_LINUXCNC_PACKAGE_RECOMMENDS "sh2000-tools")
 set(CPACK_DEBIAN_LINUXCNC_PACKAGE_SUGGESTS "sh2000-dkms")
 set(CPACK_DEBIAN_LINUXCNC_DESCRIPTION

@@ -59,11 +59,31 @@ static int why_silent(struct sh2000 *h, const char *what, int timeout_ms)
 			   what, timeout_ms, sh2000_state_name(st.card_state));
 }
 
+int sh2000_cmd_write(struct sh2000 *h, unsigned int op, unsigned int axis,
+		     unsigned int param, int32_t arg)
+{
+	uint16_t w[7], seq = (uint16_t)(h->cmd_seq + 1u);
+	int r;
+
+	w[0] = (uint16_t)op;
+	w[1] = (uint16_t)axis;
+	w[2] = (uint16_t)param;
+	w[3] = (uint16_t)((uint32_t)arg & 0xffffu);
+	w[4] = (uint16_t)((uint32_t)arg >> 16);
+	w[5] = sh2000_cmd_check(seq, w[0], w[1], w[2], w[3], w[4]);
+	w[6] = seq;
+	/* one upward stream: OP..CHECK first, SEQ (which publishes) last */
+	r = sh2000_wr(h, SH2000_W_CMD_OP, 7, w);
+	if (r == 0)
+		h->cmd_seq = seq;
+	return r;
+}
+
 int sh2000_command_locked(struct sh2000 *h, unsigned int op,
 			  unsigned int axis, unsigned int param, int32_t arg,
 			  int32_t *value, int timeout_ms)
 {
-	uint16_t w[7], ack[4];
+	uint16_t ack[4];
 	uint16_t seq;
 	uint64_t t0, limit;
 	char what[96];
@@ -91,19 +111,10 @@ int sh2000_command_locked(struct sh2000 *h, unsigned int op,
 		if (r < 0)
 			goto out;
 	}
-	seq = (uint16_t)(h->cmd_seq + 1u);
-	w[0] = (uint16_t)op;
-	w[1] = (uint16_t)axis;
-	w[2] = (uint16_t)param;
-	w[3] = (uint16_t)((uint32_t)arg & 0xffffu);
-	w[4] = (uint16_t)((uint32_t)arg >> 16);
-	w[5] = sh2000_cmd_check(seq, w[0], w[1], w[2], w[3], w[4]);
-	w[6] = seq;
-	/* one upward stream: OP..CHECK first, SEQ (which publishes) last */
-	r = sh2000_wr(h, SH2000_W_CMD_OP, 7, w);
+	r = sh2000_cmd_write(h, op, axis, param, arg);
 	if (r < 0)
 		goto out;
-	h->cmd_seq = seq;
+	seq = h->cmd_seq;
 
 	snprintf(what, sizeof(what), "command %s (seq %u, axis %u, param %u, arg %d)",
 		 sh2000_cmd_op_name(op), seq, axis == SH2000_AXIS_GLOBAL ? 0xffffu : axis,

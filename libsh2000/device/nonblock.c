@@ -40,12 +40,9 @@ static int poll_once_locked(struct sh2000 *h, struct sh2000_status *st)
 		return r;
 	/* the host is alive whether or not the snapshot tore: one stream,
 	 * the heartbeat is the next word */
-	h->host_hb++;
-	r = sh2000_wr1(h, SH2000_W_HOST_HEARTBEAT, h->host_hb);
+	r = sh2000_host_beat(h, &now);
 	if (r < 0)
 		return r;
-	now = sh2000_now_locked(h);
-	h->host_hb_ns = now;
 	if (w[SH2000_W_SNAP_SEQ_END] != w[SH2000_W_SNAP_SEQ_BEGIN])
 		return -EAGAIN;
 	if (h->nbc.busy) {
@@ -60,17 +57,7 @@ static int poll_once_locked(struct sh2000 *h, struct sh2000_status *st)
 	 * watch restarted from now, so a stopped card still shows within
 	 * the limit on later ticks; nothing to wait for here. */
 	h->hb_unsure = 0;
-	if (w[SH2000_W_MAGIC] != SH2000_PROTO_MAGIC)
-		return sh2000_fail(h, -SH2000_EMAGIC,
-				   "magic word (%u) now reads 0x%04x, expected 0x%04x: card lost its firmware",
-				   SH2000_W_MAGIC, w[SH2000_W_MAGIC],
-				   SH2000_PROTO_MAGIC);
-	if (st->heartbeat_age_ns >= h->hb_limit_ns)
-		return sh2000_fail(h, -SH2000_EHEARTBEAT,
-				   "card heartbeat stuck at %u for %.1f ms (limit %.1f ms)",
-				   st->heartbeat, st->heartbeat_age_ns / 1e6,
-				   h->hb_limit_ns / 1e6);
-	return 0;
+	return sh2000_status_alive(h, w, st);
 }
 
 int sh2000_poll_once(struct sh2000 *h, struct sh2000_status *st)
@@ -92,7 +79,6 @@ static int nb_changes_motion(unsigned int op)
 static int start_locked(struct sh2000 *h, unsigned int op, unsigned int axis,
 			unsigned int param, int32_t arg)
 {
-	uint16_t w[7], seq;
 	int r;
 
 	if (h->nbc.busy)
@@ -113,24 +99,15 @@ static int start_locked(struct sh2000 *h, unsigned int op, unsigned int axis,
 		r = sh2000_rd(h, SH2000_W_CMD_SEQ, 1, &h->cmd_seq);
 	if (r < 0)
 		goto fail;
-	seq = (uint16_t)(h->cmd_seq + 1u);
-	w[0] = (uint16_t)op;
-	w[1] = (uint16_t)axis;
-	w[2] = (uint16_t)param;
-	w[3] = (uint16_t)((uint32_t)arg & 0xffffu);
-	w[4] = (uint16_t)((uint32_t)arg >> 16);
-	w[5] = sh2000_cmd_check(seq, w[0], w[1], w[2], w[3], w[4]);
-	w[6] = seq;
-	r = sh2000_wr(h, SH2000_W_CMD_OP, 7, w);
+	r = sh2000_cmd_write(h, op, axis, param, arg);
 	if (r < 0) {
 		sh2000_arb_drop(h, SH2000_ARB_CMD);
 		goto fail;
 	}
-	h->cmd_seq = seq;
 	h->cmd_busy = 1;		/* blocking commands wait for it */
 	h->nbc.busy = 1;
 	h->nbc.fresh = 0;
-	h->nbc.seq = seq;
+	h->nbc.seq = h->cmd_seq;
 	h->nbc.op = op;
 	h->nbc.t0 = sh2000_now_locked(h);
 	return 0;

@@ -157,6 +157,13 @@ int sh2000_fresh_snapshot(struct sh2000 *h, int timeout_ms);
  * have wrapped (the caller re-reads it before calling the card stopped). */
 uint64_t sh2000_hb_note(struct sh2000 *h, uint16_t hb, uint64_t now);
 int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st);
+/* HOST_HEARTBEAT + 1 (the word after the status: one increment after a
+ * poll); *now is the time of it. */
+int sh2000_host_beat(struct sh2000 *h, uint64_t *now);
+/* A decoded status' verdict: -SH2000_EMAGIC (firmware gone),
+ * -SH2000_EHEARTBEAT (stopped for the limit), else 0. */
+int sh2000_status_alive(struct sh2000 *h, const uint16_t *w,
+			const struct sh2000_status *st);
 /* Fill *st from words 0..SH2000_STATUS_WORDS-1 of a consistent read
  * (extends the counters). */
 void sh2000_status_decode(struct sh2000 *h, const uint16_t *w,
@@ -169,6 +176,10 @@ int sh2000_status_error_locked(struct sh2000 *h,
 int sh2000_ring_write_locked(struct sh2000 *h,
 			     const int32_t (*pts)[SH2000_AXES], size_t n,
 			     unsigned int flags);
+/* Write OP..CHECK and then CMD_SEQ = the next sequence number (the
+ * caller holds the command slot); h->cmd_seq becomes it. */
+int sh2000_cmd_write(struct sh2000 *h, unsigned int op, unsigned int axis,
+		     unsigned int param, int32_t arg);
 /* Map a command result code to its error. */
 int sh2000_cmd_result_error(unsigned int res);
 const char *sh2000_cmd_op_name(unsigned int op);

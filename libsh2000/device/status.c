@@ -132,13 +132,9 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 					   w[SH2000_W_SNAP_SEQ_BEGIN]);
 		sh2000_hold_wait(h, TORN_WAIT_NS);
 	}
-	h->host_hb++;
-	r = sh2000_wr1(h, SH2000_W_HOST_HEARTBEAT, h->host_hb);
+	r = sh2000_host_beat(h, &now);
 	if (r < 0)
 		return r;
-
-	now = sh2000_now_locked(h);
-	h->host_hb_ns = now;
 	st->retries = tries;
 	st->host_time_ns = now;
 	sh2000_status_decode(h, w, st);
@@ -156,7 +152,12 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 						      sh2000_now_locked(h));
 	}
 	h->hb_unsure = 0;
+	return sh2000_status_alive(h, w, st);
+}
 
+int sh2000_status_alive(struct sh2000 *h, const uint16_t *w,
+			const struct sh2000_status *st)
+{
 	if (w[SH2000_W_MAGIC] != SH2000_PROTO_MAGIC)
 		return sh2000_fail(h, -SH2000_EMAGIC,
 				   "magic word (%u) now reads 0x%04x, expected 0x%04x: card lost its firmware",
@@ -169,6 +170,19 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 				   h->hb_limit_ns / 1e6,
 				   sh2000_state_name(st->card_state),
 				   (unsigned long long)st->card_cycle);
+	return 0;
+}
+
+int sh2000_host_beat(struct sh2000 *h, uint64_t *now)
+{
+	int r;
+
+	h->host_hb++;
+	r = sh2000_wr1(h, SH2000_W_HOST_HEARTBEAT, h->host_hb);
+	if (r < 0)
+		return r;
+	*now = sh2000_now_locked(h);
+	h->host_hb_ns = *now;
 	return 0;
 }
 

@@ -159,6 +159,12 @@ foreach(t IN LISTS SH2000_TOOLS)
   endif()
 endforeach()
 
+# hal_sh2000 (hal/, built when linuxcnc-uspace-dev is installed; its
+# install rules are there)
+if(TARGET hal_sh2000)
+  add_dependencies(sh2000_installables hal_sh2000)
+endif()
+
 # Man pages. The packages ship them gzipped, as Debian does: cpack
 # compresses them in its staging tree (cmake/debian/prebuild.cmake), so a
 # source install and the tools' own rules agree on share/man/man1/NAME.1.

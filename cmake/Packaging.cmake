@@ -39,6 +39,10 @@ set(CPACK_COMPONENTS_ALL runtime motion sim dev motion_dev sim_dev dkms)
 if(SH2000_TOOLS_INSTALLED)
   list(APPEND CPACK_COMPONENTS_ALL tools)
 endif()
+# hal_sh2000, when linuxcnc-uspace-dev was there to build it (hal/)
+if(SH2000_LINUXCNC_INSTALLED)
+  list(APPEND CPACK_COMPONENTS_ALL linuxcnc)
+endif()
 
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_RELEASE ${SH2000_DEB_RELEASE})
@@ -205,6 +209,23 @@ set(CPACK_DEBIAN_DKMS_PACKAGE_CONTROL_EXTRA
   ${PROJECT_BINARY_DIR}/debian/sh2000-dkms/postinst
   ${PROJECT_BINARY_DIR}/debian/sh2000-dkms/prerm)
 
+# sh2000-linuxcnc: hal_sh2000 (libsh2000 linked in statically), its man
+# page, the sample machine and docs/linuxcnc.md. dpkg-shlibdeps finds libc;
+# the module's rtapi_* and hal_* symbols are rtapi_app's: that Depends by
+# hand.
+set(CPACK_DEBIAN_LINUXCNC_PACKAGE_NAME sh2000-linuxcnc)
+set(CPACK_DEBIAN_LINUXCNC_PACKAGE_SECTION misc)
+set(CPACK_DEBIAN_LINUXCNC_PACKAGE_DEPENDS "linuxcnc-uspace (>= 2.9.0~pre1)")
+set(CPACK_DEBIAN_LINUXCNC_PACKAGE_RECOMMENDS "sh2000-tools")
+set(CPACK_DEBIAN_LINUXCNC_PACKAGE_SUGGESTS "sh2000-dkms")
+set(CPACK_DEBIAN_LINUXCNC_DESCRIPTION
+"SH-2000TH motion cards as LinuxCNC joints (HAL driver)
+hal_sh2000 drives SH-2000TH cards from LinuxCNC 2.9 uspace: loadrt
+hal_sh2000 device=/dev/sh2000-0 (or sim:NAME for a simulated card), then
+sh2000.N.read and sh2000.N.write in the servo thread. The man page
+hal_sh2000(9) lists the pins; a sample 3-axis mill on a simulated card is
+in /usr/share/doc/sh2000-linuxcnc/examples/sh2000-sim.")
+
 include(CPack)
 
 cpack_add_component(runtime DISPLAY_NAME "libsh2000")
@@ -215,3 +236,4 @@ cpack_add_component(motion_dev DISPLAY_NAME "libsh2000-motion-dev" DEPENDS motio
 cpack_add_component(sim_dev DISPLAY_NAME "libsh2000-sim-dev" DEPENDS sim dev)
 cpack_add_component(tools DISPLAY_NAME "sh2000-tools" DEPENDS runtime motion sim)
 cpack_add_component(dkms DISPLAY_NAME "sh2000-dkms")
+cpack_add_component(linuxcnc DISPLAY_NAME "sh2000-linuxcnc")

@@ -173,23 +173,13 @@ static int take_cmd(struct sh2000 *h)
 	return r;
 }
 
-/*
- * The command lock. Returns 1 if another handle used the command slot
- * since this one last did (then the caller re-reads CMD_SEQ from the RAM,
- * whoever wrote it last), 0 if this handle was the last (its own sequence
- * number is current: no extra port cycles for a program alone), or an
- * error.
- */
-int sh2000_arb_cmd_take(struct sh2000 *h)
+/* Whether another handle used the command slot since this one did (the
+ * command lock is held): 1 and this handle marked as the last user, 0. */
+static int cmd_taken_over(struct sh2000 *h)
 {
 	uint64_t last = 0;
 	int r;
 
-	if (h->arb.fd < 0)
-		return 0;
-	r = take_cmd(h);
-	if (r < 0)
-		return r;
 	if (pread(h->arb.fd, &last, sizeof(last), ARB_TOKEN_OFF) ==
 	    (ssize_t)sizeof(last) && last == h->arb.token)
 		return 0;
@@ -201,6 +191,35 @@ int sh2000_arb_cmd_take(struct sh2000 *h)
 				   h->arb.path, strerror(r ? -r : EIO));
 	}
 	return 1;
+}
+
+/*
+ * The command lock. Returns 1 if another handle used the command slot
+ * since this one last did (then the caller re-reads CMD_SEQ from the RAM,
+ * whoever wrote it last), 0 if this handle was the last (its own sequence
+ * number is current: no extra port cycles for a program alone), or an
+ * error.
+ */
+int sh2000_arb_cmd_take(struct sh2000 *h)
+{
+	int r;
+
+	if (h->arb.fd < 0)
+		return 0;
+	r = take_cmd(h);
+	return r < 0 ? r : cmd_taken_over(h);
+}
+
+int sh2000_arb_cmd_try(struct sh2000 *h)
+{
+	int r;
+
+	if (h->arb.fd < 0)
+		return 0;
+	r = ofd(h, F_OFD_SETLK, F_WRLCK, SH2000_ARB_CMD);
+	if (r == -EACCES)
+		r = -EAGAIN;
+	return r < 0 ? r : cmd_taken_over(h);
 }
 
 void sh2000_arb_drop(struct sh2000 *h, unsigned int which)
@@ -358,6 +377,10 @@ int sh2000_arb_bus_take(struct sh2000 *h)
 		return 0;
 	while ((r = ofd(h, F_OFD_SETLK, F_WRLCK, SH2000_ARB_BUS)) == -EAGAIN ||
 	       r == -EACCES) {
+		/* a real-time call does not wait: its caller tries again
+		 * next tick */
+		if (h->nb)
+			return -EAGAIN;
 		if (sh2000_mono_ns() - t0 > SH2000_ARB_WAIT_MS * 1000000ull)
 			return sh2000_fail(h, -SH2000_ETIMEOUT,
 					   "another program has held the card's port registers for over %d ms (lock file %s)",

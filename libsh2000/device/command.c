@@ -19,7 +19,7 @@
 #define CMD_POLL_NS	20000ull
 #define ESTOP_POLL_NS	5000ull
 
-static const char *op_name(unsigned int op)
+const char *sh2000_cmd_op_name(unsigned int op)
 {
 	static const char *const n[] = {
 		"nop", "enable", "disable", "set_param", "get_param", "home",
@@ -29,7 +29,7 @@ static const char *op_name(unsigned int op)
 	return op < sizeof(n) / sizeof(n[0]) ? n[op] : "?";
 }
 
-static int result_error(unsigned int res)
+int sh2000_cmd_result_error(unsigned int res)
 {
 	if (res >= SH2000_RES_BAD_OP && res <= SH2000_RES_DISABLED)
 		return -(SH2000_ECMD_OP + (int)res - SH2000_RES_BAD_OP);
@@ -59,11 +59,31 @@ static int why_silent(struct sh2000 *h, const char *what, int timeout_ms)
 			   what, timeout_ms, sh2000_state_name(st.card_state));
 }
 
+int sh2000_cmd_write(struct sh2000 *h, unsigned int op, unsigned int axis,
+		     unsigned int param, int32_t arg)
+{
+	uint16_t w[7], seq = (uint16_t)(h->cmd_seq + 1u);
+	int r;
+
+	w[0] = (uint16_t)op;
+	w[1] = (uint16_t)axis;
+	w[2] = (uint16_t)param;
+	w[3] = (uint16_t)((uint32_t)arg & 0xffffu);
+	w[4] = (uint16_t)((uint32_t)arg >> 16);
+	w[5] = sh2000_cmd_check(seq, w[0], w[1], w[2], w[3], w[4]);
+	w[6] = seq;
+	/* one upward stream: OP..CHECK first, SEQ (which publishes) last */
+	r = sh2000_wr(h, SH2000_W_CMD_OP, 7, w);
+	if (r == 0)
+		h->cmd_seq = seq;
+	return r;
+}
+
 int sh2000_command_locked(struct sh2000 *h, unsigned int op,
 			  unsigned int axis, unsigned int param, int32_t arg,
 			  int32_t *value, int timeout_ms)
 {
-	uint16_t w[7], ack[4];
+	uint16_t ack[4];
 	uint16_t seq;
 	uint64_t t0, limit;
 	char what[96];
@@ -74,7 +94,7 @@ int sh2000_command_locked(struct sh2000 *h, unsigned int op,
 	h->cmd_busy = 1;
 
 	snprintf(what, sizeof(what), "command %s (axis %u, param %u, arg %d)",
-		 op_name(op), axis == SH2000_AXIS_GLOBAL ? 0xffffu : axis,
+		 sh2000_cmd_op_name(op), axis == SH2000_AXIS_GLOBAL ? 0xffffu : axis,
 		 param, arg);
 	r = sh2000_arb_cmd_take(h);
 	if (r == -EAGAIN)
@@ -91,22 +111,13 @@ int sh2000_command_locked(struct sh2000 *h, unsigned int op,
 		if (r < 0)
 			goto out;
 	}
-	seq = (uint16_t)(h->cmd_seq + 1u);
-	w[0] = (uint16_t)op;
-	w[1] = (uint16_t)axis;
-	w[2] = (uint16_t)param;
-	w[3] = (uint16_t)((uint32_t)arg & 0xffffu);
-	w[4] = (uint16_t)((uint32_t)arg >> 16);
-	w[5] = sh2000_cmd_check(seq, w[0], w[1], w[2], w[3], w[4]);
-	w[6] = seq;
-	/* one upward stream: OP..CHECK first, SEQ (which publishes) last */
-	r = sh2000_wr(h, SH2000_W_CMD_OP, 7, w);
+	r = sh2000_cmd_write(h, op, axis, param, arg);
 	if (r < 0)
 		goto out;
-	h->cmd_seq = seq;
+	seq = h->cmd_seq;
 
 	snprintf(what, sizeof(what), "command %s (seq %u, axis %u, param %u, arg %d)",
-		 op_name(op), seq, axis == SH2000_AXIS_GLOBAL ? 0xffffu : axis,
+		 sh2000_cmd_op_name(op), seq, axis == SH2000_AXIS_GLOBAL ? 0xffffu : axis,
 		 param, arg);
 	t0 = sh2000_now_locked(h);
 	limit = (uint64_t)(timeout_ms < 0 ? SH2000_CMD_TIMEOUT_MS : timeout_ms) *
@@ -124,7 +135,7 @@ int sh2000_command_locked(struct sh2000 *h, unsigned int op,
 		sh2000_hold_wait(h, CMD_POLL_NS);
 	}
 	if (ack[1] != SH2000_RES_OK) {
-		r = sh2000_fail(h, result_error(ack[1]), "%s: card answered %s",
+		r = sh2000_fail(h, sh2000_cmd_result_error(ack[1]), "%s: card answered %s",
 				what, sh2000_result_name(ack[1]));
 		goto out;
 	}
@@ -154,7 +165,7 @@ static int command(struct sh2000 *h, unsigned int op, unsigned int axis,
 
 	pthread_mutex_lock(&h->lock);
 	if (changes_motion(op))
-		r = sh2000_arb_motion_begin(h, op_name(op));
+		r = sh2000_arb_motion_begin(h, sh2000_cmd_op_name(op));
 	if (!r) {
 		r = sh2000_command_locked(h, op, axis, param, arg, value,
 					  SH2000_CMD_TIMEOUT_MS);

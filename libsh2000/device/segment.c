@@ -57,25 +57,15 @@ static int quick(struct sh2000 *h, unsigned int *fill, unsigned int *state,
 	return 0;
 }
 
-static int push_locked(struct sh2000 *h, const int32_t (*pts)[SH2000_AXES],
-		       size_t n, unsigned int flags)
+int sh2000_ring_write_locked(struct sh2000 *h,
+			     const int32_t (*pts)[SH2000_AXES], size_t n,
+			     unsigned int flags)
 {
 	uint16_t rec[SH2000_RING_RECORDS * SH2000_RECORD_WORDS];
 	uint16_t pub[2];
-	unsigned int fill, state, slot, first, i, a;
+	unsigned int slot, first, i, a;
 	int r;
 
-	/* the ring is the motion's: the first push claims it */
-	r = sh2000_arb_claim_locked(h);
-	if (r < 0)
-		return r;
-	r = quick(h, &fill, &state, 0);
-	if (r < 0)
-		return r;
-	if (SH2000_RING_RECORDS - fill < n)
-		return sh2000_fail(h, -SH2000_EQUEUE_FULL,
-				   "batch of %zu records: %u free in the ring",
-				   n, SH2000_RING_RECORDS - fill);
 	for (i = 0; i < n; i++) {
 		uint16_t *w = &rec[i * SH2000_RECORD_WORDS];
 
@@ -113,6 +103,26 @@ static int push_locked(struct sh2000 *h, const int32_t (*pts)[SH2000_AXES],
 	h->head = pub[1];
 	h->segments += n;
 	return (int)n;
+}
+
+static int push_locked(struct sh2000 *h, const int32_t (*pts)[SH2000_AXES],
+		       size_t n, unsigned int flags)
+{
+	unsigned int fill, state;
+	int r;
+
+	/* the ring is the motion's: the first push claims it */
+	r = sh2000_arb_claim_locked(h);
+	if (r < 0)
+		return r;
+	r = quick(h, &fill, &state, 0);
+	if (r < 0)
+		return r;
+	if (SH2000_RING_RECORDS - fill < n)
+		return sh2000_fail(h, -SH2000_EQUEUE_FULL,
+				   "batch of %zu records: %u free in the ring",
+				   n, SH2000_RING_RECORDS - fill);
+	return sh2000_ring_write_locked(h, pts, n, flags);
 }
 
 static int check_batch(struct sh2000 *h, size_t n)

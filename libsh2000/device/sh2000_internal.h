@@ -103,6 +103,21 @@ struct sh2000 {
 
 	double scale[SH2000_AXES];	/* counts per mm, as last read/set */
 
+	/* nonblock.c: the real-time calls */
+	int nb;				/* in one: locks are tried only once */
+	int tail_seen;			/* a poll has read TAIL */
+	uint16_t tail;			/* TAIL as the last poll read it */
+	uint16_t estop_ack_seen;	/* ESTOP_ACK as the last poll read it */
+	struct {
+		int busy;		/* started, not yet completed */
+		int motion;		/* took the motion lock shared */
+		int fresh;		/* ack[] read by a poll since the start */
+		uint16_t seq;
+		uint16_t ack[4];	/* CMD_ACK, RESULT, VALUE_LO/HI */
+		uint64_t t0;
+		unsigned int op;
+	} nbc;
+
 	char err[256];
 };
 
@@ -142,8 +157,32 @@ int sh2000_fresh_snapshot(struct sh2000 *h, int timeout_ms);
  * have wrapped (the caller re-reads it before calling the card stopped). */
 uint64_t sh2000_hb_note(struct sh2000 *h, uint16_t hb, uint64_t now);
 int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st);
+/* HOST_HEARTBEAT + 1 (the word after the status: one increment after a
+ * poll); *now is the time of it. */
+int sh2000_host_beat(struct sh2000 *h, uint64_t *now);
+/* A decoded status' verdict: -SH2000_EMAGIC (firmware gone),
+ * -SH2000_EHEARTBEAT (stopped for the limit), else 0. */
+int sh2000_status_alive(struct sh2000 *h, const uint16_t *w,
+			const struct sh2000_status *st);
+/* Fill *st from words 0..SH2000_STATUS_WORDS-1 of a consistent read
+ * (extends the counters). */
+void sh2000_status_decode(struct sh2000 *h, const uint16_t *w,
+			  struct sh2000_status *st);
 int sh2000_status_error_locked(struct sh2000 *h,
 			       const struct sh2000_status *st);
+
+/* segment.c: write n records from HEAD and publish them (HOST_HEARTBEAT
+ * and HEAD); the caller has checked the room and the claim. Returns n. */
+int sh2000_ring_write_locked(struct sh2000 *h,
+			     const int32_t (*pts)[SH2000_AXES], size_t n,
+			     unsigned int flags);
+/* Write OP..CHECK and then CMD_SEQ = the next sequence number (the
+ * caller holds the command slot); h->cmd_seq becomes it. */
+int sh2000_cmd_write(struct sh2000 *h, unsigned int op, unsigned int axis,
+		     unsigned int param, int32_t arg);
+/* Map a command result code to its error. */
+int sh2000_cmd_result_error(unsigned int res);
+const char *sh2000_cmd_op_name(unsigned int op);
 
 /* command.c, with the lock held (it may release it while waiting) */
 int sh2000_command_locked(struct sh2000 *h, unsigned int op,
@@ -158,6 +197,9 @@ int sh2000_arb_take(struct sh2000 *h, unsigned int which, short type,
 void sh2000_arb_drop(struct sh2000 *h, unsigned int which);
 int sh2000_arb_bus_take(struct sh2000 *h);
 int sh2000_arb_cmd_take(struct sh2000 *h);
+/* The command lock tried once: -EAGAIN if another program has it, else
+ * as sh2000_arb_cmd_take(). */
+int sh2000_arb_cmd_try(struct sh2000 *h);
 int sh2000_arb_claim_locked(struct sh2000 *h);
 /* Around a command that changes the motion (enable, disable, home,
  * set_position, reset): -SH2000_EOWNED naming the holder if another

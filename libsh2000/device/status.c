@@ -14,8 +14,8 @@
 /* Pause between re-reads once the immediate ones are spent. */
 #define TORN_WAIT_NS	20000ull
 
-static void decode(struct sh2000 *h, const uint16_t *w,
-		   struct sh2000_status *st)
+void sh2000_status_decode(struct sh2000 *h, const uint16_t *w,
+			  struct sh2000_status *st)
 {
 	unsigned int a;
 
@@ -30,6 +30,9 @@ static void decode(struct sh2000 *h, const uint16_t *w,
 	st->reject_seq = w[SH2000_W_REJECT_SEQ];
 	st->reject_reason = w[SH2000_W_REJECT_REASON];
 	st->reject_count = w[SH2000_W_REJECT_COUNT];
+	h->tail = w[SH2000_W_TAIL];
+	h->tail_seen = 1;
+	h->estop_ack_seen = w[SH2000_W_ESTOP_ACK];
 	{
 		uint32_t c = (uint32_t)sh2000_w32(&w[SH2000_W_SNAP_TIME_LO]);
 
@@ -129,16 +132,12 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 					   w[SH2000_W_SNAP_SEQ_BEGIN]);
 		sh2000_hold_wait(h, TORN_WAIT_NS);
 	}
-	h->host_hb++;
-	r = sh2000_wr1(h, SH2000_W_HOST_HEARTBEAT, h->host_hb);
+	r = sh2000_host_beat(h, &now);
 	if (r < 0)
 		return r;
-
-	now = sh2000_now_locked(h);
-	h->host_hb_ns = now;
 	st->retries = tries;
 	st->host_time_ns = now;
-	decode(h, w, st);
+	sh2000_status_decode(h, w, st);
 	st->heartbeat_age_ns = sh2000_hb_note(h, st->heartbeat, now);
 	/* the same heartbeat as long ago: wrapped, or stopped? Watch it
 	 * until it moves or the limit says stopped */
@@ -153,7 +152,12 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 						      sh2000_now_locked(h));
 	}
 	h->hb_unsure = 0;
+	return sh2000_status_alive(h, w, st);
+}
 
+int sh2000_status_alive(struct sh2000 *h, const uint16_t *w,
+			const struct sh2000_status *st)
+{
 	if (w[SH2000_W_MAGIC] != SH2000_PROTO_MAGIC)
 		return sh2000_fail(h, -SH2000_EMAGIC,
 				   "magic word (%u) now reads 0x%04x, expected 0x%04x: card lost its firmware",
@@ -166,6 +170,19 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 				   h->hb_limit_ns / 1e6,
 				   sh2000_state_name(st->card_state),
 				   (unsigned long long)st->card_cycle);
+	return 0;
+}
+
+int sh2000_host_beat(struct sh2000 *h, uint64_t *now)
+{
+	int r;
+
+	h->host_hb++;
+	r = sh2000_wr1(h, SH2000_W_HOST_HEARTBEAT, h->host_hb);
+	if (r < 0)
+		return r;
+	*now = sh2000_now_locked(h);
+	h->host_hb_ns = *now;
 	return 0;
 }
 

@@ -84,3 +84,9 @@ dup=$(cat "$t"/*.files | sort | uniq -d | while read -r f; do
 check "no file in two packages${dup:+: $dup}" [ -z "$dup" ]
 bad=$(cat "$t"/*.files | grep -E '^/usr/local|^/debian|^/DEBIAN|/build|\.o$|\.ko$|\.cmd$|\.mod\.c$' | head -n 5)
 check "no /usr/local, debian/, build paths or build outputs${bad:+: $bad}" [ -z "$bad" ]
+if [ -n "${debs[sh2000-linuxcnc]:-}" ]; then
+	for f in /usr/lib/linuxcnc/modules/hal_sh2000.so /usr/share/man/man9/hal_sh2000.9.gz \
+		/usr/share/doc/sh2000-linuxcnc/examples/sh2000-sim/sh2000-sim.ini; do
+		check "sh2000-linuxcnc has $f" contains sh2000-linuxcnc "$f"
+	done
+fi

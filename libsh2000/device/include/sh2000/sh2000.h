@@ -365,6 +365,64 @@ int sh2000_queue_free(struct sh2000 *h);
 int sh2000_wait_space(struct sh2000 *h, unsigned int n, int timeout_ms);
 int sh2000_wait_idle(struct sh2000 *h, int timeout_ms);
 
+/* ---- calls for a real-time thread: they never wait ------------------- */
+
+/*
+ * For a periodic real-time thread (a LinuxCNC servo thread): none of these
+ * sleeps, retries, or waits for a lock, and each is one bounded port
+ * sequence. What cannot be done now returns -EAGAIN ("try next tick") and
+ * changes nothing. docs/library.md "Real-time calls".
+ */
+
+/*
+ * One status read: words 0..46 streamed once, then the host heartbeat.
+ * 0: *st is a consistent status. -EAGAIN: the snapshot was torn by a
+ * publication (or the handle is busy in another thread): *st is left
+ * as it was, read again next tick. -SH2000_EHEARTBEAT (with *st filled)
+ * when the card heartbeat has not advanced for the handle's limit,
+ * -SH2000_EMAGIC when the firmware is gone. A started command's answer is
+ * kept for sh2000_command_complete().
+ */
+int sh2000_poll_once(struct sh2000 *h, struct sh2000_status *st);
+
+/*
+ * Start one command (enum sh2000_cmd_op) and return without waiting: 0
+ * when it is written. -EAGAIN: the command slot is in use by another
+ * thread or program; -EBUSY: this handle's last started command has not
+ * completed yet; -SH2000_EOWNED: a command that changes the motion while
+ * another program holds it. The card's command slot stays this handle's
+ * until sh2000_command_complete() returns something else than
+ * -EINPROGRESS or -EAGAIN.
+ */
+int sh2000_command_start(struct sh2000 *h, unsigned int op,
+			 unsigned int axis, unsigned int param, int32_t arg);
+/*
+ * The answer to the started command: 0 (and *value if not NULL) when the
+ * card answered OK, -SH2000_ECMD_* for its result code, -EINPROGRESS while
+ * it has not answered, -SH2000_ETIMEOUT (or -SH2000_EHEARTBEAT for a
+ * stopped card) after SH2000_CMD_TIMEOUT_MS, -EINVAL if none was started.
+ * Uses the words the last sh2000_poll_once() read when it ran after the
+ * start (no port cycles), else reads the four answer words.
+ */
+int sh2000_command_complete(struct sh2000 *h, int32_t *value);
+
+/*
+ * Queue one point (counts) as the next record, with flags SH2000_PUSH_*,
+ * without reading the card first: the room is what the last
+ * sh2000_poll_once() saw (the card only frees records, so that is a lower
+ * bound; sh2000_open() polls once). Returns 1; -SH2000_EQUEUE_FULL when
+ * that poll saw no room; -EAGAIN when the handle is busy in another
+ * thread; -SH2000_EOWNED unless this handle holds the motion
+ * (sh2000_claim_motion() first).
+ */
+int sh2000_push_point(struct sh2000 *h, const int32_t pt[SH2000_AXES],
+		      unsigned int flags);
+
+/* Emergency stop request (word 0 changed, 2 port cycles) without waiting
+ * for the acknowledgement: a later poll shows state ESTOP. -EAGAIN if the
+ * handle is busy in another thread. */
+int sh2000_estop_request(struct sh2000 *h);
+
 /* ---- raw access, for tools and tests --------------------------------- */
 
 struct sh2000_port_counters {

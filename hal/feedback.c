@@ -1,0 +1,159 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+/*
+ * Feedback aligned with the command's delay.
+ *
+ * LinuxCNC's following error is motor-pos-cmd (what it sent a tick ago)
+ * minus motor-pos-fb. The card plays a command only after the ring and
+ * its B-spline window, several coarse periods later, so the raw encoder
+ * lags the command by velocity x delay (1.66 mm at 200 mm/s for 8 ms) and
+ * LinuxCNC would trip on a card tracking to 0.1 um.
+ *
+ * The driver measures that delay D: the card's set-point in a status
+ * snapshot equals the command history at time t_snap - D. With D known,
+ *
+ *     position-fb = encoder + command(now) - command(t_snap - D)
+ *
+ * shifts the encoder forward by what the command did during the delay,
+ * and LinuxCNC's following error becomes command(t_snap - D) - encoder:
+ * the card's own tracking error, as long as the card plays what was sent.
+ * If it does not (a lost record, a card that stopped on its own), the
+ * difference shows in LinuxCNC's following error too.
+ *
+ * Time is in coarse periods: commands by tick, the snapshot by the
+ * card's servo cycle (hsc_snap_time). D is measured by matching the
+ * set-point against the history while the command moves steadily (where
+ * the match is unambiguous and the B-spline's smoothing of accelerations
+ * does not bias it), and filtered: while the time base is locked it is
+ * constant.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "hsc.h"
+
+/* Below this speed (counts per tick, all axes) a match is ambiguous. */
+#define FB_MIN_SPEED		20.0
+/* Relative change of speed across the match allowed (steady motion). */
+#define FB_MAX_ACCEL		0.002
+/* Filter of the measured delay. */
+#define FB_GAIN			0.1
+
+/* The command at fractional tick u (linear between ticks) and its
+ * velocity there; 0, or -1 when u is outside the history. */
+static int history_at(const struct hsc_card *c, double u,
+		      double pos[SH2000_AXES], double vel[SH2000_AXES])
+{
+	uint64_t last = c->hist_tick, first;
+	double fl = floor(u), f = u - fl;
+	uint64_t k;
+	unsigned int a;
+
+	if (!c->hist_n)
+		return -1;
+	first = c->hist_n >= HSC_HISTORY ? last - (HSC_HISTORY - 1) :
+		last - (c->hist_n - 1);
+	if (fl < (double)first || fl + 1 > (double)last)
+		return -1;
+	k = (uint64_t)fl;
+	for (a = 0; a < SH2000_AXES; a++) {
+		double p0 = c->hist[k % HSC_HISTORY][a];
+		double p1 = c->hist[(k + 1) % HSC_HISTORY][a];
+
+		pos[a] = p0 + f * (p1 - p0);
+		vel[a] = p1 - p0;
+	}
+	return 0;
+}
+
+/*
+ * Time of the snapshot in the card's own time, in coarse periods: its
+ * servo cycle over the cycles per period. The card plays one record per
+ * coarse period of its clock, so in this time base the delay from a
+ * command to its playing is constant as long as the card runs the stream
+ * without a gap, whatever the servo thread's lateness or the PC's clock.
+ */
+double hsc_snap_time(const struct hsc_card *c)
+{
+	double n = c->servo_ns > 0 ? (double)c->period_ns / (double)c->servo_ns :
+		   10.0;
+
+	return (double)c->st.card_cycle / n;
+}
+
+/*
+ * For the delay-ms pin only: the PC's time of the snapshot (the read's
+ * time less the snapshot's age; HEARTBEAT counts the same servo cycles as
+ * SNAP_TIME) minus its card time, filtered: the delay in card time plus
+ * this is the delay a person measures.
+ */
+void hsc_clock_offset(struct hsc_card *c, long late_ns)
+{
+	uint16_t age = (uint16_t)(c->st.heartbeat - (uint16_t)c->st.card_cycle);
+	double per = c->period_ns > 0 ? (double)c->period_ns : 1e6;
+	double host = (double)c->tick + (double)late_ns / per -
+		      (double)age * (double)c->servo_ns / per;
+	double off = host - c->snap_t;
+
+	if (!c->clock_off_valid || fabs(off - c->clock_off) > 2.0)
+		c->clock_off = off;
+	else
+		c->clock_off += 0.01 * (off - c->clock_off);
+	c->clock_off_valid = 1;
+}
+
+/* One fresh snapshot: measure the delay where the motion allows. */
+void hsc_delay_update(struct hsc_card *c)
+{
+	double pos[SH2000_AXES], vel[SH2000_AXES], v2 = 0, dot = 0;
+	double t, u, d, va[SH2000_AXES], pa[SH2000_AXES];
+	unsigned int a, en = hsc_enabled(&c->st);
+
+	if (!c->streaming || !en)
+		return;
+	t = c->snap_t;
+	/* first guess: the card plays the record pushed about fill + 2
+	 * ticks ago (the ring, then the B-spline window) */
+	u = c->delay_valid ? t - c->delay :
+	    (double)c->hist_tick - (double)c->st.queue_fill - 2.0;
+	if (history_at(c, u, pos, vel) < 0)
+		return;
+	for (a = 0; a < SH2000_AXES; a++) {
+		if (!(en & (1u << a)))
+			continue;
+		v2 += vel[a] * vel[a];
+		dot += vel[a] * ((double)c->st.axis[a].cmd_counts - pos[a]);
+	}
+	if (v2 < FB_MIN_SPEED * FB_MIN_SPEED)
+		return;
+	/* one Newton step along the motion, then check it is steady over
+	 * the neighbouring ticks */
+	u += dot / v2;
+	if (history_at(c, u - 1, pa, va) < 0 || history_at(c, u, pos, vel) < 0)
+		return;
+	for (a = 0; a < SH2000_AXES; a++)
+		if (fabs(vel[a] - va[a]) > FB_MAX_ACCEL * sqrt(v2) + 1.0)
+			return;
+	d = t - u;
+	if (!c->delay_valid || fabs(d - c->delay) > 2.0) {
+		c->delay = d;	/* first, or after a jump: take it */
+		c->delay_valid = 1;
+	} else {
+		c->delay += FB_GAIN * (d - c->delay);
+	}
+}
+
+/* position-fb of axis a in counts. */
+double hsc_feedback_counts(const struct hsc_card *c, unsigned int a)
+{
+	const struct sh2000_axis_status *ax = &c->st.axis[a];
+	double pos[SH2000_AXES], vel[SH2000_AXES];
+
+	if (!c->streaming || !c->have_cmd)
+		return (double)ax->pos_counts;
+	if (c->delay_valid &&
+	    history_at(c, c->snap_t - c->delay, pos, vel) == 0)
+		return (double)ax->pos_counts + (double)c->last_cmd[a] - pos[a];
+	/* no delay measured yet: the set-point is the delayed command */
+	return (double)ax->pos_counts + (double)c->last_cmd[a] -
+	       (double)ax->cmd_counts;
+}

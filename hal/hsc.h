@@ -1,0 +1,191 @@
+/* SPDX-License-Identifier: GPL-2.0-or-later */
+/*
+ * hal_sh2000's logic without LinuxCNC ("hsc": HAL sh2000 card): one card
+ * driven by a periodic servo thread through libsh2000's real-time calls
+ * only (sh2000_poll_once, sh2000_command_start/complete, sh2000_push_point,
+ * sh2000_estop_request). hal_sh2000.c copies HAL pins in and out of the
+ * plain structs below; the tests drive the same code against the card
+ * model without LinuxCNC. docs/linuxcnc.md explains the behaviour.
+ */
+#ifndef HSC_H
+#define HSC_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sh2000/sh2000.h"
+
+/* Records queued ahead of the card by default: 4 ms at a 1 ms period, so
+ * a servo thread late by up to 3 ms does not starve the card. */
+#define HSC_QUEUE_TARGET	4
+/* How far the fill may stray from the target before the stream stalls
+ * or drops a point (the clock correction normally keeps it within 1). */
+#define HSC_FILL_SLACK		8
+/* Servo cycles per coarse period the driver aims at (100 us at 1 ms). */
+#define HSC_SERVO_NS		100000
+
+struct hsc_axis_in {
+	double position_cmd;	/* machine units */
+	int enable;
+	int index_enable;
+	double position_scale;	/* counts per machine unit */
+};
+
+struct hsc_axis_out {
+	double position_fb;	/* aligned with the command's delay */
+	double encoder_position;	/* raw encoder, machine units */
+	double f_error;		/* the card's own, machine units */
+	int32_t counts;
+	int amp_fault;
+	int home_sw, limit_pos, limit_neg;
+	int index_enable;
+};
+
+struct hsc_in {
+	int estop;
+	int fault_reset;
+	int queue_target;	/* records; <= 0: HSC_QUEUE_TARGET */
+	struct hsc_axis_in axis[SH2000_AXES];
+};
+
+struct hsc_out {
+	int ok;
+	int fault;
+	int32_t queue_fill;
+	int32_t card_state;
+	uint32_t underruns;
+	uint32_t port_cycles;	/* of the last read + write */
+	int32_t pll_correction_ns;
+	double delay_ms;	/* command to the card's set-point, 0 unknown */
+	struct hsc_axis_out axis[SH2000_AXES];
+};
+
+/* Why the driver stopped streaming on its own (latched until
+ * fault-reset). */
+enum hsc_stream_fault {
+	HSC_SF_NONE = 0,
+	HSC_SF_LOST,		/* card heartbeat or firmware gone */
+	HSC_SF_STOPPED,		/* another program stopped the motion */
+	HSC_SF_POINT,		/* a command not representable in counts */
+	HSC_SF_CONFIG,		/* the card refused the timing */
+	HSC_SF_COMMAND,		/* a command failed */
+};
+
+/* The clock of the card against the servo thread's (timebase.c). */
+struct hsc_timebase {
+	int locked;		/* has a reference */
+	uint64_t hb_ext;	/* heartbeat extended to 64 bits */
+	uint16_t hb_last;
+	uint64_t hb0;		/* heartbeat at the reference */
+	uint64_t tick0;		/* tick at the reference */
+	double off;		/* lateness of the reference read, records */
+	double integ;		/* PI integrator, records per tick */
+	double phase;		/* last phase error, records */
+	int outliers;		/* readings skipped in a row */
+	double rate;		/* card records per tick - 1 (estimate) */
+	double correction;	/* thread period correction, fraction */
+};
+
+#define HSC_HISTORY	256u	/* ticks of commands kept (power of 2) */
+
+struct hsc_card {
+	struct sh2000 *h;
+	char device[128];
+	int index;		/* N of sh2000.N */
+	int master;		/* slaves the servo thread (the first card) */
+	int io_thread_ready;	/* io: ioperm() done in the servo thread */
+
+	/* what the card last showed */
+	struct sh2000_status st;
+	int st_valid;		/* a consistent status was read */
+	int st_fresh;		/* ...in this tick's read */
+	int lost;		/* heartbeat/magic: the card is gone */
+	unsigned int last_faults;
+
+	/* the timing the driver set on the card */
+	long period_ns;		/* servo thread period, 0 before the first tick */
+	int configured;		/* coarse period etc. set for period_ns */
+	int cfg_step;
+
+	/* one command in flight at a time */
+	int cmd_busy;
+	unsigned int cmd_op;
+	unsigned int cmd_arg;
+
+	/* enabling and streaming */
+	unsigned int want_mask;	/* enable pins */
+	int streaming;
+	int stream_ticks;
+	int seen_running;	/* the card has run this stream */
+	int ending;		/* END pushed, waiting for idle */
+	enum hsc_stream_fault sfault;
+	int reset_edge, reset_last;
+	int estop_last;
+	uint64_t estop_tick;
+	uint64_t tick;
+
+	/* commands in counts, one per tick: hist[tick % HSC_HISTORY] */
+	int32_t hist[HSC_HISTORY][SH2000_AXES];
+	uint64_t hist_n;	/* entries written */
+	uint64_t hist_tick;	/* tick of the newest */
+	long servo_ns;		/* the card's servo period as configured */
+	long late_ns;		/* this tick's lateness */
+	int queue_target;	/* records, as the pin last said */
+	double snap_t;		/* card time of the snapshot, periods */
+	int delay_valid;
+	double delay;		/* command to card set-point, card time */
+	int clock_off_valid;
+	double clock_off;	/* PC time - card time of snapshots */
+	int32_t last_cmd[SH2000_AXES];
+	int have_cmd;
+
+	uint32_t underruns;
+	struct sh2000_port_counters pc_last;
+	uint32_t port_cycles;
+	struct hsc_timebase tb;
+	char err[256];
+};
+
+/* Open and check the card (not real-time: at module load). msg gets the
+ * reason on failure. */
+int hsc_open(struct hsc_card *c, int index, const char *device, char *msg,
+	     size_t len);
+void hsc_close(struct hsc_card *c);
+/* Default position-scale of an axis: the card's own scale (counts/mm). */
+double hsc_default_scale(struct hsc_card *c, unsigned int axis);
+
+/*
+ * One servo tick, in two halves: read first in the thread (status,
+ * feedback, answers), write last (commands, the point, the thread's
+ * correction). period_ns is the thread's period; late_ns how far after its
+ * scheduled start the tick runs (0 if unknown).
+ */
+void hsc_read(struct hsc_card *c, const struct hsc_in *in,
+	      struct hsc_out *out, long period_ns, long late_ns);
+void hsc_write(struct hsc_card *c, const struct hsc_in *in,
+	       struct hsc_out *out);
+
+/* The card's state as the decisions see it: moving (running, stopping,
+ * homing), a fault or estop latched, the mask of enabled axes. */
+int hsc_moving(unsigned int state);
+int hsc_faulted(const struct sh2000_status *st);
+unsigned int hsc_enabled(const struct sh2000_status *st);
+
+/* Servo cycles per coarse period for a thread period (write.c). */
+int hsc_fine_steps(long period_ns);
+
+/* feedback.c: the delay from command to the card's set-point, measured
+ * on a fresh snapshot; position-fb of an axis, in counts. */
+double hsc_snap_time(const struct hsc_card *c);
+void hsc_clock_offset(struct hsc_card *c, long late_ns);
+void hsc_delay_update(struct hsc_card *c);
+double hsc_feedback_counts(const struct hsc_card *c, unsigned int a);
+
+/* timebase.c */
+void hsc_tb_reset(struct hsc_timebase *tb);
+/* A heartbeat read `late_ns` after the tick's start. Returns 1 when the
+ * card's clock jumped (the reference starts again). */
+int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
+		  long late_ns, long period_ns, long servo_ns);
+
+#endif /* HSC_H */

@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+/*
+ * The card's clock against the servo thread's. The card consumes one
+ * record per coarse period of its own clock; the thread pushes one per
+ * tick of the PC's. The two clocks differ by tens of ppm, so without
+ * correction the ring slowly fills or drains. The card heartbeat (+1 per
+ * servo cycle) read at every tick is the phase detector; a PI filter turns
+ * the phase error into a correction of the thread's period, which
+ * hal_sh2000.c hands to rtapi_task_pll_set_correction() (as lcec does for
+ * EtherCAT distributed clocks and hostmot2 with its DPLL).
+ *
+ * Units: records (= coarse periods = ticks when locked). The heartbeat is
+ * quantised to a servo cycle, a tenth of a record at the default timing;
+ * the filter's bandwidth (time constant about 100 ticks) averages that.
+ */
+#include <math.h>
+
+#include "hsc.h"
+
+/* PI gains on the phase error, in records per tick per record: a time
+ * constant of some 300 ticks. Clocks drift by tens of ppm (1e-4 records
+ * per tick at most), so a slow loop follows them easily and averages the
+ * heartbeat's quantisation and the read's jitter. */
+#define TB_KP		0.006
+#define TB_KI		0.00002
+/* A single phase reading this far from the last one is a late read or a
+ * card that was descheduled for a moment, not the clock: skipped. */
+#define TB_OUTLIER	0.3
+/* rtapi_app limits a correction to 1 % of the period. */
+#define TB_LIMIT	0.01
+/* A phase error this large is not drift: the card restarted, or the
+ * thread stalled. Start again from here. */
+#define TB_RELOCK	2.0
+
+void hsc_tb_reset(struct hsc_timebase *tb)
+{
+	tb->locked = 0;
+	tb->integ = 0;
+	tb->phase = 0;
+	tb->rate = 0;
+	tb->correction = 0;
+}
+
+static double clamp(double v, double lim)
+{
+	return v > lim ? lim : v < -lim ? -lim : v;
+}
+
+int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
+		  long late_ns, long period_ns, long servo_ns)
+{
+	double per_tick, x, eps, y;
+
+	if (period_ns <= 0 || servo_ns <= 0)
+		return 0;
+	per_tick = (double)period_ns / (double)servo_ns;	/* cycles */
+	if (!tb->locked) {
+		/* the reference: this tick is phase zero */
+		tb->hb_ext = hb;
+		tb->hb_last = hb;
+		tb->hb0 = hb;
+		tb->tick0 = tick;
+		tb->off = -(double)late_ns / (double)period_ns;
+		tb->phase = 0;
+		tb->outliers = 0;
+		tb->locked = 1;
+		return 0;
+	}
+	tb->hb_ext += (uint16_t)(hb - tb->hb_last);
+	tb->hb_last = hb;
+	/* card coarse periods since the reference, at the tick's start */
+	x = (double)(tb->hb_ext - tb->hb0) / per_tick -
+	    (double)late_ns / (double)period_ns - tb->off;
+	eps = x - (double)(tick - tb->tick0);
+	if (fabs(eps) > TB_RELOCK) {
+		tb->locked = 0;
+		hsc_tb_update(tb, tick, hb, late_ns, period_ns, servo_ns);
+		return 1;
+	}
+	if (fabs(eps - tb->phase) > TB_OUTLIER && tb->outliers < 10) {
+		tb->outliers++;
+		return 0;
+	}
+	tb->outliers = 0;
+	tb->phase = eps;
+	tb->integ = clamp(tb->integ + TB_KI * eps, TB_LIMIT);
+	y = TB_KP * eps + tb->integ;
+	tb->rate = tb->integ;
+	/* a card ahead (eps > 0) needs shorter ticks */
+	tb->correction = clamp(-y, TB_LIMIT);
+	return 0;
+}

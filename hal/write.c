@@ -1,0 +1,304 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+/*
+ * The write half of a tick: the card's timing (once, for the thread's
+ * period), the commands the pins ask for (reset, enable, disable), and the
+ * stream: one coarse point per tick while the enabled axes are the ones
+ * the enable pins want. Never more than one command in flight; every call
+ * is one of libsh2000's real-time calls.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "hsc.h"
+
+static void start(struct hsc_card *c, unsigned int op, unsigned int axis,
+		  unsigned int param, int32_t arg)
+{
+	int r = sh2000_command_start(c->h, op, axis, param, arg);
+
+	if (r == 0) {
+		c->cmd_busy = 1;
+		c->cmd_op = op;
+		c->cmd_arg = (unsigned int)arg;
+	} else if (r != -EAGAIN) {
+		snprintf(c->err, sizeof(c->err), "%s", sh2000_last_error(c->h));
+		c->sfault = op == SH2000_CMD_SET_PARAM ? HSC_SF_CONFIG :
+			    HSC_SF_COMMAND;
+	}
+}
+
+/* Fine steps for a coarse period: servo cycles near HSC_SERVO_NS that
+ * divide it exactly (the card's rule). */
+int hsc_fine_steps(long period_ns)
+{
+	long n = period_ns / HSC_SERVO_NS;
+
+	if (n < 1)
+		n = 1;
+	while (n > 1 && period_ns % n)
+		n--;
+	return (int)n;
+}
+
+/*
+ * The card's timing follows the thread: coarse period = the thread's
+ * period, fine steps for ~100 us servo cycles, and a status period one
+ * cycle longer than the coarse period, so that a poll torn by a
+ * publication is never torn again on the next tick. fine_steps is set to
+ * 1 first, which every coarse period allows.
+ */
+static void configure(struct hsc_card *c)
+{
+	int n = hsc_fine_steps(c->period_ns);
+
+	if (c->period_ns % 1000 || c->period_ns / 1000 < 100 ||
+	    c->period_ns / 1000 > 100000) {
+		if (c->sfault == HSC_SF_NONE)
+			snprintf(c->err, sizeof(c->err),
+				 "%s: servo period %ld ns: the card needs a whole number of us in 100..100000",
+				 c->device, c->period_ns);
+		c->sfault = HSC_SF_CONFIG;
+		return;
+	}
+	switch (c->cfg_step) {
+	case 0:
+		start(c, SH2000_CMD_SET_PARAM, SH2000_AXIS_GLOBAL,
+		      SH2000_GP_FINE_STEPS, 1);
+		break;
+	case 1:
+		start(c, SH2000_CMD_SET_PARAM, SH2000_AXIS_GLOBAL,
+		      SH2000_GP_COARSE_PERIOD_US, (int32_t)(c->period_ns / 1000));
+		break;
+	case 2:
+		start(c, SH2000_CMD_SET_PARAM, SH2000_AXIS_GLOBAL,
+		      SH2000_GP_FINE_STEPS, n);
+		break;
+	case 3:
+		start(c, SH2000_CMD_SET_PARAM, SH2000_AXIS_GLOBAL,
+		      SH2000_GP_STATUS_PERIOD, n + 1);
+		break;
+	default:
+		c->configured = 1;
+		break;
+	}
+}
+
+/* The pins' command in counts; 0, or -1 when one is not representable. */
+static int command_counts(struct hsc_card *c, const struct hsc_in *in,
+			  int32_t cmd[SH2000_AXES])
+{
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		double v = nearbyint(in->axis[a].position_cmd *
+				     in->axis[a].position_scale);
+
+		if (!isfinite(v) || v < INT32_MIN || v > INT32_MAX) {
+			if (c->sfault == HSC_SF_NONE)
+				snprintf(c->err, sizeof(c->err),
+					 "%s: axis %u: position-cmd %g is not representable in counts",
+					 c->device, a, in->axis[a].position_cmd);
+			return -1;
+		}
+		cmd[a] = (int32_t)v;
+	}
+	return 0;
+}
+
+/* The point of this tick: the command for enabled axes, where a disabled
+ * axis is for the others (the card rejects a disabled axis moved). */
+static void point(struct hsc_card *c, int32_t pt[SH2000_AXES])
+{
+	unsigned int a, en = hsc_enabled(&c->st);
+
+	for (a = 0; a < SH2000_AXES; a++)
+		pt[a] = en & (1u << a) ? c->last_cmd[a] :
+			(int32_t)c->st.axis[a].pos_counts;
+}
+
+static void push(struct hsc_card *c, unsigned int flags)
+{
+	int32_t pt[SH2000_AXES];
+	int r;
+
+	point(c, pt);
+	r = sh2000_push_point(c->h, pt, flags);
+	if (r < 0 && r != -EAGAIN && r != -SH2000_EQUEUE_FULL) {
+		snprintf(c->err, sizeof(c->err), "%s", sh2000_last_error(c->h));
+		c->sfault = HSC_SF_COMMAND;
+		c->streaming = 0;
+	}
+}
+
+/* Is the stream still the card's motion? */
+static void check_stream(struct hsc_card *c)
+{
+	if (!c->streaming || !c->st_fresh)
+		return;
+	if (hsc_faulted(&c->st)) {
+		c->streaming = 0;	/* the card stopped: its fault says why */
+		return;
+	}
+	if (c->st.card_state == SH2000_STATE_RUNNING)
+		c->seen_running = 1;
+	/*
+	 * A STOP command from another program: the card decelerates
+	 * (STOPPING without a fault) and goes idle with the ring discarded.
+	 * A card that has simply not started on the first records yet (a
+	 * served model that was descheduled) is idle too, but has not been
+	 * seen running.
+	 */
+	if (c->st.card_state == SH2000_STATE_STOPPING ||
+	    (c->seen_running && c->st.card_state == SH2000_STATE_IDLE)) {
+		snprintf(c->err, sizeof(c->err),
+			 "%s: the card left the motion (state %s): stopped by another program",
+			 c->device, sh2000_state_name(c->st.card_state));
+		c->sfault = HSC_SF_STOPPED;
+		c->streaming = 0;
+	}
+}
+
+static void start_stream(struct hsc_card *c, int target)
+{
+	int i;
+
+	/* enough records ahead for a thread that is late, pushed at once:
+	 * the card starts on the first and needs the next a coarse period
+	 * later */
+	for (i = 0; i < target; i++)
+		push(c, 0);
+	c->streaming = c->sfault == HSC_SF_NONE;
+	c->seen_running = 0;
+	c->delay_valid = 0;
+	c->stream_ticks = -1;	/* this tick's point is in the batch */
+}
+
+static void stream(struct hsc_card *c, int target)
+{
+	int fill = (int)c->st.queue_fill;
+
+	if (c->stream_ticks++ < 0)
+		return;
+	/*
+	 * One point per tick; the clock correction keeps the fill. Only
+	 * when that fails (a card that slipped, a thread that fell far
+	 * behind) does the stream stall a point or drop one, which moves
+	 * the card's timeline by a tick: the measured delay is void then.
+	 * A tick that runs late sees the card ahead by its lateness.
+	 */
+	if (c->st_fresh) {
+		int ahead = fill + (int)(c->late_ns / c->period_ns);
+		int slack = target / 2 > HSC_FILL_SLACK ? target / 2 :
+			    HSC_FILL_SLACK;
+
+		if (ahead > target + slack ||
+		    fill >= (int)sh2000_queue_size(c->h) - 1) {
+			c->delay_valid = 0;
+			return;
+		}
+		if (ahead < target - slack && fill < 2) {
+			c->delay_valid = 0;
+			push(c, 0);
+		}
+	}
+	push(c, 0);
+}
+
+static void commands(struct hsc_card *c, const struct hsc_in *in, int target)
+{
+	unsigned int en = hsc_enabled(&c->st), want = c->want_mask;
+	int idle = c->st.card_state == SH2000_STATE_IDLE;
+
+	if (c->reset_edge && !in->estop && !c->streaming) {
+		c->reset_edge = 0;
+		c->sfault = HSC_SF_NONE;
+		c->err[0] = 0;
+		if (hsc_faulted(&c->st) && !hsc_moving(c->st.card_state))
+			start(c, SH2000_CMD_RESET, 0, 0, 0);
+		return;
+	}
+	if (!c->configured) {
+		if (!hsc_moving(c->st.card_state) && !c->streaming)
+			configure(c);
+		return;
+	}
+	if (c->sfault != HSC_SF_NONE || c->lost || hsc_faulted(&c->st) ||
+	    in->estop || c->ending) {
+		/* axes still enabled after a fault and not wanted */
+		if ((en & ~want) && !hsc_moving(c->st.card_state) && !c->streaming)
+			start(c, SH2000_CMD_DISABLE, 0, 0, (int32_t)(en & ~want));
+		return;
+	}
+	if (c->streaming) {
+		if ((want & en) != en || want != en) {
+			/* an axis is being disabled: end the motion where
+			 * the command is, then disable once idle */
+			push(c, SH2000_PUSH_END);
+			c->streaming = 0;
+			c->ending = 1;
+		}
+		return;
+	}
+	if ((want & ~en) && idle)
+		start(c, SH2000_CMD_ENABLE, 0, 0, (int32_t)(want & ~en));
+	else if ((en & ~want) && !hsc_moving(c->st.card_state))
+		start(c, SH2000_CMD_DISABLE, 0, 0, (int32_t)(en & ~want));
+	else if (want && want == en && idle && c->st_fresh)
+		start_stream(c, target);
+}
+
+void hsc_write(struct hsc_card *c, const struct hsc_in *in,
+	       struct hsc_out *out)
+{
+	struct sh2000_port_counters pc;
+	int32_t cmd[SH2000_AXES];
+	int target = in->queue_target > 0 ? in->queue_target : HSC_QUEUE_TARGET;
+	unsigned int a;
+
+	if (!c->h)
+		return;
+	if (target > (int)sh2000_queue_size(c->h) - 4)
+		target = (int)sh2000_queue_size(c->h) - 4;
+	c->queue_target = target;
+	c->want_mask = 0;
+	for (a = 0; a < SH2000_AXES; a++)
+		if (in->axis[a].enable)
+			c->want_mask |= 1u << a;
+	if (in->fault_reset && !c->reset_last)
+		c->reset_edge = 1;
+	c->reset_last = in->fault_reset;
+
+	if (command_counts(c, in, cmd) == 0) {
+		memcpy(c->last_cmd, cmd, sizeof(cmd));
+		c->have_cmd = 1;
+	} else if (c->streaming) {
+		c->sfault = HSC_SF_POINT;
+		c->streaming = 0;
+	}
+	/* one entry per tick (a bad command repeats the last good one) */
+	memcpy(c->hist[c->tick % HSC_HISTORY], c->last_cmd, sizeof(cmd));
+	c->hist_n++;
+	c->hist_tick = c->tick;
+	if (c->ending && c->st_fresh && !hsc_moving(c->st.card_state))
+		c->ending = 0;
+	check_stream(c);
+	if (!c->cmd_busy && !c->lost)
+		commands(c, in, target);
+	if (c->streaming && c->sfault == HSC_SF_NONE)
+		stream(c, target);
+
+	out->pll_correction_ns = c->master && c->tb.locked ?
+		(int32_t)lrint(c->tb.correction * (double)c->period_ns) : 0;
+	if (sh2000_port_counters(c->h, &pc) == 0) {
+		c->port_cycles = (uint32_t)((pc.clears + pc.increments +
+					     pc.data_reads + pc.data_writes) -
+					    (c->pc_last.clears + c->pc_last.increments +
+					     c->pc_last.data_reads + c->pc_last.data_writes));
+		c->pc_last = pc;
+	}
+	out->port_cycles = c->port_cycles;
+	out->fault = c->lost || hsc_faulted(&c->st) || c->sfault != HSC_SF_NONE;
+	out->ok = !out->fault && c->st_valid;
+}

@@ -1,0 +1,228 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The calls a periodic real-time thread makes (a LinuxCNC servo thread,
+ * hal/): one bounded port sequence each, no sleep, no retry, every lock
+ * tried once. Whatever would have to wait returns -EAGAIN and is done on
+ * a later tick instead: a torn snapshot is read again next tick, a
+ * command is started in one tick and its answer picked up in a later
+ * one, a point is pushed against the room the last poll saw.
+ */
+#include <errno.h>
+#include <string.h>
+
+#include "sh2000_internal.h"
+
+/* The handle's mutex, tried once; h->nb makes the locks below it (the io:
+ * bus lock) try once too. */
+static int nb_enter(struct sh2000 *h)
+{
+	if (pthread_mutex_trylock(&h->lock))
+		return -EAGAIN;
+	h->nb = 1;
+	return 0;
+}
+
+static int nb_leave(struct sh2000 *h, int r)
+{
+	h->nb = 0;
+	pthread_mutex_unlock(&h->lock);
+	return r;
+}
+
+static int poll_once_locked(struct sh2000 *h, struct sh2000_status *st)
+{
+	uint16_t w[SH2000_STATUS_WORDS];
+	uint64_t now;
+	int r;
+
+	r = sh2000_rd(h, 0, SH2000_STATUS_WORDS, w);
+	if (r < 0)
+		return r;
+	/* the host is alive whether or not the snapshot tore: one stream,
+	 * the heartbeat is the next word */
+	r = sh2000_host_beat(h, &now);
+	if (r < 0)
+		return r;
+	if (w[SH2000_W_SNAP_SEQ_END] != w[SH2000_W_SNAP_SEQ_BEGIN])
+		return -EAGAIN;
+	if (h->nbc.busy) {
+		memcpy(h->nbc.ack, &w[SH2000_W_CMD_ACK], sizeof(h->nbc.ack));
+		h->nbc.fresh = 1;
+	}
+	memset(st, 0, sizeof(*st));
+	st->host_time_ns = now;
+	sh2000_status_decode(h, w, st);
+	st->heartbeat_age_ns = sh2000_hb_note(h, st->heartbeat, now);
+	/* An unchanged heartbeat after a gap it may have wrapped in: the
+	 * watch restarted from now, so a stopped card still shows within
+	 * the limit on later ticks; nothing to wait for here. */
+	h->hb_unsure = 0;
+	return sh2000_status_alive(h, w, st);
+}
+
+int sh2000_poll_once(struct sh2000 *h, struct sh2000_status *st)
+{
+	int r = nb_enter(h);
+
+	return r ? r : nb_leave(h, poll_once_locked(h, st));
+}
+
+/* Motion-changing commands need the motion lock (shared, for the length
+ * of the command) unless this handle holds it. */
+static int nb_changes_motion(unsigned int op)
+{
+	return op == SH2000_CMD_ENABLE || op == SH2000_CMD_DISABLE ||
+	       op == SH2000_CMD_HOME || op == SH2000_CMD_SET_POSITION ||
+	       op == SH2000_CMD_RESET;
+}
+
+static int start_locked(struct sh2000 *h, unsigned int op, unsigned int axis,
+			unsigned int param, int32_t arg)
+{
+	int r;
+
+	if (h->nbc.busy)
+		return sh2000_fail(h, -EBUSY,
+				   "command %s: the started command %s has not completed",
+				   sh2000_cmd_op_name(op),
+				   sh2000_cmd_op_name(h->nbc.op));
+	if (h->cmd_busy)
+		return -EAGAIN;		/* another thread's command */
+	if (nb_changes_motion(op)) {
+		r = sh2000_arb_motion_begin(h, sh2000_cmd_op_name(op));
+		if (r < 0)
+			return r;
+		h->nbc.motion = 1;
+	}
+	r = sh2000_arb_cmd_try(h);
+	if (r > 0)
+		r = sh2000_rd(h, SH2000_W_CMD_SEQ, 1, &h->cmd_seq);
+	if (r < 0)
+		goto fail;
+	r = sh2000_cmd_write(h, op, axis, param, arg);
+	if (r < 0) {
+		sh2000_arb_drop(h, SH2000_ARB_CMD);
+		goto fail;
+	}
+	h->cmd_busy = 1;		/* blocking commands wait for it */
+	h->nbc.busy = 1;
+	h->nbc.fresh = 0;
+	h->nbc.seq = h->cmd_seq;
+	h->nbc.op = op;
+	h->nbc.t0 = sh2000_now_locked(h);
+	return 0;
+fail:
+	if (h->nbc.motion)
+		sh2000_arb_motion_end(h);
+	h->nbc.motion = 0;
+	return r;
+}
+
+int sh2000_command_start(struct sh2000 *h, unsigned int op, unsigned int axis,
+			 unsigned int param, int32_t arg)
+{
+	int r = nb_enter(h);
+
+	return r ? r : nb_leave(h, start_locked(h, op, axis, param, arg));
+}
+
+/* The started command is over (answered or given up): the slot and the
+ * locks are free again. */
+static void finish(struct sh2000 *h)
+{
+	sh2000_arb_drop(h, SH2000_ARB_CMD);
+	if (h->nbc.motion)
+		sh2000_arb_motion_end(h);
+	h->nbc.motion = 0;
+	h->nbc.busy = 0;
+	h->cmd_busy = 0;
+	pthread_cond_broadcast(&h->cmd_cond);
+}
+
+static int complete_locked(struct sh2000 *h, int32_t *value)
+{
+	uint64_t waited;
+	int r;
+
+	if (!h->nbc.busy)
+		return sh2000_fail(h, -EINVAL, "no command was started");
+	if (!h->nbc.fresh) {
+		r = sh2000_rd(h, SH2000_W_CMD_ACK, 4, h->nbc.ack);
+		if (r < 0)
+			return r;
+	}
+	h->nbc.fresh = 0;
+	if (h->nbc.ack[0] != h->nbc.seq) {
+		waited = sh2000_now_locked(h) - h->nbc.t0;
+		if (waited <= SH2000_CMD_TIMEOUT_MS * 1000000ull)
+			return -EINPROGRESS;
+		finish(h);
+		/* the last poll's heartbeat age tells a stopped card */
+		if (sh2000_now_locked(h) - h->hb_change_ns >= h->hb_limit_ns)
+			return sh2000_fail(h, -SH2000_EHEARTBEAT,
+					   "command %s (seq %u): no answer, card heartbeat stopped",
+					   sh2000_cmd_op_name(h->nbc.op),
+					   h->nbc.seq);
+		return sh2000_fail(h, -SH2000_ETIMEOUT,
+				   "command %s (seq %u): no answer within %d ms",
+				   sh2000_cmd_op_name(h->nbc.op), h->nbc.seq,
+				   SH2000_CMD_TIMEOUT_MS);
+	}
+	finish(h);
+	if (h->nbc.ack[1] != SH2000_RES_OK)
+		return sh2000_fail(h, sh2000_cmd_result_error(h->nbc.ack[1]),
+				   "command %s (seq %u): card answered %s",
+				   sh2000_cmd_op_name(h->nbc.op), h->nbc.seq,
+				   sh2000_result_name(h->nbc.ack[1]));
+	if (value)
+		*value = sh2000_w32(&h->nbc.ack[2]);
+	return 0;
+}
+
+int sh2000_command_complete(struct sh2000 *h, int32_t *value)
+{
+	int r = nb_enter(h);
+
+	return r ? r : nb_leave(h, complete_locked(h, value));
+}
+
+static int push_point_locked(struct sh2000 *h, const int32_t pt[SH2000_AXES],
+			     unsigned int flags)
+{
+	unsigned int fill;
+
+	if (h->arb.fd >= 0 && !h->arb.motion)
+		return sh2000_fail(h, -SH2000_EOWNED,
+				   "pushing a point: this handle does not hold the motion (sh2000_claim_motion() first)");
+	if (!h->tail_seen)
+		return -EAGAIN;
+	fill = (uint16_t)(h->head - h->tail);
+	if (fill >= SH2000_RING_RECORDS)
+		return sh2000_fail(h, -SH2000_EQUEUE_FULL,
+				   "one point: the last poll saw %u of %u records queued",
+				   fill, SH2000_RING_RECORDS);
+	return sh2000_ring_write_locked(h, (const int32_t (*)[SH2000_AXES])pt,
+					1, flags);
+}
+
+int sh2000_push_point(struct sh2000 *h, const int32_t pt[SH2000_AXES],
+		      unsigned int flags)
+{
+	int r = nb_enter(h);
+
+	return r ? r : nb_leave(h, push_point_locked(h, pt, flags));
+}
+
+int sh2000_estop_request(struct sh2000 *h)
+{
+	int r = nb_enter(h);
+
+	if (r)
+		return r;
+	/* any value but the card's ESTOP_ACK is a request: step over an
+	 * acknowledgement another program's stop left at our next value */
+	h->estop_req++;
+	if (h->tail_seen && h->estop_req == h->estop_ack_seen)
+		h->estop_req++;
+	return nb_leave(h, sh2000_wr1(h, SH2000_W_ESTOP_REQ, h->estop_req));
+}

@@ -1,0 +1,155 @@
+# SPDX-License-Identifier: MIT
+"""sh2000.Card: an open card, over the extension's Card (one libsh2000 call
+per method). Axes are "x", "y", "z", "a" (or 0..3); times in seconds."""
+from . import _sh2000
+from ._error import Error
+from ._program import Program
+from ._types import Status, axis_index, axis_mask
+
+# (id, name, unit, is_global) of every parameter, from the library
+_PARAMS = _sh2000.param_table()
+_AXIS_PARAMS = [(i, n) for i, n, _u, g in _PARAMS if not g]
+_GLOBAL_PARAMS = [(i, n) for i, n, _u, g in _PARAMS if g]
+UNITS = {n: u for _i, n, u, _g in _PARAMS}
+
+_BACKENDS = {_sh2000.BACKEND_DEV: "dev", _sh2000.BACKEND_IO: "io",
+             _sh2000.BACKEND_SIM: "sim", _sh2000.BACKEND_SHM: "shm",
+             _sh2000.BACKEND_PORTS: "ports"}
+_GLOBAL = -1    # SH2000_GLOBAL
+
+
+def _ms(timeout):
+    """Seconds (None: no limit) -> the library's milliseconds."""
+    return -1 if timeout is None else max(0, int(round(timeout * 1000)))
+
+
+def _param_axis(axis):
+    """An axis, or None / "global" for the global parameters."""
+    return _GLOBAL if axis is None or axis == "global" else axis_index(axis)
+
+
+class Card:
+    """An open SH-2000TH card: sh2000.open(device)."""
+
+    def __init__(self, device=None):
+        self._c = _sh2000.Card(device)
+        info = self._c.info()
+        self.device = info["device"]
+        self.backend = _BACKENDS.get(info["backend"], str(info["backend"]))
+        self.card_protocol = info["card_protocol"]
+        self.queue_size = info["queue_size"]
+
+    def __repr__(self):
+        return f"<sh2000.Card {self.device!r} ({self.backend})>"
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def close(self):
+        self._c.close()
+
+    # ---- status and parameters ----------------------------------------
+    def status(self):
+        """One status poll (sh2000_poll) as a Status."""
+        return Status.from_c(self._c.status())
+
+    def param(self, axis, name):
+        """A parameter in user units; axis None or "global" for globals."""
+        return self._c.param_get(_param_axis(axis), _sh2000.param_id(name))
+
+    def set_param(self, axis, name, value):
+        """Set one parameter (the library checks it before it is sent)."""
+        self._c.param_set(_param_axis(axis), _sh2000.param_id(name), float(value))
+
+    def params(self, axis):
+        """Every parameter of an axis (or None/"global") as {name: value}."""
+        if _param_axis(axis) == _GLOBAL:
+            return {n: self._c.param_get(_GLOBAL, i) for i, n in _GLOBAL_PARAMS}
+        values = self._c.axis_params_get(axis_index(axis))
+        return {n: values[i] for i, n in _AXIS_PARAMS}
+
+    def set_params(self, axis, values):
+        """Set several parameters of one axis, all or none
+        (sh2000_axis_params_set checks every value first)."""
+        a = axis_index(axis)
+        ids = {n: i for i, n in _AXIS_PARAMS}
+        new = self._c.axis_params_get(a)
+        for name, v in values.items():
+            if name not in ids:
+                _sh2000.param_id(name)      # sh2000.Error for an unknown name
+                raise Error(_sh2000.EPARAM, _sh2000.strerror(_sh2000.EPARAM),
+                            f"parameter {name}: is global (set it with set_param)")
+            new[ids[name]] = float(v)
+        self._c.axis_params_set(a, new)
+
+    # ---- commands --------------------------------------------------------
+    def enable(self, axes):
+        """Enable axes: "xy", ["x", "y"], a mask, or "all"."""
+        self._c.enable(axis_mask(axes))
+
+    def disable(self, axes):
+        self._c.disable(axis_mask(axes))
+
+    def stop(self):
+        """Controlled stop: the card decelerates and discards the ring."""
+        self._c.stop()
+
+    def reset(self):
+        """Clear latched faults and a latched emergency stop."""
+        self._c.reset()
+
+    def estop(self, timeout=0.1):
+        """Emergency stop; waits up to timeout s for the card's answer."""
+        self._c.estop(_ms(timeout))
+
+    def home(self, axis, index=False, timeout=60.0):
+        """Home one axis and wait for the end (sh2000_run_home)."""
+        self._c.home(axis_index(axis), _sh2000.HOME_F_INDEX if index else 0,
+                     _ms(timeout))
+
+    def set_position(self, axis, mm):
+        self._c.set_position(axis_index(axis), float(mm))
+
+    # ---- points ------------------------------------------------------------
+    def push(self, points, end=False):
+        """Queue coarse points in mm (rows of four, x y z a) in one
+        all-or-nothing batch; end=True on a motion's last batch."""
+        return self._c.push_mm(points, 1 if end else 0)
+
+    def push_counts(self, points, end=False):
+        """The same in encoder counts."""
+        return self._c.push_counts(points, 1 if end else 0)
+
+    def wait_space(self, n, timeout=None):
+        self._c.wait_space(n, _ms(timeout))
+
+    def wait_idle(self, timeout=None):
+        """Wait until the card is idle with an empty ring."""
+        self._c.wait_idle(_ms(timeout))
+
+    def queue_free(self):
+        return self._c.queue_free()
+
+    # ---- time ----------------------------------------------------------------
+    def now(self):
+        """The card's clock in s (virtual for "sim")."""
+        return self._c.now_ns() / 1e9
+
+    def sleep(self, seconds):
+        """Let card time pass (advances a "sim" card; sleeps otherwise)."""
+        self._c.sleep_ns(max(0, int(round(seconds * 1e9))))
+
+    # ---- programs --------------------------------------------------------------
+    def program(self, path, format=None, feed_mm_s=None):
+        """Open an NC program to check and run on this card; it starts
+        where the card is now."""
+        return Program(self, path, format, feed_mm_s)
+
+
+def open(device=None):  # noqa: A001 (the issue's name: sh2000.open)
+    """Open a card by device string: "/dev/sh2000-0", "io:0x300", "sim",
+    "sim:NAME"; None: $SH2000_DEVICE, else /dev/sh2000-0."""
+    return Card(device)

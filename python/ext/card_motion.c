@@ -16,63 +16,69 @@ static PyObject *done(PyCard *c, int r)
 	return PyLong_FromLong(r);
 }
 
-PyObject *sh2k_card_enable(PyCard *c, PyObject *args)
+/* The calls with one argument, or none: fn(h), fn(h, unsigned),
+ * fn(h, int). */
+static PyObject *call0(PyCard *c, int (*fn)(struct sh2000 *))
 {
 	struct sh2000 *h = sh2k_handle(c);
-	unsigned int mask;
 	int r;
 
-	if (!h || !PyArg_ParseTuple(args, "I", &mask))
+	if (!h)
 		return NULL;
-	SH2K_CALL(c, r = sh2000_enable(h, mask));
+	SH2K_CALL(c, r = fn(h));
 	return done(c, r);
+}
+
+static PyObject *call_u(PyCard *c, PyObject *args,
+			int (*fn)(struct sh2000 *, unsigned int))
+{
+	struct sh2000 *h = sh2k_handle(c);
+	unsigned int v;
+	int r;
+
+	if (!h || !PyArg_ParseTuple(args, "I", &v))
+		return NULL;
+	SH2K_CALL(c, r = fn(h, v));
+	return done(c, r);
+}
+
+static PyObject *call_i(PyCard *c, PyObject *args,
+			int (*fn)(struct sh2000 *, int))
+{
+	struct sh2000 *h = sh2k_handle(c);
+	int v, r;
+
+	if (!h || !PyArg_ParseTuple(args, "i", &v))
+		return NULL;
+	SH2K_CALL(c, r = fn(h, v));
+	return done(c, r);
+}
+
+PyObject *sh2k_card_enable(PyCard *c, PyObject *args)
+{
+	return call_u(c, args, sh2000_enable);
 }
 
 PyObject *sh2k_card_disable(PyCard *c, PyObject *args)
 {
-	struct sh2000 *h = sh2k_handle(c);
-	unsigned int mask;
-	int r;
-
-	if (!h || !PyArg_ParseTuple(args, "I", &mask))
-		return NULL;
-	SH2K_CALL(c, r = sh2000_disable(h, mask));
-	return done(c, r);
+	return call_u(c, args, sh2000_disable);
 }
 
 PyObject *sh2k_card_stop(PyCard *c, PyObject *unused)
 {
-	struct sh2000 *h = sh2k_handle(c);
-	int r;
-
 	(void)unused;
-	if (!h)
-		return NULL;
-	SH2K_CALL(c, r = sh2000_stop(h));
-	return done(c, r);
+	return call0(c, sh2000_stop);
 }
 
 PyObject *sh2k_card_reset(PyCard *c, PyObject *unused)
 {
-	struct sh2000 *h = sh2k_handle(c);
-	int r;
-
 	(void)unused;
-	if (!h)
-		return NULL;
-	SH2K_CALL(c, r = sh2000_reset(h));
-	return done(c, r);
+	return call0(c, sh2000_reset);
 }
 
 PyObject *sh2k_card_estop(PyCard *c, PyObject *args)
 {
-	struct sh2000 *h = sh2k_handle(c);
-	int ms, r;
-
-	if (!h || !PyArg_ParseTuple(args, "i", &ms))
-		return NULL;
-	SH2K_CALL(c, r = sh2000_estop(h, ms));
-	return done(c, r);
+	return call_i(c, args, sh2000_estop);
 }
 
 /* home(axis, flags, timeout_ms): homes and waits (sh2000_run_home). */
@@ -222,25 +228,13 @@ PyObject *sh2k_card_wait_space(PyCard *c, PyObject *args)
 
 PyObject *sh2k_card_wait_idle(PyCard *c, PyObject *args)
 {
-	struct sh2000 *h = sh2k_handle(c);
-	int ms, r;
-
-	if (!h || !PyArg_ParseTuple(args, "i", &ms))
-		return NULL;
-	SH2K_CALL(c, r = sh2000_wait_idle(h, ms));
-	return done(c, r);
+	return call_i(c, args, sh2000_wait_idle);
 }
 
 PyObject *sh2k_card_queue_free(PyCard *c, PyObject *unused)
 {
-	struct sh2000 *h = sh2k_handle(c);
-	int r;
-
 	(void)unused;
-	if (!h)
-		return NULL;
-	SH2K_CALL(c, r = sh2000_queue_free(h));
-	return done(c, r);
+	return call0(c, sh2000_queue_free);
 }
 
 PyObject *sh2k_card_now_ns(PyCard *c, PyObject *unused)

@@ -27,5 +27,6 @@ for _name in dir(_sh2000):
         globals()[_name] = getattr(_sh2000, _name)
 del _name, _v
 
-__all__ = ["open", "Card", "Program", "Error", "Status", "AxisStatus", "Plan",
+# not "open": a star import would hide the built-in
+__all__ = ["Card", "Program", "Error", "Status", "AxisStatus", "Plan",
            "Progress", "RunStats", "UNITS", "AXIS_NAMES", "strerror"]

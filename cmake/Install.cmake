@@ -22,6 +22,9 @@
 #   dkms       -> sh2000-dkms          driver sources in src/sh2000-<ver>/
 #                                      with dkms.conf, the udev rule, the
 #                                      modprobe example
+#   linuxcnc   -> sh2000-linuxcnc      hal_sh2000 (hal/CMakeLists.txt)
+#   python     -> python3-sh2000       the module sh2000
+#                                      (python/CMakeLists.txt)
 
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
@@ -163,6 +166,11 @@ endforeach()
 # install rules are there)
 if(TARGET hal_sh2000)
   add_dependencies(sh2000_installables hal_sh2000)
+endif()
+# the Python binding (python/, built when python3-dev is installed; its
+# install rules are there)
+if(TARGET sh2000_python)
+  add_dependencies(sh2000_installables sh2000_python)
 endif()
 
 # Man pages. The packages ship them gzipped, as Debian does: cpack

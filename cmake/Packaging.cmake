@@ -4,7 +4,8 @@
 #   cmake --build build/pkg -j2 && (cd build/pkg && cpack -G DEB)
 #
 # gives libsh2000, libsh2000-motion, libsh2000-sim, their -dev packages,
-# sh2000-tools and sh2000-dkms, version PROJECT_VERSION-SH2000_DEB_RELEASE
+# sh2000-tools and sh2000-dkms (and sh2000-linuxcnc, python3-sh2000 where
+# their build dependencies are installed), version PROJECT_VERSION-SH2000_DEB_RELEASE
 # (docs/install.md has the table). Debian packages live in /usr: cpack
 # refuses another prefix (see cmake/CPackOptions.cmake.in).
 
@@ -42,6 +43,10 @@ endif()
 # hal_sh2000, when linuxcnc-uspace-dev was there to build it (hal/)
 if(SH2000_LINUXCNC_INSTALLED)
   list(APPEND CPACK_COMPONENTS_ALL linuxcnc)
+endif()
+# python3-sh2000, when python3-dev was there to build the binding (python/)
+if(SH2000_PYTHON_INSTALLED)
+  list(APPEND CPACK_COMPONENTS_ALL python)
 endif()
 
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
@@ -226,6 +231,35 @@ sh2000.N.read and sh2000.N.write in the servo thread. The man page
 hal_sh2000(9) lists the pins; a sample 3-axis mill on a simulated card is
 in /usr/share/doc/sh2000-linuxcnc/examples/sh2000-sim.")
 
+# python3-sh2000: the module sh2000 (python/), in Debian's
+# /usr/lib/python3/dist-packages. dpkg-shlibdeps gives libc6, libsh2000
+# and libsh2000-motion (>=). The extension is built for one python3 minor:
+# the python3 Depends dh_python3 would give (${python3:Depends}) by hand.
+# numpy is optional (push() takes any rows of four numbers). postinst and
+# prerm byte-compile and clean up as dh_python3's snippets do.
+if(SH2000_PYTHON_INSTALLED)
+  string(REPLACE "." ";" _pyver "${SH2000_PYTHON_VERSION}")
+  list(GET _pyver 0 _pymaj)
+  list(GET _pyver 1 _pymin)
+  math(EXPR _pynext "${_pymin} + 1")
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_NAME python3-sh2000)
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_SECTION python)
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS
+    "python3 (>= ${SH2000_PYTHON_VERSION}~), python3 (<< ${_pymaj}.${_pynext})")
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_RECOMMENDS "libsh2000-sim")
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_SUGGESTS "python3-numpy")
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_CONTROL_EXTRA
+    ${CMAKE_CURRENT_LIST_DIR}/debian/python3-sh2000/postinst
+    ${CMAKE_CURRENT_LIST_DIR}/debian/python3-sh2000/prerm)
+  set(CPACK_DEBIAN_PYTHON_DESCRIPTION
+"SH-2000TH motion card library: Python 3 binding
+The module sh2000 drives SH-2000TH cards from Python through libsh2000
+and libsh2000-motion: sh2000.open(\"sim\"), status as dataclasses,
+parameters by name, commands, coarse points, NC programs checked and run
+with progress callbacks; errors are sh2000.Error with the library's code
+and message. /usr/share/doc/python3-sh2000/python.md is the guide.")
+endif()
+
 include(CPack)
 
 cpack_add_component(runtime DISPLAY_NAME "libsh2000")
@@ -237,3 +271,4 @@ cpack_add_component(sim_dev DISPLAY_NAME "libsh2000-sim-dev" DEPENDS sim dev)
 cpack_add_component(tools DISPLAY_NAME "sh2000-tools" DEPENDS runtime motion sim)
 cpack_add_component(dkms DISPLAY_NAME "sh2000-dkms")
 cpack_add_component(linuxcnc DISPLAY_NAME "sh2000-linuxcnc")
+cpack_add_component(python DISPLAY_NAME "python3-sh2000" DEPENDS runtime motion)

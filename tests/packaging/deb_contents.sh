@@ -90,3 +90,19 @@ if [ -n "${debs[sh2000-linuxcnc]:-}" ]; then
 		check "sh2000-linuxcnc has $f" contains sh2000-linuxcnc "$f"
 	done
 fi
+if [ -n "${debs[python3-sh2000]:-}" ]; then
+	# Where Debian's python3 finds it: the tree's Python files, the
+	# extension for this python3's ABI (EXT_SUFFIX), no byte-code (postinst
+	# compiles), the guide.
+	py=/usr/lib/python3/dist-packages/sh2000
+	ext=$(/usr/bin/python3 -c 'import sysconfig; print(sysconfig.get_config_var("EXT_SUFFIX"))')
+	for f in $py/_sh2000$ext /usr/share/doc/python3-sh2000/python.md; do
+		check "python3-sh2000 has $f" contains python3-sh2000 "$f"
+	done
+	want=$(cd "$src/python/sh2000" && ls -- *.py | sed "s|^|$py/|" | LC_ALL=C sort)
+	got=$(grep "^$py/.*\.py\$" "$t/python3-sh2000.files" | LC_ALL=C sort)
+	check "python3-sh2000 has the tree's $(echo "$want" | wc -l) Python files" [ "$got" = "$want" ]
+	n=$(grep -c "^$py/" "$t/python3-sh2000.files")
+	check "python3-sh2000: nothing else in $py ($n files)" [ "$n" -eq $(($(echo "$want" | wc -l) + 1)) ]
+	check "python3-sh2000 holds no byte-code" no grep -Eq '__pycache__|\.pyc$' "$t/python3-sh2000.files"
+fi

@@ -73,6 +73,26 @@ if [ -n "${debs[sh2000-tools]:-}" ]; then
 	check "sh2000-tools: Depends libsh2000-sim (= $debver) (sh2000-sim, and -d sim)" \
 		has_dep sh2000-tools Depends "libsh2000-sim (= $debver)"
 fi
+if [ -n "${debs[python3-sh2000]:-}" ]; then
+	# the extension is built for Debian's python3 of this machine, one minor
+	pyv=$(/usr/bin/python3 -c 'import sys; print("%d.%d" % sys.version_info[:2])')
+	check "python3-sh2000: Depends python3 (>= $pyv~)" has_dep python3-sh2000 Depends "python3 (>= $pyv~)"
+	check "python3-sh2000: Depends python3 (<< ${pyv%.*}.$((${pyv#*.} + 1)))" \
+		has_dep python3-sh2000 Depends "python3 (<< ${pyv%.*}.$((${pyv#*.} + 1)))"
+	check "python3-sh2000: Recommends libsh2000-sim (for \`sim\`)" \
+		dep_matches python3-sh2000 Recommends '^libsh2000-sim( |$)'
+	check "python3-sh2000: numpy only suggested" \
+		dep_matches python3-sh2000 Suggests '^python3-numpy$'
+	check "python3-sh2000: no Depends on python3-numpy" no dep_matches python3-sh2000 Depends numpy
+	# the extension loads both libraries (the loop below checks the shlibs form)
+	for l in libsh2000 libsh2000-motion; do
+		check "python3-sh2000: Depends $l (>= $debver)" has_dep python3-sh2000 Depends "$l (>= $debver)"
+	done
+	check "python3-sh2000: postinst byte-compiles (py3compile -p python3-sh2000)" \
+		grep -q '^[[:space:]]*py3compile -p python3-sh2000$' <(ctl python3-sh2000 postinst)
+	check "python3-sh2000: prerm removes the byte-code (py3clean -p python3-sh2000)" \
+		grep -q '^[[:space:]]*py3clean -p python3-sh2000$' <(ctl python3-sh2000 prerm)
+fi
 check "sh2000-dkms: Depends on dkms" dep_matches sh2000-dkms Depends '^dkms\b'
 check "sh2000-dkms: Architecture all" [ "$(field sh2000-dkms Architecture)" = all ]
 ctl sh2000-dkms postinst >"$t/postinst"

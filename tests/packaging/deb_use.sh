@@ -117,6 +117,15 @@ if [ -x "$root/usr/bin/sh2000ctl" ]; then
 	sed 's/^/     /' "$t/status" | head -n 20
 fi
 
+if [ -n "${debs[python3-sh2000]:-}" ]; then
+	check "python3-sh2000: import sh2000 from the root, open sim, check and run part.ngc" \
+		env PYTHONPATH="$root/usr/lib/python3/dist-packages" LD_LIBRARY_PATH="$lib" \
+		/usr/bin/python3 -c "import sh2000, sys
+c = sh2000.open('sim')
+p = c.program(sys.argv[1]); c.enable(p.check().moved)
+assert sh2000.__file__.startswith('$root') and p.run().points > 0" "$part"
+fi
+
 for name in sh2000 sh2000-motion sh2000-sim; do
 	check "pkg-config --modversion $name = $ver" [ "$(pc --modversion "$name")" = "$ver" ]
 done

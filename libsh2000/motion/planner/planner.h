@@ -30,6 +30,9 @@ struct pl_nurbs {
  * period's plus a whole compensation flush (2 * 64 + 3 at most). */
 #define PL_OUTQ 160u
 
+/* Moves merged into one line at most (G64 Q). */
+#define PL_MERGE_MAX 32u
+
 /* Sub-blocks per non-empty knot span. */
 #define PL_NURBS_SUBDIV 16u
 
@@ -153,6 +156,9 @@ struct sh2000_path {
 	double *cons;		/* controller scratch: (distance, speed) */
 	double qend[SH2000_AXES];	/* end of the queued primitives */
 	double tail_feed, tail_vlim;	/* of the last block queued */
+	/* the corners merged into the last block (merge.c) */
+	double merged[PL_MERGE_MAX][SH2000_AXES];
+	unsigned int merged_n;
 	double tend[SH2000_AXES];	/* tangent there (0: none / after a stop) */
 	int stop_next;		/* next block starts from rest */
 	uint32_t seq;
@@ -202,6 +208,9 @@ int pl_make_room(struct sh2000_path *p);
 int pl_period(struct sh2000_path *p);
 /* A stop has come to rest: drop the rest of the program. */
 void pl_stopped(struct sh2000_path *p);
+/* merge.c: take line b (not yet queued) into the last line queued when
+ * the naive CAM tolerance allows; 1 if it was (nothing to queue). */
+int pl_merge_line(struct sh2000_path *p, const struct pl_block *b);
 /* blend.c: cut the corner between the last line queued and line b (not
  * yet queued) with a tangent arc within the tolerance: 1 and the arc in
  * *arc (the tail and b shortened), or 0. */

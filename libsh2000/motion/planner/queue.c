@@ -18,8 +18,11 @@ void pl_push_block(struct sh2000_path *p, struct pl_block *b)
 {
 	struct pl_block arc;
 
+	if (pl_merge_line(p, b))
+		return;
 	if (pl_blend_corner(p, b, &arc))
 		push_one(p, &arc);
+	p->merged_n = 0;	/* a new last block */
 	push_one(p, b);
 }
 

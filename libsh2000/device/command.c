@@ -408,7 +408,10 @@ static int encode(struct sh2000 *h, int axis, const struct sh2000_param_info *p,
 		return sh2000_fail(h, -SH2000_EPARAM, "%s: %g is not a finite number",
 				   at, v);
 	if (p->type == SH2000_PT_F32) {
-		if (!isfinite(c) || fabs(c) > FLT_MAX)
+		/* too small for a normal binary32 is refused like too large:
+		 * never rounded to 0 */
+		if (!isfinite(c) || fabs(c) > FLT_MAX ||
+		    (c != 0.0 && fabs(c) < FLT_MIN))
 			return sh2000_fail(h, -SH2000_EPARAM,
 					   "%s: %g %s is not representable as a 32-bit float in card units",
 					   at, v, u);

@@ -77,7 +77,8 @@ static int check_value(const struct sh2000_param_info *pi, double v,
 	const char *u = sh2000_param_unit(pi->id);
 
 	if (pi->type == SH2000_PT_F32) {
-		if (!isfinite(c) || fabs(c) > FLT_MAX) {
+		if (!isfinite(c) || fabs(c) > FLT_MAX ||
+		    (c != 0.0 && fabs(c) < FLT_MIN)) {
 			snprintf(why, len, "%g %s does not fit a 32-bit float", v, u);
 			return -1;
 		}

@@ -15,6 +15,8 @@
  * Weird but valid geometry that needs more is an explosion the planner
  * must refuse with an error. Programs whose own duration is beyond what a
  * fuzzer can run (a slow feed over a long way) are read, not planned.
+ * SH2000_FUZZ_VERBOSE=1 prints the reader's diagnostics and the count of
+ * points (to look at one input).
  */
 #include <math.h>
 #include <stdio.h>
@@ -200,6 +202,7 @@ static void plan(const struct sh2000_program *prog, struct plan_check *pc)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
+	static int verbose = -1;
 	struct sh2000_prog_options po;
 	struct sh2000_prog_diags d;
 	struct sh2000_program prog;
@@ -207,6 +210,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	double seconds = 0;
 	int r;
 
+	if (verbose < 0)
+		verbose = getenv("SH2000_FUZZ_VERBOSE") != NULL;
 	if (size < 1)
 		return 0;
 	sh2000_prog_options_default(&po);
@@ -215,7 +220,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	sh2000_prog_diags_init(&d);
 	r = sh2000_program_read(&prog, format_of(data[0]), "fuzz",
 				(const char *)data + 1, size - 1, &po, &d);
-	if (getenv("SH2000_FUZZ_VERBOSE"))
+	if (verbose)
 		sh2000_prog_diags_print(&d, stderr);
 	sh2000_prog_diags_free(&d);
 	memset(&pc, 0, sizeof(pc));
@@ -229,7 +234,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	pc.budget = BUDGET_FACTOR * seconds / pc.cfg.period_s + 1000.0;
 	if (r == 0 && seconds / pc.cfg.period_s <= PLAN_POINTS_MAX)
 		plan(&prog, &pc);
-	if (getenv("SH2000_FUZZ_VERBOSE"))
+	if (verbose)
 		fprintf(stderr, "read %d, %zu blocks, at most %.3f s: %llu points\n",
 			r, prog.count, seconds, (unsigned long long)pc.points);
 	sh2000_program_free(&prog);

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 /*
  * sh2000_param_set() on the in-process simulated card (`sim`) with
- * arbitrary axes, parameter ids and values. Each input is a list of
- * 10-byte records: axis (byte % 6 - 1: SH2000_GLOBAL, 0..3, and 4 which
+ * arbitrary axes, parameter ids and values. Each input is a list of up to
+ * MAX_RECORDS 10-byte records (enough for the interplay of scale, soft
+ * limits and timing; each call costs the card model servo cycles): axis (byte % 6 - 1: SH2000_GLOBAL, 0..3, and 4 which
  * does not exist), id (byte % 40), and 8 bytes that are the value: as a
  * double if the axis byte's top bit is set, else a small decimal number
  * (-1000.00 .. 1000.00 from the first four bytes) so that valid values
@@ -25,7 +26,7 @@
 #include "fuzz.h"
 
 #define RECORD		10
-#define MAX_RECORDS	64
+#define MAX_RECORDS	8
 
 struct undo {
 	int axis;

@@ -12,7 +12,8 @@
  * Promises checked after every call: success only for a valid axis and
  * id, and then the card reads back the value as the card stores it (a
  * binary32 or whole counts); failure with a message, and then nothing
- * changed on the card. The card keeps answering. At the end of each input
+ * changed on the card (the harness keeps a copy of every parameter). The
+ * card keeps answering. At the end of each input
  * the calls are undone in reverse order (each undo must succeed: it goes
  * back through states the card accepted), so inputs do not leak into one
  * another.
@@ -35,6 +36,36 @@ struct undo {
 };
 
 static struct sh2000 *card;
+/* What the card holds, in user units, by section (0 global, 1 + axis):
+ * read once, then kept up to date, so each call costs one look */
+static double shadow[SH2000_AXES + 1][SH2000_GP_END];
+
+static double get(int axis, unsigned int id)
+{
+	double v;
+	int r = sh2000_param_get(card, axis, id, &v);
+
+	if (r < 0)
+		fz_fail("get axis %d param %u: %s", axis, id,
+			sh2000_last_error(card));
+	return v;
+}
+
+static int is_mm(unsigned int id)
+{
+	const char *unit = sh2000_param_unit(id);
+
+	return unit && !strncmp(unit, "mm", 2);
+}
+
+/* An axis' lengths, speeds and accelerations after its scale changed:
+ * the card keeps counts, the library converts with the new scale. */
+static void reread_mm(int axis)
+{
+	for (unsigned int id = 0; id < SH2000_AXIS_PARAMS; id++)
+		if (is_mm(id))
+			shadow[axis + 1][id] = get(axis, id);
+}
 
 int LLVMFuzzerInitialize(int *argc, char ***argv);
 
@@ -46,6 +77,11 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 	(void)argv;
 	if (sh2000_open(&card, "sim", msg, sizeof(msg)) < 0)
 		fz_fail("sim: %s", msg);
+	for (unsigned int id = SH2000_GP_FIRST; id < SH2000_GP_END; id++)
+		shadow[0][id] = get(SH2000_GLOBAL, id);
+	for (int a = 0; a < (int)SH2000_AXES; a++)
+		for (unsigned int id = 0; id < SH2000_AXIS_PARAMS; id++)
+			shadow[a + 1][id] = get(a, id);
 	return 0;
 }
 
@@ -65,26 +101,10 @@ static int valid(int axis, unsigned int id)
 static double tolerance(int axis, unsigned int id, double v)
 {
 	const struct sh2000_param_info *p = sh2000_param_lookup(id);
-	const char *unit = sh2000_param_unit(id);
-	double scale = 1.0;
 
-	if (unit && !strncmp(unit, "mm", 2) &&
-	    sh2000_param_get(card, axis, SH2000_P_SCALE, &scale) < 0)
-		fz_fail("get scale: %s", sh2000_last_error(card));
 	if (p->type == SH2000_PT_F32)
 		return fabs(v) * 1.2e-7;
-	return unit && !strncmp(unit, "mm", 2) ? 0.5000001 / scale : 0.0;
-}
-
-static double get(int axis, unsigned int id)
-{
-	double v;
-	int r = sh2000_param_get(card, axis, id, &v);
-
-	if (r < 0)
-		fz_fail("get axis %d param %u: %s", axis, id,
-			sh2000_last_error(card));
-	return v;
+	return is_mm(id) ? 0.5000001 / shadow[axis + 1][SH2000_P_SCALE] : 0.0;
 }
 
 static double value_of(const uint8_t *rec)
@@ -104,7 +124,7 @@ static double value_of(const uint8_t *rec)
 static int one(int axis, unsigned int id, double v, struct undo *u)
 {
 	int ok = valid(axis, id), r;
-	double before = ok ? get(axis, id) : 0, after;
+	double *held = ok ? &shadow[axis + 1][id] : NULL, after;
 
 	r = sh2000_param_set(card, axis, id, v);
 	if (r == 0 && !ok)
@@ -119,9 +139,9 @@ static int one(int axis, unsigned int id, double v, struct undo *u)
 		return 0;
 	after = get(axis, id);
 	if (r < 0) {
-		if (memcmp(&after, &before, sizeof(after)))
+		if (memcmp(&after, held, sizeof(after)))
 			fz_fail("axis %d param %u = %g failed (%s) but changed %.17g to %.17g",
-				axis, id, v, sh2000_last_error(card), before,
+				axis, id, v, sh2000_last_error(card), *held,
 				after);
 		return 0;
 	}
@@ -130,7 +150,10 @@ static int one(int axis, unsigned int id, double v, struct undo *u)
 			v, after);
 	u->axis = axis;
 	u->id = id;
-	u->old = before;
+	u->old = *held;
+	*held = after;
+	if (id == SH2000_P_SCALE)
+		reread_mm(axis);
 	return 1;
 }
 
@@ -155,6 +178,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			   sizeof(double)))
 			fz_fail("undo axis %d param %u = %.17g reads back otherwise",
 				u->axis, u->id, u->old);
+		shadow[u->axis + 1][u->id] = u->old;
+		if (u->id == SH2000_P_SCALE)
+			reread_mm(u->axis);
 	}
 	if (sh2000_nop(card) < 0)
 		fz_fail("the card stopped answering: %s",

@@ -25,9 +25,10 @@
 
 #include "fuzz.h"
 
-/* Points a program may last at most to be planned here (2 s): enough for
- * every kind of geometry, short enough for thousands of runs a second. */
-#define PLAN_POINTS_MAX		1000.0
+/* Points a program may last at most to be planned here (0.5 s): enough
+ * for every kind of geometry, short enough for thousands of runs a second
+ * (the planner's points are most of a run's time). */
+#define PLAN_POINTS_MAX		250.0
 /* Headroom of the point budget over the program's duration. */
 #define BUDGET_FACTOR		8.0
 /* A start and a stop: (v/A + A/J) twice, at most, with the defaults. */

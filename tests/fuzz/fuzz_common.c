@@ -31,44 +31,34 @@ static int finite_point(const double x[SH2000_AXES])
 
 static void check_arc(size_t i, const struct sh2000_prog_block *b)
 {
-	const struct sh2000_prog_arc *a = &b->u.arc;
+	const struct sh2000_arc *a = &b->u.arc;
 
-	if (!(a->radius > 0 && isfinite(a->radius)) ||
+	if (!(a->r0 > 0 && isfinite(a->r0)) ||
 	    !(a->fit_radius > 0 && isfinite(a->fit_radius)) ||
-	    !isfinite(a->end_radius) || !isfinite(a->sweep) || a->sweep == 0)
+	    !isfinite(a->r1) || !isfinite(a->sweep) || a->sweep == 0)
 		fz_fail("block %zu: arc radius %g fit %g end %g sweep %g", i,
-			a->radius, a->fit_radius, a->end_radius, a->sweep);
+			a->r0, a->fit_radius, a->r1, a->sweep);
 	if (a->turns < 1 || (a->ccw ? a->sweep < 0 : a->sweep > 0))
 		fz_fail("block %zu: arc turns %u ccw %d sweep %g", i, a->turns,
 			a->ccw, a->sweep);
-	for (unsigned int k = 0; k < 3; k++)
+	for (unsigned int k = 0; k < 2; k++)
 		if (!isfinite(a->centre[k]) || !isfinite(a->fit_centre[k]))
 			fz_fail("block %zu: arc centre not finite", i);
 }
 
+/* The reader must hand out only curves the geometry module accepts. */
 static void check_nurbs(size_t i, const struct sh2000_prog_block *b)
 {
-	const struct sh2000_prog_nurbs *n = &b->u.nurbs;
-	size_t nk = n->npoints + n->degree + 1;
+	char msg[256];
 
-	if (n->degree < 1 || n->npoints < n->degree + 1)
-		fz_fail("block %zu: NURBS degree %u with %zu points", i,
-			n->degree, n->npoints);
-	for (size_t k = 0; k < nk; k++)
-		if (!isfinite(n->knots[k]) ||
-		    (k && n->knots[k] < n->knots[k - 1]))
-			fz_fail("block %zu: NURBS knot %zu is %g", i, k,
-				n->knots[k]);
-	for (size_t k = 0; k < n->npoints; k++)
-		if (!finite_point(n->points[k]) ||
-		    !(n->weights[k] > 0 && isfinite(n->weights[k])))
-			fz_fail("block %zu: NURBS point or weight %zu", i, k);
+	if (sh2000_nurbs_check(&b->u.nurbs, msg, sizeof(msg)))
+		fz_fail("block %zu: NURBS the reader accepted: %s", i, msg);
 }
 
 static void check_block(size_t i, const struct sh2000_prog_block *b,
 			const double *prev_end)
 {
-	if (b->kind < SH2000_PROG_RAPID || b->kind > SH2000_PROG_END)
+	if (b->kind < SH2000_PROG_RAPID || b->kind > SH2000_PROG_PATH_MODE)
 		fz_fail("block %zu: kind %d", i, (int)b->kind);
 	if (!finite_point(b->start) || !finite_point(b->end))
 		fz_fail("block %zu (%s): start or end not finite", i,

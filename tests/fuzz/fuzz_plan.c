@@ -84,9 +84,9 @@ static double dist(const double *a, const double *b)
 
 /* Largest curvature of a NURBS, sampled (finite differences): its speed
  * bound holds for the whole curve, which can only overestimate time. */
-static double nurbs_kappa(const struct sh2000_prog_nurbs *n)
+static double nurbs_kappa(const struct sh2000_nurbs *n)
 {
-	double u0 = n->knots[n->degree], u1 = n->knots[n->npoints];
+	double u0 = sh2000_nurbs_umin(n), u1 = sh2000_nurbs_umax(n);
 	double kmax = 0, p[3][SH2000_AXES];
 	unsigned int steps = 16 * (unsigned int)n->npoints;
 
@@ -96,9 +96,9 @@ static double nurbs_kappa(const struct sh2000_prog_nurbs *n)
 		double u = u0 + (u1 - u0) * i / steps, h = (u1 - u0) / steps / 4;
 		double a, b, c, s;
 
-		sh2000_prog_nurbs_eval(n, u - h, p[0]);
-		sh2000_prog_nurbs_eval(n, u, p[1]);
-		sh2000_prog_nurbs_eval(n, u + h, p[2]);
+		sh2000_nurbs_eval(n, u - h, p[0], NULL, NULL);
+		sh2000_nurbs_eval(n, u, p[1], NULL, NULL);
+		sh2000_nurbs_eval(n, u + h, p[2], NULL, NULL);
 		/* circle through three points: 4 area / (a b c) */
 		a = dist(p[0], p[1]);
 		b = dist(p[1], p[2]);
@@ -110,7 +110,7 @@ static double nurbs_kappa(const struct sh2000_prog_nurbs *n)
 	return kmax;
 }
 
-static double polygon_length(const struct sh2000_prog_nurbs *n)
+static double polygon_length(const struct sh2000_nurbs *n)
 {
 	double L = 0;
 
@@ -133,9 +133,9 @@ static double block_seconds(const struct sh2000_path_config *c,
 		v = fmin(feed, curve_speed(c, 0));
 		break;
 	case SH2000_PROG_ARC: {
-		const struct sh2000_prog_arc *a = &b->u.arc;
-		double r = fmin(a->fit_radius, fmin(a->radius, a->end_radius));
-		double planar = fabs(a->sweep) * fmax(a->radius, a->end_radius);
+		const struct sh2000_arc *a = &b->u.arc;
+		double r = fmin(a->fit_radius, fmin(a->r0, a->r1));
+		double planar = fabs(a->sweep) * fmax(a->r0, a->r1);
 
 		L = planar + L;
 		v = fmin(feed, curve_speed(c, 1.0 / r));

@@ -200,3 +200,28 @@ void sh2000_tool_print_version(const char *tool_version)
 	       sh2000_soversion(), SH2000_PROTO_MAJOR, SH2000_PROTO_MINOR,
 	       (unsigned int)SH2000_ABI_VERSION);
 }
+
+int sh2000_tool_write_text(const char *path, const char *text, size_t len)
+{
+	FILE *f = strcmp(path, "-") ? fopen(path, "w") : stdout;
+	int r = SH2000_EXIT_OK;
+
+	if (!f) {
+		sh2000_tool_msg("%s: cannot create: %s", path, strerror(errno));
+		return SH2000_EXIT_CARD;
+	}
+	if (fwrite(text, 1, len, f) != len)
+		r = SH2000_EXIT_CARD;
+	if (f != stdout) {
+		if (fclose(f) != 0)
+			r = SH2000_EXIT_CARD;
+	} else if (fflush(f) != 0) {
+		r = SH2000_EXIT_CARD;
+	}
+	if (r) {
+		sh2000_tool_msg("%s: write error: %s", path, strerror(errno));
+		if (f != stdout)
+			remove(path);
+	}
+	return r;
+}

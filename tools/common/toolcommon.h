@@ -15,6 +15,7 @@
 #define SH2000_TOOLCOMMON_H
 
 #include <stdarg.h>
+#include <stddef.h>
 
 #include <sh2000/sh2000.h>
 
@@ -84,5 +85,11 @@ char sh2000_tool_axis_name(unsigned int axis);
 /* Whole string is a finite number / an integer in [min, max]: 0, else -1. */
 int sh2000_tool_double(const char *s, double *v);
 int sh2000_tool_long(const char *s, long min, long max, long *v);
+
+/* Write text[0..len) to path ("-": stdout), as the last step of a command
+ * that built it in memory first (so a card that fails half-way costs no
+ * file). "<tool>: <path>: cannot create/write error" on failure, and a
+ * half-written file is removed. Returns an exit code. */
+int sh2000_tool_write_text(const char *path, const char *text, size_t len);
 
 #endif /* SH2000_TOOLCOMMON_H */

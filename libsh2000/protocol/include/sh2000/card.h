@@ -268,6 +268,8 @@ enum sh2000_gather_state {
  * (2 x CY7C1021, 64 K x 32 bits in all), the project's assumption. A
  * card reports its own in GATHER_INFO. */
 #define SH2000_GATHER_BUFFER_VALUES	32768u
+/* GATHER_INFO's trigger index of a record that never triggered. */
+#define SH2000_GATHER_NO_TRIGGER	0xffffffffu
 
 /* What a host knows about a signal: its name as users see it
  * ("setpoint", "encoder", ...), type (SH2000_PT_F32/I32) and unit. */

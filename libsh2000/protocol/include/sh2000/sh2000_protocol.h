@@ -172,7 +172,6 @@
 #define SH2000_GI_BUFFER_LO		19u	/* the card's record memory,
 						 * 32-bit values */
 #define SH2000_GATHER_INFO_WORDS	21u
-#define SH2000_GATHER_NO_TRIGGER	0xffffffffu
 
 /* ---------------------------------------------------------------------------
  * Check words: a 16-bit Fletcher-style sum that catches any single flipped

@@ -186,9 +186,10 @@ set(CPACK_DEBIAN_TOOLS_PACKAGE_NAME sh2000-tools)
 set(CPACK_DEBIAN_TOOLS_PACKAGE_SECTION utils)
 set(CPACK_DEBIAN_TOOLS_DESCRIPTION
 "SH-2000TH motion card tools
-sh2000ctl (status, commands, parameters, moves), sh2000-sim (serves a
-simulated card for sim:NAME) and sh2000-upload (G-code, canonical, CSV
-and NURBS programs to the card), with their man pages.")
+sh2000ctl (status, commands, parameters, moves, data gathering),
+sh2000-sim (serves a simulated card for sim:NAME), sh2000-upload (G-code,
+canonical, CSV and NURBS programs to the card) and sh2000-tune (step test
+of a servo loop), with their man pages.")
 # Depends from dpkg-shlibdeps: libsh2000 and libsh2000-motion (>=),
 # libsh2000-sim (=, sh2000-sim links it, and it makes `-d sim` work).
 set(CPACK_DEBIAN_TOOLS_PACKAGE_RECOMMENDS "sh2000-dkms")

@@ -24,9 +24,14 @@ const char *sh2000_cmd_op_name(unsigned int op)
 	static const char *const n[] = {
 		"nop", "enable", "disable", "set_param", "get_param", "home",
 		"stop", "reset", "set_position",
+		[SH2000_CMD_GATHER_SET] = "gather_set",
+		[SH2000_CMD_GATHER_ARM] = "gather_arm",
+		[SH2000_CMD_GATHER_STOP] = "gather_stop",
+		[SH2000_CMD_GATHER_INFO] = "gather_info",
+		[SH2000_CMD_GATHER_READ] = "gather_read",
 	};
 
-	return op < sizeof(n) / sizeof(n[0]) ? n[op] : "?";
+	return op < sizeof(n) / sizeof(n[0]) && n[op] ? n[op] : "?";
 }
 
 int sh2000_cmd_result_error(unsigned int res)
@@ -79,43 +84,59 @@ int sh2000_cmd_write(struct sh2000 *h, unsigned int op, unsigned int axis,
 	return r;
 }
 
-int sh2000_command_locked(struct sh2000 *h, unsigned int op,
-			  unsigned int axis, unsigned int param, int32_t arg,
-			  int32_t *value, int timeout_ms)
+/*
+ * The command slot for this handle: other threads of the handle wait on
+ * cmd_busy, other programs on the command lock. Returns 0 with both held,
+ * or an error with neither.
+ */
+int sh2000_cmd_slot_take(struct sh2000 *h, const char *what)
 {
-	uint16_t ack[4];
-	uint16_t seq;
-	uint64_t t0, limit;
-	char what[96];
-	int r = 0;
+	int r;
 
 	while (h->cmd_busy)
 		pthread_cond_wait(&h->cmd_cond, &h->lock);
 	h->cmd_busy = 1;
-
-	snprintf(what, sizeof(what), "command %s (axis %u, param %u, arg %d)",
-		 sh2000_cmd_op_name(op), axis == SH2000_AXIS_GLOBAL ? 0xffffu : axis,
-		 param, arg);
 	r = sh2000_arb_cmd_take(h);
 	if (r == -EAGAIN)
 		r = sh2000_fail(h, -SH2000_ETIMEOUT,
 				"%s: another program has held the card's command slot for over %d ms",
 				what, SH2000_ARB_WAIT_MS);
-	if (r < 0)
-		goto out_unlocked;
 	/* The slot is ours. If another program used it since, the last
 	 * sequence number is the one in the RAM (a program that died
 	 * mid-command left it there too). */
 	if (r > 0) {
 		r = sh2000_rd(h, SH2000_W_CMD_SEQ, 1, &h->cmd_seq);
 		if (r < 0)
-			goto out;
+			sh2000_arb_drop(h, SH2000_ARB_CMD);
 	}
+	if (r < 0) {
+		h->cmd_busy = 0;
+		pthread_cond_broadcast(&h->cmd_cond);
+	}
+	return r < 0 ? r : 0;
+}
+
+void sh2000_cmd_slot_drop(struct sh2000 *h)
+{
+	sh2000_arb_drop(h, SH2000_ARB_CMD);
+	h->cmd_busy = 0;
+	pthread_cond_broadcast(&h->cmd_cond);
+}
+
+int sh2000_cmd_exchange(struct sh2000 *h, unsigned int op, unsigned int axis,
+			unsigned int param, int32_t arg, int32_t *value,
+			int timeout_ms)
+{
+	uint16_t ack[4];
+	uint16_t seq;
+	uint64_t t0, limit;
+	char what[96];
+	int r;
+
 	r = sh2000_cmd_write(h, op, axis, param, arg);
 	if (r < 0)
-		goto out;
+		return r;
 	seq = h->cmd_seq;
-
 	snprintf(what, sizeof(what), "command %s (seq %u, axis %u, param %u, arg %d)",
 		 sh2000_cmd_op_name(op), seq, axis == SH2000_AXIS_GLOBAL ? 0xffffu : axis,
 		 param, arg);
@@ -130,27 +151,36 @@ int sh2000_command_locked(struct sh2000 *h, unsigned int op,
 
 		r = sh2000_rd(h, SH2000_W_CMD_ACK, 4, ack);
 		if (r < 0)
-			goto out;
+			return r;
 		if (ack[0] == seq)
 			break;
-		if (late) {
-			r = why_silent(h, what, (int)(limit / 1000000ull));
-			goto out;
-		}
+		if (late)
+			return why_silent(h, what, (int)(limit / 1000000ull));
 		sh2000_hold_wait(h, CMD_POLL_NS);
 	}
-	if (ack[1] != SH2000_RES_OK) {
-		r = sh2000_fail(h, sh2000_cmd_result_error(ack[1]), "%s: card answered %s",
-				what, sh2000_result_name(ack[1]));
-		goto out;
-	}
+	if (ack[1] != SH2000_RES_OK)
+		return sh2000_fail(h, sh2000_cmd_result_error(ack[1]), "%s: card answered %s",
+				   what, sh2000_result_name(ack[1]));
 	if (value)
 		*value = sh2000_w32(&ack[2]);
-out:
-	sh2000_arb_drop(h, SH2000_ARB_CMD);
-out_unlocked:
-	h->cmd_busy = 0;
-	pthread_cond_broadcast(&h->cmd_cond);
+	return 0;
+}
+
+int sh2000_command_locked(struct sh2000 *h, unsigned int op,
+			  unsigned int axis, unsigned int param, int32_t arg,
+			  int32_t *value, int timeout_ms)
+{
+	char what[96];
+	int r;
+
+	snprintf(what, sizeof(what), "command %s (axis %u, param %u, arg %d)",
+		 sh2000_cmd_op_name(op), axis == SH2000_AXIS_GLOBAL ? 0xffffu : axis,
+		 param, arg);
+	r = sh2000_cmd_slot_take(h, what);
+	if (r < 0)
+		return r;
+	r = sh2000_cmd_exchange(h, op, axis, param, arg, value, timeout_ms);
+	sh2000_cmd_slot_drop(h);
 	return r;
 }
 

@@ -188,6 +188,15 @@ const char *sh2000_cmd_op_name(unsigned int op);
 int sh2000_command_locked(struct sh2000 *h, unsigned int op,
 			  unsigned int axis, unsigned int param, int32_t arg,
 			  int32_t *value, int timeout_ms);
+/* The same in parts, for exchanges that read the RAM before the slot is
+ * given up (data gathering's window) or belong together: take the slot
+ * (what names the caller in a timeout message), any number of exchanges
+ * (write, wait for the acknowledgement, result as an error), drop it. */
+int sh2000_cmd_slot_take(struct sh2000 *h, const char *what);
+int sh2000_cmd_exchange(struct sh2000 *h, unsigned int op, unsigned int axis,
+			unsigned int param, int32_t arg, int32_t *value,
+			int timeout_ms);
+void sh2000_cmd_slot_drop(struct sh2000 *h);
 
 /* arbiter.c (h->lock held) */
 int sh2000_arb_open(struct sh2000 *h, const char *id, char *msg, size_t len);

@@ -100,6 +100,37 @@ int sh2000_param_in_range(const struct sh2000_param_info *p, double v)
 	return 0;
 }
 
+/* Protocol 1.2: the signals a card records (section 17). */
+static const struct sh2000_gather_signal_info gather_signals[] = {
+	{ SH2000_GS_SETPOINT, "setpoint", SH2000_PT_I32, "counts" },
+	{ SH2000_GS_ENCODER, "encoder", SH2000_PT_I32, "counts" },
+	{ SH2000_GS_FERR, "ferr", SH2000_PT_F32, "counts" },
+	{ SH2000_GS_DAC, "dac", SH2000_PT_I32, "DAC codes" },
+	{ SH2000_GS_PID_P, "pid_p", SH2000_PT_F32, "DAC codes" },
+	{ SH2000_GS_PID_I, "pid_i", SH2000_PT_F32, "DAC codes" },
+	{ SH2000_GS_PID_D, "pid_d", SH2000_PT_F32, "DAC codes" },
+	{ SH2000_GS_FF, "ff", SH2000_PT_F32, "DAC codes" },
+	{ SH2000_GS_VELOCITY, "velocity", SH2000_PT_F32, "counts/s" },
+	{ SH2000_GS_SETPOINT_VEL, "setpoint_vel", SH2000_PT_F32, "counts/s" },
+};
+_Static_assert(sizeof(gather_signals) / sizeof(gather_signals[0]) ==
+	       SH2000_GATHER_SIGNALS, "one row per gather signal");
+
+const struct sh2000_gather_signal_info *sh2000_gather_signal_lookup(unsigned int id)
+{
+	return id < SH2000_GATHER_SIGNALS ? &gather_signals[id] : NULL;
+}
+
+const struct sh2000_gather_signal_info *sh2000_gather_signal_by_name(const char *name)
+{
+	unsigned int i;
+
+	for (i = 0; name && i < SH2000_GATHER_SIGNALS; i++)
+		if (!strcmp(gather_signals[i].name, name))
+			return &gather_signals[i];
+	return NULL;
+}
+
 const char *sh2000_state_name(unsigned int state)
 {
 	static const char *const n[] = {

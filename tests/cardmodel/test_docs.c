@@ -74,6 +74,14 @@ static void values(void **state)
 		{ "`GET_PARAM`", SH2000_CMD_GET_PARAM }, { "`HOME`", SH2000_CMD_HOME },
 		{ "`STOP`", SH2000_CMD_STOP }, { "`RESET`", SH2000_CMD_RESET },
 		{ "`SET_POSITION`", SH2000_CMD_SET_POSITION },
+		{ "`GATHER_SET`", SH2000_CMD_GATHER_SET },
+		{ "`GATHER_ARM`", SH2000_CMD_GATHER_ARM },
+		{ "`GATHER_STOP`", SH2000_CMD_GATHER_STOP },
+		{ "`GATHER_INFO`", SH2000_CMD_GATHER_INFO },
+		{ "`GATHER_READ`", SH2000_CMD_GATHER_READ },
+		{ "`NOW`", SH2000_GATHER_NOW },
+		{ "`ON_MOTION`", SH2000_GATHER_ON_MOTION },
+		{ "`ON_FAULT`", SH2000_GATHER_ON_FAULT },
 		{ "`REJECT_DROPPED`", SH2000_REJECT_DROPPED },
 		{ "`REJECT_CHECKSUM`", SH2000_REJECT_CHECKSUM },
 		{ "`REJECT_RESERVED`", SH2000_REJECT_RESERVED },
@@ -118,6 +126,47 @@ static void values(void **state)
 	has(row);
 }
 
+/* Protocol 1.2: every gather signal with its bit, name and type; the
+ * fields; the window's words. */
+static void gather(void **state)
+{
+	static const struct { const char *name; unsigned int w; } win[] = {
+		{ "`GW_CHECK`", SH2000_GW_CHECK }, { "`GW_SEQ`", SH2000_GW_SEQ },
+		{ "`GW_KIND`", SH2000_GW_KIND }, { "`GW_RECORD`", SH2000_GW_RECORD },
+		{ "`GW_COUNT`", SH2000_GW_COUNT }, { "`GW_STATE`", SH2000_GW_STATE },
+	};
+	static const char *const fields[SH2000_GATHER_FIELDS] = {
+		"SIGNALS", "PERIOD", "SAMPLES", "TRIGGER", "PRETRIGGER",
+	};
+	char row[128];
+	unsigned int i;
+
+	(void)state;
+	for (i = 0; i < SH2000_GATHER_SIGNALS; i++) {
+		const struct sh2000_gather_signal_info *g = sh2000_gather_signal_lookup(i);
+
+		snprintf(row, sizeof(row), "| %u | `%s` | %s | %s |", i, g->name,
+			 g->type == SH2000_PT_F32 ? "F32" : "I32", g->unit);
+		has(row);
+	}
+	for (i = 0; i < SH2000_GATHER_FIELDS; i++) {
+		snprintf(row, sizeof(row), "| %u | `%s` |", i, fields[i]);
+		has(row);
+	}
+	for (i = 0; i < sizeof(win) / sizeof(win[0]); i++) {
+		snprintf(row, sizeof(row), "| %u | %s |",
+			 SH2000_W_GATHER_BASE + win[i].w, win[i].name);
+		has(row);
+	}
+	snprintf(row, sizeof(row), "| %u..%u | gather window |", SH2000_W_GATHER_BASE,
+		 SH2000_W_GATHER_BASE + SH2000_GATHER_WINDOW_WORDS - 1);
+	has(row);
+	snprintf(row, sizeof(row), "up to %u values", SH2000_GATHER_CHUNK_VALUES);
+	has(row);
+	snprintf(row, sizeof(row), "a %u-word payload", SH2000_GATHER_INFO_WORDS);
+	has(row);
+}
+
 static void layout(void **state)
 {
 	static const struct { const char *name; unsigned int w; } rows[] = {
@@ -154,6 +203,7 @@ int main(void)
 		cmocka_unit_test(params),
 		cmocka_unit_test(values),
 		cmocka_unit_test(layout),
+		cmocka_unit_test(gather),
 	};
 
 	return cmocka_run_group_tests(tests, load, unload);

@@ -4,12 +4,17 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <spawn.h>
+#include <sys/wait.h>
 
 #include <uapi/sh2000.h>
+
+extern char **environ;
 
 static const char *tool_name = "sh2000";
 
@@ -92,7 +97,7 @@ int sh2000_tool_exit_code(int code)
 {
 	if (code >= 0)
 		return SH2000_EXIT_OK;
-	if ((code <= -SH2000_EESTOP && code >= -SH2000_E_LAST) ||
+	if ((code <= -SH2000_EESTOP && code >= -SH2000_EHOME) ||
 	    code == -SH2000_ECMD_FAULTED)
 		return SH2000_EXIT_FAULT;
 	return SH2000_EXIT_CARD;
@@ -199,4 +204,59 @@ void sh2000_tool_print_version(const char *tool_version)
 	       sh2000_tool_name(), tool_version, sh2000_version(),
 	       sh2000_soversion(), SH2000_PROTO_MAJOR, SH2000_PROTO_MINOR,
 	       (unsigned int)SH2000_ABI_VERSION);
+}
+
+int sh2000_tool_write_text(const char *path, const char *text, size_t len)
+{
+	FILE *f = strcmp(path, "-") ? fopen(path, "w") : stdout;
+	int r = SH2000_EXIT_OK;
+
+	if (!f) {
+		sh2000_tool_msg("%s: cannot create: %s", path, strerror(errno));
+		return SH2000_EXIT_CARD;
+	}
+	if (fwrite(text, 1, len, f) != len)
+		r = SH2000_EXIT_CARD;
+	if (f != stdout) {
+		if (fclose(f) != 0)
+			r = SH2000_EXIT_CARD;
+	} else if (fflush(f) != 0) {
+		r = SH2000_EXIT_CARD;
+	}
+	if (r) {
+		sh2000_tool_msg("%s: write error: %s", path, strerror(errno));
+		if (f != stdout)
+			remove(path);
+	}
+	return r;
+}
+
+int sh2000_tool_gnuplot(const char *def, const char *script,
+			const char *errfile, int *status)
+{
+	posix_spawn_file_actions_t fa;
+	char *argv[] = { "gnuplot", "-e", (char *)def, (char *)script, NULL };
+	pid_t pid;
+	int e;
+
+	posix_spawn_file_actions_init(&fa);
+	posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+	posix_spawn_file_actions_addopen(&fa, 2, errfile,
+					 O_WRONLY | O_CREAT | O_TRUNC, 0600);
+	e = posix_spawnp(&pid, "gnuplot", &fa, NULL, argv, environ);
+	posix_spawn_file_actions_destroy(&fa);
+	if (e)
+		return -e;
+	while (waitpid(pid, status, 0) < 0)
+		if (errno != EINTR)
+			return -errno;
+	return 0;
+}
+
+void sh2000_tool_gnuplot_quoted(FILE *f, const char *s)
+{
+	fputc('\'', f);
+	for (; *s; s++)
+		fputc(*s == '\'' ? '_' : *s, f);
+	fputc('\'', f);
 }

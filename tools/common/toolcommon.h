@@ -15,6 +15,8 @@
 #define SH2000_TOOLCOMMON_H
 
 #include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
 
 #include <sh2000/sh2000.h>
 
@@ -84,5 +86,21 @@ char sh2000_tool_axis_name(unsigned int axis);
 /* Whole string is a finite number / an integer in [min, max]: 0, else -1. */
 int sh2000_tool_double(const char *s, double *v);
 int sh2000_tool_long(const char *s, long min, long max, long *v);
+
+/* Write text[0..len) to path ("-": stdout), as the last step of a command
+ * that built it in memory first (so a card that fails half-way costs no
+ * file). "<tool>: <path>: cannot create/write error" on failure, and a
+ * half-written file is removed. Returns an exit code. */
+int sh2000_tool_write_text(const char *path, const char *text, size_t len);
+
+/* Run "gnuplot -e DEF SCRIPT" (DEF e.g. "DATA='file'"), its stdout to
+ * /dev/null and stderr into errfile; *status as waitpid() gives it. 0, or
+ * -errno when it cannot run (-ENOENT: not on PATH, Debian package
+ * gnuplot-nox). */
+int sh2000_tool_gnuplot(const char *def, const char *script,
+			const char *errfile, int *status);
+
+/* s as a gnuplot single-quoted string (a quote inside becomes '_'). */
+void sh2000_tool_gnuplot_quoted(FILE *f, const char *s);
 
 #endif /* SH2000_TOOLCOMMON_H */

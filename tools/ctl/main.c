@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * sh2000ctl: operate and commission an SH-2000TH card (status, parameters,
- * enable, jog, move, home, stop, estop, reset, RAM dump). sh2000ctl(1) is
+ * enable, jog, move, home, stop, estop, reset, data gathering, RAM dump). sh2000ctl(1) is
  * the manual; this file holds the command table, the global options and
  * the "+" that chains subcommands on one handle.
  */
@@ -72,6 +72,29 @@ static const struct ctl_cmd cmds[] = {
 	{ "reset", ctl_reset, "",
 	  "Clear latched faults and a latched emergency stop; the card goes idle.\n"
 	  "Enabled axes stay enabled; axes a fault disabled stay disabled.\n" },
+	{ "gather", ctl_gather,
+	  "[--axis AXES] [--signals LIST] [--period CYCLES] [--samples N]\n"
+	  "       [--trigger now|motion|fault] [--pretrigger N] [--timeout SECONDS]\n"
+	  "       [-o FILE] | --no-wait [...] | --read [-o FILE] [--timeout SECONDS]",
+	  "Record signals on the card every PERIOD servo cycles and write them as\n"
+	  "CSV: a header row 'time[s],x.setpoint[counts],...', then one row per\n"
+	  "sample, time measured from the trigger (pre-trigger rows negative).\n"
+	  "  -a, --axis AXES     x, x,y, xyz or all (default x)\n"
+	  "  -s, --signals LIST  comma-separated: setpoint encoder ferr dac pid_p\n"
+	  "                      pid_i pid_d ff velocity setpoint_vel, or all\n"
+	  "                      (default setpoint,encoder,ferr,dac)\n"
+	  "  --period CYCLES     servo cycles per sample, 1..65535 (default 1)\n"
+	  "  --samples N         samples in the record (default 1000; the card\n"
+	  "                      holds 32768 values in all)\n"
+	  "  --trigger WHEN      now (default), motion (the next motion's start)\n"
+	  "                      or fault (the next fault or emergency stop)\n"
+	  "  --pretrigger N      samples kept from before the trigger (not with now)\n"
+	  "  --timeout SECONDS   wait at most this long for the record (default 60)\n"
+	  "  -o, --output FILE   the CSV file (default '-': stdout); written only\n"
+	  "                      when the whole record was read\n"
+	  "  --no-wait           only arm the record (then e.g. '+ move ...')\n"
+	  "  --read              only wait for the card's record and write it\n"
+	  "Units are the card's: counts, DAC codes, counts/s.\n" },
 	{ "dump", ctl_dump, "[RANGE...]",
 	  "Print dual-port RAM words as hex, 8 per line after the word offset\n"
 	  "(hex). RANGE: N, N-M (inclusive), N+COUNT or all; numbers decimal\n"

@@ -298,7 +298,7 @@ static int params_save(struct ctl *c, const char *path)
 {
 	char *text = NULL;
 	size_t len = 0;
-	FILE *m = open_memstream(&text, &len), *f;
+	FILE *m = open_memstream(&text, &len);
 	int r = 0;
 
 	if (!m) {
@@ -325,25 +325,7 @@ static int params_save(struct ctl *c, const char *path)
 		free(text);
 		return r;
 	}
-	f = strcmp(path, "-") ? fopen(path, "w") : stdout;
-	if (!f) {
-		sh2000_tool_msg("%s: cannot create: %s", path, strerror(errno));
-		free(text);
-		return SH2000_EXIT_CARD;
-	}
-	if (fwrite(text, 1, len, f) != len)
-		r = SH2000_EXIT_CARD;
-	if (f != stdout) {
-		if (fclose(f) != 0)
-			r = SH2000_EXIT_CARD;
-	} else if (fflush(f) != 0) {
-		r = SH2000_EXIT_CARD;
-	}
-	if (r) {
-		sh2000_tool_msg("%s: write error: %s", path, strerror(errno));
-		if (f != stdout)
-			remove(path);
-	}
+	r = sh2000_tool_write_text(path, text, len);
 	free(text);
 	return r;
 }

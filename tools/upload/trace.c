@@ -6,8 +6,6 @@
  */
 #include <errno.h>
 #include <math.h>
-#include <fcntl.h>
-#include <spawn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,8 +15,6 @@
 #include <unistd.h>
 
 #include "upload.h"
-
-extern char **environ;
 
 /* Plot rows at least this far apart (s). */
 #define PLOT_DT 0.001
@@ -163,15 +159,6 @@ uint64_t upl_trace_rows(const struct upl_trace *t)
 	return t->rows;
 }
 
-/* gnuplot's single-quoted strings: no quote inside. */
-static void quoted(FILE *f, const char *s)
-{
-	fputc('\'', f);
-	for (; *s; s++)
-		fputc(*s == '\'' ? '_' : *s, f);
-	fputc('\'', f);
-}
-
 static int write_script(const char *script,
 			const char *out, const char *title, int svg,
 			int cairo)
@@ -187,10 +174,10 @@ static int write_script(const char *script,
 	else
 		fputs("set terminal png size 1400,900\n", f);
 	fputs("set output ", f);
-	quoted(f, out);
+	sh2000_tool_gnuplot_quoted(f, out);
 	fputs("\nset datafile separator ' '\nset grid\n"
 	      "set multiplot title ", f);
-	quoted(f, title);
+	sh2000_tool_gnuplot_quoted(f, title);
 	fputs("\n"
 	      /* left: the path in XY, true to scale */
 	      "set origin 0,0\nset size 0.5,0.95\n"
@@ -223,25 +210,10 @@ static int write_script(const char *script,
 static int run_gnuplot(struct upl_trace *t, const char *script,
 		       const char *errfile, int *status)
 {
-	posix_spawn_file_actions_t fa;
 	char def[160];
-	char *argv[] = { "gnuplot", "-e", def, (char *)script, NULL };
-	pid_t pid;
-	int e;
 
 	snprintf(def, sizeof(def), "DATA='%s'", t->data);
-	posix_spawn_file_actions_init(&fa);
-	posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-	posix_spawn_file_actions_addopen(&fa, 2, errfile,
-					 O_WRONLY | O_CREAT | O_TRUNC, 0600);
-	e = posix_spawnp(&pid, "gnuplot", &fa, NULL, argv, environ);
-	posix_spawn_file_actions_destroy(&fa);
-	if (e)
-		return -e;
-	while (waitpid(pid, status, 0) < 0)
-		if (errno != EINTR)
-			return -errno;
-	return 0;
+	return sh2000_tool_gnuplot(def, script, errfile, status);
 }
 
 int upl_trace_plot(struct upl_trace *t, const char *out, const char *title)

@@ -9,6 +9,7 @@
 #ifndef SH2000_CARDMODEL_H
 #define SH2000_CARDMODEL_H
 
+#include <math.h>
 #include <stdint.h>
 
 #include "sh2000/bspline.h"
@@ -41,6 +42,9 @@ struct sh2000_pid_gains {
 struct sh2000_pid {
 	double u;		/* PID part u(k-1), clamped to the DAC limit */
 	double e1, e2;		/* e(k-1), e(k-2) */
+	/* this sample's terms (data gathering): P, I = u - P - D, D and the
+	 * feed-forward, DAC codes */
+	double p, i, d, ff;
 };
 
 void sh2000_pid_reset(struct sh2000_pid *p);
@@ -92,6 +96,39 @@ struct sh2000_fw_axis {
 	double home_latch;	/* counter (extended) at the reference */
 };
 
+/* ---- gather.c: data gathering (protocol 1.2) ---- */
+
+struct sh2000_dsp;
+
+struct sh2000_gather_cfg {
+	uint16_t mask[SH2000_AXES];	/* 1 << SH2000_GS_* per axis */
+	uint32_t period, samples, pretrigger;
+	uint16_t trigger;		/* enum sh2000_gather_trigger */
+};
+
+struct sh2000_gather {
+	struct sh2000_gather_cfg cfg;	/* what GATHER_SET has set */
+	struct sh2000_gather_cfg rec;	/* the record's, copied at ARM */
+	uint16_t state;			/* enum sh2000_gather_state */
+	uint16_t record;		/* +1 per ARM */
+	uint32_t vps;			/* values per sample */
+	uint32_t div;			/* cycles to the next sample */
+	uint32_t pre_next, pre_count;	/* pre-trigger ring */
+	uint32_t post;			/* samples from the trigger on */
+	uint32_t trig_index, trig_cycle, first_cycle, last_cycle;
+	uint16_t prev_faults;		/* trigger edges */
+	int was_moving;
+	uint32_t buf[SH2000_GATHER_BUFFER_VALUES];
+};
+
+void sh2000_gather_boot(struct sh2000_gather *g);
+/* GATHER_* commands (seq: the CMD_SEQ being answered); SH2000_RES_*. */
+uint16_t sh2000_gather_command(struct sh2000_dsp *fw, uint16_t seq,
+			       uint16_t op, uint16_t axis, uint16_t param,
+			       uint32_t arg, uint32_t *value);
+/* End of every servo interrupt: trigger, sample. */
+void sh2000_gather_cycle(struct sh2000_dsp *fw);
+
 /* What the DSP's memory holds: the firmware's whole state. */
 struct sh2000_dsp {
 	struct sh2000_board *hw;	/* registers and RAM (board.h) */
@@ -120,11 +157,25 @@ struct sh2000_dsp {
 	int ending;		/* END record seen */
 	unsigned int status_div;
 	uint64_t cycle;		/* servo interrupts taken */
+	struct sh2000_gather gather;	/* its record lives here */
 };
 
 static inline int sh2000_axis_enabled(const struct sh2000_fw_axis *ax)
 {
 	return (ax->state & SH2000_AXIS_ENABLED) != 0;
+}
+
+/* The set-point as the host sees it (snapshot CMD, gathered SETPOINT):
+ * rounded to a count, within int32. */
+static inline int32_t sh2000_fw_cmd_counts(const struct sh2000_fw_axis *ax)
+{
+	double c = nearbyint(ax->cmd);
+
+	if (c > 2147483647.0)
+		c = 2147483647.0;
+	if (c < -2147483648.0)
+		c = -2147483648.0;
+	return (int32_t)c;
 }
 
 /* RUNNING, STOPPING or HOMING: what "while moving" means everywhere. */

@@ -346,8 +346,9 @@ void sh2000_fw_set_position(struct sh2000_dsp *fw, unsigned int a, int64_t pos)
 	sh2000_fw_hold_at(fw, a, (double)pos);
 }
 
-static uint16_t execute(struct sh2000_dsp *fw, uint16_t op, uint16_t axis,
-			uint16_t param, uint32_t arg, uint32_t *value)
+static uint16_t execute(struct sh2000_dsp *fw, uint16_t seq, uint16_t op,
+			uint16_t axis, uint16_t param, uint32_t arg,
+			uint32_t *value)
 {
 	switch (op) {
 	case SH2000_CMD_NOP:
@@ -379,6 +380,13 @@ static uint16_t execute(struct sh2000_dsp *fw, uint16_t op, uint16_t axis,
 			return SH2000_RES_BUSY;
 		sh2000_fw_set_position(fw, axis, (int32_t)arg);
 		return SH2000_RES_OK;
+	case SH2000_CMD_GATHER_SET:
+	case SH2000_CMD_GATHER_ARM:
+	case SH2000_CMD_GATHER_STOP:
+	case SH2000_CMD_GATHER_INFO:
+	case SH2000_CMD_GATHER_READ:
+		return sh2000_gather_command(fw, seq, op, axis, param, arg,
+					     value);
 	default:
 		return SH2000_RES_BAD_OP;
 	}
@@ -401,7 +409,7 @@ static void command(struct sh2000_dsp *fw)
 	    sh2000_cmd_check(seq, op, axis, param, lo, hi))
 		res = SH2000_RES_CHECKSUM;
 	else
-		res = execute(fw, op, axis, param,
+		res = execute(fw, seq, op, axis, param,
 			      (uint32_t)lo | ((uint32_t)hi << 16), &value);
 	WR(fw, SH2000_W_CMD_VALUE_LO, value & 0xffffu);
 	WR(fw, SH2000_W_CMD_VALUE_HI, value >> 16);
@@ -704,13 +712,8 @@ static void publish_snapshot(struct sh2000_dsp *fw)
 	for (a = 0; a < SH2000_AXES; a++) {
 		const struct sh2000_fw_axis *ax = &fw->ax[a];
 		unsigned int w = SH2000_W_SNAP_AXIS(a);
-		double c = nearbyint(ax->cmd);
 
-		if (c > 2147483647.0)
-			c = 2147483647.0;
-		if (c < -2147483648.0)
-			c = -2147483648.0;
-		put32(fw, w + SH2000_SNAP_CMD_LO, (uint32_t)(int32_t)c);
+		put32(fw, w + SH2000_SNAP_CMD_LO, (uint32_t)sh2000_fw_cmd_counts(ax));
 		put32(fw, w + SH2000_SNAP_ACT_LO, ax->counter);
 		WR(fw, w + SH2000_SNAP_DAC, (uint16_t)ax->dac);
 	}
@@ -761,6 +764,7 @@ void sh2000_dsp_interrupt(struct sh2000_dsp *fw)
 	motion(fw, T);
 	servo(fw, T);
 	dac_out(fw);
+	sh2000_gather_cycle(fw);
 	sh2000_fw_publish_words(fw);
 	if (++fw->status_div >= (unsigned int)fw->status_period) {
 		fw->status_div = 0;
@@ -777,6 +781,7 @@ void sh2000_dsp_boot(struct sh2000_dsp *fw, struct sh2000_board *hw)
 	fw->hw = hw;
 	WR(fw, SH2000_W_STATE, SH2000_STATE_BOOT);
 	sh2000_fw_default_params(fw);
+	sh2000_gather_boot(&fw->gather);
 	fw->tb_sigma = 1.0;	/* full rate until the host says otherwise */
 	fw->tb_rate = 0.0;
 	fw->need_point = 1;

@@ -78,7 +78,12 @@ enum sh2000_error {
 	SH2000_EFORMAT = 1041,		/* not a program format the reader
 					   knows */
 	SH2000_ELIMIT = 1042,		/* a planned point beyond a soft limit */
-	SH2000_E_LAST = 1042,
+	/* data gathering (protocol 1.2) */
+	SH2000_EGATHER_CHECK = 1050,	/* a chunk of the record kept failing
+					   its check (the bus corrupts it) */
+	SH2000_EGATHER_LOST = 1051,	/* the record being read was replaced
+					   (another program armed a new one) */
+	SH2000_E_LAST = 1051,
 };
 
 /* Name of any code this library returns (-errno, -SH2000_E*, >= 0). */
@@ -422,6 +427,78 @@ int sh2000_push_point(struct sh2000 *h, const int32_t pt[SH2000_AXES],
  * for the acknowledgement: a later poll shows state ESTOP. -EAGAIN if the
  * handle is busy in another thread. */
 int sh2000_estop_request(struct sh2000 *h);
+
+/* ---- data gathering (protocol 1.2) ---------------------------------- */
+
+/*
+ * The card records chosen signals of each axis every `period` servo cycles
+ * into its own memory (docs/protocol.md section 17, docs/library.md);
+ * afterwards the record is read out in chunks, each one command exchange
+ * checked end to end, so other programs' commands go on in between. The
+ * signals (enum sh2000_gather_signal) are in the card's units: counts, DAC
+ * codes, counts/s.
+ */
+struct sh2000_gather_config {
+	unsigned int signals[SH2000_AXES];	/* per axis: 1u << SH2000_GS_* */
+	unsigned int period;		/* servo cycles per sample, 1..65535 */
+	uint32_t samples;		/* samples in the record, >= 1 */
+	unsigned int trigger;		/* enum sh2000_gather_trigger */
+	uint32_t pretrigger;		/* samples kept from before it */
+};
+
+/* No signals, period 1, 1000 samples, trigger now, no pre-trigger. */
+void sh2000_gather_config_default(struct sh2000_gather_config *c);
+
+struct sh2000_gather_info {
+	unsigned int state;		/* enum sh2000_gather_state */
+	unsigned int record;		/* the record's number */
+	unsigned int trigger, period;
+	unsigned int values;		/* values per sample */
+	unsigned int signals[SH2000_AXES];
+	uint32_t samples;		/* in the record now */
+	uint32_t capacity;		/* samples it was armed for */
+	uint32_t pretrigger;
+	uint32_t trigger_index;		/* first sample at/after the trigger;
+					   SH2000_GATHER_NO_TRIGGER if none */
+	uint32_t first_cycle;		/* card servo cycle of sample 0 */
+	uint32_t trigger_cycle;		/* cycle the trigger fired in */
+	uint32_t buffer;		/* the card's memory, 32-bit values */
+	double sample_s;		/* period in seconds, at the servo
+					   period the handle knows */
+};
+
+/*
+ * Configure and arm a record (every field sent, then GATHER_ARM, in one
+ * hold of the command slot). Returns the record's number (>= 0).
+ * -SH2000_EPARAM before anything is sent when c is bad (the message names
+ * the field); -EOPNOTSUPP on a card older than protocol 1.2;
+ * -SH2000_ECMD_BUSY while a record is armed or recording (stop it first).
+ */
+int sh2000_gather_start(struct sh2000 *h, const struct sh2000_gather_config *c);
+/* End the record now (what it holds stays readable). */
+int sh2000_gather_stop(struct sh2000 *h);
+/* The card's description of the record (or of its configuration). */
+int sh2000_gather_info(struct sh2000 *h, struct sh2000_gather_info *gi);
+/* Wait until record number `record` is DONE, polling the card (so its
+ * host heartbeat goes on through a motion; latched faults do not end the
+ * wait, a record may be triggered by one); *gi then describes it.
+ * -SH2000_ETIMEOUT after timeout_ms (< 0: no limit), -SH2000_EGATHER_LOST
+ * if a new record replaced it, -SH2000_EHEARTBEAT for a stopped card. */
+int sh2000_gather_wait(struct sh2000 *h, unsigned int record,
+		       struct sh2000_gather_info *gi, int timeout_ms);
+/*
+ * Samples [first, first + n) of the record gi describes, as doubles,
+ * sample after sample: out[(s - first) * gi->values + k]. Returns n.
+ * -EINVAL beyond gi->samples; -SH2000_EGATHER_LOST when another record
+ * replaced it; -SH2000_EGATHER_CHECK when a chunk failed its check word
+ * three times.
+ */
+int sh2000_gather_read(struct sh2000 *h, const struct sh2000_gather_info *gi,
+		       uint32_t first, uint32_t n, double *out);
+/* Which axis and signal value k of a sample is: 0, or -EINVAL if
+ * k >= values (the layout: axis 0..3, each in ascending signal order). */
+int sh2000_gather_column(const struct sh2000_gather_info *gi, unsigned int k,
+			 unsigned int *axis, unsigned int *signal);
 
 /* ---- raw access, for tools and tests --------------------------------- */
 

@@ -19,7 +19,7 @@ extern "C" {
 #endif
 
 #define SH2000_PROTO_MAJOR		1u
-#define SH2000_PROTO_MINOR		1u
+#define SH2000_PROTO_MINOR		2u
 #define SH2000_PROTO_VERSION		((SH2000_PROTO_MAJOR << 8) | SH2000_PROTO_MINOR)
 #define SH2000_PROTO_VERSION_MAJOR(v)	(((v) >> 8) & 0xffu)
 #define SH2000_PROTO_VERSION_MINOR(v)	((v) & 0xffu)
@@ -97,6 +97,13 @@ enum sh2000_cmd_op {
 	SH2000_CMD_STOP = 6,		/* controlled stop, ring discarded */
 	SH2000_CMD_RESET = 7,		/* clear latched faults, go idle */
 	SH2000_CMD_SET_POSITION = 8,	/* AXIS, ARG = new position (counts) */
+	/* protocol 1.2: data gathering (docs/protocol.md section 17); a
+	 * range of their own, 16.., so that other additions keep 9.. */
+	SH2000_CMD_GATHER_SET = 16,	/* AXIS, PARAM = field, ARG = value */
+	SH2000_CMD_GATHER_ARM = 17,	/* start a record -> VALUE = number */
+	SH2000_CMD_GATHER_STOP = 18,	/* end the record now */
+	SH2000_CMD_GATHER_INFO = 19,	/* describe it in the window */
+	SH2000_CMD_GATHER_READ = 20,	/* ARG = first value -> window */
 };
 
 /* SH2000_W_CMD_AXIS value addressing a global parameter. */
@@ -210,6 +217,72 @@ const struct sh2000_param_info *sh2000_param_by_name(const char *name);
 #define SH2000_FW_MIN_SERVO_NS		10000u
 /* Homing with SH2000_HOME_F_INDEX creeps at |HOME_VEL| / this. */
 #define SH2000_FW_HOME_CREEP_DIV	10.0
+
+/* ---------------------------------------------------------------------------
+ * Data gathering (protocol 1.2, docs/protocol.md section 17): the card
+ * records chosen signals of each axis every PERIOD servo cycles into its
+ * own memory; the host reads the record out afterwards through a window.
+ * ------------------------------------------------------------------------ */
+
+/* What can be recorded per axis: bit n of the axis' signal mask. Every
+ * value is 32 bits: I32 two's complement or an F32 bit pattern. */
+enum sh2000_gather_signal {
+	SH2000_GS_SETPOINT = 0,		/* I32 counts: fine set-point, rounded */
+	SH2000_GS_ENCODER = 1,		/* I32 counts: the counter, extended */
+	SH2000_GS_FERR = 2,		/* F32 counts: set-point - encoder */
+	SH2000_GS_DAC = 3,		/* I32 DAC code output */
+	SH2000_GS_PID_P = 4,		/* F32 codes: Kp e */
+	SH2000_GS_PID_I = 5,		/* F32 codes: u - P - D */
+	SH2000_GS_PID_D = 6,		/* F32 codes: Kp Td/T (e - e1) */
+	SH2000_GS_FF = 7,		/* F32 codes: KVFF v + KAFF a */
+	SH2000_GS_VELOCITY = 8,		/* F32 counts/s: counter change / T */
+	SH2000_GS_SETPOINT_VEL = 9,	/* F32 counts/s: the set-point's */
+	SH2000_GATHER_SIGNALS = 10,	/* N: signals one axis can record */
+};
+
+/* GATHER_SET fields (CMD_PARAM); SIGNALS takes AXIS 0..3, the others
+ * SH2000_AXIS_GLOBAL. */
+enum sh2000_gather_field {
+	SH2000_GF_SIGNALS = 0,		/* mask of 1 << SH2000_GS_* (0: none) */
+	SH2000_GF_PERIOD = 1,		/* servo cycles per sample, 1..65535 */
+	SH2000_GF_SAMPLES = 2,		/* samples in the record, >= 1 */
+	SH2000_GF_TRIGGER = 3,		/* enum sh2000_gather_trigger */
+	SH2000_GF_PRETRIGGER = 4,	/* samples kept from before it */
+	SH2000_GATHER_FIELDS = 5,
+};
+
+enum sh2000_gather_trigger {
+	SH2000_GATHER_NOW = 0,		/* in the cycle that takes GATHER_ARM */
+	SH2000_GATHER_ON_MOTION = 1,	/* the next start of RUNNING/HOMING */
+	SH2000_GATHER_ON_FAULT = 2,	/* the next card fault bit latched */
+};
+
+enum sh2000_gather_state {
+	SH2000_GATHER_OFF = 0,		/* no record */
+	SH2000_GATHER_ARMED = 1,	/* waiting for the trigger */
+	SH2000_GATHER_RECORDING = 2,	/* triggered, filling the record */
+	SH2000_GATHER_DONE = 3,		/* complete (or stopped): readable */
+};
+
+/* The card's record memory in 32-bit values: half of the DSP's SRAM
+ * (2 x CY7C1021, 64 K x 32 bits in all), the project's assumption. A
+ * card reports its own in GATHER_INFO. */
+#define SH2000_GATHER_BUFFER_VALUES	32768u
+/* GATHER_INFO's trigger index of a record that never triggered. */
+#define SH2000_GATHER_NO_TRIGGER	0xffffffffu
+
+/* What a host knows about a signal: its name as users see it
+ * ("setpoint", "encoder", ...), type (SH2000_PT_F32/I32) and unit. */
+struct sh2000_gather_signal_info {
+	uint16_t id;
+	const char *name;
+	enum sh2000_param_type type;
+	const char *unit;
+};
+
+/* NULL for ids >= SH2000_GATHER_SIGNALS / unknown names. */
+const struct sh2000_gather_signal_info *sh2000_gather_signal_lookup(unsigned int id);
+const struct sh2000_gather_signal_info *sh2000_gather_signal_by_name(const char *name);
 
 /* Names for messages (never NULL). */
 const char *sh2000_state_name(unsigned int state);

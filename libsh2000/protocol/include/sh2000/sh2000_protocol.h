@@ -105,7 +105,8 @@
 #define SH2000_RECORD_WORDS		12u
 #define SH2000_W_RING_END \
 	(SH2000_W_RING_BASE + SH2000_RING_RECORDS * SH2000_RECORD_WORDS)
-/* Words RING_END..1023 are reserved in v1: both sides leave them alone. */
+/* Words RING_END..SH2000_W_GATHER_BASE-1 are reserved: both sides leave
+ * them alone. */
 
 /* Word offsets inside one record. */
 #define SH2000_REC_POS_LO(a)		(2u * (a))	/* int32 counts */
@@ -129,6 +130,48 @@
  * A fill above RING_RECORDS is a host bug: the card latches
  * SH2000_FAULT_PROTOCOL.
  */
+
+/* ---------------------------------------------------------------------------
+ * Protocol 1.2: the gather window (docs/protocol.md section 17). C: written
+ * only in answer to GATHER_INFO and GATHER_READ, all of it before CMD_ACK,
+ * and not again before the next such command; the host reads it after
+ * CMD_ACK while it still holds the command slot. The check word covers
+ * words 1..HEADER-1 and the COUNT payload words, so a reader knows the
+ * window is whole and is the answer to its own command.
+ * ------------------------------------------------------------------------ */
+
+#define SH2000_W_GATHER_BASE		896u
+#define SH2000_GATHER_WINDOW_WORDS	128u	/* to word 1023 */
+#define   SH2000_GW_CHECK		0u	/* sh2000_gather_check() */
+#define   SH2000_GW_SEQ			1u	/* CMD_SEQ answered */
+#define   SH2000_GW_KIND		2u	/* SH2000_GATHER_KIND_* */
+#define   SH2000_GW_RECORD		3u	/* record number (+1 per ARM) */
+#define   SH2000_GW_COUNT		4u	/* payload words that follow */
+#define   SH2000_GW_OFFSET_LO		5u	/* DATA: first value's index */
+#define   SH2000_GW_OFFSET_HI		6u
+#define   SH2000_GW_STATE		7u	/* enum sh2000_gather_state */
+#define SH2000_GW_HEADER		8u	/* payload from word 8 */
+#define SH2000_GATHER_CHUNK_VALUES \
+	((SH2000_GATHER_WINDOW_WORDS - SH2000_GW_HEADER) / 2u)
+
+#define SH2000_GATHER_KIND_INFO		1u
+#define SH2000_GATHER_KIND_DATA		2u
+
+/* INFO payload (word offsets after the header); 32-bit values low first. */
+#define SH2000_GI_TRIGGER		0u	/* enum sh2000_gather_trigger */
+#define SH2000_GI_PERIOD		1u	/* servo cycles per sample */
+#define SH2000_GI_VALUES		2u	/* values per sample */
+#define SH2000_GI_SIGNALS(a)		(3u + (a))	/* mask per axis */
+#define SH2000_GI_SAMPLES_LO		7u	/* samples in the record now */
+#define SH2000_GI_CAPACITY_LO		9u	/* samples configured */
+#define SH2000_GI_PRETRIGGER_LO		11u	/* pre-trigger configured */
+#define SH2000_GI_TRIGGER_INDEX_LO	13u	/* sample at/after the trigger,
+						 * 0xffffffff: not triggered */
+#define SH2000_GI_FIRST_CYCLE_LO	15u	/* servo cycle of sample 0 */
+#define SH2000_GI_TRIGGER_CYCLE_LO	17u	/* cycle the trigger fired */
+#define SH2000_GI_BUFFER_LO		19u	/* the card's record memory,
+						 * 32-bit values */
+#define SH2000_GATHER_INFO_WORDS	21u
 
 /* ---------------------------------------------------------------------------
  * Check words: a 16-bit Fletcher-style sum that catches any single flipped
@@ -162,6 +205,14 @@ static inline uint16_t sh2000_cmd_check(uint16_t seq, uint16_t op,
 	const uint16_t w[6] = { seq, op, axis, param, arg_lo, arg_hi };
 
 	return sh2000_check16(w, 6);
+}
+
+/* Check word of the gather window w[0..HEADER+count-1] (count payload
+ * words): over words 1..HEADER-1 and the payload. */
+static inline uint16_t sh2000_gather_check(const uint16_t *w,
+					   unsigned int count)
+{
+	return sh2000_check16(w + 1, SH2000_GW_HEADER - 1u + count);
 }
 
 /* ---------------------------------------------------------------------------

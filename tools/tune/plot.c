@@ -1,0 +1,144 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The step response as a picture through gnuplot (Debian's gnuplot-nox):
+ * on top the set-point and the encoder in counts from the start with the
+ * settling band, below the DAC code; times in ms from the step. The data
+ * and the script go to a private temporary directory, removed after.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "tune.h"
+
+struct plot_files {
+	char dir[64], data[96], script[96], err[96];
+};
+
+static int write_data(const struct tune_trace *tr, const char *path)
+{
+	FILE *f = fopen(path, "w");
+
+	if (!f)
+		return -errno;
+	for (size_t i = 0; i < tr->n; i++)
+		fprintf(f, "%.6f %.1f %.1f %.0f\n", tr->t[i] * 1e3,
+			tr->sp[i] - tr->start, tr->enc[i] - tr->start, tr->dac[i]);
+	return fclose(f) ? -errno : 0;
+}
+
+static int write_script(const struct plot_files *pf, const struct tune_trace *tr,
+			const struct tune_metrics *m, const char *out,
+			const char *title, int svg, int cairo)
+{
+	double step = tr->end - tr->start;
+	FILE *f = fopen(pf->script, "w");
+	char settle[32];
+
+	if (!f)
+		return -errno;
+	if (m->settled)
+		snprintf(settle, sizeof(settle), "%.2f ms", m->settle_s * 1e3);
+	else
+		snprintf(settle, sizeof(settle), "not settled");
+	fputs(svg ? "set terminal svg size 1200,900 dynamic font 'Sans,11'\n" :
+	      cairo ? "set terminal pngcairo size 1200,900 font 'Sans,10'\n" :
+		      "set terminal png size 1200,900\n", f);
+	fputs("set output ", f);
+	sh2000_tool_gnuplot_quoted(f, out);
+	fputs("\nset grid\nset multiplot title ", f);
+	sh2000_tool_gnuplot_quoted(f, title);
+	/* the step takes milliseconds of a hold of many: show the step and
+	 * a few times its settling */
+	fprintf(f, "\nset xrange [%.3f:%.3f]\n", tr->t[0] * 1e3,
+		fmin(tr->t[tr->n - 1], m->settled ? fmax(4 * m->settle_s, 0.01) : INFINITY) * 1e3);
+	if (m->settled)
+		fprintf(f, "set arrow from %.4f, graph 0 to %.4f, graph 1 nohead dt 3\n",
+			m->settle_s * 1e3, m->settle_s * 1e3);
+	fprintf(f, "set origin 0,0.35\nset size 1,0.6\n"
+		"set title 'rise %.2f ms, overshoot %.0f counts (%.1f %%), settling to %.0f counts: %s'\n"
+		"set xlabel 't (ms from the step)'\nset ylabel 'counts from the start'\n"
+		"set key bottom right\n"
+		"plot DATA using 1:3 with lines lw 2 lc rgb '#d03a1f' title 'encoder', \\\n"
+		"     DATA using 1:2 with lines lw 1.5 lc rgb '#1f5fb4' title 'set-point', \\\n"
+		"     %.1f with lines dt 2 lc rgb '#777777' title '+-%.0f counts', \\\n"
+		"     %.1f with lines dt 2 lc rgb '#777777' notitle\n",
+		m->rise_s * 1e3, m->overshoot, m->overshoot_pct, TUNE_SETTLE_COUNTS,
+		settle, step + TUNE_SETTLE_COUNTS, TUNE_SETTLE_COUNTS,
+		step - TUNE_SETTLE_COUNTS);
+	fputs("set origin 0,0\nset size 1,0.35\nunset arrow\n"
+	      "set title 'DAC output'\nset ylabel 'DAC code'\n"
+	      "plot DATA using 1:4 with lines lc rgb '#2a8a2a' title 'dac'\n"
+	      "unset multiplot\n", f);
+	return fclose(f) ? -errno : 0;
+}
+
+static void cleanup(const struct plot_files *pf)
+{
+	unlink(pf->data);
+	unlink(pf->script);
+	unlink(pf->err);
+	rmdir(pf->dir);
+}
+
+static int report_failure(const struct plot_files *pf, const char *out,
+			  int status)
+{
+	char line[512];
+	FILE *f;
+
+	sh2000_tool_msg("--plot %s: gnuplot failed (%s %d):", out,
+			WIFEXITED(status) ? "exit status" : "signal",
+			WIFEXITED(status) ? WEXITSTATUS(status) : WTERMSIG(status));
+	f = fopen(pf->err, "r");
+	while (f && fgets(line, sizeof(line), f))
+		fprintf(stderr, "  %s", line);
+	if (f)
+		fclose(f);
+	return TUNE_EXIT_HELPER;
+}
+
+int tune_plot(const struct tune_trace *tr, const struct tune_metrics *m,
+	      const char *out, const char *title)
+{
+	struct plot_files pf;
+	size_t n = strlen(out);
+	int svg = n >= 4 && !strcasecmp(out + n - 4, ".svg");
+	int status = 0, e = 0, r = SH2000_EXIT_OK;
+	char def[160];
+
+	snprintf(pf.dir, sizeof(pf.dir), "/tmp/sh2000-tune.XXXXXX");
+	if (!mkdtemp(pf.dir)) {
+		sh2000_tool_msg("--plot: temporary directory: %s", strerror(errno));
+		return SH2000_EXIT_CARD;
+	}
+	snprintf(pf.data, sizeof(pf.data), "%s/step.dat", pf.dir);
+	snprintf(pf.script, sizeof(pf.script), "%s/step.gp", pf.dir);
+	snprintf(pf.err, sizeof(pf.err), "%s/gnuplot.err", pf.dir);
+	snprintf(def, sizeof(def), "DATA='%s'", pf.data);
+	e = write_data(tr, pf.data);
+	/* pngcairo draws better; plain png (libgd) if this gnuplot lacks it */
+	for (int cairo = 1; !e && cairo >= 0; cairo--) {
+		e = write_script(&pf, tr, m, out, title, svg, cairo);
+		if (!e)
+			e = sh2000_tool_gnuplot(def, pf.script, pf.err, &status);
+		if (e || (WIFEXITED(status) && WEXITSTATUS(status) == 0) || svg)
+			break;
+	}
+	if (e == -ENOENT) {
+		sh2000_tool_msg("--plot %s: gnuplot not found on PATH (Debian package gnuplot-nox)", out);
+		r = TUNE_EXIT_HELPER;
+	} else if (e) {
+		sh2000_tool_msg("--plot %s: %s", out, strerror(-e));
+		r = TUNE_EXIT_HELPER;
+	} else if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+		r = report_failure(&pf, out, status);
+	}
+	cleanup(&pf);
+	return r;
+}

@@ -395,17 +395,33 @@ static int flush(struct sh2000_run *r, int end)
 	return 0;
 }
 
-/* After a failure the card must not keep running what is queued; a card
- * with a latched fault has stopped by itself. */
+/* How long halt_card() waits for the card to acknowledge an emergency
+ * stop: the card acts on it within one servo cycle; a stalled DSP acts on
+ * it when it runs again, and nothing waits for that. */
+#define RUN_ESTOP_WAIT_MS 10
+
+/*
+ * After a failure the card must not keep running what is queued. A card
+ * with a latched fault has stopped by itself; a running one gets a STOP.
+ * A card whose state cannot be read (heartbeat stuck, firmware lost, a
+ * snapshot torn for good) or that does not take the STOP cannot be trusted
+ * to run its ring out or to time out on time: it gets an emergency stop,
+ * one write that needs no answer, which it acts on in its next servo cycle
+ * (docs/faults.md). The run's error stays the one that brought it here.
+ */
 static void halt_card(struct sh2000_run *r)
 {
 	struct sh2000_status st;
 
-	if (sh2000_poll(r->h, &st) >= 0 &&
-	    (st.card_state == SH2000_STATE_RUNNING ||
-	     (st.card_state == SH2000_STATE_IDLE && st.queue_fill))) {
-		sh2000_stop(r->h);
-		sh2000_wait_idle(r->h, 1000);
+	if (sh2000_poll(r->h, &st) < 0) {
+		sh2000_estop(r->h, RUN_ESTOP_WAIT_MS);
+		return;
+	}
+	if (st.card_state == SH2000_STATE_RUNNING ||
+	    (st.card_state == SH2000_STATE_IDLE && st.queue_fill)) {
+		if (sh2000_stop(r->h) < 0 || sh2000_wait_idle(r->h, 1000) ==
+		    -SH2000_EHEARTBEAT)
+			sh2000_estop(r->h, RUN_ESTOP_WAIT_MS);
 	}
 }
 
@@ -763,8 +779,11 @@ int sh2000_run_hold_wait(struct sh2000_run *r, unsigned int ms)
 			break;
 		e = sh2000_sleep_ns(r->h, 1000000ull);
 		if (e < 0)
-			return lib_fail(r, e, "waiting");
+			e = lib_fail(r, e, "waiting");
 	}
+	/* a held card keeps its ring: a failure must not leave it there */
+	if (e < 0)
+		halt_card(r);
 	return e;
 }
 

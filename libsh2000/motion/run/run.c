@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "setpoints.h"
 #include "sh2000/run.h"
 #include "sh2000/sh2000_protocol.h"
 
@@ -25,6 +26,7 @@ struct sh2000_run {
 	int sim;			/* samples come from the observer */
 	double scale[SH2000_AXES];	/* counts per mm */
 	struct sh2000_limits limits;	/* the card's soft limits */
+	struct sh2000_setpoints sp;	/* ... kept by the set-points */
 	uint64_t servo_ns, coarse_ns;
 	uint64_t cycle0;		/* servo cycle at creation */
 	int32_t buf[SH2000_RING_RECORDS][SH2000_AXES];
@@ -438,6 +440,7 @@ static void reset_plan(struct sh2000_run *r)
 		for (a = 0; a < SH2000_AXES; a++)
 			pos[a] = st.axis[a].cmd_mm;
 	sh2000_path_reset(r->path, pos);
+	sh2000_setpoints_rest(&r->sp, pos);
 	r->n = 0;
 	r->emitted = r->stats.points;	/* the unsent points are gone */
 	r->in_motion = 0;
@@ -475,7 +478,8 @@ static int sink(void *ctx, const struct sh2000_path_point *pt)
 			return sink_fail(r, e);
 	}
 	memcpy(mm, pt->mm, sizeof(mm));
-	e = sh2000_limits_apply(&r->limits, mm, why, sizeof(why));
+	e = sh2000_setpoints_point(&r->sp, mm, pt->flags & SH2000_PATH_F_END,
+				   why, sizeof(why));
 	if (e < 0) {
 		r->failed = fail(r, e, "%s: point %llu (tag %u): %s",
 				 sh2000_device(r->h),
@@ -576,6 +580,8 @@ int sh2000_run_create(struct sh2000_run **out, struct sh2000 *h,
 		lib_fail(r, e, "reading the soft limits");
 		goto err;
 	}
+	sh2000_setpoints_init(&r->sp, &r->limits);
+	sh2000_setpoints_rest(&r->sp, pc->start);
 	e = sh2000_poll(h, &r->st);
 	if (e < 0) {
 		lib_fail(r, e, "status poll");

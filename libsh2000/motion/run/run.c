@@ -42,6 +42,7 @@ struct sh2000_run {
 	int32_t hold_cmd[SH2000_AXES];	/* set-points at the last poll */
 	unsigned int hold_still;	/* polls they stayed the same */
 	int failed;			/* the sink failed: r->err says why */
+	int halted;			/* ... and halt_card() ran for it */
 	int err_live;			/* r->err is about the last run call */
 	double last_mm[SH2000_AXES];
 	int have_last;
@@ -415,6 +416,7 @@ static void halt_card(struct sh2000_run *r)
 {
 	struct sh2000_status st;
 
+	r->halted = 1;
 	if (sh2000_poll(r->h, &st) < 0) {
 		sh2000_estop(r->h, RUN_ESTOP_WAIT_MS);
 		return;
@@ -434,7 +436,9 @@ static void reset_plan(struct sh2000_run *r)
 	double pos[SH2000_AXES];
 	unsigned int a;
 
-	halt_card(r);
+	if (!r->halted)
+		halt_card(r);
+	r->halted = 0;
 	memcpy(pos, r->last_mm, sizeof(pos));
 	if (sh2000_poll(r->h, &st) >= 0)
 		for (a = 0; a < SH2000_AXES; a++)

@@ -378,7 +378,7 @@ static void print_table(void)
 {
 	unsigned int fi, a;
 
-	printf("| fault | host | host learns | in ms | set-point still after ms | carriage at rest after ms | card after (state, faults) |\n");
+	printf("| fault | host | host learns | in ms | set-point still after ms | encoder still after ms | card after (state, faults) |\n");
 	printf("| --- | --- | --- | ---: | ---: | ---: | --- |\n");
 	for (fi = 0; fi < NFAULTS; fi++)
 		for (a = 0; a < ACTS; a++) {
@@ -386,11 +386,14 @@ static void print_table(void)
 
 			if (!c->ran)
 				continue;
-			printf("| %s | %s | %s | %s%.1f | %.1f | %.1f | %u, 0x%04x |\n",
+			char ms[32] = "-";
+
+			if (c->code)
+				snprintf(ms, sizeof(ms), "%.1f", c->detect_ms);
+			printf("| %s | %s | %s | %s | %.1f | %.1f | %u, 0x%04x |\n",
 			       faults[fi].name, act_name[a],
 			       c->code ? sh2000_strerror(c->code) : "nothing",
-			       c->code ? "" : "-", c->code ? c->detect_ms : 0.0,
-			       c->stop_ms, c->rest_ms, c->state, c->latched);
+			       ms, c->stop_ms, c->rest_ms, c->state, c->latched);
 		}
 }
 

@@ -14,6 +14,7 @@
 #include <math.h>
 #include <signal.h>
 #include <stdlib.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -287,6 +288,7 @@ static void host_killed(enum activity a, int quiet)
 	if (pid == 0) {
 		struct act_ctx ctx = { .signal_fd = ready[1] };
 
+		prctl(PR_SET_PDEATHSIG, SIGKILL);
 		close(go[1]);
 		(void)!read(go[0], &ch, 1);
 		h = open_dev(dev);
@@ -375,6 +377,8 @@ static pid_t spawn_server(const char *dev)
 		char msg[256];
 
 		close(ready[0]);
+		/* a test that fails must not leave its card running */
+		prctl(PR_SET_PDEATHSIG, SIGTERM);
 		if (sh2000_sim_server_create(&s, dev + 4, NULL, 0, msg,
 					     sizeof(msg)))
 			_exit(3);
@@ -441,13 +445,18 @@ static void print_table(void)
 
 	printf("| fault | host | a client learns | in ms | card at rest after ms | faults latched |\n");
 	printf("| --- | --- | --- | ---: | ---: | --- |\n");
-	for (a = 0; a < ACTS; a++)
-		if (killed_host[a].ran)
-			printf("| host SIGKILL | %s | %s | %.1f | %.1f | 0x%04x |\n",
-			       act_name[a], killed_host[a].code ?
-			       sh2000_strerror(killed_host[a].code) : "nothing",
-			       killed_host[a].detect_ms, killed_host[a].rest_ms,
-			       killed_host[a].faults);
+	for (a = 0; a < ACTS; a++) {
+		char ms[32] = "-";
+
+		if (!killed_host[a].ran)
+			continue;
+		if (killed_host[a].code)
+			snprintf(ms, sizeof(ms), "%.1f", killed_host[a].detect_ms);
+		printf("| host SIGKILL | %s | %s | %s | %.1f | 0x%04x |\n",
+		       act_name[a], killed_host[a].code ?
+		       sh2000_strerror(killed_host[a].code) : "nothing", ms,
+		       killed_host[a].rest_ms, killed_host[a].faults);
+	}
 	if (killed_host_quiet.ran)
 		printf("| host SIGKILL | run, no other client | %s | %.1f | %.1f | 0x%04x |\n",
 		       sh2000_strerror(killed_host_quiet.code),

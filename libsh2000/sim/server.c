@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <time.h>
@@ -31,6 +32,7 @@
 struct sh2000_sim_server {
 	char shm_name[SH2000_SHM_NAME_MAX + 16];
 	struct sh2000_shm *shm;	/* NULL when attached to a caller's RAM */
+	int lock_fd;		/* the object, locked while we serve it */
 	uint16_t *ram;		/* the dual-port RAM the firmware runs on */
 	struct sh2000_fw *fw;
 	unsigned int flags;
@@ -41,64 +43,139 @@ struct sh2000_sim_server {
 	uint64_t cycles;	/* atomic */
 };
 
-static int map_new(struct sh2000_sim_server *s, const char *name, char *msg,
-		   size_t len)
+/*
+ * Who owns /sh2000-NAME is decided by a lock on the object itself, not by
+ * who created it: the server holds flock(LOCK_EX) on it for its life, and
+ * the kernel drops the lock when the server dies, however it dies. So two
+ * servers started at once cannot both win, and a dead server's object is
+ * taken over (its inode reused) rather than unlinked and created again,
+ * which would race with a third. Only the lock's holder ever unlinks the
+ * name (sh2000_sim_server_destroy), and only while it still names the
+ * holder's object.
+ */
+
+/* The object the name refers to now is the one open on fd. */
+static int names_fd(const char *shm_name, int fd)
+{
+	struct stat a, b;
+	int fd2 = shm_open(shm_name, O_RDONLY, 0);
+	int same;
+
+	if (fd2 < 0)
+		return 0;
+	same = !fstat(fd, &a) && !fstat(fd2, &b) && a.st_dev == b.st_dev &&
+	       a.st_ino == b.st_ino;
+	close(fd2);
+	return same;
+}
+
+/* The pid a live server wrote into its object (0 while it starts). */
+static pid_t owner_of(int fd)
+{
+	struct sh2000_shm *o;
+	struct stat sb;
+	pid_t pid;
+
+	if (fstat(fd, &sb) || (size_t)sb.st_size < sizeof(*o))
+		return 0;
+	o = mmap(NULL, sizeof(*o), PROT_READ, MAP_SHARED, fd, 0);
+	if (o == MAP_FAILED)
+		return 0;
+	pid = __atomic_load_n(&o->owner_pid, __ATOMIC_ACQUIRE);
+	munmap(o, sizeof(*o));
+	return pid;
+}
+
+static int refuse(const char *name, int fd, char *msg, size_t len)
+{
+	pid_t pid = 0;
+	int i;
+
+	/* a server that has just won the lock writes its pid at once */
+	for (i = 0; i < 100 && pid <= 0; i++) {
+		pid = owner_of(fd);
+		if (pid <= 0)
+			usleep(1000);
+	}
+	close(fd);
+	if (pid > 0)
+		return sim_msg(msg, len, -EEXIST, "sim:%s: already served by pid %d",
+			       name, (int)pid);
+	return sim_msg(msg, len, -EEXIST,
+		       "sim:%s: already served (by a server still starting)",
+		       name);
+}
+
+/* Open /sh2000-NAME, creating it if needed, and take its lock. */
+static int claim(struct sh2000_sim_server *s, const char *name, char *msg,
+		 size_t len)
 {
 	int fd, e, tries;
 
-	for (tries = 0; tries < 2; tries++) {
-		fd = shm_open(s->shm_name, O_RDWR | O_CREAT | O_EXCL, 0600);
-		if (fd >= 0)
-			break;
-		e = errno;
-		if (e != EEXIST)
+	/* the name can go (its holder's destroy) between open and lock */
+	for (tries = 0; tries < 100; tries++) {
+		fd = shm_open(s->shm_name, O_RDWR | O_CREAT, 0600);
+		if (fd < 0) {
+			e = errno;
 			return sim_msg(msg, len, -e, "sim:%s: shm_open %s: %s",
-					  name, s->shm_name, strerror(e));
-		/* someone's object: live server, or left by a dead one? */
-		fd = shm_open(s->shm_name, O_RDWR, 0);
-		if (fd >= 0) {
-			struct stat sb;
-			struct sh2000_shm *o = MAP_FAILED;
-
-			if (!fstat(fd, &sb) && (size_t)sb.st_size >= sizeof(*o))
-				o = mmap(NULL, sizeof(*o), PROT_READ, MAP_SHARED,
-					 fd, 0);
-			close(fd);
-			if (o != MAP_FAILED) {
-				pid_t pid = o->owner_pid;
-				int alive = pid > 0 &&
-					    !(kill(pid, 0) < 0 && errno == ESRCH);
-
-				munmap(o, sizeof(*o));
-				if (alive)
-					return sim_msg(msg, len, -EEXIST,
-							  "sim:%s: already served by pid %d",
-							  name, (int)pid);
-			}
+				       name, s->shm_name, strerror(e));
 		}
-		shm_unlink(s->shm_name);
+		if (flock(fd, LOCK_EX | LOCK_NB) < 0) {
+			e = errno;
+			if (e == EWOULDBLOCK)
+				return refuse(name, fd, msg, len);
+			close(fd);
+			return sim_msg(msg, len, -e, "sim:%s: lock %s: %s",
+				       name, s->shm_name, strerror(e));
+		}
+		if (names_fd(s->shm_name, fd))
+			return fd;
+		close(fd);
 	}
+	return sim_msg(msg, len, -EEXIST, "sim:%s: cannot claim %s", name,
+		       s->shm_name);
+}
+
+static int map_new(struct sh2000_sim_server *s, const char *name, char *msg,
+		   size_t len)
+{
+	int fd, e;
+
+	fd = claim(s, name, msg, len);
 	if (fd < 0)
-		return sim_msg(msg, len, -EEXIST, "sim:%s: cannot claim %s",
-				  name, s->shm_name);
+		return fd;
 	if (ftruncate(fd, sizeof(struct sh2000_shm)) < 0) {
 		e = errno;
-		close(fd);
 		shm_unlink(s->shm_name);
+		close(fd);
 		return sim_msg(msg, len, -e, "sim:%s: ftruncate: %s", name,
-				  strerror(e));
+			       strerror(e));
 	}
 	s->shm = mmap(NULL, sizeof(struct sh2000_shm), PROT_READ | PROT_WRITE,
 		      MAP_SHARED, fd, 0);
-	e = errno;
-	close(fd);
 	if (s->shm == MAP_FAILED) {
+		e = errno;
 		s->shm = NULL;
 		shm_unlink(s->shm_name);
+		close(fd);
 		return sim_msg(msg, len, -e, "sim:%s: mmap: %s", name,
-				  strerror(e));
+			       strerror(e));
 	}
+	/* a dead server's card goes away before the new one is set up */
+	__atomic_store_n(&s->shm->magic, 0, __ATOMIC_RELEASE);
+	__atomic_store_n(&s->shm->owner_pid, (int32_t)getpid(),
+			 __ATOMIC_RELEASE);
+	s->lock_fd = fd;
 	return 0;
+}
+
+/* Remove the name while it is ours (the lock is held until the close). */
+static void unmap(struct sh2000_sim_server *s)
+{
+	if (names_fd(s->shm_name, s->lock_fd))
+		shm_unlink(s->shm_name);
+	close(s->lock_fd);
+	s->lock_fd = -1;
 }
 
 int sh2000_sim_server_create(struct sh2000_sim_server **out, const char *name,
@@ -129,7 +206,8 @@ int sh2000_sim_server_create(struct sh2000_sim_server **out, const char *name,
 	}
 	memset(s->shm, 0, sizeof(*s->shm));
 	s->shm->layout = SH2000_SHM_LAYOUT;
-	s->shm->owner_pid = (int32_t)getpid();
+	__atomic_store_n(&s->shm->owner_pid, (int32_t)getpid(),
+			 __ATOMIC_RELEASE);
 	if (!cfg) {
 		sh2000_sim_config_default(&def);
 		cfg = &def;
@@ -140,7 +218,7 @@ int sh2000_sim_server_create(struct sh2000_sim_server **out, const char *name,
 		(void)sim_msg(msg, len, r, "sim:%s: card model: %s", name,
 			   sh2000_strerror(r));
 		munmap(s->shm, sizeof(*s->shm));
-		shm_unlink(s->shm_name);
+		unmap(s);
 		pthread_mutex_destroy(&s->lock);
 		free(s);
 		return r;
@@ -271,7 +349,7 @@ void sh2000_sim_server_destroy(struct sh2000_sim_server *s)
 	if (s->shm) {
 		__atomic_store_n(&s->shm->magic, 0, __ATOMIC_RELEASE);
 		munmap(s->shm, sizeof(*s->shm));
-		shm_unlink(s->shm_name);
+		unmap(s);
 	} else {
 		/* the card goes away: hosts see "no firmware", not a stall */
 		sh2000_dpram_write(s->ram, SH2000_W_MAGIC, 0);

@@ -22,7 +22,7 @@ struct obs {
 	struct sh2000_run_sample last;
 	/* act on the progress callback once this many points are pushed */
 	uint64_t at_points;
-	int action;		/* 1 pause, 2 stop, 3 jam axis 0 */
+	int action;		/* 1 pause, 2 stop, 3 jam axis 0, 4 heartbeat stop */
 	int acted;
 	int64_t seq;		/* the last progress' tag */
 	int seq_bad;		/* a tag that was never set */
@@ -54,8 +54,10 @@ static void on_progress(void *ctx, const struct sh2000_run_progress *p)
 		sh2000_run_pause(o->run);
 	else if (o->action == 2)
 		sh2000_run_stop(o->run);
-	else
+	else if (o->action == 3)
 		sh2000_sim_inject(o->h, SH2000_INJECT_JAM, 0, 0);
+	else
+		sh2000_sim_inject(o->h, SH2000_INJECT_HEARTBEAT_STOP, 0, 0);
 }
 
 static struct sh2000_run *start(struct sh2000 *h, struct obs *o)
@@ -251,6 +253,53 @@ static void test_fault(void **state)
 	sh2000_close(h);
 }
 
+/*
+ * A card whose heartbeat cell sticks mid-run runs on: the run ends with
+ * EHEARTBEAT, and must not leave the card running its ring out until its
+ * own host timeout. The card is in ESTOP with an empty ring before the
+ * host timeout could have fired, a reset brings it back, the next run works.
+ */
+static void test_heartbeat(void **state)
+{
+	struct sh2000 *h = simtest_open();
+	struct obs o = { .at_points = 100, .action = 4 };
+	struct sh2000_run *r = start(h, &o);
+	const double b[4] = { 100.0, 0, 0, 0 }, c[4] = { 0, 10.0, 0, 0 };
+	struct sh2000_status st;
+	double to, here[4];
+	uint64_t t_fail;
+	unsigned int a;
+	int e;
+
+	(void)state;
+	CHECK(sh2000_param_get(h, SH2000_GLOBAL, SH2000_GP_HOST_TIMEOUT_MS, &to));
+	e = sh2000_path_line(sh2000_run_path(r), b, 50.0);
+	if (!e)
+		e = sh2000_run_finish(r);
+	t_fail = sh2000_now_ns(h);
+	assert_int_equal(e, -SH2000_EHEARTBEAT);
+	assert_non_null(strstr(sh2000_run_error(r), "heartbeat"));
+	CHECK(sh2000_sim_inject(h, SH2000_INJECT_CLEAR, 0, 0));
+	CHECK(sh2000_sleep_ns(h, 200000));
+	CHECK(sh2000_poll(h, &st));
+	/* stopped by the host, well before the card's own timeout */
+	assert_true(sh2000_now_ns(h) - t_fail < (uint64_t)to * 1000000ull / 2);
+	assert_int_equal(st.card_state, SH2000_STATE_ESTOP);
+	assert_int_equal(st.queue_fill, 0);
+	assert_false(st.card_faults & SH2000_FAULT_HOST_TIMEOUT);
+	CHECK(sh2000_reset(h));
+	CHECK(sh2000_enable(h, 0xf));
+	CHECK(sh2000_poll(h, &st));
+	for (a = 0; a < 4; a++)
+		here[a] = st.axis[a].cmd_mm;
+	CHECK(sh2000_path_reset(sh2000_run_path(r), here));
+	CHECK(sh2000_path_line(sh2000_run_path(r), c, 50.0));
+	assert_int_equal(sh2000_run_finish(r), 0);
+	card_at(h, c, 1e-5);
+	sh2000_run_destroy(r);
+	sh2000_close(h);
+}
+
 static void test_not_ready(void **state)
 {
 	struct sh2000 *h = simtest_open();
@@ -289,6 +338,7 @@ int main(void)
 		cmocka_unit_test(test_pause_resume),
 		cmocka_unit_test(test_stop),
 		cmocka_unit_test(test_fault),
+		cmocka_unit_test(test_heartbeat),
 		cmocka_unit_test(test_not_ready),
 	};
 

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 /*
  * The one soft-limit policy of libsh2000-motion (docs/library.md "Soft
- * limits"). The runner applies it to every point it streams, sh2000-upload
- * to every point of its checking plan before anything moves, sh2000ctl to
- * a move's target: one rule, one message.
+ * limits"), for one target (sh2000ctl's move). The runner and the first
+ * pass of a program apply it to the card's fine set-points of the stream
+ * (setpoints.c), with the same slack and the same message.
  *
  * Why the slack: the planner's B-spline compensation lets control points
  * overshoot the end of a motion by about 1 um, and the card checks its

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "setpoints.h"
 #include "sh2000/run.h"
 
 void sh2000_program_opts_default(struct sh2000_program_opts *o)
@@ -30,6 +31,7 @@ static int halts(const struct sh2000_prog_block *b,
 struct plan_ctx {
 	struct sh2000_program_plan *plan;
 	const struct sh2000_limits *limits;
+	struct sh2000_setpoints sp;	/* the runner's rule, ahead of it */
 	const struct sh2000_path_config *pc;
 	double start[SH2000_AXES];
 	const char *file;
@@ -50,8 +52,8 @@ static int plan_sink(void *ctx, const struct sh2000_path_point *pt)
 		return 0;
 	/* the runner applies the same rule to the same points later */
 	memcpy(mm, pt->mm, sizeof(mm));
-	if (sh2000_limits_apply(c->limits, mm, c->plan->error,
-				sizeof(c->plan->error)) < 0) {
+	if (sh2000_setpoints_point(&c->sp, mm, pt->flags & SH2000_PATH_F_END,
+				   c->plan->error, sizeof(c->plan->error)) < 0) {
 		/* the point belongs to the block tagged with this line */
 		snprintf(c->plan->where, sizeof(c->plan->where), "%s:%u",
 			 c->file, pt->seq);
@@ -135,6 +137,8 @@ int sh2000_program_plan(struct sh2000_prog_reader *r,
 	c.pc = pc;
 	c.file = "";
 	memcpy(c.start, pc->start, sizeof(c.start));
+	sh2000_setpoints_init(&c.sp, o->limits);
+	sh2000_setpoints_rest(&c.sp, pc->start);
 	e = sh2000_path_create(&p, pc, plan_sink, &c, plan->error,
 			       sizeof(plan->error));
 	if (e)

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "setpoints.h"
 #include "sh2000/run.h"
 #include "sh2000/sh2000_protocol.h"
 
@@ -25,6 +26,7 @@ struct sh2000_run {
 	int sim;			/* samples come from the observer */
 	double scale[SH2000_AXES];	/* counts per mm */
 	struct sh2000_limits limits;	/* the card's soft limits */
+	struct sh2000_setpoints sp;	/* ... kept by the set-points */
 	uint64_t servo_ns, coarse_ns;
 	uint64_t cycle0;		/* servo cycle at creation */
 	int32_t buf[SH2000_RING_RECORDS][SH2000_AXES];
@@ -40,6 +42,7 @@ struct sh2000_run {
 	int32_t hold_cmd[SH2000_AXES];	/* set-points at the last poll */
 	unsigned int hold_still;	/* polls they stayed the same */
 	int failed;			/* the sink failed: r->err says why */
+	int halted;			/* ... and halt_card() ran for it */
 	int err_live;			/* r->err is about the last run call */
 	double last_mm[SH2000_AXES];
 	int have_last;
@@ -395,17 +398,34 @@ static int flush(struct sh2000_run *r, int end)
 	return 0;
 }
 
-/* After a failure the card must not keep running what is queued; a card
- * with a latched fault has stopped by itself. */
+/* How long halt_card() waits for the card to acknowledge an emergency
+ * stop: the card acts on it within one servo cycle; a stalled DSP acts on
+ * it when it runs again, and nothing waits for that. */
+#define RUN_ESTOP_WAIT_MS 10
+
+/*
+ * After a failure the card must not keep running what is queued. A card
+ * with a latched fault has stopped by itself; a running one gets a STOP.
+ * A card whose state cannot be read (heartbeat stuck, firmware lost, a
+ * snapshot torn for good) or that does not take the STOP cannot be trusted
+ * to run its ring out or to time out on time: it gets an emergency stop,
+ * one write that needs no answer, which it acts on in its next servo cycle
+ * (docs/faults.md). The run's error stays the one that brought it here.
+ */
 static void halt_card(struct sh2000_run *r)
 {
 	struct sh2000_status st;
 
-	if (sh2000_poll(r->h, &st) >= 0 &&
-	    (st.card_state == SH2000_STATE_RUNNING ||
-	     (st.card_state == SH2000_STATE_IDLE && st.queue_fill))) {
-		sh2000_stop(r->h);
-		sh2000_wait_idle(r->h, 1000);
+	r->halted = 1;
+	if (sh2000_poll(r->h, &st) < 0) {
+		sh2000_estop(r->h, RUN_ESTOP_WAIT_MS);
+		return;
+	}
+	if (st.card_state == SH2000_STATE_RUNNING ||
+	    (st.card_state == SH2000_STATE_IDLE && st.queue_fill)) {
+		if (sh2000_stop(r->h) < 0 || sh2000_wait_idle(r->h, 1000) ==
+		    -SH2000_EHEARTBEAT)
+			sh2000_estop(r->h, RUN_ESTOP_WAIT_MS);
 	}
 }
 
@@ -416,12 +436,15 @@ static void reset_plan(struct sh2000_run *r)
 	double pos[SH2000_AXES];
 	unsigned int a;
 
-	halt_card(r);
+	if (!r->halted)
+		halt_card(r);
+	r->halted = 0;
 	memcpy(pos, r->last_mm, sizeof(pos));
 	if (sh2000_poll(r->h, &st) >= 0)
 		for (a = 0; a < SH2000_AXES; a++)
 			pos[a] = st.axis[a].cmd_mm;
 	sh2000_path_reset(r->path, pos);
+	sh2000_setpoints_rest(&r->sp, pos);
 	r->n = 0;
 	r->emitted = r->stats.points;	/* the unsent points are gone */
 	r->in_motion = 0;
@@ -459,7 +482,8 @@ static int sink(void *ctx, const struct sh2000_path_point *pt)
 			return sink_fail(r, e);
 	}
 	memcpy(mm, pt->mm, sizeof(mm));
-	e = sh2000_limits_apply(&r->limits, mm, why, sizeof(why));
+	e = sh2000_setpoints_point(&r->sp, mm, pt->flags & SH2000_PATH_F_END,
+				   why, sizeof(why));
 	if (e < 0) {
 		r->failed = fail(r, e, "%s: point %llu (tag %u): %s",
 				 sh2000_device(r->h),
@@ -560,6 +584,8 @@ int sh2000_run_create(struct sh2000_run **out, struct sh2000 *h,
 		lib_fail(r, e, "reading the soft limits");
 		goto err;
 	}
+	sh2000_setpoints_init(&r->sp, &r->limits);
+	sh2000_setpoints_rest(&r->sp, pc->start);
 	e = sh2000_poll(h, &r->st);
 	if (e < 0) {
 		lib_fail(r, e, "status poll");
@@ -763,8 +789,11 @@ int sh2000_run_hold_wait(struct sh2000_run *r, unsigned int ms)
 			break;
 		e = sh2000_sleep_ns(r->h, 1000000ull);
 		if (e < 0)
-			return lib_fail(r, e, "waiting");
+			e = lib_fail(r, e, "waiting");
 	}
+	/* a held card keeps its ring: a failure must not leave it there */
+	if (e < 0)
+		halt_card(r);
 	return e;
 }
 

@@ -84,8 +84,10 @@ int sh2000_run_path_config(struct sh2000 *h, struct sh2000_path_config *pc);
  * Soft limits: the one policy every caller uses. A point up to
  * SH2000_LIMIT_SLACK_MM beyond a limit is put on the limit (the B-spline
  * compensation overshoots a stop by about 1 um; a target at a limit is
- * legitimate); further beyond is -SH2000_ELIMIT. The runner applies it to
- * every point it streams; check a whole program with it before moving.
+ * legitimate); further beyond is -SH2000_ELIMIT: the rule for one target.
+ * The runner and sh2000_program_plan() judge a planned stream on the
+ * card's fine set-points (the B-spline of the records) by the same slack,
+ * and put records on the limit they pass (docs/library.md).
  */
 #define SH2000_LIMIT_SLACK_MM	0.002
 

@@ -59,7 +59,9 @@ struct sh2000_sim_server;
 /*
  * Create the shared-memory object /sh2000-NAME (fails with -EEXIST if a
  * live server owns it; a stale one left by a dead owner is replaced) and
- * a card model on it. cfg NULL: defaults. msg gets the reason on failure.
+ * a card model on it. The server holds a lock on the object while it
+ * lives: of servers started on one name at once exactly one wins. cfg
+ * NULL: defaults. msg gets the reason on failure.
  */
 int sh2000_sim_server_create(struct sh2000_sim_server **out, const char *name,
 			     const struct sh2000_sim_config *cfg,

@@ -1,0 +1,164 @@
+// SPDX-License-Identifier: MIT
+/*
+ * Soft limits judged on the card's fine set-points, not on its records.
+ *
+ * The card's set-point is the uniform cubic B-spline of its records
+ * (sh2000/bspline.h), starting from the window [X, X, X, P1] of the rest
+ * point X and padded with the end point E after END. The planner's
+ * B-spline compensation (docs/planner.md) chooses the records so that this
+ * spline passes through the planned points: where the path turns near a
+ * limit (a circle tangent to it, a reversal) the records lie beyond the
+ * path by up to about a T^2 / 6 (6 um for 9000 mm/s^2 at T = 2 ms) while
+ * the set-points stay on it. Judging the records would refuse such paths.
+ *
+ * So the policy is: the set-points of the planned records, evaluated span
+ * by span with their extremes between the knots, must stay within
+ * SH2000_LIMIT_SLACK_MM of the limits (-SH2000_ELIMIT otherwise, naming
+ * the set-point); and a record beyond a limit is put on it, because the
+ * card refuses records outside its soft limits. Moving records inwards
+ * keeps the card's set-points inside, since a B-spline stays in the hull
+ * of its control points, and moves them by no more than the records moved.
+ *
+ * A span is known once its fourth record is: the check of a record's
+ * neighbourhood ends two records after it (or at END), so a runner may
+ * have pushed the records before; those are inside the limits all the
+ * same. The first pass of a program checks everything before anything
+ * moves.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "setpoints.h"
+#include "sh2000/bspline.h"
+
+void sh2000_setpoints_init(struct sh2000_setpoints *c,
+			   const struct sh2000_limits *l)
+{
+	memset(c, 0, sizeof(*c));
+	c->limits = l;
+}
+
+void sh2000_setpoints_rest(struct sh2000_setpoints *c,
+			   const double mm[SH2000_AXES])
+{
+	memcpy(c->rest, mm, sizeof(c->rest));
+	c->have_rest = 1;
+	c->in_motion = 0;
+}
+
+/* Lowest and highest value of the span's cubic on 0 <= t <= 1. */
+static void span_range(const double w[4], double *lo, double *hi)
+{
+	double c1 = (w[2] - w[0]) / 2.0;
+	double c2 = (w[0] - 2.0 * w[1] + w[2]) / 2.0;
+	double c3 = (-w[0] + 3.0 * w[1] - 3.0 * w[2] + w[3]) / 6.0;
+	double t[4], x;
+	unsigned int n = 2, i;
+
+	t[0] = 0.0;
+	t[1] = 1.0;
+	/* x'(t) = c1 + 2 c2 t + 3 c3 t^2 = 0 */
+	if (fabs(c3) > 1e-300) {
+		double d = 4.0 * c2 * c2 - 12.0 * c3 * c1;
+
+		if (d >= 0.0) {
+			t[n++] = (-2.0 * c2 + sqrt(d)) / (6.0 * c3);
+			t[n++] = (-2.0 * c2 - sqrt(d)) / (6.0 * c3);
+		}
+	} else if (fabs(c2) > 1e-300) {
+		t[n++] = -c1 / (2.0 * c2);
+	}
+	*lo = INFINITY;
+	*hi = -INFINITY;
+	for (i = 0; i < n; i++) {
+		if (!(t[i] >= 0.0 && t[i] <= 1.0))
+			continue;
+		x = sh2000_bspline(w[0], w[1], w[2], w[3], t[i]);
+		if (x < *lo)
+			*lo = x;
+		if (x > *hi)
+			*hi = x;
+	}
+}
+
+/* The span of window (a, b, c, d): the set-points between the knots of b
+ * and c. */
+static int check_span(const struct sh2000_setpoints *c, const double *a,
+		      const double *b, const double *cc, const double *d,
+		      uint64_t first, char *msg, size_t len)
+{
+	static const char name[] = "XYZA";
+	unsigned int ax;
+
+	for (ax = 0; ax < SH2000_AXES; ax++) {
+		const double w[4] = { a[ax], b[ax], cc[ax], d[ax] };
+		double lo, hi, x, lim;
+
+		span_range(w, &lo, &hi);
+		if (lo < c->limits->lo[ax] - SH2000_LIMIT_SLACK_MM) {
+			x = lo;
+			lim = c->limits->lo[ax];
+		} else if (hi > c->limits->hi[ax] + SH2000_LIMIT_SLACK_MM) {
+			x = hi;
+			lim = c->limits->hi[ax];
+		} else {
+			continue;
+		}
+		if (msg && len)
+			snprintf(msg, len,
+				 "%c %.4f mm is beyond the soft limit %.4f mm (soft limits %.4f..%.4f mm; the card's set-point near record %llu)",
+				 name[ax], x, lim, c->limits->lo[ax],
+				 c->limits->hi[ax], (unsigned long long)first);
+		return -SH2000_ELIMIT;
+	}
+	return 0;
+}
+
+/* Put the record on the limits it is beyond: 1 if it moved. */
+static int clamp(const struct sh2000_limits *l, double mm[SH2000_AXES])
+{
+	unsigned int a;
+	int moved = 0;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		double v = mm[a] < l->lo[a] ? l->lo[a] :
+			   mm[a] > l->hi[a] ? l->hi[a] : mm[a];
+
+		moved |= v != mm[a];
+		mm[a] = v;
+	}
+	return moved;
+}
+
+int sh2000_setpoints_point(struct sh2000_setpoints *c, double mm[SH2000_AXES],
+			   int end, char *msg, size_t len)
+{
+	uint64_t k = c->points++;
+	const double *x;
+	int e;
+
+	if (!c->in_motion) {
+		/* the card starts from its rest point (the planner's start
+		 * is within a micrometre of the first record) */
+		x = c->have_rest ? c->rest : mm;
+		memcpy(c->w[0], x, sizeof(c->w[0]));
+		memcpy(c->w[1], x, sizeof(c->w[1]));
+		memcpy(c->w[2], x, sizeof(c->w[2]));
+		c->in_motion = 1;
+	}
+	e = check_span(c, c->w[0], c->w[1], c->w[2], mm, k ? k - 1 : 0, msg,
+		       len);
+	/* after END the card pads with the end point */
+	if (!e && end)
+		e = check_span(c, c->w[1], c->w[2], mm, mm, k, msg, len);
+	if (!e && end)
+		e = check_span(c, c->w[2], mm, mm, mm, k, msg, len);
+	if (e)
+		return e;
+	memmove(c->w[0], c->w[1], 2 * sizeof(c->w[0]));
+	memcpy(c->w[2], mm, sizeof(c->w[2]));
+	if (end)
+		sh2000_setpoints_rest(c, mm);
+	return clamp(c->limits, mm);
+}

@@ -1,0 +1,236 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Soft limits are judged on the card's fine set-points (run/setpoints.c):
+ * a fast circle tangent to SOFT_MAX runs (its compensated records lie
+ * beyond the limit, the set-points touch it and never pass it, the card
+ * accepts every record and latches nothing); one that passes the limit by
+ * 10 um is refused, naming the set-point, before the card gets near it.
+ * And the policy itself on exact compensated records of a circle whose
+ * records pass the limit by 12 um: judged on the records (the old rule,
+ * sh2000_limits_apply) it is refused, on the set-points it runs.
+ */
+#include <errno.h>
+#include <math.h>
+
+#include "simtest.h"
+#include "setpoints.h"
+#include "sh2000/bspline.h"
+#include "sh2000/run.h"
+
+#define LIMIT_MM	100.0
+#define AMAX		40000.0	/* mm/s^2 */
+
+struct seen {
+	double max_cmd;		/* highest X set-point of any servo cycle */
+};
+
+static void on_sample(void *ctx, const struct sh2000_run_sample *s)
+{
+	struct seen *o = ctx;
+
+	if (s->cmd[0] > o->max_cmd)
+		o->max_cmd = s->cmd[0];
+}
+
+static struct sh2000_run *start(struct sh2000 *h, struct seen *o)
+{
+	struct sh2000_path_config pc;
+	struct sh2000_run_config rc;
+	struct sh2000_run *r;
+	char msg[256];
+
+	CHECK(sh2000_param_set(h, 0, SH2000_P_SOFT_MAX, LIMIT_MM));
+	/* accelerations that make the compensation's overshoot plain */
+	CHECK(sh2000_param_set(h, 0, SH2000_P_AMAX, AMAX));
+	CHECK(sh2000_param_set(h, 1, SH2000_P_AMAX, AMAX));
+	CHECK(sh2000_enable(h, 0xf));
+	CHECK(sh2000_run_path_config(h, &pc));
+	sh2000_run_config_default(&rc);
+	rc.sample = on_sample;
+	rc.ctx = o;
+	o->max_cmd = -INFINITY;
+	if (sh2000_run_create(&r, h, &pc, &rc, msg, sizeof(msg)) < 0)
+		fail_msg("run_create: %s", msg);
+	return r;
+}
+
+/* Along -R from X 0 to the circle's lowest point, and on round the full
+ * circle (ccw, entered on its tangent): it touches X = centre + radius. */
+static int add_circle(struct sh2000_path *p, double centre, double radius,
+		      double feed)
+{
+	const double a[4] = { 0, -radius, 0, 0 }, b[4] = { centre, -radius, 0, 0 };
+	struct sh2000_path_arc arc;
+	int e;
+
+	e = sh2000_path_line(p, a, feed);
+	if (!e)
+		e = sh2000_path_line(p, b, feed);
+	if (e)
+		return e;
+	memset(&arc, 0, sizeof(arc));
+	arc.plane = SH2000_PLANE_XY;
+	memcpy(arc.end, b, sizeof(arc.end));
+	arc.ccw = 1;
+	arc.centre[0] = centre;
+	arc.centre[1] = 0.0;
+	return sh2000_path_arc(p, &arc, feed);
+}
+
+static int circle(struct sh2000_run *r, double centre, double radius,
+		  double feed)
+{
+	int e = add_circle(sh2000_run_path(r), centre, radius, feed);
+
+	return e ? e : sh2000_run_finish(r);
+}
+
+static int max_sink(void *ctx, const struct sh2000_path_point *pt)
+{
+	double *m = ctx;
+
+	if (pt->mm[0] > *m)
+		*m = pt->mm[0];
+	return 0;
+}
+
+/* The highest X record the planner makes of the circle: the records the
+ * card gets before the limits are applied. */
+static double records_max(struct sh2000 *h, double centre, double radius,
+			  double feed)
+{
+	struct sh2000_path_config pc;
+	struct sh2000_path *p;
+	double m = -INFINITY;
+	char msg[256];
+
+	CHECK(sh2000_run_path_config(h, &pc));
+	if (sh2000_path_create(&p, &pc, max_sink, &m, msg, sizeof(msg)))
+		fail_msg("path: %s", msg);
+	CHECK(add_circle(p, centre, radius, feed));
+	CHECK(sh2000_path_finish(p));
+	sh2000_path_destroy(p);
+	return m;
+}
+
+static void test_tangent(void **state)
+{
+	struct sh2000 *h = simtest_open();
+	struct seen o;
+	struct sh2000_run *r = start(h, &o);
+	struct sh2000_status st;
+
+	double rec;
+
+	(void)state;
+	/* 300 mm/s on R 10: 9000 mm/s^2, records ~6 um beyond the path */
+	rec = records_max(h, LIMIT_MM - 10.0, 10.0, 300.0);
+	assert_true(rec > LIMIT_MM);	/* the records pass the limit */
+	print_message("highest X record %.6f mm\n", rec);
+	assert_int_equal(circle(r, LIMIT_MM - 10.0, 10.0, 300.0), 0);
+	print_message("highest X set-point %.6f mm (limit %.4f)\n", o.max_cmd,
+		      LIMIT_MM);
+	/* the path reached the limit and the set-points never passed it */
+	assert_true(o.max_cmd > LIMIT_MM - 0.01);
+	assert_true(o.max_cmd <= LIMIT_MM + 1e-6);
+	CHECK(sh2000_poll(h, &st));
+	assert_int_equal(st.card_state, SH2000_STATE_IDLE);
+	assert_int_equal(st.card_faults, 0);
+	sh2000_run_destroy(r);
+	sh2000_close(h);
+}
+
+static void test_beyond(void **state)
+{
+	struct sh2000 *h = simtest_open();
+	struct seen o;
+	struct sh2000_run *r = start(h, &o);
+	struct sh2000_status st;
+
+	(void)state;
+	assert_int_equal(circle(r, LIMIT_MM - 10.0, 10.01, 300.0),
+			 -SH2000_ELIMIT);
+	print_message("%s\n", sh2000_run_error(r));
+	assert_non_null(strstr(sh2000_run_error(r),
+			       "is beyond the soft limit 100.0000 mm"));
+	assert_non_null(strstr(sh2000_run_error(r), "set-point"));
+	/* the records the card got were inside, and so was the card */
+	assert_true(o.max_cmd <= LIMIT_MM + 1e-6);
+	CHECK(sh2000_poll(h, &st));
+	assert_int_equal(st.card_faults, 0);
+	assert_int_equal(st.queue_fill, 0);
+	sh2000_run_destroy(r);
+	sh2000_close(h);
+}
+
+/*
+ * Control points P = c + kappa (Q - c), kappa = 3 / (2 + cos step), of
+ * points Q on a circle are exactly the compensated records: the card's
+ * spline passes through every Q. R 5, 0.6 mm per record (300 mm/s at
+ * 2 ms): the records lie 12 um outside the circle.
+ */
+static void test_policy(void **state)
+{
+	const double r = 5.0, c = LIMIT_MM - r, step = 0.6 / r;
+	const double kappa = 3.0 / (2.0 + cos(step));
+	struct sh2000_limits l;
+	struct sh2000_setpoints sp;
+	double mm[SH2000_AXES], old[SH2000_AXES], hi = -INFINITY;
+	unsigned int a, i, n = (unsigned int)(2.0 * M_PI / step) + 1;
+	int old_refused = 0, clamped = 0, e;
+	char msg[256];
+
+	(void)state;
+	for (a = 0; a < SH2000_AXES; a++) {
+		l.lo[a] = -1000.0;
+		l.hi[a] = 1000.0;
+	}
+	l.hi[0] = LIMIT_MM;
+	sh2000_setpoints_init(&sp, &l);
+	for (i = 0; i <= n; i++) {
+		double th = M_PI + step * (double)i;
+
+		memset(mm, 0, sizeof(mm));
+		mm[0] = c + kappa * r * cos(th);
+		mm[1] = kappa * r * sin(th);
+		if (mm[0] > hi)
+			hi = mm[0];
+		memcpy(old, mm, sizeof(old));
+		old_refused |= sh2000_limits_apply(&l, old, NULL, 0) < 0;
+		e = sh2000_setpoints_point(&sp, mm, i == n, msg, sizeof(msg));
+		if (e < 0)
+			fail_msg("record %u: %s", i, msg);
+		clamped += e;
+		assert_true(mm[0] <= LIMIT_MM);
+	}
+	print_message("records up to %.6f mm: old rule %s, %d put on the limit\n",
+		      hi, old_refused ? "refused" : "ran", clamped);
+	assert_true(hi > LIMIT_MM + 0.01);
+	assert_true(old_refused);
+	assert_true(clamped > 0);
+	/* 20 um further out the set-points pass the limit too */
+	sh2000_setpoints_init(&sp, &l);
+	for (i = 0, e = 0; i <= n && e >= 0; i++) {
+		double th = M_PI + step * (double)i;
+
+		memset(mm, 0, sizeof(mm));
+		mm[0] = c + 0.02 + kappa * r * cos(th);
+		mm[1] = kappa * r * sin(th);
+		e = sh2000_setpoints_point(&sp, mm, i == n, msg, sizeof(msg));
+	}
+	assert_int_equal(e, -SH2000_ELIMIT);
+	assert_non_null(strstr(msg, "X 100.0"));
+	assert_non_null(strstr(msg, "beyond the soft limit 100.0000 mm"));
+	assert_non_null(strstr(msg, "set-point"));
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_tangent),
+		cmocka_unit_test(test_beyond),
+		cmocka_unit_test(test_policy),
+	};
+
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

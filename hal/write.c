@@ -118,7 +118,14 @@ static void point(struct hsc_card *c, int32_t pt[SH2000_AXES])
 			(int32_t)c->st.axis[a].pos_counts;
 }
 
-static void push(struct hsc_card *c, unsigned int flags)
+/*
+ * One point of the stream. The library posts a lone point of a tick in
+ * the card's mailbox (protocol 1.3, a few port cycles above the status
+ * just read); points with others behind them in the same tick go
+ * through the ring (SH2000_PUSH_RING), since the card takes one post per
+ * servo cycle. Returns the library's answer.
+ */
+static int push(struct hsc_card *c, unsigned int flags)
 {
 	int32_t pt[SH2000_AXES];
 	int r;
@@ -130,6 +137,7 @@ static void push(struct hsc_card *c, unsigned int flags)
 		c->sfault = HSC_SF_COMMAND;
 		c->streaming = 0;
 	}
+	return r;
 }
 
 /* Is the stream still the card's motion? */
@@ -168,7 +176,7 @@ static void start_stream(struct hsc_card *c, int target)
 	 * the card starts on the first and needs the next a coarse period
 	 * later */
 	for (i = 0; i < target; i++)
-		push(c, 0);
+		push(c, SH2000_PUSH_RING);
 	c->streaming = c->sfault == HSC_SF_NONE;
 	c->seen_running = 0;
 	c->delay_valid = 0;
@@ -200,7 +208,9 @@ static void stream(struct hsc_card *c, int target)
 		}
 		if (ahead < target - slack && fill < 2) {
 			c->delay_valid = 0;
-			push(c, 0);
+			push(c, SH2000_PUSH_RING);
+			push(c, SH2000_PUSH_RING);
+			return;
 		}
 	}
 	push(c, 0);
@@ -235,7 +245,8 @@ static void commands(struct hsc_card *c, const struct hsc_in *in, int target)
 		if ((want & en) != en || want != en) {
 			/* an axis is being disabled: end the motion where
 			 * the command is, then disable once idle */
-			push(c, SH2000_PUSH_END);
+			if (push(c, SH2000_PUSH_END) == -EAGAIN)
+				return;	/* the card is busy: next tick */
 			c->streaming = 0;
 			c->ending = 1;
 		}

@@ -119,11 +119,9 @@ static void point(struct hsc_card *c, int32_t pt[SH2000_AXES])
 }
 
 /*
- * One point of the stream. The library posts a lone point of a tick in
- * the card's mailbox (protocol 1.3, a few port cycles above the status
- * just read); points with others behind them in the same tick go
- * through the ring (SH2000_PUSH_RING), since the card takes one post per
- * servo cycle. Returns the library's answer.
+ * One point of the stream. The library posts it in the card's mailbox
+ * (protocol 1.3, a few port cycles above the status just read) where it
+ * can, else writes it into the ring. Returns the library's answer.
  */
 static int push(struct hsc_card *c, unsigned int flags)
 {
@@ -176,7 +174,7 @@ static void start_stream(struct hsc_card *c, int target)
 	 * the card starts on the first and needs the next a coarse period
 	 * later */
 	for (i = 0; i < target; i++)
-		push(c, SH2000_PUSH_RING);
+		push(c, 0);
 	c->streaming = c->sfault == HSC_SF_NONE;
 	c->seen_running = 0;
 	c->delay_valid = 0;
@@ -208,9 +206,7 @@ static void stream(struct hsc_card *c, int target)
 		}
 		if (ahead < target - slack && fill < 2) {
 			c->delay_valid = 0;
-			push(c, SH2000_PUSH_RING);
-			push(c, SH2000_PUSH_RING);
-			return;
+			push(c, 0);
 		}
 	}
 	push(c, 0);
@@ -246,7 +242,7 @@ static void commands(struct hsc_card *c, const struct hsc_in *in, int target)
 			/* an axis is being disabled: end the motion where
 			 * the command is, then disable once idle */
 			if (push(c, SH2000_PUSH_END) == -EAGAIN)
-				return;	/* the card is busy: next tick */
+				return;	/* the handle is busy: next tick */
 			c->streaming = 0;
 			c->ending = 1;
 		}

@@ -329,6 +329,7 @@ void sh2000_release_motion(struct sh2000 *h)
 	if (h->arb.fd >= 0 && h->arb.motion) {
 		char none[ARB_INFO_LEN] = { 0 };
 
+		(void)sh2000_mbox_close_locked(h);
 		(void)pwrite(h->arb.fd, none, sizeof(none), ARB_INFO_OFF);
 		sh2000_arb_drop(h, SH2000_ARB_MOTION);
 	}

@@ -6,12 +6,13 @@
  * back), and the count of records both ways share with the ring.
  *
  * h->head counts the records published either way; the HEAD word is
- * written only with ring records. A publication waits until POSTED equals
- * that count (the card has received the last one), except ring records
- * right behind ring records. A post carries positions as 20-bit steps from
- * the previous record, so it is used only while both sides know that
- * record: since the last ring publication, and while the last poll saw
- * the card running the motion (a fault or a stop ends that).
+ * written only with ring records. A post needs POSTED equal to that count
+ * (the card has taken the last post and every ring record); when it is
+ * not (a card late by a servo cycle), the point goes through the ring,
+ * which may follow a post at once. A post carries positions as 20-bit
+ * steps from the previous record, so it is used only while both sides
+ * know that record: since the last ring publication, and while the last
+ * poll saw the card running the motion (a fault or a stop ends that).
  */
 #include <errno.h>
 #include <stdlib.h>
@@ -46,7 +47,6 @@ int sh2000_queue_sync_locked(struct sh2000 *h)
 	r = sh2000_rd(h, SH2000_W_HEAD, 1, &head);
 	if (r < 0)
 		return r;
-	h->head_word = head;
 	if (!sh2000_mbox_card(h)) {
 		count_is(h, head);
 		return 0;
@@ -58,25 +58,19 @@ int sh2000_queue_sync_locked(struct sh2000 *h)
 	 * POSTED is a host that posted since */
 	count_is(h, (int16_t)(head - w[0]) > 0 ? head : w[0]);
 	h->mbox_seq = w[1 + SH2000_MBOX_SEQ];
-	h->posted_pending = 1;	/* the next publication looks at POSTED */
 	h->ref_ok = 0;
 	return 0;
 }
 
-int sh2000_queue_ready_locked(struct sh2000 *h)
+/* 1 when the card has received every record published, 0 when not yet
+ * (one word read on the way up to the mailbox). */
+static int all_received(struct sh2000 *h)
 {
 	uint16_t posted;
 	int r;
 
-	if (!h->posted_pending)
-		return 0;
 	r = sh2000_rd(h, SH2000_W_POSTED, 1, &posted);
-	if (r < 0)
-		return r;
-	if (posted != h->head)
-		return -EAGAIN;
-	h->posted_pending = 0;
-	return 0;
+	return r < 0 ? r : posted == h->head;
 }
 
 void sh2000_mbox_ring_written(struct sh2000 *h,
@@ -87,7 +81,7 @@ void sh2000_mbox_ring_written(struct sh2000 *h,
 	for (a = 0; a < SH2000_AXES; a++)
 		h->ref[a] = last[a];
 	h->ref_ok = 1;
-	h->head_word = h->head;
+	h->mbox_dirty = 0;
 }
 
 /* The mailbox can carry pt: a card that has it, a record both sides
@@ -100,7 +94,7 @@ static int usable(const struct sh2000 *h, const int32_t pt[SH2000_AXES],
 	unsigned int a;
 
 	if (!sh2000_mbox_card(h) || !h->ref_ok || !h->running ||
-	    (flags & (SH2000_PUSH_END | SH2000_PUSH_RING)) ||
+	    (flags & SH2000_PUSH_END) ||
 	    h->head == h->mbox_seq)
 		return 0;
 	for (a = 0; a < SH2000_AXES; a++)
@@ -121,18 +115,17 @@ int sh2000_mbox_post_locked(struct sh2000 *h, const int32_t pt[SH2000_AXES],
 	if (!usable(h, pt, flags))
 		return 0;
 	/* POSTED, then the record (SEQ last): one upward stream */
-	h->posted_pending = 1;
-	r = sh2000_queue_ready_locked(h);
-	if (r < 0)
-		return r;
+	r = all_received(h);
+	if (r <= 0)
+		return r;	/* not yet: the ring */
 	sh2000_mbox_pack(m, pt, h->head);
 	r = sh2000_wr(h, SH2000_W_MBOX, SH2000_MBOX_WORDS, m);
 	if (r < 0)
 		return r;
 	h->mbox_seq = h->head;
+	h->mbox_dirty = 1;
 	h->head++;
 	h->segments++;
-	h->posted_pending = 1;
 	for (a = 0; a < SH2000_AXES; a++)
 		h->ref[a] = pt[a];
 	now = sh2000_now_locked(h);
@@ -157,20 +150,16 @@ void sh2000_mbox_status(struct sh2000 *h, unsigned int card_state)
 
 int sh2000_mbox_close_locked(struct sh2000 *h)
 {
-	uint64_t t0 = sh2000_now_locked(h);
 	int r;
 
-	if (!sh2000_mbox_card(h) || h->head_word == h->head)
+	/* only the handle that posted last: any other's count is stale
+	 * (sh2000ctl beside a stream). A post the card has not taken yet is
+	 * below the new HEAD: the card takes it first, as with ring records
+	 * behind a post. */
+	if (!h->mbox_dirty)
 		return 0;
-	/* HEAD level with POSTED, for a host that knows only the ring:
-	 * once the card has received the last post */
-	while ((r = sh2000_queue_ready_locked(h)) == -EAGAIN &&
-	       sh2000_now_locked(h) - t0 < SH2000_CMD_TIMEOUT_MS * 1000000ull)
-		sh2000_hold_wait(h, 100000ull);
-	if (r < 0)
-		return r;
 	r = sh2000_wr1(h, SH2000_W_HEAD, h->head);
 	if (!r)
-		h->head_word = h->head;
+		h->mbox_dirty = 0;
 	return r;
 }

@@ -206,9 +206,6 @@ static int push_point_locked(struct sh2000 *h, const int32_t pt[SH2000_AXES],
 	r = sh2000_mbox_post_locked(h, pt, flags);
 	if (r)
 		return r;
-	r = sh2000_queue_ready_locked(h);
-	if (r < 0)
-		return r;
 	return sh2000_ring_write_locked(h, (const int32_t (*)[SH2000_AXES])pt,
 					1, flags);
 }

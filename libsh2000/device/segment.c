@@ -106,23 +106,6 @@ int sh2000_ring_write_locked(struct sh2000 *h,
 	return (int)n;
 }
 
-/* After a post, ring records wait until the card has received it (one
- * servo cycle). */
-static int ring_ready(struct sh2000 *h)
-{
-	uint64_t t0 = sh2000_now_locked(h);
-	int r;
-
-	while ((r = sh2000_queue_ready_locked(h)) == -EAGAIN) {
-		if (sh2000_now_locked(h) - t0 >= KEEPALIVE_NS)
-			return sh2000_fail(h, -SH2000_ETIMEOUT,
-					   "the card has not taken the posted record %u within 1 ms",
-					   (uint16_t)(h->head - 1u));
-		sh2000_hold_wait(h, WAIT_POLL_NS);
-	}
-	return r;
-}
-
 static int push_locked(struct sh2000 *h, const int32_t (*pts)[SH2000_AXES],
 		       size_t n, unsigned int flags)
 {
@@ -134,9 +117,6 @@ static int push_locked(struct sh2000 *h, const int32_t (*pts)[SH2000_AXES],
 	if (r < 0)
 		return r;
 	r = quick(h, &fill, &state, 0);
-	if (r < 0)
-		return r;
-	r = ring_ready(h);
 	if (r < 0)
 		return r;
 	if (SH2000_RING_RECORDS - fill < n)

@@ -119,9 +119,8 @@ struct sh2000 {
 	} nbc;
 
 	/* mailbox.c: the point mailbox (protocol 1.3) */
-	uint16_t head_word;		/* HEAD as last written */
 	uint16_t mbox_seq;		/* MBOX_SEQ as in the RAM */
-	int posted_pending;		/* POSTED may lag head: read it first */
+	int mbox_dirty;			/* posted since HEAD was last written */
 	int ref_ok;			/* the card knows ref[] as we do */
 	int running;			/* the last poll saw state RUNNING */
 	int32_t ref[SH2000_AXES];	/* the last record published */
@@ -189,20 +188,18 @@ int sh2000_ring_write_locked(struct sh2000 *h,
 int sh2000_mbox_card(const struct sh2000 *h);
 /* The record count from the card's words (open, a motion claimed). */
 int sh2000_queue_sync_locked(struct sh2000 *h);
-/* 0 when the card has received every record published (or the last
- * publication was ring records), -EAGAIN while it has not. */
-int sh2000_queue_ready_locked(struct sh2000 *h);
 /* Ring records up to `last` were published (HEAD written). */
 void sh2000_mbox_ring_written(struct sh2000 *h,
 			      const int32_t last[SH2000_AXES]);
 /* Post pt through the mailbox: 1 posted, 0 the mailbox cannot carry it
- * (use the ring), -EAGAIN the card has not received the last record. */
+ * now (use the ring), < 0 an error. */
 int sh2000_mbox_post_locked(struct sh2000 *h, const int32_t pt[SH2000_AXES],
 			    unsigned int flags);
 /* A poll saw the card in this state. */
 void sh2000_mbox_status(struct sh2000 *h, unsigned int card_state);
 /* HEAD put level with the count, for a later host that knows only the
- * ring. */
+ * ring: by the handle that posted last (it closes or lets the motion
+ * go). */
 int sh2000_mbox_close_locked(struct sh2000 *h);
 
 /* Write OP..CHECK and then CMD_SEQ = the next sequence number (the

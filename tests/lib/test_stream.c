@@ -147,7 +147,7 @@ static void test_stream_100k_mailbox(void **state)
 	CHECK(sh2000_poll(h, &st));
 	for (i = 0; i < TARGET; i++) {
 		p[0] += STEP;
-		CHECK(sh2000_push_point(h, p, SH2000_PUSH_RING));
+		CHECK(sh2000_push_point(h, p, 0));
 	}
 	pushed = TARGET;
 	CHECK(sh2000_port_counters(h, &pc0));

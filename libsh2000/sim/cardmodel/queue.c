@@ -7,10 +7,11 @@
  * record is copied out of the RAM at once, since the host reuses the
  * mailbox for the next one.
  *
- * A host publishes only while POSTED equals its count (ring records right
- * behind ring records excepted), so at most one publication is new in a
- * servo cycle besides more ring records, and the order of the two looks
- * below does not matter.
+ * A host posts only while POSTED equals its count, so a new post is
+ * always record POSTED; ring records may follow a post at once. HEAD is
+ * therefore read before MBOX_SEQ: a HEAD that already counts ring records
+ * behind a post was written after the post, which the second read then
+ * sees too; the post is taken first, then HEAD - POSTED ring records.
  */
 #include "cardmodel.h"
 
@@ -104,8 +105,8 @@ static void take_ring(struct sh2000_dsp *fw, uint16_t head)
 
 void sh2000_queue_receive(struct sh2000_dsp *fw)
 {
+	uint16_t head = RD(fw, SH2000_W_HEAD);	/* first: see above */
 	uint16_t seq = RD(fw, SH2000_W_MBOX + SH2000_MBOX_SEQ);
-	uint16_t head = RD(fw, SH2000_W_HEAD);
 
 	if (seq != fw->mbox_seq) {
 		fw->mbox_seq = seq;

@@ -339,10 +339,6 @@ int sh2000_axis_params_set(struct sh2000 *h, unsigned int axis,
 
 /* sh2000_push_*() flags */
 #define SH2000_PUSH_END		0x0001u	/* last batch of a motion */
-/* Through the ring even where the point mailbox (protocol 1.3) could
- * carry it: a point that has others behind it in the same tick (the card
- * takes one post per servo cycle). */
-#define SH2000_PUSH_RING	0x0002u
 
 /*
  * Queue n coarse-interpolation points (one record each, all axes) in one

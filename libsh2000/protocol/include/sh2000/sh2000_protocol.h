@@ -159,11 +159,12 @@
  * records it has published either way:
  *  - ring: records c..c+n-1 in their slots, then HEAD := c + n;
  *  - mailbox: the record's words, then MBOX_SEQ := c;
- *  - either only while POSTED = c (the card has received everything),
- *    except ring records right behind ring records.
- * The card, every servo cycle: a changed MBOX_SEQ is record POSTED; a
- * changed HEAD brings HEAD - POSTED ring records (0: none, a host putting
- * HEAD level with POSTED; more than the room: SH2000_FAULT_PROTOCOL).
+ *  - a post only while POSTED = c (the card has received everything);
+ *    ring records at any time, a post's number left out of the ring.
+ * The card, every servo cycle, reads HEAD and then MBOX_SEQ: a changed
+ * MBOX_SEQ is record POSTED; a changed HEAD brings HEAD - POSTED ring
+ * records after it (0: none, a host putting HEAD level with POSTED; more
+ * than the room: SH2000_FAULT_PROTOCOL).
  */
 
 /* ---------------------------------------------------------------------------

@@ -52,7 +52,11 @@ function(sh2000_add_library name)
   endforeach()
   # A static library's private dependencies are its consumer's to link.
   target_link_libraries(${name}_static INTERFACE ${L_LINK_PRIVATE})
-  target_link_options(${name} PRIVATE -Wl,--no-undefined)
+  # (not in the fuzz tree: clang leaves the sanitizers' and the fuzzer's
+  # runtime symbols to the executable)
+  if(NOT SH2000_FUZZ)
+    target_link_options(${name} PRIVATE -Wl,--no-undefined)
+  endif()
 
   set(map ${PROJECT_BINARY_DIR}/lib${L_OUTPUT}.map)
   add_custom_command(OUTPUT ${map}

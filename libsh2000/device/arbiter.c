@@ -61,7 +61,19 @@ int sh2000_arb_open(struct sh2000 *h, const char *id, char *msg, size_t len)
 		     id) >= (int)sizeof(path))
 		return sh2000_msg(msg, len, -ENAMETOOLONG,
 				  "%s: lock file name too long", h->device);
-	fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0666);
+	/*
+	 * Open it as it is, create it only if it is not there: an O_CREAT
+	 * open of a file another user created in a sticky world-writable
+	 * folder such as /run/lock fails with EACCES under
+	 * fs.protected_regular (Debian's procps sets it to 2), which would
+	 * lock every user of the sh2000 group but the first out of the card.
+	 */
+	fd = open(path, O_RDWR | O_CLOEXEC | O_NOFOLLOW);
+	if (fd < 0 && errno == ENOENT)
+		fd = open(path, O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW,
+			  0666);
+	if (fd < 0 && errno == EEXIST)	/* another program was quicker */
+		fd = open(path, O_RDWR | O_CLOEXEC | O_NOFOLLOW);
 	if (fd < 0) {
 		e = errno;
 		return sh2000_msg(msg, len, -e,

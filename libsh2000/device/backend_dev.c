@@ -6,8 +6,12 @@
 #include <endian.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <grp.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/ioctl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <linux/types.h>
@@ -96,18 +100,82 @@ static const struct sh2000_backend dev_backend = {
 	.close = dev_close,
 };
 
+/* The group the udev rule gives the nodes to (udev/60-sh2000.rules). */
+#define DEV_GROUP	"sh2000"
+#define DEV_RULE	"60-sh2000.rules"
+
+static int in_group(gid_t gid)
+{
+	gid_t *list;
+	int n, i, found = getegid() == gid;
+
+	n = getgroups(0, NULL);
+	list = n > 0 ? calloc((size_t)n, sizeof(*list)) : NULL;
+	if (list && getgroups(n, list) == n)
+		for (i = 0; i < n; i++)
+			found |= list[i] == gid;
+	free(list);
+	return found;
+}
+
+/* The name of group gid in buf (its number if it has none). */
+static const char *group_name(gid_t gid, char *buf, size_t len)
+{
+	struct group gr, *g = NULL;
+	char tmp[1024];
+
+	if (getgrgid_r(gid, &gr, tmp, sizeof(tmp), &g) == 0 && g)
+		snprintf(buf, len, "%s", g->gr_name);
+	else
+		snprintf(buf, len, "%u", (unsigned int)gid);
+	return buf;
+}
+
+/* Why a node cannot be opened for lack of permission: what the udev rule
+ * should have done and what is missing. */
+static void access_hint(const char *path, char *buf, size_t len)
+{
+	struct group gr, *g = NULL;
+	char grbuf[2048], owner[64];
+	struct stat sb;
+
+	if (stat(path, &sb) < 0) {
+		snprintf(buf, len, " (the udev rule " DEV_RULE " gives the card to group " DEV_GROUP ")");
+		return;
+	}
+	if (getgrnam_r(DEV_GROUP, &gr, grbuf, sizeof(grbuf), &g) || !g)
+		snprintf(buf, len,
+			 " (the udev rule " DEV_RULE " gives the card to group " DEV_GROUP ", and there is no group " DEV_GROUP ": sudo groupadd --system " DEV_GROUP ", then reload the rule; docs/driver.md)");
+	else if (sb.st_gid != g->gr_gid)
+		snprintf(buf, len,
+			 " (it is group %s, mode %04o, not group " DEV_GROUP ": the udev rule " DEV_RULE " is not installed or has not run; docs/driver.md)",
+			 group_name(sb.st_gid, owner, sizeof(owner)),
+			 (unsigned int)(sb.st_mode & 07777));
+	else if (!in_group(g->gr_gid))
+		snprintf(buf, len,
+			 " (it belongs to group " DEV_GROUP " (udev rule " DEV_RULE ") and this user is not in it: sudo usermod -aG " DEV_GROUP " $USER, then log in again)");
+	else
+		snprintf(buf, len,
+			 " (group " DEV_GROUP " (udev rule " DEV_RULE ") has mode %04o on it)",
+			 (unsigned int)(sb.st_mode & 07777));
+}
+
 int sh2000_dev_open(struct sh2000 *h, const char *path, char *msg,
 		    size_t len)
 {
 	struct sh2000_info info;
+	char hint[320] = "";
 	int e;
 
 	h->fd = open(path, O_RDWR | O_CLOEXEC);
 	if (h->fd < 0) {
 		e = errno;
+		if (e == EACCES || e == EPERM)
+			access_hint(path, hint, sizeof(hint));
+		else if (e == ENOENT)
+			snprintf(hint, sizeof(hint), " (is sh2000.ko loaded?)");
 		return sh2000_msg(msg, len, -e, "%s: cannot open: %s%s", path,
-				  strerror(e),
-				  e == ENOENT ? " (is sh2000.ko loaded?)" : "");
+				  strerror(e), hint);
 	}
 	if (ioctl(h->fd, SH2000_IOC_GET_INFO, &info) < 0) {
 		e = errno;

@@ -123,12 +123,17 @@ int sh2000_command_locked(struct sh2000 *h, unsigned int op,
 	limit = (uint64_t)(timeout_ms < 0 ? SH2000_CMD_TIMEOUT_MS : timeout_ms) *
 		1000000ull;
 	for (;;) {
+		/* the clock before the look: a program descheduled between a
+		 * look and the clock (a loaded machine) looks once more after
+		 * the limit instead of timing out an answered command */
+		int late = sh2000_now_locked(h) - t0 > limit;
+
 		r = sh2000_rd(h, SH2000_W_CMD_ACK, 4, ack);
 		if (r < 0)
 			goto out;
 		if (ack[0] == seq)
 			break;
-		if (sh2000_now_locked(h) - t0 > limit) {
+		if (late) {
 			r = why_silent(h, what, (int)(limit / 1000000ull));
 			goto out;
 		}
@@ -421,7 +426,10 @@ static int encode(struct sh2000 *h, int axis, const struct sh2000_param_info *p,
 		return sh2000_fail(h, -SH2000_EPARAM, "%s: %g is not a finite number",
 				   at, v);
 	if (p->type == SH2000_PT_F32) {
-		if (!isfinite(c) || fabs(c) > FLT_MAX)
+		/* too small for a normal binary32 is refused like too large:
+		 * never rounded to 0 */
+		if (!isfinite(c) || fabs(c) > FLT_MAX ||
+		    (c != 0.0 && fabs(c) < FLT_MIN))
 			return sh2000_fail(h, -SH2000_EPARAM,
 					   "%s: %g %s is not representable as a 32-bit float in card units",
 					   at, v, u);

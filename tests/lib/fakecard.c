@@ -44,7 +44,9 @@ static void fake_out(struct sh2000 *h, unsigned int reg, uint16_t v)
 	case SH2000_REG_DATA:
 		logit(f, FAKE_WR);
 		f->ram[f->counter] = v;
-		if (f->counter == SH2000_W_CMD_SEQ && f->auto_ack) {
+		if (f->counter == SH2000_W_CMD_SEQ && f->late_ack_ns) {
+			f->ack_pending = 1;
+		} else if (f->counter == SH2000_W_CMD_SEQ && f->auto_ack) {
 			f->ram[SH2000_W_CMD_RESULT] = f->ack_result;
 			f->ram[SH2000_W_CMD_VALUE_LO] = (uint16_t)f->ack_value;
 			f->ram[SH2000_W_CMD_VALUE_HI] = (uint16_t)(f->ack_value >> 16);
@@ -67,6 +69,12 @@ static uint16_t fake_in(struct sh2000 *h, unsigned int reg)
 	logit(f, FAKE_RD);
 	(void)reg;
 	v = f->ram[f->counter];
+	if (f->counter == SH2000_W_CMD_ACK && f->ack_pending) {
+		f->ack_pending = 0;
+		tick(f, f->late_ack_ns);
+		f->ram[SH2000_W_CMD_RESULT] = f->ack_result;
+		f->ram[SH2000_W_CMD_ACK] = f->ram[SH2000_W_CMD_SEQ];
+	}
 	if (f->counter == SH2000_W_SNAP_SEQ_BEGIN && f->tear_polls) {
 		f->tear_polls--;
 		v = (uint16_t)(v + 1);	/* the card published meanwhile */

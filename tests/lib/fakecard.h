@@ -38,6 +38,11 @@ struct fakecard {
 	uint32_t ack_value;
 	unsigned int tear_polls;	/* next polls to tear (seq begin read) */
 	int hb_running;		/* heartbeat +1 per 100 us of time */
+	/* answer a command only at the host's first look at the ACK, after
+	 * it has read the old one, and that much time later: the host was
+	 * descheduled between its read and its next step */
+	uint64_t late_ack_ns;
+	int ack_pending;
 };
 
 struct fakecard *fakecard_new(void);

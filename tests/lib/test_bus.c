@@ -269,6 +269,14 @@ static void test_command_cost_and_results(void **state)
 						       0, 0, NULL, 100), want);
 		assert_non_null(strstr(f->h.err, "nop"));
 	}
+	/* answered while the host was descheduled for 150 ms right after
+	 * looking at the old ACK: its last look, past the time limit, sees
+	 * the answer; not a timeout */
+	f->ack_result = SH2000_RES_OK;
+	f->late_ack_ns = 150000000ull;
+	assert_int_equal(sh2000_command_locked(&f->h, SH2000_CMD_NOP, 0, 0, 0,
+					       NULL, 100), 0);
+	f->late_ack_ns = 0;
 	/* no answer: a timeout, after 100 ms of (fake) time */
 	f->auto_ack = 0;
 	assert_int_equal(sh2000_command_locked(&f->h, SH2000_CMD_NOP, 0, 0, 0,

@@ -36,6 +36,13 @@ struct dev {
 	int moving;
 };
 
+static int discard(void *ctx, const struct sh2000_path_point *pt)
+{
+	(void)ctx;
+	(void)pt;
+	return 0;
+}
+
 static double seg_dist(const double *p, const double *a, const double *b)
 {
 	double dx = b[0] - a[0], dy = b[1] - a[1], t;
@@ -154,11 +161,50 @@ static void test_exact_modes(void **s)
 	assert_true(stop.cycles >= path.cycles);
 }
 
+/* G64 P Q: CAM-style tiny moves that wobble within Q of a line are taken
+ * as that line (LinuxCNC's naive CAM detector), within Q of every point;
+ * without Q (Q 0) each is its own block. */
+static size_t naive_run(double q)
+{
+	struct sh2000_path_config c;
+	struct sh2000_path_stats st;
+	struct sh2000_path *p;
+	unsigned int i;
+
+	sh2000_path_config_default(&c);
+	assert_int_equal(sh2000_path_create(&p, &c, discard, NULL, NULL, 0), 0);
+	assert_int_equal(sh2000_path_set_mode(p, SH2000_PATH_BLEND, 0.01, q), 0);
+	for (i = 1; i <= 400; i++) {
+		/* 0.05 mm steps along X, +-2 um of Y wobble */
+		double e[4] = { 0.05 * i, (i % 2 ? 0.002 : -0.002), 0, 0 };
+
+		assert_int_equal(sh2000_path_line(p, e, 100), 0);
+	}
+	assert_int_equal(sh2000_path_finish(p), 0);
+	sh2000_path_stats(p, &st);
+	sh2000_path_destroy(p);
+	return st.blocks;
+}
+
+static void test_naive_cam(void **s)
+{
+	size_t merged, each;
+
+	(void)s;
+	merged = naive_run(0.005);
+	each = naive_run(0);
+	print_message("G64 P0.01 Q0.005: 400 wobbling moves planned as %zu blocks (Q 0: %zu)\n",
+		      merged, each);
+	assert_true(merged < 40);
+	assert_true(each >= 400);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_blend_tolerances),
 		cmocka_unit_test(test_exact_modes),
+		cmocka_unit_test(test_naive_cam),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

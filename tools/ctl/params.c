@@ -4,15 +4,8 @@
  * line or a parameter file. Both go through one plan: collect every value,
  * check all of them against the protocol's ranges (in the scale they will
  * be converted with) and the card's cross rules, and only then send; so a
- * bad value or a bad file line sets nothing.
- *
- * File format (also what `params save` writes):
- *     # comment            ; comment too
- *     [global]
- *     host_timeout_ms = 100
- *     [x]                  (x y z a, or 0..3)
- *     kp = 0.5
- *     vmax = 400           (mm/s; units as `sh2000ctl params` shows them)
+ * bad value or a bad file line sets nothing. The file format and its
+ * reader are in params_plan.h.
  */
 #include <errno.h>
 #include <float.h>
@@ -23,31 +16,13 @@
 #include <string.h>
 
 #include "ctl.h"
-
-#define NGLOBAL (SH2000_GP_END - SH2000_GP_FIRST)
-#define SECT_GLOBAL SH2000_AXES	/* index of the global section */
-
-struct plan {
-	const char *file;	/* NULL: command line */
-	const char *dev;	/* device, once open (command-line messages) */
-	int set[SH2000_AXES + 1][SH2000_GP_END];
-	double v[SH2000_AXES + 1][SH2000_GP_END];
-	int line[SH2000_AXES + 1][SH2000_GP_END];
-	int errors;
-};
+#include "params_plan.h"
 
 int ctl_param_is_mm(unsigned int id)
 {
 	const char *u = sh2000_param_unit(id);
 
 	return u && !strncmp(u, "mm", 2);
-}
-
-static const char *sect_name(unsigned int s)
-{
-	static const char *const n[] = { "x", "y", "z", "a", "global" };
-
-	return s <= SECT_GLOBAL ? n[s] : "?";
 }
 
 /* A shortest text that reads back as v: exactly, or for a binary32
@@ -76,139 +51,20 @@ static int is_f32(unsigned int id)
 	return pi && pi->type == SH2000_PT_F32;
 }
 
-static void plan_error(struct plan *p, int line, const char *fmt, ...)
-	__attribute__((format(printf, 3, 4)));
-
-static void plan_error(struct plan *p, int line, const char *fmt, ...)
-{
-	char msg[512];
-	va_list ap;
-
-	va_start(ap, fmt);
-	vsnprintf(msg, sizeof(msg), fmt, ap);
-	va_end(ap);
-	if (p->file)
-		sh2000_tool_msg("%s:%d: %s", p->file, line, msg);
-	else if (p->dev)
-		sh2000_tool_msg("%s: params: %s", p->dev, msg);
-	else
-		sh2000_tool_msg("params: %s", msg);
-	p->errors++;
-}
-
-/* One "name=value" into the plan for section s. */
-static void plan_add(struct plan *p, unsigned int s, const char *name,
-		     const char *value, int line)
-{
-	int id = sh2000_param_id(name);
-	double v;
-
-	if (id < 0) {
-		plan_error(p, line, "unknown parameter '%s'", name);
-		return;
-	}
-	if ((s == SECT_GLOBAL) != (id >= SH2000_GP_FIRST)) {
-		plan_error(p, line, "%s is %s parameter, not one of [%s]", name,
-			   id >= SH2000_GP_FIRST ? "a global" : "an axis",
-			   sect_name(s));
-		return;
-	}
-	if (sh2000_tool_double(value, &v) < 0) {
-		plan_error(p, line, "%s: '%s' is not a number", name, value);
-		return;
-	}
-	if (p->set[s][id]) {
-		if (p->file)
-			plan_error(p, line, "%s of [%s] already set on line %d",
-				   name, sect_name(s), p->line[s][id]);
-		else
-			plan_error(p, line, "%s given twice", name);
-		return;
-	}
-	p->set[s][id] = 1;
-	p->v[s][id] = v;
-	p->line[s][id] = line;
-}
-
-static char *trim(char *s)
-{
-	char *e;
-
-	while (*s == ' ' || *s == '\t')
-		s++;
-	e = s + strlen(s);
-	while (e > s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r' ||
-			 e[-1] == '\n'))
-		*--e = '\0';
-	return s;
-}
-
-static int plan_read_file(struct plan *p, const char *path)
+static int plan_read_file(struct ctl_plan *p, const char *path)
 {
 	FILE *f = strcmp(path, "-") ? fopen(path, "r") : stdin;
-	char *buf = NULL;
-	size_t cap = 0;
-	int line = 0, sect = -1;
+	int r;
 
 	p->file = strcmp(path, "-") ? path : "<stdin>";
 	if (!f) {
 		sh2000_tool_msg("%s: cannot open: %s", path, strerror(errno));
 		return -1;
 	}
-	while (getline(&buf, &cap, f) >= 0) {
-		char *s = buf, *eq, *c;
-
-		line++;
-		c = strpbrk(s, "#;");
-		if (c)
-			*c = '\0';
-		s = trim(s);
-		if (!*s)
-			continue;
-		if (*s == '[') {
-			char *e = strchr(s, ']');
-			int a;
-
-			if (!e || e[1]) {
-				plan_error(p, line, "bad section header '%s'", s);
-				continue;
-			}
-			*e = '\0';
-			s = trim(s + 1);
-			a = sh2000_tool_axis(s);
-			if (!strcmp(s, "global"))
-				sect = SECT_GLOBAL;
-			else if (a >= 0)
-				sect = a;
-			else {
-				plan_error(p, line,
-					   "unknown section [%s] (x, y, z, a or global)", s);
-				sect = -2;
-			}
-			continue;
-		}
-		eq = strchr(s, '=');
-		if (!eq) {
-			plan_error(p, line, "expected 'name = value' or '[section]', got '%s'", s);
-			continue;
-		}
-		*eq = '\0';
-		if (sect == -1) {
-			plan_error(p, line, "'%s' before any [section]", trim(s));
-			continue;
-		}
-		if (sect == -2)
-			continue;	/* already reported */
-		plan_add(p, (unsigned int)sect, trim(s), trim(eq + 1), line);
-	}
-	if (ferror(f)) {
-		sh2000_tool_msg("%s: read error: %s", path, strerror(errno));
-		p->errors++;
-	}
-	free(buf);
+	r = ctl_plan_read(p, f, path);
 	if (f != stdin)
 		fclose(f);
-	return p->errors ? -1 : 0;
+	return r;
 }
 
 /* Card units of a user value, as the library converts it; 0 if it fits
@@ -221,7 +77,8 @@ static int check_value(const struct sh2000_param_info *pi, double v,
 	const char *u = sh2000_param_unit(pi->id);
 
 	if (pi->type == SH2000_PT_F32) {
-		if (!isfinite(c) || fabs(c) > FLT_MAX) {
+		if (!isfinite(c) || fabs(c) > FLT_MAX ||
+		    (c != 0.0 && fabs(c) < FLT_MIN)) {
 			snprintf(why, len, "%g %s does not fit a 32-bit float", v, u);
 			return -1;
 		}
@@ -249,16 +106,16 @@ static int check_value(const struct sh2000_param_info *pi, double v,
 }
 
 /* Check the plan against the card's current values; nothing is sent. */
-static int plan_check(struct ctl *c, struct plan *p,
+static int plan_check(struct ctl *c, struct ctl_plan *p,
 		      double cur[SH2000_AXES + 1][SH2000_GP_END])
 {
 	char why[256];
 	int r;
 
 	p->dev = sh2000_device(c->h);
-	for (unsigned int s = 0; s <= SECT_GLOBAL; s++) {
-		unsigned int lo = s == SECT_GLOBAL ? SH2000_GP_FIRST : 0;
-		unsigned int hi = s == SECT_GLOBAL ? SH2000_GP_END : SH2000_AXIS_PARAMS;
+	for (unsigned int s = 0; s <= CTL_SECT_GLOBAL; s++) {
+		unsigned int lo = s == CTL_SECT_GLOBAL ? SH2000_GP_FIRST : 0;
+		unsigned int hi = s == CTL_SECT_GLOBAL ? SH2000_GP_END : SH2000_AXIS_PARAMS;
 		double scale, card[SH2000_GP_END];
 		int any = 0, errors = p->errors;
 
@@ -267,14 +124,14 @@ static int plan_check(struct ctl *c, struct plan *p,
 		if (!any)
 			continue;
 		for (unsigned int id = lo; id < hi; id++) {
-			r = sh2000_param_get(c->h, s == SECT_GLOBAL ? SH2000_GLOBAL : (int)s,
+			r = sh2000_param_get(c->h, s == CTL_SECT_GLOBAL ? SH2000_GLOBAL : (int)s,
 					     id, &cur[s][id]);
 			if (r < 0)
 				return sh2000_tool_fail(c->h, r, "get parameter");
 		}
-		scale = p->set[s][SH2000_P_SCALE] && s != SECT_GLOBAL ?
+		scale = p->set[s][SH2000_P_SCALE] && s != CTL_SECT_GLOBAL ?
 			p->v[s][SH2000_P_SCALE] : cur[s][SH2000_P_SCALE];
-		if (s == SECT_GLOBAL)
+		if (s == CTL_SECT_GLOBAL)
 			scale = 1.0;
 		for (unsigned int id = lo; id < hi; id++) {
 			const struct sh2000_param_info *pi = sh2000_param_lookup(id);
@@ -292,23 +149,23 @@ static int plan_check(struct ctl *c, struct plan *p,
 			}
 			if (check_value(pi, p->v[s][id], scale, &card[id], why,
 					sizeof(why)) < 0)
-				plan_error(p, p->line[s][id], "%s%s%s: %s",
-					   s == SECT_GLOBAL ? "" : sect_name(s),
-					   s == SECT_GLOBAL ? "" : " ", pi->name, why);
+				ctl_plan_error(p, p->line[s][id], "%s%s%s: %s",
+					   s == CTL_SECT_GLOBAL ? "" : ctl_plan_section(s),
+					   s == CTL_SECT_GLOBAL ? "" : " ", pi->name, why);
 		}
 		if (p->errors != errors)
 			continue;
-		if (s != SECT_GLOBAL &&
+		if (s != CTL_SECT_GLOBAL &&
 		    (p->set[s][SH2000_P_SOFT_MIN] || p->set[s][SH2000_P_SOFT_MAX]) &&
 		    card[SH2000_P_SOFT_MIN] >= card[SH2000_P_SOFT_MAX]) {
 			int l = p->line[s][SH2000_P_SOFT_MIN] > p->line[s][SH2000_P_SOFT_MAX] ?
 				p->line[s][SH2000_P_SOFT_MIN] : p->line[s][SH2000_P_SOFT_MAX];
 
-			plan_error(p, l, "%s soft_min %g mm must be below soft_max %g mm",
-				   sect_name(s), card[SH2000_P_SOFT_MIN] / scale,
+			ctl_plan_error(p, l, "%s soft_min %g mm must be below soft_max %g mm",
+				   ctl_plan_section(s), card[SH2000_P_SOFT_MIN] / scale,
 				   card[SH2000_P_SOFT_MAX] / scale);
 		}
-		if (s == SECT_GLOBAL &&
+		if (s == CTL_SECT_GLOBAL &&
 		    (p->set[s][SH2000_GP_COARSE_PERIOD_US] || p->set[s][SH2000_GP_FINE_STEPS])) {
 			double cp = card[SH2000_GP_COARSE_PERIOD_US];
 			double fs = card[SH2000_GP_FINE_STEPS];
@@ -317,7 +174,7 @@ static int plan_check(struct ctl *c, struct plan *p,
 				p->line[s][SH2000_GP_COARSE_PERIOD_US] : p->line[s][SH2000_GP_FINE_STEPS];
 
 			if (ns % (long long)fs || ns / (long long)fs < SH2000_FW_MIN_SERVO_NS)
-				plan_error(p, l,
+				ctl_plan_error(p, l,
 					   "coarse_period_us %g with fine_steps %g: the servo period must be a whole number of ns >= %u ns",
 					   cp, fs, SH2000_FW_MIN_SERVO_NS);
 		}
@@ -334,7 +191,7 @@ static int set_one(struct ctl *c, int axis, unsigned int id, double v)
 
 /* Send a checked plan: globals, then each axis (scale first, the soft
  * limits in the order that keeps soft_min < soft_max on the card). */
-static int plan_apply(struct ctl *c, struct plan *p,
+static int plan_apply(struct ctl *c, struct ctl_plan *p,
 		      double cur[SH2000_AXES + 1][SH2000_GP_END])
 {
 	struct sh2000_status st;
@@ -348,7 +205,7 @@ static int plan_apply(struct ctl *c, struct plan *p,
 	    st.card_state == SH2000_STATE_HOMING) {
 		int live_only = 1;
 
-		for (unsigned int s = 0; s <= SECT_GLOBAL; s++)
+		for (unsigned int s = 0; s <= CTL_SECT_GLOBAL; s++)
 			for (unsigned int id = 0; id < SH2000_GP_END; id++)
 				if (p->set[s][id] &&
 				    !(id == SH2000_P_KP || id == SH2000_P_TI ||
@@ -363,23 +220,23 @@ static int plan_apply(struct ctl *c, struct plan *p,
 			return SH2000_EXIT_CARD;
 		}
 	}
-	if (p->set[SECT_GLOBAL][SH2000_GP_COARSE_PERIOD_US] &&
-	    p->set[SECT_GLOBAL][SH2000_GP_FINE_STEPS]) {
+	if (p->set[CTL_SECT_GLOBAL][SH2000_GP_COARSE_PERIOD_US] &&
+	    p->set[CTL_SECT_GLOBAL][SH2000_GP_FINE_STEPS]) {
 		/* the card checks each against the other's current value */
-		long long ns = (long long)p->v[SECT_GLOBAL][SH2000_GP_COARSE_PERIOD_US] * 1000;
-		long long fs = (long long)cur[SECT_GLOBAL][SH2000_GP_FINE_STEPS];
+		long long ns = (long long)p->v[CTL_SECT_GLOBAL][SH2000_GP_COARSE_PERIOD_US] * 1000;
+		long long fs = (long long)cur[CTL_SECT_GLOBAL][SH2000_GP_FINE_STEPS];
 		int coarse_first = !(ns % fs) && ns / fs >= SH2000_FW_MIN_SERVO_NS;
 		unsigned int a = coarse_first ? SH2000_GP_COARSE_PERIOD_US : SH2000_GP_FINE_STEPS;
 		unsigned int b = coarse_first ? SH2000_GP_FINE_STEPS : SH2000_GP_COARSE_PERIOD_US;
 
-		if ((r = set_one(c, SH2000_GLOBAL, a, p->v[SECT_GLOBAL][a])) ||
-		    (r = set_one(c, SH2000_GLOBAL, b, p->v[SECT_GLOBAL][b])))
+		if ((r = set_one(c, SH2000_GLOBAL, a, p->v[CTL_SECT_GLOBAL][a])) ||
+		    (r = set_one(c, SH2000_GLOBAL, b, p->v[CTL_SECT_GLOBAL][b])))
 			return r;
-		p->set[SECT_GLOBAL][a] = p->set[SECT_GLOBAL][b] = 0;
+		p->set[CTL_SECT_GLOBAL][a] = p->set[CTL_SECT_GLOBAL][b] = 0;
 	}
 	for (unsigned int id = SH2000_GP_FIRST; id < SH2000_GP_END; id++)
-		if (p->set[SECT_GLOBAL][id] &&
-		    (r = set_one(c, SH2000_GLOBAL, id, p->v[SECT_GLOBAL][id])))
+		if (p->set[CTL_SECT_GLOBAL][id] &&
+		    (r = set_one(c, SH2000_GLOBAL, id, p->v[CTL_SECT_GLOBAL][id])))
 			return r;
 	for (unsigned int a = 0; a < SH2000_AXES; a++) {
 		unsigned int order[SH2000_AXIS_PARAMS], n = 0;
@@ -411,10 +268,10 @@ static int plan_apply(struct ctl *c, struct plan *p,
 /* "[x]\nname = value  # unit" for every parameter of section s. */
 static int print_section(struct ctl *c, FILE *f, unsigned int s)
 {
-	unsigned int lo = s == SECT_GLOBAL ? SH2000_GP_FIRST : 0;
-	unsigned int hi = s == SECT_GLOBAL ? SH2000_GP_END : SH2000_AXIS_PARAMS;
+	unsigned int lo = s == CTL_SECT_GLOBAL ? SH2000_GP_FIRST : 0;
+	unsigned int hi = s == CTL_SECT_GLOBAL ? SH2000_GP_END : SH2000_AXIS_PARAMS;
 
-	fprintf(f, "[%s]\n", sect_name(s));
+	fprintf(f, "[%s]\n", ctl_plan_section(s));
 	for (unsigned int id = lo; id < hi; id++) {
 		char val[64], lhs[160];
 		double v;
@@ -422,7 +279,7 @@ static int print_section(struct ctl *c, FILE *f, unsigned int s)
 
 		if (!sh2000_param_lookup(id))
 			continue;
-		r = sh2000_param_get(c->h, s == SECT_GLOBAL ? SH2000_GLOBAL : (int)s,
+		r = sh2000_param_get(c->h, s == CTL_SECT_GLOBAL ? SH2000_GLOBAL : (int)s,
 				     id, &v);
 		if (r < 0)
 			return sh2000_tool_fail(c->h, r, "get parameter");
@@ -453,8 +310,8 @@ static int params_save(struct ctl *c, const char *path)
 	fprintf(m, "# SH-2000 parameters of %s (sh2000ctl params save)\n"
 		   "# units: lengths mm, velocities mm/s, accelerations mm/s^2\n",
 		sh2000_device(c->h));
-	for (unsigned int s = 0; !r && s <= SECT_GLOBAL; s++) {
-		unsigned int sec = s == 0 ? SECT_GLOBAL : s - 1;
+	for (unsigned int s = 0; !r && s <= CTL_SECT_GLOBAL; s++) {
+		unsigned int sec = s == 0 ? CTL_SECT_GLOBAL : s - 1;
 
 		fprintf(m, "\n");
 		r = print_section(c, m, sec);
@@ -494,7 +351,7 @@ static int params_save(struct ctl *c, const char *path)
 int ctl_params(struct ctl *c, int argc, char **argv)
 {
 	double cur[SH2000_AXES + 1][SH2000_GP_END];
-	struct plan *p;
+	struct ctl_plan *p;
 	int r, sect, nset = 0, nget = 0;
 
 	if (ctl_want_help(argc, argv))
@@ -530,7 +387,7 @@ int ctl_params(struct ctl *c, int argc, char **argv)
 		r = ctl_open(c);
 		return r ? r : params_save(c, "-");
 	}
-	sect = !strcmp(argv[1], "global") ? (int)SECT_GLOBAL : sh2000_tool_axis(argv[1]);
+	sect = !strcmp(argv[1], "global") ? (int)CTL_SECT_GLOBAL : sh2000_tool_axis(argv[1]);
 	if (sect < 0)
 		return sh2000_tool_usage(argv[0],
 			"params: '%s' is not an axis (x y z a), 'global', 'load' or 'save'",
@@ -559,11 +416,11 @@ int ctl_params(struct ctl *c, int argc, char **argv)
 			char val[64];
 			double v;
 
-			if ((sect == SECT_GLOBAL) != (id >= SH2000_GP_FIRST))
+			if ((sect == CTL_SECT_GLOBAL) != (id >= SH2000_GP_FIRST))
 				return sh2000_tool_usage(argv[0], "params: %s is %s parameter",
 					argv[i], id >= SH2000_GP_FIRST ?
 					"a global (use 'params global')" : "an axis");
-			r = sh2000_param_get(c->h, sect == SECT_GLOBAL ? SH2000_GLOBAL : sect,
+			r = sh2000_param_get(c->h, sect == CTL_SECT_GLOBAL ? SH2000_GLOBAL : sect,
 					     (unsigned int)id, &v);
 			if (r < 0)
 				return sh2000_tool_fail(c->h, r, "get parameter");
@@ -579,7 +436,7 @@ int ctl_params(struct ctl *c, int argc, char **argv)
 		char *name = strdup(argv[i]), *eq = strchr(name, '=');
 
 		*eq = '\0';
-		plan_add(p, (unsigned int)sect, name, eq + 1, 0);
+		ctl_plan_add(p, (unsigned int)sect, name, eq + 1, 0);
 		free(name);
 	}
 	r = p->errors ? SH2000_EXIT_USAGE : ctl_open(c);

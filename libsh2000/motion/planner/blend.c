@@ -17,11 +17,12 @@
 
 /* Blends narrower than this are not worth a block. */
 #define BLEND_MIN_MM 1e-6
-/* The share of the tolerance the arc itself takes: the rest is for the
- * card's spline, which follows a tight arc to a fraction of a micrometre
- * when compensated, and cuts it inwards by (vT)^2 / 6R when raw (the arc's
- * speed keeps that cut within the rest). */
-#define BLEND_SHARE 0.95
+/* What the arc itself may take of the tolerance: the rest is for the
+ * card's spline, which passes the curvature steps at the arc's ends within
+ * about half a micrometre when compensated (a micrometre is kept; at most
+ * half the tolerance), and cuts the arc inwards by (vT)^2 / 6R when raw
+ * (half the tolerance; the arc's speed keeps the cut within it). */
+#define BLEND_SPLINE_MM 0.001
 #define BLEND_SHARE_RAW 0.5
 
 static double dot4(const double *a, const double *b)
@@ -98,7 +99,8 @@ int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
 		return 0;	/* straight on, or back along itself */
 	/* deviation at the arc's middle R (1 / cos(phi/2) - 1) = tol; no
 	 * tolerance (G64 alone): as wide as the moves allow */
-	share = raw ? BLEND_SHARE_RAW : BLEND_SHARE;
+	share = raw ? BLEND_SHARE_RAW :
+		pl_max(0.5, pl_min(0.95, 1.0 - BLEND_SPLINE_MM / tol));
 	R = isinf(tol) ? INFINITY :
 	    share * tol * cos(phi / 2) / (1.0 - cos(phi / 2));
 	d = R * tan(phi / 2);

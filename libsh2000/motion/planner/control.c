@@ -150,6 +150,73 @@ static int cons_ok(const struct ctl *c, double s, double v, double a)
 	return 1;
 }
 
+/* upper_ok() as a number: the least room any of its conditions leaves
+ * after a step with jerk j (>= 0: every limit ahead still reachable). The
+ * rooms are speeds or distances; only their signs and their zeros, where
+ * the binding condition is just met, matter to the search. */
+static double upper_slack(const struct ctl *c, double j)
+{
+	double s, v, a, pk, J = c->lim->J, m;
+	unsigned int i;
+
+	step_state(c, j, &s, &v, &a);
+	m = c->trap ? INFINITY : c->lim->A * (1.0 + 1e-12) - a;
+	pk = pl_max(c->v, v);
+	if (!c->trap && c->a > 0.0 && a < 0.0)
+		pk = pl_max(pk, c->v + c->a * c->a / (2.0 * fabs(j)));
+	m = pl_min(m, c->vcur + V_EPS - pk);
+	if (!c->trap && a > 0.0)
+		m = pl_min(m, c->vcur + V_EPS - (v + a * a / (2.0 * J)));
+	for (i = 0; i < c->n && m >= 0.0; i++) {
+		double d = c->cons[2 * i] - s, V = c->cons[2 * i + 1];
+
+		if (d > 0.0) {
+			m = pl_min(m, d + 1e-12 -
+				   pl_brake_dist(c->lim, v, c->trap ? 0.0 : a, V));
+			continue;
+		}
+		m = pl_min(m, V + V_EPS - v);
+		if (!c->trap && a > 0.0)
+			m = pl_min(m, V + V_EPS - (v + a * a / (2.0 * J)));
+	}
+	return m;
+}
+
+/* The highest jerk in [lo, hi] with upper_slack() >= 0, lo passing and hi
+ * failing: false position with the Illinois fix, a bisection every third
+ * step, down to 2J / 65536 -- the bisection's resolution in a few
+ * evaluations instead of sixteen. */
+static double highest_jerk(const struct ctl *c, double lo, double hi)
+{
+	double flo = upper_slack(c, lo), fhi = upper_slack(c, hi);
+	double tol = (hi - lo) / 65536.0;
+	int side = 0, it;
+
+	for (it = 0; it < 40 && hi - lo > tol; it++) {
+		double m = it % 3 == 2 || !(flo - fhi > 0.0) ?
+			   0.5 * (lo + hi) : (lo * fhi - hi * flo) / (fhi - flo);
+		double fm;
+
+		if (!(m > lo && m < hi))
+			m = 0.5 * (lo + hi);
+		fm = upper_slack(c, m);
+		if (fm >= 0.0) {
+			lo = m;
+			flo = fm;
+			if (side > 0)
+				fhi *= 0.5;
+			side = 1;
+		} else {
+			hi = m;
+			fhi = fm;
+			if (side < 0)
+				flo *= 0.5;
+			side = -1;
+		}
+	}
+	return lo;
+}
+
 /* The speed of the limit that binds: the current one if it is exceeded,
  * else the one ahead with the least room left (the braking curve the
  * controller is riding). */
@@ -345,7 +412,7 @@ static void choose_step(const struct ctl *c, double *ds, double *v, double *a)
 	/* the lowest jerk that does not run backwards ... */
 	jl = lower_ok(c, -J) ? -J : bisect(c, lower_ok, -J, J, 1);
 	/* ... and the highest that keeps every limit reachable */
-	jh = upper_ok(c, jl) ? bisect(c, upper_ok, jl, J, 0) : NAN;
+	jh = upper_ok(c, jl) ? highest_jerk(c, jl, J) : NAN;
 	if (isnan(jh) || !lower_ok(c, jh)) {
 		brake(c, ds, v, a);
 		return;

@@ -30,12 +30,6 @@ double pl_curve_vlim(const struct sh2000_path *p, const double t[SH2000_AXES],
 	return v;
 }
 
-double pl_cap(const struct sh2000_path *p, const struct pl_block *b)
-{
-	return fmin(b->vlim, fmax(b->feed * p->override - p->feed_margin,
-				  0.5 * b->feed * p->override));
-}
-
 double pl_junction(const struct sh2000_path *p, const double t1[SH2000_AXES],
 		   const double t0[SH2000_AXES])
 {

@@ -30,6 +30,9 @@ struct pl_nurbs {
  * period's plus a whole compensation flush (2 * 64 + 3 at most). */
 #define PL_OUTQ 160u
 
+/* Moves merged into one line at most (G64 Q). */
+#define PL_MERGE_MAX 32u
+
 /* Sub-blocks per non-empty knot span. */
 #define PL_NURBS_SUBDIV 16u
 
@@ -153,6 +156,9 @@ struct sh2000_path {
 	double *cons;		/* controller scratch: (distance, speed) */
 	double qend[SH2000_AXES];	/* end of the queued primitives */
 	double tail_feed, tail_vlim;	/* of the last block queued */
+	/* the corners merged into the last block (merge.c) */
+	double merged[PL_MERGE_MAX][SH2000_AXES];
+	unsigned int merged_n;
 	double tend[SH2000_AXES];	/* tangent there (0: none / after a stop) */
 	int stop_next;		/* next block starts from rest */
 	uint32_t seq;
@@ -200,16 +206,11 @@ int pl_make_room(struct sh2000_path *p);
 /* One coarse period. Returns 1 if the motion is at rest with nothing
  * (more) to do, 0 otherwise, negative on a sink error. */
 int pl_period(struct sh2000_path *p);
-/* Block i of the window (0: the head). */
-const struct pl_block *pl_block_at(const struct sh2000_path *p, unsigned int i);
-/* The speed limit of the block before b (with the override). */
-double pl_prev_cap(const struct sh2000_path *p, const struct pl_block *b);
-/* How fast block i >= 1 may be entered: its junction, its feed and the
- * feed of the block before (with the override). */
-double pl_entry_limit(const struct sh2000_path *p, unsigned int i);
 /* A stop has come to rest: drop the rest of the program. */
 void pl_stopped(struct sh2000_path *p);
-double pl_cap(const struct sh2000_path *p, const struct pl_block *b);
+/* merge.c: take line b (not yet queued) into the last line queued when
+ * the naive CAM tolerance allows; 1 if it was (nothing to queue). */
+int pl_merge_line(struct sh2000_path *p, const struct pl_block *b);
 /* blend.c: cut the corner between the last line queued and line b (not
  * yet queued) with a tangent arc within the tolerance: 1 and the arc in
  * *arc (the tail and b shortened), or 0. */
@@ -230,5 +231,59 @@ double pl_curve_vlim(const struct sh2000_path *p, const double t[SH2000_AXES],
 /* Speed allowed through the corner from tangent t1 (in) to t0 (out). */
 double pl_junction(const struct sh2000_path *p, const double t1[SH2000_AXES],
 		   const double t0[SH2000_AXES]);
+
+/* ---- the speed limits the controller reads many times a period: inline,
+ * without libm's fmin/fmax calls (no NaN reaches them) ---------------- */
+
+static inline double pl_min(double a, double b)
+{
+	return a < b ? a : b;
+}
+
+static inline double pl_max(double a, double b)
+{
+	return a > b ? a : b;
+}
+
+/* Block i of the window (0: the head). */
+static inline const struct pl_block *pl_block_at(const struct sh2000_path *p,
+						 unsigned int i)
+{
+	return &p->blk[(p->head + i) % p->cap];
+}
+
+/* A programmed feed with the override, kept feed_margin below it (but
+ * never below half of it). */
+static inline double pl_feed_cap(const struct sh2000_path *p, double feed)
+{
+	double f = feed * p->override;
+
+	return pl_max(f - p->feed_margin, 0.5 * f);
+}
+
+/* The speed limit of block b: its geometry's and its feed's. */
+static inline double pl_cap(const struct sh2000_path *p,
+			    const struct pl_block *b)
+{
+	return pl_min(b->vlim, pl_feed_cap(p, b->feed));
+}
+
+/* The speed limit of the block before b. */
+static inline double pl_prev_cap(const struct sh2000_path *p,
+				 const struct pl_block *b)
+{
+	return pl_min(b->prev_vlim, pl_feed_cap(p, b->prev_feed));
+}
+
+/* How fast block i >= 1 may be entered: its junction, its limit and the
+ * limit of the block before. */
+static inline double pl_entry_limit(const struct sh2000_path *p,
+				    unsigned int i)
+{
+	const struct pl_block *b = pl_block_at(p, i);
+
+	return pl_min(pl_min(b->vj, b->vlim), pl_min(b->prev_vlim,
+		      pl_feed_cap(p, pl_min(b->feed, b->prev_feed))));
+}
 
 #endif /* SH2000_PLANNER_H */

@@ -12,33 +12,17 @@
 
 #include "planner.h"
 
-const struct pl_block *pl_block_at(const struct sh2000_path *p, unsigned int i)
-{
-	return &p->blk[(p->head + i) % p->cap];
-}
-
-double pl_prev_cap(const struct sh2000_path *p, const struct pl_block *b)
-{
-	return fmin(b->prev_vlim, fmax(b->prev_feed * p->override -
-				       p->feed_margin,
-				       0.5 * b->prev_feed * p->override));
-}
-
-double pl_entry_limit(const struct sh2000_path *p, unsigned int i)
-{
-	const struct pl_block *b = pl_block_at(p, i);
-
-	return fmin(b->vj, fmin(pl_cap(p, b), pl_prev_cap(p, b)));
-}
-
 static void push_one(struct sh2000_path *p, struct pl_block *b);
 
 void pl_push_block(struct sh2000_path *p, struct pl_block *b)
 {
 	struct pl_block arc;
 
+	if (pl_merge_line(p, b))
+		return;
 	if (pl_blend_corner(p, b, &arc))
 		push_one(p, &arc);
+	p->merged_n = 0;	/* a new last block */
 	push_one(p, b);
 }
 

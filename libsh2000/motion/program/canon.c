@@ -205,6 +205,23 @@ static int nums(struct prog_ctx *c, const struct cline *l, int min, int max,
 	return 0;
 }
 
+/* The one argument of a command that takes a number not below zero;
+ * what names it in the message ("negative WHAT"). */
+static int one_nonneg(struct prog_ctx *c, const struct cline *l,
+		      const char *what, double *v)
+{
+	double a[MAX_ARGS];
+	int ret = nums(c, l, 1, 1, a);
+
+	if (ret)
+		return ret;
+	if (a[0] < 0)
+		return prog_err(c, SH2000_PD_RANGE, l->line, l->arg[0].col,
+				"negative %s %g", what, a[0]);
+	*v = a[0];
+	return 0;
+}
+
 static bool arg_is(const struct cline *l, int i, const char *word)
 {
 	return i < l->nargs && l->arg[i].n == strlen(word) &&
@@ -325,17 +342,14 @@ static int cmd_feed_rate(struct prog_ctx *c, struct cstate *st,
 			 const struct cline *l)
 {
 	struct sh2000_prog_block *b;
-	double v[MAX_ARGS];
+	double v = 0;
 	int ret;
 
-	if ((ret = nums(c, l, 1, 1, v)))
+	if ((ret = one_nonneg(c, l, "feed rate", &v)))
 		return ret;
-	if (v[0] < 0)
-		return prog_err(c, SH2000_PD_RANGE, l->line, l->arg[0].col,
-				"negative feed rate %g", v[0]);
-	if (v[0] * st->unit == st->feed_mm_min)
+	if (v * st->unit == st->feed_mm_min)
 		return 0;
-	st->feed_mm_min = v[0] * st->unit;
+	st->feed_mm_min = v * st->unit;
 	b = prog_push(c, SH2000_PROG_FEED, l->line, l->col);
 	if (!b)
 		return -ENOMEM;
@@ -403,19 +417,16 @@ static int cmd_dwell(struct prog_ctx *c, struct cstate *st,
 		     const struct cline *l)
 {
 	struct sh2000_prog_block *b;
-	double v[MAX_ARGS];
+	double v = 0;
 	int ret;
 
 	(void)st;
-	if ((ret = nums(c, l, 1, 1, v)))
+	if ((ret = one_nonneg(c, l, "dwell", &v)))
 		return ret;
-	if (v[0] < 0)
-		return prog_err(c, SH2000_PD_RANGE, l->line, l->arg[0].col,
-				"negative dwell %g s", v[0]);
 	b = prog_push(c, SH2000_PROG_DWELL, l->line, l->col);
 	if (!b)
 		return -ENOMEM;
-	b->u.dwell_s = v[0];
+	b->u.dwell_s = v;
 	return 0;
 }
 
@@ -588,17 +599,14 @@ static int cmd_naivecam(struct prog_ctx *c, struct cstate *st,
 			const struct cline *l)
 {
 	struct sh2000_prog_block *last;
-	double v[MAX_ARGS];
+	double v = 0;
 	int ret;
 
-	if ((ret = nums(c, l, 1, 1, v)))
+	if ((ret = one_nonneg(c, l, "naive CAM tolerance", &v)))
 		return ret;
-	if (v[0] < 0)
-		return prog_err(c, SH2000_PD_RANGE, l->line, l->arg[0].col,
-				"SET_NAIVECAM_TOLERANCE: negative tolerance %g", v[0]);
 	if (st->resetting)
 		return 0;
-	st->naive_mm = v[0] * st->unit;
+	st->naive_mm = v * st->unit;
 	/* rs274 prints it right after the mode G64 set: one setting */
 	last = c->prog->count ? &c->prog->blocks[c->prog->count - 1] : NULL;
 	if (last && last->kind == SH2000_PROG_PATH_MODE &&

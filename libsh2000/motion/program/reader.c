@@ -194,14 +194,15 @@ int sh2000_prog_reader_open(struct sh2000_prog_reader **out,
 }
 
 /* The next line of a file into r->line; 1, 0 at the end, or -errno. A
- * line longer than LINE_MAX_BYTES is cut there (*cut set). */
+ * line longer than LINE_MAX_BYTES is cut there (*cut set). A reader
+ * belongs to one thread: the stream's lock is not needed per byte. */
 static int file_line(struct sh2000_prog_reader *r, size_t *n, bool *cut)
 {
 	size_t len = 0;
 	int ch;
 
 	*cut = false;
-	while ((ch = getc(r->f)) != EOF && ch != '\n') {
+	while ((ch = getc_unlocked(r->f)) != EOF && ch != '\n') {
 		if (len + 1 >= r->line_cap && len < LINE_MAX_BYTES) {
 			size_t cap = r->line_cap ? r->line_cap * 2 : 256;
 			char *l = realloc(r->line, cap);

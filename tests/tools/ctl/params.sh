@@ -18,6 +18,8 @@ expect 0 "$CTL" "${S[@]}" params y && out_has "^\[y\]$" && out_has "^kp = 0.5 +#
 expect 0 "$CTL" "${S[@]}" params && out_has "^\[global\]$" && out_has "^\[a\]$"
 # values the card cannot take: exit 1, the device and the reason named
 expect 1 "$CTL" "${S[@]}" params x kp=-1 && err_has "^sh2000ctl: sim: params: x kp: -1 DAC/count is outside 0\.\.1000"
+# (a float too small for the card is refused before anything is sent)
+expect 1 "$CTL" "${S[@]}" params x kaff=1e-50 && err_has "x kaff: 1e-50 .* does not fit a 32-bit float"
 expect 1 "$CTL" "${S[@]}" params x soft_min=10 soft_max=5 && err_has "soft_min 10 mm must be below soft_max 5 mm"
 expect 1 "$CTL" "${S[@]}" params global fine_steps=7 && err_has "servo period"
 expect 2 "$CTL" "${S[@]}" params global kp=1 && err_has "kp is an axis parameter"

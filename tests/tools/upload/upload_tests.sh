@@ -329,14 +329,22 @@ t_shm() {
 	stop_sim
 }
 
+# Starts sh2000-upload on long.ngc on sim:NAME in the background with its
+# stderr in FILE; UPLOAD_PID is its pid. Returns once the first progress
+# line is there (the signal handlers are in by then).
+start_long_upload() {
+	local i
+	rm -f "$2"
+	"$UPLOAD" -d sim:$1 "$DATA/long.ngc" >out 2>"$2" &
+	UPLOAD_PID=$!
+	for i in $(seq 200); do grep -q "progress" "$2" 2>/dev/null && break; sleep 0.05; done
+}
+
 t_shm_stop() {
 	local name=upload-stop-$$ i
 	start_sim $name
-	rm -f stop.err
-	"$UPLOAD" -d sim:$name "$DATA/long.ngc" >out 2>stop.err &
-	local pid=$!
-	# the first progress line comes once the signal handlers are in
-	for i in $(seq 200); do grep -q "progress" stop.err 2>/dev/null && break; sleep 0.05; done
+	start_long_upload $name stop.err
+	local pid=$UPLOAD_PID
 	sleep 0.5
 	kill -INT $pid
 	wait $pid
@@ -369,10 +377,8 @@ t_shm_stop() {
 t_shm_hold() {
 	local name=upload-hold-$$ i a b
 	start_sim $name
-	rm -f hold.err
-	"$UPLOAD" -d sim:$name "$DATA/long.ngc" >out 2>hold.err &
-	local pid=$!
-	for i in $(seq 200); do grep -q "progress" hold.err 2>/dev/null && break; sleep 0.05; done
+	start_long_upload $name hold.err
+	local pid=$UPLOAD_PID
 	sleep 0.3
 	kill -USR2 $pid
 	sleep 0.6

@@ -1,0 +1,243 @@
+// SPDX-License-Identifier: MIT
+/*
+ * Reader and planner together, as sh2000-upload plans a program before it
+ * moves anything: the first byte picks the format ('G' G-code, 'C' rs274
+ * canonical output, 'V' CSV, 'J' NURBS JSON; any other byte by its value),
+ * the rest is the program. Every block the reader accepts goes to a
+ * planner with the default limits whose sink checks each point and throws
+ * it away.
+ *
+ * Promises checked: a rejected block says why (sh2000_path_error), every
+ * point is finite, no axis moves faster than twice its vmax between two
+ * points, and the plan has no more points than the program's own duration
+ * allows: the time at the slowest speed the geometry and the limits can
+ * ask for, plus a start and a stop per block, with a factor 8 of room.
+ * Weird but valid geometry that needs more is an explosion the planner
+ * must refuse with an error. Programs whose own duration is beyond what a
+ * fuzzer can run (a slow feed over a long way) are read, not planned.
+ * SH2000_FUZZ_VERBOSE=1 prints the reader's diagnostics and the count of
+ * points (to look at one input).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fuzz.h"
+
+/* Points a program may last at most to be planned here (0.5 s): enough
+ * for every kind of geometry, short enough for thousands of runs a second
+ * (the planner's points are most of a run's time). */
+#define PLAN_POINTS_MAX		250.0
+/* Headroom of the point budget over the program's duration. */
+#define BUDGET_FACTOR		8.0
+/* A start and a stop: (v/A + A/J) twice, at most, with the defaults. */
+#define BLOCK_OVERHEAD_S	0.05
+
+struct plan_check {
+	struct sh2000_path_config cfg;
+	double budget;		/* points allowed */
+	double last[SH2000_AXES];
+	uint64_t points;
+};
+
+static enum sh2000_prog_format format_of(uint8_t b)
+{
+	switch (b) {
+	case 'G':
+		return SH2000_PROG_GCODE;
+	case 'C':
+		return SH2000_PROG_CANON;
+	case 'V':
+		return SH2000_PROG_CSV;
+	case 'J':
+		return SH2000_PROG_NURBS_JSON;
+	default:
+		return (enum sh2000_prog_format)(SH2000_PROG_GCODE + b % 4);
+	}
+}
+
+/* The slowest the planner may go on a curve of curvature kappa (its own
+ * rule, pl_curve_vlim, with every axis at full share). */
+static double curve_speed(const struct sh2000_path_config *c, double kappa)
+{
+	double v = c->margin * c->vmax[0];	/* |tangent| <= 1 on each axis */
+	double share = c->centripetal_share * c->margin;
+	double amin = c->amax[0], J = c->jerk * c->margin;
+
+	if (kappa > 1e-12) {
+		v = fmin(v, sqrt(share * amin / kappa));
+		v = fmin(v, sqrt(8.0 * c->chord_tol / kappa) / c->period_s);
+		v = fmin(v, cbrt(share * J / (kappa * kappa)));
+	}
+	return v;
+}
+
+static double dist(const double *a, const double *b)
+{
+	double s = 0;
+
+	for (unsigned int k = 0; k < SH2000_AXES; k++)
+		s += (a[k] - b[k]) * (a[k] - b[k]);
+	return sqrt(s);
+}
+
+/* Largest curvature of a NURBS, sampled (finite differences): its speed
+ * bound holds for the whole curve, which can only overestimate time. */
+static double nurbs_kappa(const struct sh2000_nurbs *n)
+{
+	double u0 = sh2000_nurbs_umin(n), u1 = sh2000_nurbs_umax(n);
+	double kmax = 0, p[3][SH2000_AXES];
+	unsigned int steps = 16 * (unsigned int)n->npoints;
+
+	if (steps > 1024)
+		steps = 1024;
+	for (unsigned int i = 1; i < steps; i++) {
+		double u = u0 + (u1 - u0) * i / steps, h = (u1 - u0) / steps / 4;
+		double a, b, c, s;
+
+		sh2000_nurbs_eval(n, u - h, p[0], NULL, NULL);
+		sh2000_nurbs_eval(n, u, p[1], NULL, NULL);
+		sh2000_nurbs_eval(n, u + h, p[2], NULL, NULL);
+		/* circle through three points: 4 area / (a b c) */
+		a = dist(p[0], p[1]);
+		b = dist(p[1], p[2]);
+		c = dist(p[0], p[2]);
+		s = (a + b + c) * (-a + b + c) * (a - b + c) * (a + b - c);
+		if (a > 0 && b > 0 && c > 0 && s > 0)
+			kmax = fmax(kmax, sqrt(s) / (a * b * c));
+	}
+	return kmax;
+}
+
+static double polygon_length(const struct sh2000_nurbs *n)
+{
+	double L = 0;
+
+	for (size_t i = 1; i < n->npoints; i++)
+		L += dist(n->points[i - 1], n->points[i]);
+	return L;
+}
+
+/* How long block b may take at most, in seconds. */
+static double block_seconds(const struct sh2000_path_config *c,
+			    const struct sh2000_prog_block *b)
+{
+	double L = dist(b->start, b->end), v, feed = b->feed;
+
+	switch (b->kind) {
+	case SH2000_PROG_RAPID:
+		v = curve_speed(c, 0);
+		break;
+	case SH2000_PROG_LINE:
+		v = fmin(feed, curve_speed(c, 0));
+		break;
+	case SH2000_PROG_ARC: {
+		const struct sh2000_arc *a = &b->u.arc;
+		double r = fmin(a->fit_radius, fmin(a->r0, a->r1));
+		double planar = fabs(a->sweep) * fmax(a->r0, a->r1);
+
+		L = planar + L;
+		v = fmin(feed, curve_speed(c, 1.0 / r));
+		break;
+	}
+	case SH2000_PROG_NURBS:
+		/* the curve is no longer than its control polygon */
+		L = polygon_length(&b->u.nurbs);
+		v = fmin(feed, curve_speed(c, nurbs_kappa(&b->u.nurbs)));
+		break;
+	default:
+		return 0;
+	}
+	return L / v + BLOCK_OVERHEAD_S;
+}
+
+static int sink(void *ctx, const struct sh2000_path_point *pt)
+{
+	struct plan_check *pc = ctx;
+
+	for (unsigned int a = 0; a < SH2000_AXES; a++) {
+		double step = fabs(pt->mm[a] - pc->last[a]);
+
+		if (!isfinite(pt->mm[a]))
+			fz_fail("point %llu: axis %u is %g",
+				(unsigned long long)pc->points, a, pt->mm[a]);
+		if (step > 2.0 * pc->cfg.vmax[a] * pc->cfg.period_s)
+			fz_fail("point %llu: axis %u steps %g mm in one period (vmax %g mm/s)",
+				(unsigned long long)pc->points, a, step,
+				pc->cfg.vmax[a]);
+	}
+	memcpy(pc->last, pt->mm, sizeof(pc->last));
+	if (++pc->points > pc->budget)
+		fz_fail("the plan exploded: more than %.0f points for a program of at most %.0f",
+			pc->budget, pc->budget / BUDGET_FACTOR);
+	return 0;
+}
+
+static void plan(const struct sh2000_program *prog, struct plan_check *pc)
+{
+	struct sh2000_path *p;
+	char err[256];
+	int r = 0;
+
+	if (sh2000_path_create(&p, &pc->cfg, sink, pc, err, sizeof(err)))
+		fz_fail("planner: %s", err);
+	for (size_t i = 0; i < prog->count && !r; i++) {
+		const struct sh2000_prog_block *b = &prog->blocks[i];
+
+		if (b->kind == SH2000_PROG_END)
+			break;
+		if (b->kind == SH2000_PROG_DWELL || b->kind == SH2000_PROG_PAUSE) {
+			r = sh2000_path_finish(p);
+			continue;
+		}
+		sh2000_path_set_seq(p, (uint32_t)i);
+		r = sh2000_path_add_block(p, b);
+	}
+	if (!r)
+		r = sh2000_path_finish(p);
+	if (r && !sh2000_path_error(p)[0])
+		fz_fail("the planner failed (%d) without saying why", r);
+	sh2000_path_destroy(p);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+	static int verbose = -1;
+	struct sh2000_prog_options po;
+	struct sh2000_prog_diags d;
+	struct sh2000_program prog;
+	struct plan_check pc;
+	double seconds = 0;
+	int r;
+
+	if (verbose < 0)
+		verbose = getenv("SH2000_FUZZ_VERBOSE") != NULL;
+	if (size < 1)
+		return 0;
+	sh2000_prog_options_default(&po);
+	po.feed_mm_s = 20.0;
+	sh2000_program_init(&prog);
+	sh2000_prog_diags_init(&d);
+	r = sh2000_program_read(&prog, format_of(data[0]), "fuzz",
+				(const char *)data + 1, size - 1, &po, &d);
+	if (verbose)
+		sh2000_prog_diags_print(&d, stderr);
+	sh2000_prog_diags_free(&d);
+	memset(&pc, 0, sizeof(pc));
+	sh2000_path_config_default(&pc.cfg);
+	/* the card's usual scale: the planner refuses what counts cannot
+	 * hold */
+	for (unsigned int a = 0; a < SH2000_AXES; a++)
+		pc.cfg.counts_per_mm[a] = 1000.0;
+	for (size_t i = 0; r == 0 && i < prog.count; i++)
+		seconds += block_seconds(&pc.cfg, &prog.blocks[i]);
+	pc.budget = BUDGET_FACTOR * seconds / pc.cfg.period_s + 1000.0;
+	if (r == 0 && seconds / pc.cfg.period_s <= PLAN_POINTS_MAX)
+		plan(&prog, &pc);
+	if (verbose)
+		fprintf(stderr, "read %d, %zu blocks, at most %.3f s: %llu points\n",
+			r, prog.count, seconds, (unsigned long long)pc.points);
+	sh2000_program_free(&prog);
+	return 0;
+}

@@ -14,7 +14,6 @@
  * know that record: since the last ring publication, and while the last
  * poll saw the card running the motion (a fault or a stop ends that).
  */
-#include <errno.h>
 #include <stdlib.h>
 
 #include "sh2000_internal.h"

@@ -118,7 +118,12 @@ static void point(struct hsc_card *c, int32_t pt[SH2000_AXES])
 			(int32_t)c->st.axis[a].pos_counts;
 }
 
-static void push(struct hsc_card *c, unsigned int flags)
+/*
+ * One point of the stream. The library posts it in the card's mailbox
+ * (protocol 1.3, a few port cycles above the status just read) where it
+ * can, else writes it into the ring. Returns the library's answer.
+ */
+static int push(struct hsc_card *c, unsigned int flags)
 {
 	int32_t pt[SH2000_AXES];
 	int r;
@@ -130,6 +135,7 @@ static void push(struct hsc_card *c, unsigned int flags)
 		c->sfault = HSC_SF_COMMAND;
 		c->streaming = 0;
 	}
+	return r;
 }
 
 /* Is the stream still the card's motion? */
@@ -235,7 +241,8 @@ static void commands(struct hsc_card *c, const struct hsc_in *in, int target)
 		if ((want & en) != en || want != en) {
 			/* an axis is being disabled: end the motion where
 			 * the command is, then disable once idle */
-			push(c, SH2000_PUSH_END);
+			if (push(c, SH2000_PUSH_END) == -EAGAIN)
+				return;	/* the handle is busy: next tick */
 			c->streaming = 0;
 			c->ending = 1;
 		}

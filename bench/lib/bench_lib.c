@@ -2,7 +2,9 @@
 /*
  * libsh2000 figures, printed as a table (not a timed test):
  *  - port cycles per status poll, per segment record (by batch size), per
- *    command and per emergency stop, as the card model's FPGA counted them;
+ *    command and per emergency stop, as the card model's FPGA counted them,
+ *    and per real-time tick (sh2000_poll_once + one sh2000_push_point,
+ *    through the point mailbox of protocol 1.3);
  *  - host CPU time per segment: the library alone (its thread, against a
  *    card served by another thread over shared memory, real time; the
  *    pushes alone and with the 100 us polling of the waits) and the
@@ -10,6 +12,7 @@
  *  - simulated seconds per wall-clock second of `sim`.
  * Usage: bench_lib [points]   (default 20000)
  */
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -44,6 +47,46 @@ static void die(struct sh2000 *h, const char *what, int r)
 }
 
 #define TRY(h, call) do { int r_ = (call); if (r_ < 0) die(h, #call, r_); } while (0)
+
+/* Port cycles of one tick of a real-time thread streaming one point per
+ * coarse period: sh2000_poll_once and sh2000_push_point (a batch of 4
+ * through the ring first, as hal_sh2000 starts), over `ticks` ticks. */
+static double tick_cost(struct sh2000 *h, unsigned int ticks, int32_t step)
+{
+	struct sh2000_status st;
+	int32_t p[SH2000_AXES];
+	uint64_t c0, t;
+	unsigned int i, a;
+
+	TRY(h, sh2000_poll(h, &st));
+	for (a = 0; a < SH2000_AXES; a++)
+		p[a] = st.axis[a].cmd_counts;
+	for (i = 0; i < 4; i++) {
+		p[0] += step;
+		TRY(h, sh2000_push_point(h, p, 0));
+	}
+	c0 = cycles(h);
+	t = sh2000_now_ns(h);
+	for (i = 0; i < ticks; i++) {
+		int r;
+
+		t += 500000;	/* the thread's period: the coarse period */
+		if (sh2000_now_ns(h) < t)
+			sh2000_sleep_ns(h, t - sh2000_now_ns(h));
+		r = sh2000_poll_once(h, &st);
+		if (r < 0 && r != -EAGAIN)
+			die(h, "sh2000_poll_once", r);
+		p[0] += step;
+		r = sh2000_push_point(h, p, i + 1 == ticks ? SH2000_PUSH_END : 0);
+		if (r == -EAGAIN)
+			p[0] -= step;	/* pushed again next tick */
+		else if (r < 0)
+			die(h, "sh2000_push_point", r);
+	}
+	c0 = cycles(h) - c0;
+	TRY(h, sh2000_wait_idle(h, 10000));
+	return (double)c0 / ticks;
+}
 
 /* Stream n points of a slow line on axis 0 in batches; returns the
  * thread CPU seconds spent inside the pushes alone. */
@@ -163,6 +206,9 @@ int main(int argc, char **argv)
 	/* throughput of `sim`: library + card model */
 	TRY(h, sh2000_param_set(h, SH2000_GLOBAL, SH2000_GP_FINE_STEPS, 5));
 	TRY(h, sh2000_param_set(h, SH2000_GLOBAL, SH2000_GP_COARSE_PERIOD_US, 500));
+	TRY(h, sh2000_param_set(h, SH2000_GLOBAL, SH2000_GP_STATUS_PERIOD, 6));
+	printf("%-46s %12.1f\n", "port cycles per real-time tick (poll + point)",
+	       tick_cost(h, 2000, 100));
 	t0 = sh2000_now_ns(h);
 	w0 = secs(CLOCK_MONOTONIC);
 	cpu0 = secs(CLOCK_PROCESS_CPUTIME_ID);

@@ -286,7 +286,6 @@ static int owned_elsewhere(struct sh2000 *h, const char *what)
 
 int sh2000_arb_claim_locked(struct sh2000 *h)
 {
-	uint16_t head;
 	int r;
 
 	if (h->arb.fd < 0 || h->arb.motion)
@@ -299,18 +298,13 @@ int sh2000_arb_claim_locked(struct sh2000 *h)
 		return r;
 	h->arb.motion = 1;
 	write_holder(h);
-	/* the ring's head is where the last holder left it */
-	r = sh2000_rd(h, SH2000_W_HEAD, 1, &head);
+	/* the record count is where the last holder left it */
+	r = sh2000_queue_sync_locked(h);
 	if (r < 0) {
 		sh2000_arb_drop(h, SH2000_ARB_MOTION);
 		h->arb.motion = 0;
-		return r;
 	}
-	if (head != h->head) {
-		h->head = head;
-		h->segments = head;
-	}
-	return 0;
+	return r;
 }
 
 int sh2000_arb_motion_begin(struct sh2000 *h, const char *what)
@@ -347,6 +341,7 @@ void sh2000_release_motion(struct sh2000 *h)
 	if (h->arb.fd >= 0 && h->arb.motion) {
 		char none[ARB_INFO_LEN] = { 0 };
 
+		(void)sh2000_mbox_close_locked(h);
 		(void)pwrite(h->arb.fd, none, sizeof(none), ARB_INFO_OFF);
 		sh2000_arb_drop(h, SH2000_ARB_MOTION);
 	}

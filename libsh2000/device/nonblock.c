@@ -190,6 +190,7 @@ static int push_point_locked(struct sh2000 *h, const int32_t pt[SH2000_AXES],
 			     unsigned int flags)
 {
 	unsigned int fill;
+	int r;
 
 	if (h->arb.fd >= 0 && !h->arb.motion)
 		return sh2000_fail(h, -SH2000_EOWNED,
@@ -201,6 +202,10 @@ static int push_point_locked(struct sh2000 *h, const int32_t pt[SH2000_AXES],
 		return sh2000_fail(h, -SH2000_EQUEUE_FULL,
 				   "one point: the last poll saw %u of %u records queued",
 				   fill, SH2000_RING_RECORDS);
+	/* the mailbox where it can carry the point, else the ring */
+	r = sh2000_mbox_post_locked(h, pt, flags);
+	if (r)
+		return r;
 	return sh2000_ring_write_locked(h, (const int32_t (*)[SH2000_AXES])pt,
 					1, flags);
 }

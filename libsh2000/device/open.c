@@ -71,9 +71,10 @@ static int card_hello(struct sh2000 *h, char *msg, size_t len)
 	if (r < 0)
 		return sh2000_msg(msg, len, r, "%s: %s", h->device, h->err);
 	h->host_hb = w[0];
-	h->head = w[1];
 	h->cmd_seq = cmd[0];
-	h->segments = h->head;
+	r = sh2000_queue_sync_locked(h);
+	if (r < 0)
+		return sh2000_msg(msg, len, r, "%s: %s", h->device, h->err);
 
 	/* The card heartbeat must move: one change within the limit. */
 	r = sh2000_poll_locked(h, &st);
@@ -271,8 +272,12 @@ int sh2000_open_ports(struct sh2000 **out, const struct sh2000_ports *ports,
 
 void sh2000_close(struct sh2000 *h)
 {
-	if (h)
-		handle_free(h);
+	if (!h)
+		return;
+	pthread_mutex_lock(&h->lock);
+	(void)sh2000_mbox_close_locked(h);
+	pthread_mutex_unlock(&h->lock);
+	handle_free(h);
 }
 
 int sh2000_port_counters(struct sh2000 *h, struct sh2000_port_counters *c)

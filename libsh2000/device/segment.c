@@ -102,6 +102,7 @@ int sh2000_ring_write_locked(struct sh2000 *h,
 	h->host_hb_ns = sh2000_now_locked(h);
 	h->head = pub[1];
 	h->segments += n;
+	sh2000_mbox_ring_written(h, pts[n - 1]);
 	return (int)n;
 }
 

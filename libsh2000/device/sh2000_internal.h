@@ -76,7 +76,7 @@ struct sh2000 {
 	uint16_t estop_req;
 	uint16_t host_hb;
 	uint64_t host_hb_ns;		/* when host_hb was last written */
-	uint16_t head;
+	uint16_t head;			/* records published, ring and mailbox */
 	uint16_t cmd_seq;
 	int cmd_busy;
 	int urgent;			/* atomic: an estop wants the lock */
@@ -117,6 +117,13 @@ struct sh2000 {
 		uint64_t t0;
 		unsigned int op;
 	} nbc;
+
+	/* mailbox.c: the point mailbox (protocol 1.3) */
+	uint16_t mbox_seq;		/* MBOX_SEQ as in the RAM */
+	int mbox_dirty;			/* posted since HEAD was last written */
+	int ref_ok;			/* the card knows ref[] as we do */
+	int running;			/* the last poll saw state RUNNING */
+	int32_t ref[SH2000_AXES];	/* the last record published */
 
 	char err[256];
 };
@@ -176,6 +183,25 @@ int sh2000_status_error_locked(struct sh2000 *h,
 int sh2000_ring_write_locked(struct sh2000 *h,
 			     const int32_t (*pts)[SH2000_AXES], size_t n,
 			     unsigned int flags);
+/* mailbox.c (h->lock held) */
+/* The card speaks protocol 1.3 or later. */
+int sh2000_mbox_card(const struct sh2000 *h);
+/* The record count from the card's words (open, a motion claimed). */
+int sh2000_queue_sync_locked(struct sh2000 *h);
+/* Ring records up to `last` were published (HEAD written). */
+void sh2000_mbox_ring_written(struct sh2000 *h,
+			      const int32_t last[SH2000_AXES]);
+/* Post pt through the mailbox: 1 posted, 0 the mailbox cannot carry it
+ * now (use the ring), < 0 an error. */
+int sh2000_mbox_post_locked(struct sh2000 *h, const int32_t pt[SH2000_AXES],
+			    unsigned int flags);
+/* A poll saw the card in this state. */
+void sh2000_mbox_status(struct sh2000 *h, unsigned int card_state);
+/* HEAD put level with the count, for a later host that knows only the
+ * ring: by the handle that posted last (it closes or lets the motion
+ * go). */
+int sh2000_mbox_close_locked(struct sh2000 *h);
+
 /* Write OP..CHECK and then CMD_SEQ = the next sequence number (the
  * caller holds the command slot); h->cmd_seq becomes it. */
 int sh2000_cmd_write(struct sh2000 *h, unsigned int op, unsigned int axis,

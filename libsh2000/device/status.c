@@ -32,6 +32,7 @@ void sh2000_status_decode(struct sh2000 *h, const uint16_t *w,
 	st->reject_count = w[SH2000_W_REJECT_COUNT];
 	h->tail = w[SH2000_W_TAIL];
 	h->tail_seen = 1;
+	sh2000_mbox_status(h, st->card_state);
 	h->estop_ack_seen = w[SH2000_W_ESTOP_ACK];
 	{
 		uint32_t c = (uint32_t)sh2000_w32(&w[SH2000_W_SNAP_TIME_LO]);

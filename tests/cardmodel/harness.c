@@ -154,6 +154,22 @@ unsigned int h_stream(struct harness *h, const int32_t (*pts)[SH2000_AXES],
 	return cycles;
 }
 
+int h_post(struct harness *h, const int32_t pos[SH2000_AXES])
+{
+	uint16_t m[SH2000_MBOX_WORDS];
+	unsigned int i;
+
+	if (h_word(h, SH2000_W_POSTED) != h->head ||
+	    h_fill(h) >= SH2000_RING_RECORDS ||
+	    h_word(h, SH2000_W_MBOX + SH2000_MBOX_SEQ) == h->head)
+		return -1;
+	sh2000_mbox_pack(m, pos, h->head);
+	for (i = 0; i < SH2000_MBOX_WORDS; i++)
+		hw(h, SH2000_W_MBOX + i, m[i]);	/* SEQ last */
+	h->head++;
+	return 0;
+}
+
 void h_snapshot(struct harness *h, int32_t cmd[SH2000_AXES],
 		uint32_t act[SH2000_AXES])
 {

@@ -41,6 +41,11 @@ uint16_t h_set_i(struct harness *h, unsigned int axis, unsigned int id,
 int h_push(struct harness *h, const int32_t pos[SH2000_AXES], uint16_t seq,
 	   uint16_t flags);
 unsigned int h_fill(struct harness *h);
+/* Posts pos as record HEAD through the mailbox (protocol 1.3), SEQ
+ * written last; the count h->head += 1, the HEAD word stays. Returns -1
+ * unless the card has received everything (POSTED = h->head) and has
+ * room. */
+int h_post(struct harness *h, const int32_t pos[SH2000_AXES]);
 /* Streams pts[0..n-1] (all axes), last with END, keeping the ring
  * topped up and running cycles until the card is idle again or `limit`
  * cycles passed. Returns the cycles run. */

@@ -211,6 +211,66 @@ static void test_push_cost(void **state)
 	fakecard_free(f);
 }
 
+/*
+ * The point mailbox (protocol 1.3): a real-time tick's point goes into
+ * words 57..63 right after a poll, 24 cycles; the ring where the card has
+ * not taken everything yet, and always on a card below 1.3.
+ */
+static void test_post_cost(void **state)
+{
+	struct fakecard *f = fakecard_new();
+	struct sh2000_status st;
+	int32_t pts[1][SH2000_AXES] = { { 1000, -2000, 0x12345678, -5 } };
+	int32_t p[SH2000_AXES] = { 1100, -2100, 0x12345678 + 500000, -5 };
+	const uint16_t *m = &f->ram[SH2000_W_MBOX];
+	unsigned int a;
+
+	(void)state;
+	fakecard_boot(f);
+	f->h.card_version = SH2000_PROTO_VERSION;
+	f->ram[SH2000_W_STATE] = SH2000_STATE_RUNNING;
+	assert_int_equal(sh2000_poll_locked(&f->h, &st), 0);
+	/* the first record goes through the ring: positions whole */
+	assert_int_equal(sh2000_push_point(&f->h, pts[0], 0), 1);
+	assert_int_equal(f->ram[SH2000_W_HEAD], 1);
+	f->ram[SH2000_W_POSTED] = 1;	/* the card received it */
+	f->ram[SH2000_W_MBOX + SH2000_MBOX_SEQ] = 0xffff;
+	assert_int_equal(sh2000_poll_locked(&f->h, &st), 0);
+	fakecard_clear_log(f);
+	assert_int_equal(sh2000_push_point(&f->h, p, 0), 1);
+	/* 9 increments to POSTED, read, increment, 7 writes, 6 increments */
+	assert_int_equal(cycles(f), 24);
+	assert_int_equal(m[SH2000_MBOX_SEQ], 1);
+	assert_int_equal(m[SH2000_MBOX_CHECK], sh2000_mbox_check(m));
+	for (a = 0; a < SH2000_AXES; a++)
+		assert_int_equal(sh2000_mbox_position(m, a, pts[0][a]), p[a]);
+	assert_int_equal(f->ram[SH2000_W_HEAD], 1);	/* not the ring's */
+	/* the card has not taken it yet: the next point through the ring,
+	 * its number after the post's */
+	p[0] += 100;
+	assert_int_equal(sh2000_push_point(&f->h, p, 0), 1);
+	assert_int_equal(f->ram[SH2000_W_HEAD], 3);
+	assert_int_equal(f->ram[SH2000_W_RING_BASE + 2 * SH2000_RECORD_WORDS +
+				SH2000_REC_SEQ], 2);
+	assert_int_equal(m[SH2000_MBOX_SEQ], 1);
+	/* a step beyond 20 bits: the ring */
+	f->ram[SH2000_W_POSTED] = 3;
+	p[1] -= SH2000_MBOX_STEP_MAX + 1;
+	assert_int_equal(sh2000_push_point(&f->h, p, 0), 1);
+	assert_int_equal(f->ram[SH2000_W_HEAD], 4);
+	/* a card below 1.3: the ring, whatever POSTED says */
+	f->h.card_version = (SH2000_PROTO_MAJOR << 8) | 1u;
+	f->ram[SH2000_W_POSTED] = 4;
+	assert_int_equal(sh2000_poll_locked(&f->h, &st), 0);
+	fakecard_clear_log(f);
+	p[0] += 100;
+	assert_int_equal(sh2000_push_point(&f->h, p, 0), 1);
+	assert_int_equal(f->ram[SH2000_W_HEAD], 5);
+	assert_true(cycles(f) > 100);
+	assert_int_equal(m[SH2000_MBOX_SEQ], 1);
+	fakecard_free(f);
+}
+
 static void test_record_format(void **state)
 {
 	struct fakecard *f = fakecard_new();
@@ -500,6 +560,7 @@ int main(void)
 		cmocka_unit_test(test_seek_costs),
 		cmocka_unit_test(test_poll_cost),
 		cmocka_unit_test(test_push_cost),
+		cmocka_unit_test(test_post_cost),
 		cmocka_unit_test(test_record_format),
 		cmocka_unit_test(test_command_cost_and_results),
 		cmocka_unit_test(test_estop_cost),

@@ -183,6 +183,9 @@ static void test_stream_and_feedback(void **state)
 	}
 	print_message("fill %d..%d (target %d), port cycles per tick (read + one point) %.1f on average\n",
 		      fill_min, fill_max, HSC_QUEUE_TARGET, cycles / 500.0);
+	/* issue 12: one tick on the simulated card (poll + one point
+	 * posted in the mailbox) within 150 port cycles */
+	assert_true(cycles <= 150 * 500);
 	assert_true(fill_min >= HSC_QUEUE_TARGET - 2);
 	assert_true(fill_max <= HSC_QUEUE_TARGET + 2);
 	assert_true(fabs(r->out.axis[0].encoder_position - 100.0) < 0.001);

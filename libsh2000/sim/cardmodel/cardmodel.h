@@ -151,6 +151,14 @@ struct sh2000_dsp {
 	double fine_t;		/* where in the coarse period, 0..1 */
 	int need_point;		/* the next cycle starts a coarse period */
 	uint64_t stop_left;	/* servo cycles left in a controlled stop */
+	/* queue.c: the records received (ring and mailbox), POSTED */
+	uint16_t posted;	/* records received */
+	uint16_t head_seen;	/* HEAD as last seen */
+	uint16_t mbox_seq;	/* MBOX_SEQ as last seen */
+	int queue_bad;		/* a publication broke the ring's rules */
+	int32_t ref[SH2000_AXES];	/* position of the last record received */
+	uint8_t via[SH2000_RING_RECORDS];	/* enum sh2000_via of record n */
+	int32_t mbox_pos[SH2000_RING_RECORDS][SH2000_AXES];
 	uint16_t seg_seq;	/* SEQ of the last record consumed */
 	int have_seq;		/* seg_seq belongs to this motion */
 	unsigned int pad_left;	/* END padding periods still to run */
@@ -185,6 +193,31 @@ static inline int sh2000_fw_in_motion(const struct sh2000_dsp *fw)
 	       fw->state == SH2000_STATE_STOPPING ||
 	       fw->state == SH2000_STATE_HOMING;
 }
+
+/* queue.c: how record n reached the card */
+enum sh2000_via {
+	SH2000_VIA_RING = 0,		/* in its ring slot */
+	SH2000_VIA_MBOX = 1,		/* posted, copied to mbox_pos */
+	SH2000_VIA_MBOX_LOST = 2,	/* posted with the next number: the
+					 * post before it was lost */
+	SH2000_VIA_MBOX_BAD = 3,	/* posted with a wrong check word */
+};
+
+/* POSTED and TAIL from what the host left (at boot). */
+void sh2000_queue_boot(struct sh2000_dsp *fw);
+/* Take what the host published since the last call: a post, then ring
+ * records (HEAD). A publication beyond the queue's room is counted and
+ * sets queue_bad (the caller latches FAULT_PROTOCOL). */
+void sh2000_queue_receive(struct sh2000_dsp *fw);
+uint16_t sh2000_queue_fill(const struct sh2000_dsp *fw);
+/* Everything published is discarded: TAIL := POSTED. */
+void sh2000_queue_discard(struct sh2000_dsp *fw);
+/* Record TAIL in the ring's layout; TAIL += 1. Returns enum sh2000_via;
+ * *num is the record's number. */
+unsigned int sh2000_queue_take(struct sh2000_dsp *fw,
+			       uint16_t rec[SH2000_RECORD_WORDS], uint16_t *num);
+/* SEQ of record TAIL (not consumed). */
+uint16_t sh2000_queue_first_seq(struct sh2000_dsp *fw);
 
 /* timebase.c: the rate of this servo cycle (fw->tb_sigma, fw->tb_rate) */
 void sh2000_tb_step(struct sh2000_dsp *fw, double T);

@@ -52,8 +52,7 @@ void sh2000_fw_hold_at(struct sh2000_dsp *fw, unsigned int a, double x)
 
 static void discard_ring(struct sh2000_dsp *fw)
 {
-	fw->tail = RD(fw, SH2000_W_HEAD);
-	WR(fw, SH2000_W_TAIL, fw->tail);
+	sh2000_queue_discard(fw);
 }
 
 /* The motion is over: every axis holds where its set-point is. */
@@ -473,10 +472,10 @@ static uint16_t validate(struct sh2000_dsp *fw, const uint16_t *rec)
 
 /* Start of a coarse period while running: the next point of the window.
  * Returns 0 if the card stopped instead. */
-static int next_point(struct sh2000_dsp *fw, uint16_t fill)
+static int next_point(struct sh2000_dsp *fw)
 {
-	uint16_t rec[SH2000_RECORD_WORDS], why;
-	unsigned int a, i, base;
+	uint16_t rec[SH2000_RECORD_WORDS], why, num;
+	unsigned int a, via;
 
 	if (fw->ending) {
 		for (a = 0; a < SH2000_AXES; a++)
@@ -485,16 +484,18 @@ static int next_point(struct sh2000_dsp *fw, uint16_t fill)
 		fw->pad_left--;
 		return 1;
 	}
-	if (fill == 0) {
+	if (sh2000_queue_fill(fw) == 0) {
 		card_fault(fw, SH2000_FAULT_UNDERRUN);
 		return 0;
 	}
-	base = SH2000_W_RING_BASE +
-	       (fw->tail % SH2000_RING_RECORDS) * SH2000_RECORD_WORDS;
-	for (i = 0; i < SH2000_RECORD_WORDS; i++)
-		rec[i] = RD(fw, base + i);
-	fw->tail++;
-	WR(fw, SH2000_W_TAIL, fw->tail);
+	via = sh2000_queue_take(fw, rec, &num);
+	if (via == SH2000_VIA_MBOX_LOST || via == SH2000_VIA_MBOX_BAD) {
+		/* a post the card could not take as it was: named by its
+		 * number, like a ring record's SEQ */
+		reject(fw, num, via == SH2000_VIA_MBOX_LOST ?
+				SH2000_REJECT_DROPPED : SH2000_REJECT_CHECKSUM);
+		return 0;
+	}
 	why = validate(fw, rec);
 	if (why != SH2000_REJECT_NONE) {
 		/* a lost record is reported by the number it should have had */
@@ -556,12 +557,12 @@ static void period_done(struct sh2000_dsp *fw)
 	}
 }
 
-static void run_step(struct sh2000_dsp *fw, uint16_t fill, double T)
+static void run_step(struct sh2000_dsp *fw, double T)
 {
 	double t;
 
 	if (fw->need_point) {
-		if (!next_point(fw, fill)) {
+		if (!next_point(fw)) {
 			/* decelerate from this very cycle: no set-point
 			 * hiccup */
 			if (fw->state == SH2000_STATE_STOPPING)
@@ -579,7 +580,7 @@ static void run_step(struct sh2000_dsp *fw, uint16_t fill, double T)
 			period_done(fw);
 			return;
 		}
-		if (!next_point(fw, fill)) {
+		if (!next_point(fw)) {
 			if (fw->state == SH2000_STATE_STOPPING)
 				stop_step(fw, T);
 			return;
@@ -599,10 +600,7 @@ static void run_step(struct sh2000_dsp *fw, uint16_t fill, double T)
  * pushed after the fault was not executed. */
 static void reject_all(struct sh2000_dsp *fw)
 {
-	unsigned int base = SH2000_W_RING_BASE +
-			    (fw->tail % SH2000_RING_RECORDS) *
-				    SH2000_RECORD_WORDS;
-	uint16_t seq = RD(fw, base + SH2000_REC_SEQ);
+	uint16_t seq = sh2000_queue_first_seq(fw);
 
 	discard_ring(fw);
 	reject(fw, seq, SH2000_REJECT_STATE);
@@ -612,12 +610,16 @@ static void reject_all(struct sh2000_dsp *fw)
 
 static void motion(struct sh2000_dsp *fw, double T)
 {
-	uint16_t fill = (uint16_t)(RD(fw, SH2000_W_HEAD) - fw->tail);
+	uint16_t fill;
 
-	if (fill > SH2000_RING_RECORDS) {
+	sh2000_queue_receive(fw);
+	if (fw->queue_bad) {
+		/* more than the ring holds: everything published goes */
+		fw->queue_bad = 0;
 		card_fault(fw, SH2000_FAULT_PROTOCOL);
-		fill = 0;
+		discard_ring(fw);
 	}
+	fill = sh2000_queue_fill(fw);
 	switch (fw->state) {
 	case SH2000_STATE_IDLE:
 		if (fill == 0)
@@ -627,10 +629,10 @@ static void motion(struct sh2000_dsp *fw, double T)
 		fw->fine_t = 0.0;
 	fw->need_point = 1;
 		fw->host_hb_cycles = 0;
-		run_step(fw, fill, T);
+		run_step(fw, T);
 		break;
 	case SH2000_STATE_RUNNING:
-		run_step(fw, fill, T);
+		run_step(fw, T);
 		break;
 	case SH2000_STATE_STOPPING:
 		stop_step(fw, T);
@@ -798,14 +800,13 @@ void sh2000_dsp_boot(struct sh2000_dsp *fw, struct sh2000_board *hw)
 	/* Whatever the host left in its words is history, not a request. */
 	fw->estop_ack = RD(fw, SH2000_W_ESTOP_REQ);
 	fw->cmd_ack = RD(fw, SH2000_W_CMD_SEQ);
-	fw->tail = RD(fw, SH2000_W_HEAD);
 	fw->host_hb = RD(fw, SH2000_W_HOST_HEARTBEAT);
 	for (w = SH2000_W_HEARTBEAT; w < SH2000_STATUS_WORDS; w++)
 		if (w != SH2000_W_STATE)
 			WR(fw, w, 0);
 	WR(fw, SH2000_W_ESTOP_ACK, fw->estop_ack);
 	WR(fw, SH2000_W_CMD_ACK, fw->cmd_ack);
-	WR(fw, SH2000_W_TAIL, fw->tail);
+	sh2000_queue_boot(fw);
 	fw->state = SH2000_STATE_IDLE;
 	sh2000_fw_publish_words(fw);
 	publish_snapshot(fw);

@@ -99,6 +99,31 @@
 #define SH2000_W_CMD_CHECK		54u	/* sh2000_cmd_check() */
 #define SH2000_W_CMD_SEQ		55u
 
+/*
+ * Protocol 1.3 (SH2000_PROTO_MINOR_MAILBOX): the point mailbox, in words
+ * 56..63 that were reserved. A host that sends one point per tick posts it
+ * here, on its way up from the poll, instead of seeking into the ring and
+ * back down to HEAD; the card copies it into its own queue within a servo
+ * cycle. docs/protocol.md 7.6.
+ *
+ * C: records the card has received (mod 2^16), through the ring (HEAD) or
+ * the mailbox: the number the next record gets. Equals HEAD for a host
+ * that only uses the ring.
+ */
+#define SH2000_W_POSTED			56u
+/* H: one record, MBOX_SEQ written last (it posts the record). A position
+ * travels as its low SH2000_MBOX_POS_BITS bits; the card takes the value
+ * with those bits nearest the previous record's position. */
+#define SH2000_W_MBOX			57u
+#define   SH2000_MBOX_POS_LO(a)		(a)	/* bits 0..15 of axis a */
+#define   SH2000_MBOX_POS_HI		4u	/* bits 16..19, axis a in 4a..4a+3 */
+#define   SH2000_MBOX_CHECK		5u	/* sh2000_mbox_check() */
+#define   SH2000_MBOX_SEQ		6u	/* the record's number (POSTED) */
+#define SH2000_MBOX_WORDS		7u
+#define SH2000_MBOX_POS_BITS		20u
+/* The largest step from the previous record a mailbox record carries. */
+#define SH2000_MBOX_STEP_MAX		((1 << (SH2000_MBOX_POS_BITS - 1)) - 1)
+
 /* Segment ring: RING_RECORDS records of RECORD_WORDS words from RING_BASE. */
 #define SH2000_W_RING_BASE		64u
 #define SH2000_RING_RECORDS		64u	/* power of two dividing 2^16 */
@@ -122,13 +147,25 @@
 #define SH2000_REC_F_ALL		SH2000_REC_F_END	/* others reserved */
 
 /*
- * Ring rules. fill = (HEAD - TAIL) mod 2^16, always 0..RING_RECORDS.
- * Record n lives in slot n mod RING_RECORDS.
+ * Ring rules. fill = (HEAD - TAIL) mod 2^16, always 0..RING_RECORDS
+ * (from 1.3: POSTED - TAIL). Record n lives in slot n mod RING_RECORDS.
  *  - host: writes record HEAD only while fill < RING_RECORDS, then HEAD += 1;
  *  - card: reads record TAIL only while fill > 0, then TAIL += 1 after it
  *    has copied the record out of the RAM.
  * A fill above RING_RECORDS is a host bug: the card latches
  * SH2000_FAULT_PROTOCOL.
+ *
+ * From 1.3 a record reaches the card through the ring or the mailbox, and
+ * both count in POSTED (docs/protocol.md 7.6). The host's count c is the
+ * records it has published either way:
+ *  - ring: records c..c+n-1 in their slots, then HEAD := c + n;
+ *  - mailbox: the record's words, then MBOX_SEQ := c;
+ *  - a post only while POSTED = c (the card has received everything);
+ *    ring records at any time, a post's number left out of the ring.
+ * The card, every servo cycle, reads HEAD and then MBOX_SEQ: a changed
+ * MBOX_SEQ is record POSTED; a changed HEAD brings HEAD - POSTED ring
+ * records after it (0: none, a host putting HEAD level with POSTED; more
+ * than the room: SH2000_FAULT_PROTOCOL).
  */
 
 /* ---------------------------------------------------------------------------
@@ -213,6 +250,49 @@ static inline uint16_t sh2000_gather_check(const uint16_t *w,
 					   unsigned int count)
 {
 	return sh2000_check16(w + 1, SH2000_GW_HEADER - 1u + count);
+}
+
+/* Check word of a mailbox record: over the position words and the SEQ it
+ * is posted with (so a record is bound to its number, like a command). */
+static inline uint16_t sh2000_mbox_check(const uint16_t *m)
+{
+	const uint16_t w[6] = { m[0], m[1], m[2], m[3], m[SH2000_MBOX_POS_HI],
+				m[SH2000_MBOX_SEQ] };
+
+	return sh2000_check16(w, 6);
+}
+
+/* The mailbox words of record `seq` at positions pos[] (check included). */
+static inline void sh2000_mbox_pack(uint16_t m[SH2000_MBOX_WORDS],
+				    const int32_t pos[SH2000_AXES], uint16_t seq)
+{
+	unsigned int a;
+
+	m[SH2000_MBOX_POS_HI] = 0;
+	for (a = 0; a < SH2000_AXES; a++) {
+		uint32_t v = (uint32_t)pos[a];
+
+		m[SH2000_MBOX_POS_LO(a)] = (uint16_t)(v & 0xffffu);
+		m[SH2000_MBOX_POS_HI] |= (uint16_t)(((v >> 16) & 0xfu) << (4 * a));
+	}
+	m[SH2000_MBOX_SEQ] = seq;
+	m[SH2000_MBOX_CHECK] = sh2000_mbox_check(m);
+}
+
+/* Axis a's position in mailbox words m: the value whose low 20 bits m
+ * carries that is nearest ref, the previous record's position. Exact when
+ * the step from ref is within SH2000_MBOX_STEP_MAX. */
+static inline int32_t sh2000_mbox_position(const uint16_t *m, unsigned int a,
+					   int32_t ref)
+{
+	const uint32_t mask = (1u << SH2000_MBOX_POS_BITS) - 1u;
+	uint32_t low = (uint32_t)m[SH2000_MBOX_POS_LO(a)] |
+		       ((uint32_t)((m[SH2000_MBOX_POS_HI] >> (4 * a)) & 0xfu) << 16);
+	uint32_t d = (low - (uint32_t)ref) & mask;
+
+	if (d & (1u << (SH2000_MBOX_POS_BITS - 1)))
+		d |= ~mask;	/* sign-extend the 20-bit step */
+	return (int32_t)((uint32_t)ref + d);
 }
 
 /* ---------------------------------------------------------------------------

@@ -169,7 +169,7 @@ class Card:
     def gather_read(self, info, first=0, n=None):
         """Samples first..first+n (all: n None) of the record info
         describes as a Gather of numpy arrays."""
-        _gather._numpy()            # before the card's time is spent
+        _gather.need_numpy()            # before the card's time is spent
         n = info.samples - first if n is None else n
         raw = self._c.gather_read(asdict(info), first, n)
         return _gather.shape(info, first, raw)
@@ -178,7 +178,7 @@ class Card:
                pretrigger=None, timeout=60.0):
         """gather_start, gather_wait and gather_read in one: the record as
         a Gather (t in s, g["x.setpoint"] ...)."""
-        _gather._numpy()
+        _gather.need_numpy()
         rec = self.gather_start(axes, signals, period, samples, trigger, pretrigger)
         return self.gather_read(self.gather_wait(rec, timeout))
 

@@ -18,7 +18,8 @@ TRIGGERS = {"now": _sh2000.GATHER_NOW, "motion": _sh2000.GATHER_ON_MOTION,
 _SIGNAL_NAMES = {sid: (name, unit) for name, (sid, unit) in SIGNALS.items()}
 
 
-def _numpy():
+def need_numpy():
+    """numpy, or an ImportError saying what needs it and how to get it."""
     try:
         import numpy
     except ImportError as e:
@@ -107,7 +108,7 @@ def columns(info):
 
 def shape(info, first, raw):
     """The extension's bytearray of samples first.. into a Gather."""
-    np = _numpy()
+    np = need_numpy()
     values = np.frombuffer(raw, dtype=np.float64).reshape(-1, info.values)
     t0 = info.trigger_index if info.triggered else 0
     t = (np.arange(first, first + len(values)) - float(t0)) * info.sample_s

@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: MIT
 """Data gathering through the binding: records as numpy arrays agree with
-the card's own status and with the motion, triggers now and on motion,
-parts of a record, and the errors (bad names, bad configurations, a busy
-record, numpy missing)."""
+the card's own status and with the motion; triggers now, on motion and on
+the emergency stop; parts of a record; the errors (bad names, bad
+configurations, a busy record, numpy missing)."""
 import errno
 import sys
 
@@ -54,6 +54,19 @@ def test_trigger_now_every_signal_of_two_axes(card):
     assert g.t[0] == 0 and g.t[1] == pytest.approx(g.info.sample_s)
     assert g.info.sample_s == pytest.approx(5 * 1e-4)   # 5 cycles of 100 us
     assert g.units["y.velocity"] == "counts/s"
+
+
+@needs_numpy
+def test_fault_trigger_fires_on_the_emergency_stop(card):
+    card.enable("x")
+    rec = card.gather_start("x", "dac,ferr", samples=100, trigger="fault", pretrigger=10)
+    card.sleep(0.01)
+    assert card.gather_info().state == sh2000.GATHER_ARMED     # no fault yet
+    card.estop()
+    g = card.gather_read(card.gather_wait(rec, timeout=1))
+    assert g.info.triggered and g.info.trigger_index == 10 and len(g.t) == 100
+    assert g.t[10] == 0 and list(g.signals) == ["x.ferr", "x.dac"]   # bit order
+    assert card.status().card_state == sh2000.STATE_ESTOP
 
 
 @needs_numpy

@@ -236,7 +236,8 @@ in /usr/share/doc/sh2000-linuxcnc/examples/sh2000-sim.")
 # /usr/lib/python3/dist-packages. dpkg-shlibdeps gives libc6, libsh2000
 # and libsh2000-motion (>=). The extension is built for one python3 minor:
 # the python3 Depends dh_python3 would give (${python3:Depends}) by hand.
-# numpy is optional (push() takes any rows of four numbers). postinst and
+# numpy is recommended, not required: only the gather calls need it (their
+# records are numpy arrays; push() takes any rows). postinst and
 # prerm byte-compile and clean up as dh_python3's snippets do.
 if(SH2000_PYTHON_INSTALLED)
   string(REPLACE "." ";" _pyver "${SH2000_PYTHON_VERSION}")
@@ -247,8 +248,7 @@ if(SH2000_PYTHON_INSTALLED)
   set(CPACK_DEBIAN_PYTHON_PACKAGE_SECTION python)
   set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS
     "python3 (>= ${SH2000_PYTHON_VERSION}~), python3 (<< ${_pymaj}.${_pynext})")
-  set(CPACK_DEBIAN_PYTHON_PACKAGE_RECOMMENDS "libsh2000-sim")
-  set(CPACK_DEBIAN_PYTHON_PACKAGE_SUGGESTS "python3-numpy")
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_RECOMMENDS "libsh2000-sim, python3-numpy")
   set(CPACK_DEBIAN_PYTHON_PACKAGE_CONTROL_EXTRA
     ${CMAKE_CURRENT_LIST_DIR}/debian/python3-sh2000/postinst
     ${CMAKE_CURRENT_LIST_DIR}/debian/python3-sh2000/prerm)
@@ -257,8 +257,9 @@ if(SH2000_PYTHON_INSTALLED)
 The module sh2000 drives SH-2000TH cards from Python through libsh2000
 and libsh2000-motion: sh2000.open(\"sim\"), status as dataclasses,
 parameters by name, commands, coarse points, NC programs checked and run
-with progress callbacks; errors are sh2000.Error with the library's code
-and message. /usr/share/doc/python3-sh2000/python.md is the guide.")
+with progress callbacks, data gathered on the card as numpy arrays; errors
+are sh2000.Error with the library's code and message.
+/usr/share/doc/python3-sh2000/python.md is the guide.")
 endif()
 
 include(CPack)

@@ -56,5 +56,7 @@ PyObject *sh2k_status_dict(struct sh2000 *h, const struct sh2000_status *st);
 /* Module-level functions and constants of the status and parameter
  * tables (status.c). */
 int sh2k_add_constants(PyObject *m);
+/* The module's gather_signals, gather_signal_id, gather_column (gather.c). */
+int sh2k_add_gather(PyObject *m);
 
 #endif /* SH2000_PY_BINDING_H */

@@ -223,6 +223,15 @@ static PyMethodDef card_methods[] = {
 	M("now_ns", sh2k_card_now_ns, METH_NOARGS, "now_ns(): the card's clock"),
 	M("sleep_ns", sh2k_card_sleep_ns, METH_VARARGS,
 	  "sleep_ns(ns): let card time pass"),
+	M("gather_start", sh2k_card_gather_start, METH_VARARGS,
+	  "gather_start(signals, period, samples, trigger, pretrigger)"),
+	M("gather_stop", sh2k_card_gather_stop, METH_NOARGS, "gather_stop()"),
+	M("gather_info", sh2k_card_gather_info, METH_NOARGS,
+	  "gather_info(): the record (or configuration) as a dict"),
+	M("gather_wait", sh2k_card_gather_wait, METH_VARARGS,
+	  "gather_wait(record, timeout_ms): its info once DONE"),
+	M("gather_read", sh2k_card_gather_read, METH_VARARGS,
+	  "gather_read(info, first, n): a bytearray of doubles"),
 	{ NULL, NULL, 0, NULL },
 };
 #undef M

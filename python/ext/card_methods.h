@@ -19,5 +19,10 @@ PyObject *sh2k_card_wait_idle(PyCard *c, PyObject *args);
 PyObject *sh2k_card_queue_free(PyCard *c, PyObject *unused);
 PyObject *sh2k_card_now_ns(PyCard *c, PyObject *unused);
 PyObject *sh2k_card_sleep_ns(PyCard *c, PyObject *args);
+PyObject *sh2k_card_gather_start(PyCard *c, PyObject *args);
+PyObject *sh2k_card_gather_stop(PyCard *c, PyObject *unused);
+PyObject *sh2k_card_gather_info(PyCard *c, PyObject *unused);
+PyObject *sh2k_card_gather_wait(PyCard *c, PyObject *args);
+PyObject *sh2k_card_gather_read(PyCard *c, PyObject *args);
 
 #endif /* SH2000_PY_CARD_METHODS_H */

@@ -105,7 +105,7 @@ PyMODINIT_FUNC PyInit__sh2000(void)
 		return NULL;
 	if (add_type(m, &PyCard_Type, "Card") < 0 ||
 	    add_type(m, &PyProgram_Type, "Program") < 0 ||
-	    sh2k_add_constants(m) < 0) {
+	    sh2k_add_constants(m) < 0 || sh2k_add_gather(m) < 0) {
 		Py_DECREF(m);
 		return NULL;
 	}

@@ -166,6 +166,11 @@ static const struct { const char *name; long v; } constants[] = {
 	C(PROG_NURBS_JSON),
 	/* Card.home flags */
 	C(HOME_F_INDEX),
+	/* data gathering: errors, triggers, record states */
+	C(EGATHER_CHECK), C(EGATHER_LOST), C(GATHER_NOW), C(GATHER_ON_MOTION),
+	C(GATHER_ON_FAULT), C(GATHER_OFF), C(GATHER_ARMED),
+	C(GATHER_RECORDING), C(GATHER_DONE), C(GATHER_NO_TRIGGER),
+	C(GATHER_BUFFER_VALUES),
 };
 #undef C
 

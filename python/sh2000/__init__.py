@@ -12,6 +12,8 @@ library's code (sh2000.EPARAM, ...) and message.
 from . import _sh2000
 from ._card import UNITS, Card, open  # noqa: A004
 from ._error import Error
+from ._gather import SIGNALS as GATHER_SIGNALS
+from ._gather import Gather, GatherInfo
 from ._program import Program
 from ._types import AXIS_NAMES, AxisStatus, Plan, Progress, RunStats, Status
 
@@ -29,4 +31,5 @@ del _name, _v
 
 # not "open": a star import would hide the built-in
 __all__ = ["Card", "Program", "Error", "Status", "AxisStatus", "Plan",
-           "Progress", "RunStats", "UNITS", "AXIS_NAMES", "strerror"]
+           "Progress", "RunStats", "Gather", "GatherInfo", "UNITS",
+           "GATHER_SIGNALS", "AXIS_NAMES", "strerror"]

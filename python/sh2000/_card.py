@@ -1,7 +1,9 @@
 # SPDX-License-Identifier: MIT
 """sh2000.Card: an open card, over the extension's Card (one libsh2000 call
 per method). Axes are "x", "y", "z", "a" (or 0..3); times in seconds."""
-from . import _sh2000
+from dataclasses import asdict
+
+from . import _gather, _sh2000
 from ._error import Error
 from ._program import Program
 from ._types import Status, axis_index, axis_mask
@@ -141,6 +143,44 @@ class Card:
     def sleep(self, seconds):
         """Let card time pass (advances a "sim" card; sleeps otherwise)."""
         self._c.sleep_ns(max(0, int(round(seconds * 1e9))))
+
+    # ---- data gathering (protocol 1.2) --------------------------------------
+    def gather_start(self, axes, signals, period=None, samples=None,
+                     trigger="now", pretrigger=None):
+        """Arm a record (sh2000_gather_start): signals ("setpoint,encoder",
+        a list of names, or "all") of each axis in axes, every period servo
+        cycles; trigger "now", "motion" or "fault". Unset values are the
+        library's defaults. Returns the record's number."""
+        return self._c.gather_start(*_gather.config(axes, signals, period, samples,
+                                                    trigger, pretrigger))
+
+    def gather_stop(self):
+        """End the record now; what it holds stays readable."""
+        self._c.gather_stop()
+
+    def gather_info(self):
+        """The record (or, before the first, the configuration): GatherInfo."""
+        return _gather.GatherInfo(**self._c.gather_info())
+
+    def gather_wait(self, record, timeout=60.0):
+        """Wait until record number `record` is done; its GatherInfo."""
+        return _gather.GatherInfo(**self._c.gather_wait(record, _ms(timeout)))
+
+    def gather_read(self, info, first=0, n=None):
+        """Samples first..first+n (all: n None) of the record info
+        describes as a Gather of numpy arrays."""
+        _gather.need_numpy()            # before the card's time is spent
+        n = info.samples - first if n is None else n
+        raw = self._c.gather_read(asdict(info), first, n)
+        return _gather.shape(info, first, raw)
+
+    def gather(self, axes, signals, period=None, samples=None, trigger="now",
+               pretrigger=None, timeout=60.0):
+        """gather_start, gather_wait and gather_read in one: the record as
+        a Gather (t in s, g["x.setpoint"] ...)."""
+        _gather.need_numpy()
+        rec = self.gather_start(axes, signals, period, samples, trigger, pretrigger)
+        return self.gather_read(self.gather_wait(rec, timeout))
 
     # ---- programs --------------------------------------------------------------
     def program(self, path, format=None, feed_mm_s=None):

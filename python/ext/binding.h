@@ -59,4 +59,8 @@ int sh2k_add_constants(PyObject *m);
 /* The module's gather_signals, gather_signal_id, gather_column (gather.c). */
 int sh2k_add_gather(PyObject *m);
 
+/* One row of a PyMethodDef table (the cast every METH_* function needs). */
+#define SH2K_METHOD(name, fn, flags, doc) \
+	{ name, (PyCFunction)(void (*)(void))(fn), flags, doc }
+
 #endif /* SH2000_PY_BINDING_H */

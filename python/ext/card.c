@@ -188,8 +188,7 @@ static PyObject *card_axis_params_set(PyCard *c, PyObject *args)
 	return result(c, r);
 }
 
-#define M(name, fn, flags, doc) \
-	{ name, (PyCFunction)(void (*)(void))(fn), flags, doc }
+#define M SH2K_METHOD
 static PyMethodDef card_methods[] = {
 	M("close", card_close, METH_NOARGS, "close(): sh2000_close"),
 	M("info", card_info, METH_NOARGS,

@@ -204,8 +204,7 @@ int sh2k_program_ok(PyProgram *p)
 	return sh2k_handle(p->card) != NULL;
 }
 
-#define M(name, fn, flags, doc) \
-	{ name, (PyCFunction)(void (*)(void))(fn), flags, doc }
+#define M SH2K_METHOD
 static PyMethodDef program_methods[] = {
 	M("check", program_check, METH_VARARGS,
 	  "check([override, optional_stop]): sh2000_program_plan, a dict"),

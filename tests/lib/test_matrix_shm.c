@@ -271,7 +271,8 @@ static void watch_quietly(struct sh2000_sim_server *s, struct sh2000 *h,
 	c->code = sh2000_status_error(h, &st);
 }
 
-static void host_killed(enum activity a, int quiet)
+/* 1, or 0 when the host ended before the fault (tried again). */
+static int host_killed_once(enum activity a, int quiet)
 {
 	struct sh2000_sim_server *s = NULL;
 	struct cell *c = quiet ? &killed_host_quiet : &killed_host[a];
@@ -302,8 +303,17 @@ static void host_killed(enum activity a, int quiet)
 	CHECK(sh2000_sim_server_start(s));
 	h = open_dev(dev);
 	(void)!write(go[1], "x", 1);
-	if (read(ready[0], &ch, 1) != 1)
-		fail_msg("the host ended before the fault");
+	if (read(ready[0], &ch, 1) != 1) {
+		/* underrun before the fault: see server_killed() */
+		fprintf(stderr, "%s: the host ended before the fault\n",
+			act_name[a]);
+		waitpid(pid, &st, 0);
+		sh2000_close(h);
+		sh2000_sim_server_destroy(s);
+		close(go[1]);
+		close(ready[0]);
+		return 0;
+	}
 	kill(pid, SIGKILL);
 	t0 = now_ms();
 	waitpid(pid, &st, 0);
@@ -319,6 +329,17 @@ static void host_killed(enum activity a, int quiet)
 	sh2000_sim_server_destroy(s);
 	close(go[1]);
 	close(ready[0]);
+	return 1;
+}
+
+static void host_killed(enum activity a, int quiet)
+{
+	int tries = 0;
+
+	while (!host_killed_once(a, quiet))
+		if (++tries == 3)
+			fail_msg("%s: the host ended before the fault %d times",
+				 act_name[a], tries);
 }
 
 static void test_host_killed(void **state)
@@ -396,15 +417,16 @@ static pid_t spawn_server(const char *dev)
 	return pid;
 }
 
-static void server_killed(enum activity a)
+/* The server killed during activity a on dev: 1 when the activity was
+ * under way at the fault, 0 when the host failed before it (then the
+ * cell says nothing and is tried again). */
+static int server_killed_once(enum activity a, const char *dev)
 {
 	struct cell *c = &killed_server[a];
 	struct act_ctx ctx = { .signal_fd = -1 };
-	char dev[80];
 	struct sh2000 *h;
 	int st;
 
-	name(dev, sizeof(dev), "server");
 	ctx.victim = spawn_server(dev);
 	h = open_dev(dev);
 	c->code = activity(h, a, &ctx);
@@ -413,9 +435,31 @@ static void server_killed(enum activity a)
 	kill(ctx.victim, SIGKILL);	/* if the activity failed before */
 	waitpid(ctx.victim, &st, 0);
 	if (!ctx.done)
-		fail_msg("%s: the host failed before the fault: %s",
-			 act_name[a], sh2000_last_error(h));
+		fprintf(stderr, "%s: the host failed before the fault: %s\n",
+			act_name[a], sh2000_last_error(h));
 	sh2000_close(h);
+	return ctx.done;
+}
+
+/*
+ * A one-record-per-period stream keeps 4 records (8 ms) queued, like
+ * LinuxCNC; a test process descheduled longer than that on a loaded
+ * machine (ASan, other tests) underruns before the fault is injected.
+ * That is not the cell's outcome, so such a start is tried again, three
+ * times at most.
+ */
+static void server_killed(enum activity a)
+{
+	struct act_ctx ctx = { .signal_fd = -1 };
+	struct sh2000 *h;
+	int st, tries = 0;
+	char dev[80];
+
+	name(dev, sizeof(dev), "server");
+	while (!server_killed_once(a, dev))
+		if (++tries == 3)
+			fail_msg("%s: the host failed before the fault %d times",
+				 act_name[a], tries);
 	/* a new server takes the name the dead one left */
 	ctx.victim = spawn_server(dev);
 	h = open_dev(dev);

@@ -1,0 +1,177 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The swept-sine (chirp) test: the set-point follows
+ *   x(t) = A w(t) sin(phi(t)),  phi(t) = 2 pi F0 D / ln(F1/F0) (e^(t ln(F1/F0) / D) - 1)
+ * around the start for D seconds (a logarithmic sweep: the same time per
+ * octave), w a raised-cosine fade over the first and last tenth so the
+ * set-point starts and ends at rest. The host pushes x at the coarse
+ * instants; the card's B-spline smooths it, which does not matter: the
+ * responses are taken against the set-point the card gathered. So the
+ * sweep must stay below the coarse period's Nyquist frequency (the
+ * B-spline would only make images above it): F1 <= 0.4 / period.
+ * Bounds, nothing moved when one is broken: A 2 pi F1 within the velocity
+ * bound; during the sweep the following-error and DAC bounds are the
+ * user's (testmove.c). Set-point, encoder and DAC are gathered from rest
+ * before the sweep to rest after it (freqresp.c needs the whole
+ * transient), every servo cycle as long as the card's memory holds it.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tune.h"
+
+#define LEAD_PERIODS	4	/* at the start before the sweep */
+#define TAIL_S		0.15	/* at the start after it, to settle */
+#define FADE		0.1	/* share of the sweep faded in and out */
+#define MAX_F_PERIOD	0.4	/* F1 * coarse period, at most */
+
+struct chirp_ctx {
+	struct tune_move m;
+	int32_t *pts;		/* the sweep's coarse points, counts */
+	unsigned int npts, tail;
+};
+
+/* F1 below the coarse Nyquist frequency, the speed within its bound. */
+static int check_chirp(struct chirp_ctx *c)
+{
+	const struct tune_opts *o = c->m.o;
+	double fmax = MAX_F_PERIOD / c->m.pc.period_s;
+	double v = o->amplitude_mm * 2 * M_PI * o->f1_hz;
+
+	if (o->f1_hz > fmax) {
+		sh2000_tool_msg("%s: --chirp up to %g Hz: the card's coarse period (%g ms) carries a sweep up to %g Hz: nothing moved",
+				sh2000_device(c->m.h), o->f1_hz, c->m.pc.period_s * 1e3, fmax);
+		return SH2000_EXIT_CARD;
+	}
+	if (v > c->m.vlim) {
+		sh2000_tool_msg("%s: --amplitude %g mm at %g Hz is %.1f mm/s: it must be within %.1f mm/s (at most %g mm): nothing moved",
+				sh2000_device(c->m.h), o->amplitude_mm, o->f1_hz, v,
+				c->m.vlim, c->m.vlim / (2 * M_PI * o->f1_hz));
+		return SH2000_EXIT_CARD;
+	}
+	return 0;
+}
+
+/* The fade at t of a sweep of d seconds. */
+static double fade(double t, double d)
+{
+	double e = fmin(t, d - t) / (FADE * d);
+
+	return e >= 1 ? 1 : e <= 0 ? 0 : 0.5 * (1 - cos(M_PI * e));
+}
+
+static int make_points(struct chirp_ctx *c)
+{
+	const struct tune_opts *o = c->m.o;
+	double tc = c->m.pc.period_s, d = o->duration_s;
+	double k = log(o->f1_hz / o->f0_hz) / d;
+	double amp = o->amplitude_mm * c->m.pc.counts_per_mm[c->m.a];
+
+	c->npts = (unsigned int)ceil(d / tc) + 1;
+	c->tail = (unsigned int)ceil(TAIL_S / tc);
+	c->pts = malloc(sizeof(*c->pts) * c->npts);
+	if (!c->pts) {
+		sh2000_tool_msg("out of memory");
+		return SH2000_EXIT_CARD;
+	}
+	for (unsigned int i = 0; i < c->npts; i++) {
+		double t = fmin(i * tc, d);
+		double phi = 2 * M_PI * o->f0_hz / k * (exp(k * t) - 1);
+
+		c->pts[i] = c->m.start + (int32_t)lround(amp * fade(t, d) * sin(phi));
+	}
+	return 0;
+}
+
+static int move(struct tune_move *m)
+{
+	struct chirp_ctx *c = (struct chirp_ctx *)m;
+	int r = tune_move_hold(m, m->start, LEAD_PERIODS, 0);
+
+	if (r >= 0)
+		r = tune_move_push(m, c->pts, c->npts, 0);
+	if (r >= 0)
+		r = tune_move_hold(m, m->start, c->tail, SH2000_PUSH_END);
+	if (r >= 0)
+		r = sh2000_wait_idle(m->h, 10000);
+	return r;
+}
+
+/* The record as the responses at fr->hz. */
+static int analyse(struct chirp_ctx *c, unsigned int rec, struct tune_fr *fr)
+{
+	struct sh2000_gather_info gi;
+	double *v, *sig;
+	double complex te[TUNE_FR_MAX], td[TUNE_FR_MAX];
+	size_t n;
+	int r;
+
+	if ((r = tune_move_read(&c->m, rec, &gi, &v)))
+		return r;
+	n = gi.samples;
+	sig = malloc(sizeof(*sig) * 3 * n);
+	if (!sig || n < 2) {
+		free(v);
+		free(sig);
+		sh2000_tool_msg("%s: the record holds no sweep", sh2000_device(c->m.h));
+		return SH2000_EXIT_CARD;
+	}
+	/* each signal less its value at rest: finite sequences */
+	for (size_t i = 0; i < n; i++)
+		for (int k = 0; k < 3; k++) {
+			sig[k * n + i] = v[3 * i + k] - v[k];
+			if (k == 2 && fabs(sig[k * n + i]) > fr->peak_dac)
+				fr->peak_dac = fabs(sig[k * n + i]);
+			if (k == 2 && fabs(v[3 * i + k]) >= c->m.dac_bound)
+				fr->dac_saturated = 1;
+		}
+	fr->sample_s = gi.sample_s;
+	tune_fr_ratio(sig, sig + n, n, gi.sample_s, fr->hz, fr->n, te);
+	tune_fr_ratio(sig, sig + 2 * n, n, gi.sample_s, fr->hz, fr->n, td);
+	for (size_t i = 0; i < fr->n; i++) {
+		fr->closed[i] = te[i];
+		fr->plant[i] = te[i] / td[i];
+		fr->ctrl[i] = tune_pid_response(&fr->gains, fr->servo_s, fr->hz[i]);
+		fr->loop[i] = fr->ctrl[i] * fr->plant[i];
+	}
+	free(sig);
+	free(v);
+	return 0;
+}
+
+int tune_chirp(struct sh2000 *h, const struct tune_opts *o,
+	       struct tune_fr *fr)
+{
+	struct chirp_ctx c = { .m = { .h = h, .o = o, .a = o->axis, .name = "chirp" } };
+	unsigned int rec = 0;
+	int r;
+
+	memset(fr, 0, sizeof(*fr));
+	fr->n = TUNE_FR_POINTS;
+	tune_fr_grid(o->f0_hz, o->f1_hz, fr->n, fr->hz);
+	if ((r = tune_move_prepare(&c.m)) || (r = check_chirp(&c)))
+		goto out;
+	if ((r = tune_read_gains(h, c.m.a, &fr->gains)) < 0) {
+		r = tune_move_fail(&c.m, r, "get parameter");
+		goto out;
+	}
+	fr->servo_s = c.m.pc.period_s / c.m.pc.fine_steps;
+	fr->counts_per_mm = c.m.pc.counts_per_mm[c.m.a];
+	if ((r = make_points(&c)) || (r = tune_move_lower_limits(&c.m)))
+		goto out;
+	r = tune_move_arm(&c.m, 1u << SH2000_GS_SETPOINT | 1u << SH2000_GS_ENCODER |
+			  1u << SH2000_GS_DAC,
+			  (LEAD_PERIODS + c.npts + c.tail) * c.m.pc.period_s, &rec);
+	if (r) {
+		tune_move_restore(&c.m);
+		goto out;
+	}
+	r = tune_move_run(&c.m, move);
+	if (!r)
+		r = analyse(&c, rec, fr);
+out:
+	free(c.pts);
+	tune_move_end(&c.m);
+	return r;
+}

@@ -52,6 +52,10 @@ static void usage(FILE *f)
 "                       speed 50 ms; chirp: default 1)\n"
 "  --amplitude MM       the sweep's amplitude (default 0.002)\n"
 "  --duration SECONDS   the sweep's length (default 0.8)\n"
+"  --accel MM/S^2       the sweep's acceleration bound: above the frequency\n"
+"                       where the amplitude would need more, it falls as\n"
+"                       1/f^2 (default: what takes half the DAC bound\n"
+"                       through the axis' kaff; without kaff its amax)\n"
 "  --enable             enable the axis for the test (disabled after)\n"
 "  --csv FILE           the gathered response (chirp: the frequency\n"
 "                       response) as CSV\n"
@@ -89,6 +93,7 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 		{ "travel", required_argument, NULL, 't' },
 		{ "amplitude", required_argument, NULL, 'A' },
 		{ "duration", required_argument, NULL, 'u' },
+		{ "accel", required_argument, NULL, 'a' },
 		{ "enable", no_argument, NULL, 'e' },
 		{ "csv", required_argument, NULL, 'c' },
 		{ "plot", required_argument, NULL, 'p' },
@@ -122,7 +127,7 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 				r = sh2000_tool_usage(NULL, "--dac-max: '%s' is not a DAC code 1..32767", optarg);
 			o->dac_max = (int)l;
 			break;
-		case 'r': case 'C': case 't': case 'A': case 'u':
+		case 'r': case 'C': case 't': case 'A': case 'a': case 'u':
 			r = tune_parse_option(c, optarg, o);
 			tests += c == 'r' || c == 'C';
 			break;

@@ -61,17 +61,21 @@ static int bode_data(const void *ctx, const char *path)
 }
 
 /* A dashed vertical line at hz with a label at height y (a share of the
- * graph, each mark its own so they never overlap), if hz is known. */
+ * graph, each mark its own so they never overlap), if hz is known; the
+ * label left of the line in the last third of the axis (lo..hi Hz), so it
+ * stays inside the graph. */
 static void mark(FILE *f, double hz, const char *color, const char *label,
-		 double y)
+		 double y, double lo, double hi)
 {
+	int left = log(hz / lo) > 0.66 * log(hi / lo);
+
 	if (isnan(hz))
 		return;
 	fprintf(f, "set arrow from %g, graph 0 to %g, graph 1 nohead dt 2 lw 1.5 lc rgb '%s'\n",
 		hz, hz, color);
 	if (label)
-		fprintf(f, "set label '%s' at %g, graph %g offset 0.5,0 tc rgb '%s' front\n",
-			label, hz, y, color);
+		fprintf(f, "set label '%s' at %g, graph %g %s offset %s,0 tc rgb '%s' front\n",
+			label, hz, y, left ? "right" : "left", left ? "-0.5" : "0.5", color);
 }
 
 static int bode_script(FILE *f, const void *ctx, const char *out, int svg,
@@ -79,22 +83,23 @@ static int bode_script(FILE *f, const void *ctx, const char *out, int svg,
 {
 	const struct bode_plot *bp = ctx;
 	const struct tune_margins *m = bp->m;
-	char pm[64], gm[64], bw[64], gml[64];
+	double lo = bp->fr->hz[0], hi = bp->fr->hz[bp->fr->n - 1];
+	char pm[64], gm[64], bw[64], gml[80];
 
 	snprintf(pm, sizeof(pm), "crossover %.1f Hz, PM %.1f deg", m->wc_hz, m->pm_deg);
-	snprintf(gm, sizeof(gm), "GM %.1f dB", m->gm_db);
-	snprintf(gml, sizeof(gml), "-180 deg, gain %+.1f dB", -m->gm_low_db);
+	snprintf(gm, sizeof(gm), "-180 deg: GM %.1f dB", m->gm_db);
+	snprintf(gml, sizeof(gml), "-180 deg at %+.1f dB: gain may fall %.1f dB",
+		 -m->gm_low_db, -m->gm_low_db);
 	snprintf(bw, sizeof(bw), "bandwidth %.1f Hz", m->bw_hz);
 	tune_plot_terminal(f, out, bp->title, svg, cairo);
 	fprintf(f, "set logscale x\nset xrange [%g:%g]\nset format x '%%g'\n"
-		"set key outside right top\nset lmargin 10\nset rmargin 36\n",
-		bp->fr->hz[0], bp->fr->hz[bp->fr->n - 1]);
+		"set key outside right top\nset lmargin 10\nset rmargin 36\n", lo, hi);
 	fprintf(f, "set origin 0,0.48\nset size 1,0.47\n"
 		"set title 'magnitude (plant: counts per DAC code)'\nset ylabel 'dB'\n");
-	mark(f, m->wc_hz, "#b03060", pm, 0.93);
-	mark(f, m->w180_hz, "#6a3d9a", isnan(m->gm_db) ? NULL : gm, 0.85);
-	mark(f, m->w180_low_hz, "#777777", isnan(m->gm_low_db) ? NULL : gml, 0.93);
-	mark(f, m->bw_hz, "#2a8a2a", bw, 0.77);
+	mark(f, m->wc_hz, "#b03060", pm, 0.93, lo, hi);
+	mark(f, m->w180_hz, "#6a3d9a", isnan(m->gm_db) ? NULL : gm, 0.85, lo, hi);
+	mark(f, m->w180_low_hz, "#777777", isnan(m->gm_low_db) ? NULL : gml, 0.08, lo, hi);
+	mark(f, m->bw_hz, "#2a8a2a", bw, 0.77, lo, hi);
 	fputs("plot DATA using 1:2 with linespoints pt 7 ps 0.5 lw 2 lc rgb '#1f5fb4' title 'plant P (measured)', \\\n"
 	      "     DATA using 1:4 with linespoints pt 7 ps 0.5 lw 2 lc rgb '#d03a1f' title 'loop L = C P', \\\n"
 	      "     DATA using 1:8 with lines lw 2 lc rgb '#2a8a2a' title 'feedback L/(1+L)', \\\n"
@@ -103,10 +108,10 @@ static int bode_script(FILE *f, const void *ctx, const char *out, int svg,
 	fputs("unset label\nunset arrow\nset origin 0,0\nset size 1,0.47\n"
 	      "set title 'phase'\nset ylabel 'degrees'\nset xlabel 'frequency (Hz)'\n"
 	      "set ytics 45\n", f);
-	mark(f, m->wc_hz, "#b03060", NULL, 0);
-	mark(f, m->w180_hz, "#6a3d9a", NULL, 0);
-	mark(f, m->w180_low_hz, "#777777", NULL, 0);
-	mark(f, m->bw_hz, "#2a8a2a", NULL, 0);
+	mark(f, m->wc_hz, "#b03060", NULL, 0, lo, hi);
+	mark(f, m->w180_hz, "#6a3d9a", NULL, 0, lo, hi);
+	mark(f, m->w180_low_hz, "#777777", NULL, 0, lo, hi);
+	mark(f, m->bw_hz, "#2a8a2a", NULL, 0, lo, hi);
 	fputs("plot DATA using 1:3 with linespoints pt 7 ps 0.5 lw 2 lc rgb '#1f5fb4' title 'plant P', \\\n"
 	      "     DATA using 1:5 with linespoints pt 7 ps 0.5 lw 2 lc rgb '#d03a1f' title 'loop L', \\\n"
 	      "     DATA using 1:9 with lines lw 2 lc rgb '#2a8a2a' title 'feedback L/(1+L)', \\\n"

@@ -20,6 +20,10 @@
 #include "tune.h"
 
 #define PRETRIGGER	10
+/* Records pushed at a time: a quarter of the ring, so that with a short
+ * coarse period (a fast sweep, 100 us) the ring still holds the time a
+ * batch takes to write while the host waits for room for the next. */
+#define PUSH_BATCH	16	/* of the ring's 64 */
 
 int tune_move_fail(struct tune_move *s, int r, const char *what)
 {
@@ -29,11 +33,11 @@ int tune_move_fail(struct tune_move *s, int r, const char *what)
 int tune_move_push(struct tune_move *s, const int32_t *v, unsigned int n,
 		   unsigned int flags)
 {
-	int32_t pts[32][SH2000_AXES];
+	int32_t pts[PUSH_BATCH][SH2000_AXES];
 	int r = 0;
 
 	while (n) {
-		unsigned int k = n < 32 ? n : 32;
+		unsigned int k = n < PUSH_BATCH ? n : PUSH_BATCH;
 
 		for (unsigned int i = 0; i < k; i++) {
 			memcpy(pts[i], s->p, sizeof(pts[i]));

@@ -51,6 +51,7 @@ int tune_parse_option(int c, const char *v, struct tune_opts *o)
 		return chirp_range(v, o);
 	case 't': return positive("--travel", v, &o->travel_mm);
 	case 'A': return positive("--amplitude", v, &o->amplitude_mm);
+	case 'a': return positive("--accel", v, &o->accel_mms2);
 	default: return positive("--duration", v, &o->duration_s);
 	}
 }

@@ -37,6 +37,7 @@ struct tune_opts {
 	double f0_hz, f1_hz;	/* --chirp F0:F1 */
 	double amplitude_mm;	/* --amplitude of the chirp */
 	double duration_s;	/* --duration of the chirp */
+	double accel_mms2;	/* --accel bound of the chirp; 0: chirp.c's */
 	double vmax;		/* mm/s the step's set-point may reach; 0: card's */
 	int dac_max;		/* |DAC code| during the test; 0: card's limit */
 	double ferr_max_mm;	/* following-error limit during the test */
@@ -89,7 +90,7 @@ int tune_plot(const struct tune_trace *tr, const struct tune_metrics *m,
 /* ---- sh2000-tune's ramp and chirp runs (testruns.c) ---- */
 
 /* One of the ramp's and chirp's options (getopt's c: 'r' --ramp, 'C'
- * --chirp, 't' --travel, 'A' --amplitude, 'u' --duration) into o: 0, or
+ * --chirp, 't' --travel, 'A' --amplitude, 'a' --accel, 'u' --duration) into o: 0, or
  * the usage exit code with the message printed. */
 int tune_parse_option(int c, const char *v, struct tune_opts *o);
 /* The checks of the options together that need no card (the chirp's
@@ -230,6 +231,25 @@ struct tune_margins {
 				 * NAN: none */
 	double w180_low_hz;
 };
+
+/* F1 * coarse period, at most (chirptiming.c) */
+#define TUNE_CHIRP_F_PERIOD 0.4
+
+/* The card's timing before the sweep (coarse0_us, fine0), for it
+ * (coarse_us, fine) and as it is now (cur_*: 0 before the first change). */
+struct tune_chirp_timing {
+	long coarse0_us, coarse_us, cur_coarse_us;
+	unsigned int fine0, fine, cur_fine;
+};
+
+/* The coarse period (a divisor of the card's, the servo period kept) that
+ * carries a sweep up to f1_hz: 0, or -1 when none does. */
+int tune_chirp_timing_plan(const struct tune_move *m, double f1_hz,
+			   struct tune_chirp_timing *t);
+/* Set the card's timing for the sweep (sweep = 1) or back (0), updating
+ * m->pc: an exit code. */
+int tune_chirp_timing_apply(struct tune_move *m, struct tune_chirp_timing *t,
+			    int sweep);
 
 /* Run the chirp test on h (o->f0_hz, f1_hz, amplitude_mm, duration_s)
  * and compute *fr: an exit code as tune_step's. */

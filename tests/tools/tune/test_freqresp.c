@@ -10,7 +10,9 @@
  *    integrator with viscous friction g / (s (s + b/m)) under the DAC's
  *    zero-order hold, sampled at the servo period, the DAC written in the
  *    cycle that read the encoder (no further delay); and the margins from
- *    the measured loop against the analytic loop's;
+ *    the measured loop against the analytic loop's (the sweep to 3 kHz:
+ *    the gain margin of the default gains lies near 2.5 kHz, so the
+ *    card's coarse period is shortened for it, chirptiming.c);
  *  - the ramp's following error against the card model's own probe of
  *    every servo cycle (set-point and encoder, not the gathered record).
  * Lines starting with '#' are the measured figures (docs/tools.md).
@@ -151,19 +153,38 @@ static struct sh2000 *open_sim(void)
 	return h;
 }
 
+/* The card's timing and the axis' limits the tests change for a while. */
+static void limits(struct sh2000 *h, double v[4])
+{
+	assert_int_equal(sh2000_param_get(h, SH2000_GLOBAL, SH2000_GP_COARSE_PERIOD_US, &v[0]), 0);
+	assert_int_equal(sh2000_param_get(h, SH2000_GLOBAL, SH2000_GP_FINE_STEPS, &v[1]), 0);
+	assert_int_equal(sh2000_param_get(h, 0, SH2000_P_FERR_LIMIT, &v[2]), 0);
+	assert_int_equal(sh2000_param_get(h, 0, SH2000_P_DAC_LIMIT, &v[3]), 0);
+}
+
 static void chirp_matches_plant(void **state)
 {
 	struct tune_opts o = { .device_arg = "sim", .axis = 0, .test = TUNE_TEST_CHIRP,
-			       .ferr_max_mm = 0.1, .enable = 1, .f0_hz = 5, .f1_hz = 200,
+			       .ferr_max_mm = 0.1, .enable = 1, .f0_hz = 5, .f1_hz = 3000,
 			       .amplitude_mm = TUNE_CHIRP_AMPLITUDE,
 			       .duration_s = TUNE_CHIRP_DURATION, .travel_mm = 1 };
 	struct sh2000 *h = open_sim();
 	struct tune_fr fr, an;
 	struct tune_margins m, ma;
 	double worst_mag = 0, worst_ph = 0, band_mag = 0, band_ph = 0;
+	double before[4], after[4];
+	struct sh2000_status st;
 
 	(void)state;
+	limits(h, before);
 	assert_int_equal(tune_chirp(h, &o, &fr), 0);
+	/* the coarse period (shortened for the sweep) and the limits back,
+	 * the axis at its start */
+	limits(h, after);
+	assert_memory_equal(before, after, sizeof(before));
+	assert_int_equal(sh2000_poll(h, &st), 0);
+	assert_int_equal(st.axis[0].cmd_counts, 0);
+	assert_true(fr.sample_s == fr.servo_s);
 	assert_int_equal(fr.n, TUNE_FR_POINTS);
 	assert_false(fr.dac_saturated);
 	an = fr;
@@ -174,26 +195,28 @@ static void chirp_matches_plant(void **state)
 
 		worst_mag = fmax(worst_mag, mag);
 		worst_ph = fmax(worst_ph, ph);
-		if (fr.hz[i] >= 10 && fr.hz[i] <= 150) {
+		if (fr.hz[i] >= 10 && fr.hz[i] <= 1000) {
 			band_mag = fmax(band_mag, mag);
 			band_ph = fmax(band_ph, ph);
 		}
 		an.plant[i] = p;
 		an.loop[i] = fr.ctrl[i] * p;
 	}
-	printf("# plant vs analytic, 10-150 Hz: magnitude within %.3f %%, phase within %.3f deg\n",
+	printf("# plant vs analytic, 10-1000 Hz: magnitude within %.3f %%, phase within %.3f deg\n",
 	       band_mag * 100, band_ph);
-	printf("# plant vs analytic, 5-200 Hz: magnitude within %.3f %%, phase within %.3f deg\n",
+	printf("# plant vs analytic, 5-3000 Hz: magnitude within %.3f %%, phase within %.3f deg\n",
 	       worst_mag * 100, worst_ph);
 	assert_true(band_mag < 0.005 && band_ph < 0.3);
-	assert_true(worst_mag < 0.03 && worst_ph < 1.5);
+	assert_true(worst_mag < 0.06 && worst_ph < 3);
 	/* the margins: measured against analytic, on the same frequencies */
 	assert_int_equal(tune_margins(&fr, &m), 0);
 	assert_int_equal(tune_margins(&an, &ma), 0);
-	printf("# measured: crossover %.2f Hz, PM %.2f deg, gain-reduction margin %.2f dB at %.2f Hz, bandwidth %.2f Hz\n",
-	       m.wc_hz, m.pm_deg, m.gm_low_db, m.w180_low_hz, m.bw_hz);
-	printf("# analytic: crossover %.2f Hz, PM %.2f deg, gain-reduction margin %.2f dB at %.2f Hz, bandwidth %.2f Hz\n",
-	       ma.wc_hz, ma.pm_deg, ma.gm_low_db, ma.w180_low_hz, ma.bw_hz);
+	printf("# measured: crossover %.2f Hz, PM %.2f deg, GM %.2f dB at %.1f Hz, gain-reduction margin %.2f dB at %.2f Hz, bandwidth %.2f Hz\n",
+	       m.wc_hz, m.pm_deg, m.gm_db, m.w180_hz, m.gm_low_db, m.w180_low_hz, m.bw_hz);
+	printf("# analytic: crossover %.2f Hz, PM %.2f deg, GM %.2f dB at %.1f Hz, gain-reduction margin %.2f dB at %.2f Hz, bandwidth %.2f Hz\n",
+	       ma.wc_hz, ma.pm_deg, ma.gm_db, ma.w180_hz, ma.gm_low_db, ma.w180_low_hz, ma.bw_hz);
+	assert_true(fabs(m.gm_db - ma.gm_db) < 0.5);
+	assert_true(fabs(m.w180_hz / ma.w180_hz - 1) < 0.02);
 	assert_true(fabs(m.wc_hz / ma.wc_hz - 1) < 0.01);
 	assert_true(fabs(m.pm_deg - ma.pm_deg) < 0.5);
 	assert_true(fabs(m.gm_low_db - ma.gm_low_db) < 0.2);

@@ -136,6 +136,12 @@ static int make_points(struct chirp_ctx *c)
 	return 0;
 }
 
+/* The card's timing back (after a fault, before the way back). */
+static int undo_timing(struct tune_move *m)
+{
+	return tune_chirp_timing_apply(m, &((struct chirp_ctx *)m)->timing, 0);
+}
+
 /* All in one run of batches: with a coarse period of one servo cycle a
  * few records of lead alone would run out while the host comes back. */
 static int move(struct tune_move *m)
@@ -194,7 +200,8 @@ static int analyse(struct chirp_ctx *c, unsigned int rec, struct tune_fr *fr)
 int tune_chirp(struct sh2000 *h, const struct tune_opts *o,
 	       struct tune_fr *fr)
 {
-	struct chirp_ctx c = { .m = { .h = h, .o = o, .a = o->axis, .name = "chirp" } };
+	struct chirp_ctx c = { .m = { .h = h, .o = o, .a = o->axis, .name = "chirp",
+				      .undo = undo_timing } };
 	unsigned int rec = 0;
 	int r;
 

@@ -151,8 +151,11 @@ int tune_move_recover(struct tune_move *s, int fault)
 	if ((r = sh2000_reset(s->h)) < 0 ||
 	    (r = sh2000_param_set(s->h, s->a, SH2000_P_FERR_LIMIT, s->ferr0)) < 0 ||
 	    (r = sh2000_param_set(s->h, s->a, SH2000_P_DAC_LIMIT, s->dac0)) < 0 ||
-	    (r = sh2000_enable(s->h, 1u << s->a)) < 0 ||
-	    (r = sh2000_run_path_config(s->h, &s->pc)) < 0)
+	    (r = sh2000_enable(s->h, 1u << s->a)) < 0)
+		return tune_move_fail(s, r, "recovering");
+	if (s->undo && (r = s->undo(s)))
+		return r;
+	if ((r = sh2000_run_path_config(s->h, &s->pc)) < 0)
 		return tune_move_fail(s, r, "recovering");
 	sh2000_run_config_default(&rc);
 	r = sh2000_run_create(&run, s->h, &s->pc, &rc, err, sizeof(err));

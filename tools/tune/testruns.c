@@ -242,7 +242,7 @@ int tune_run_chirp(struct sh2000 *h, const struct tune_opts *o)
 		tune_margins(&fr, &m);
 		chirp_report(o, &fr, &m);
 		if (fr.dac_saturated)
-			sh2000_tool_msg("%s: the DAC reached its bound during the sweep: the response is not linear there (a smaller --amplitude)",
+			sh2000_tool_msg("%s: the DAC reached its bound during the sweep: the response is not linear there (a smaller --amplitude or --accel)",
 					sh2000_device(h));
 	}
 	r = after(h, o->axis, r, (double)st.axis[o->axis].cmd_counts);

@@ -119,6 +119,10 @@ struct tune_move {
 	double ferr0, dac0;	/* the card's limits before the test */
 	double dac_bound;	/* |DAC| on the card during the test */
 	int enabled_by_us;
+	/* what the test changed on the card beyond the limits, undone after
+	 * a following-error fault before the way back (NULL: nothing): an
+	 * exit code */
+	int (*undo)(struct tune_move *s);
 };
 
 int tune_move_fail(struct tune_move *s, int r, const char *what);

@@ -215,6 +215,8 @@ int tune_chirp(struct sh2000 *h, const struct tune_opts *o,
 		goto out;
 	}
 	fr->servo_s = c.m.pc.period_s / c.m.pc.fine_steps;
+	fr->coarse_s = c.m.pc.period_s;
+	fr->sweep_coarse_s = c.timing.coarse_us * 1e-6;
 	fr->counts_per_mm = c.m.pc.counts_per_mm[c.m.a];
 	if ((r = tune_move_lower_limits(&c.m)))
 		goto out;

@@ -206,6 +206,9 @@ static void chirp_report(const struct tune_opts *o, const struct tune_fr *fr,
 	       g->kp, g->ti, g->td);
 	printf("response                %zu frequencies, sampled every %g ms\n",
 	       fr->n, fr->sample_s * 1e3);
+	if (fr->sweep_coarse_s != fr->coarse_s)
+		printf("coarse period           %g ms for the sweep (the card's %g ms put back)\n",
+		       fr->sweep_coarse_s * 1e3, fr->coarse_s * 1e3);
 	if (isnan(m->wc_hz))
 		printf("crossover               none measured (the loop gain does not fall through 0 dB)\n");
 	else

@@ -215,6 +215,8 @@ struct tune_fr {
 	struct tune_gains gains;
 	double servo_s;		/* the card's servo period */
 	double sample_s;	/* the record's sample period */
+	double coarse_s;	/* the card's coarse period */
+	double sweep_coarse_s;	/* the one the sweep ran at (chirptiming.c) */
 	double counts_per_mm;
 	double peak_dac;	/* max |DAC - its rest| in the record */
 	int dac_saturated;	/* the DAC reached the test's bound */

@@ -136,7 +136,8 @@ static int make_points(struct chirp_ctx *c)
 	return 0;
 }
 
-/* The card's timing back (after a fault, before the way back). */
+/* The card's timing back (after the sweep; after a fault before the way
+ * back). */
 static int undo_timing(struct tune_move *m)
 {
 	return tune_chirp_timing_apply(m, &((struct chirp_ctx *)m)->timing, 0);
@@ -230,18 +231,9 @@ int tune_chirp(struct sh2000 *h, const struct tune_opts *o,
 		tune_move_restore(&c.m);
 		goto out;
 	}
-	r = tune_move_arm(&c.m, 1u << SH2000_GS_SETPOINT | 1u << SH2000_GS_ENCODER |
+	r = tune_move_run(&c.m, 1u << SH2000_GS_SETPOINT | 1u << SH2000_GS_ENCODER |
 			  1u << SH2000_GS_DAC,
-			  (LEAD_PERIODS + c.npts + c.tail) * c.m.pc.period_s, &rec);
-	if (r) {
-		tune_chirp_timing_apply(&c.m, &c.timing, 0);
-		tune_move_restore(&c.m);
-		goto out;
-	}
-	r = tune_move_run(&c.m, move);
-	if ((c.timing.cur_fine != c.timing.fine0 || c.timing.cur_coarse_us != c.timing.coarse0_us) &&
-	    tune_chirp_timing_apply(&c.m, &c.timing, 0) && !r)
-		r = SH2000_EXIT_CARD;
+			  (LEAD_PERIODS + c.npts + c.tail) * c.m.pc.period_s, &rec, move);
 	if (!r)
 		r = analyse(&c, rec, fr);
 out:

@@ -156,25 +156,14 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 	return tune_check_options(o);
 }
 
-static int write_csv(const struct tune_trace *tr, const char *path)
+static void step_csv(FILE *m, const void *ctx)
 {
-	char *text = NULL;
-	size_t len = 0;
-	FILE *m = open_memstream(&text, &len);
-	int r;
+	const struct tune_trace *tr = ctx;
 
-	if (!m) {
-		sh2000_tool_msg("--csv %s: out of memory", path);
-		return SH2000_EXIT_CARD;
-	}
 	fprintf(m, "time[s],setpoint[counts],encoder[counts],dac[DAC codes]\n");
 	for (size_t i = 0; i < tr->n; i++)
 		fprintf(m, "%.9g,%.10g,%.10g,%.10g\n", tr->t[i], tr->sp[i],
 			tr->enc[i], tr->dac[i]);
-	fclose(m);
-	r = sh2000_tool_write_text(path, text, len);
-	free(text);
-	return r;
 }
 
 static void report(const struct tune_opts *o, const struct tune_trace *tr,
@@ -229,7 +218,7 @@ int main(int argc, char **argv)
 		r = SH2000_EXIT_CARD;
 	}
 	if (!r && o.csv)
-		r = write_csv(&tr, o.csv);
+		r = tune_write_csv(o.csv, step_csv, &tr);
 	if (!r && o.plot) {
 		snprintf(title, sizeof(title), "%s axis %c: step of %g mm",
 			 sh2000_device(h), sh2000_tool_axis_name(o.axis), o.step_mm);

@@ -204,14 +204,9 @@ int tune_ramp(struct sh2000 *h, const struct tune_opts *o,
 	rp->accel_mms2 = c.a;
 	if ((r = make_points(&c)) || (r = tune_move_lower_limits(&c.m)))
 		goto out;
-	r = tune_move_arm(&c.m, 1u << SH2000_GS_SETPOINT | 1u << SH2000_GS_ENCODER |
+	r = tune_move_run(&c.m, 1u << SH2000_GS_SETPOINT | 1u << SH2000_GS_ENCODER |
 			  1u << SH2000_GS_FERR | 1u << SH2000_GS_DAC,
-			  (LEAD_PERIODS + c.npts + c.hold) * c.m.pc.period_s, &rec);
-	if (r) {
-		tune_move_restore(&c.m);
-		goto out;
-	}
-	r = tune_move_run(&c.m, move);
+			  (LEAD_PERIODS + c.npts + c.hold) * c.m.pc.period_s, &rec, move);
 	if (!r)
 		r = to_ramp(&c, rec, rp);
 out:

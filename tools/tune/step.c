@@ -114,14 +114,9 @@ int tune_step(struct sh2000 *h, const struct tune_opts *o,
 	if ((r = tune_move_lower_limits(&s.m)))
 		goto out;
 	s.hold = (unsigned int)ceil(o->hold_s / s.m.pc.period_s);
-	r = tune_move_arm(&s.m, 1u << SH2000_GS_SETPOINT | 1u << SH2000_GS_ENCODER |
+	r = tune_move_run(&s.m, 1u << SH2000_GS_SETPOINT | 1u << SH2000_GS_ENCODER |
 			  1u << SH2000_GS_DAC,
-			  (LEAD_PERIODS + s.hold) * s.m.pc.period_s, &rec);
-	if (r) {
-		tune_move_restore(&s.m);
-		goto out;
-	}
-	r = tune_move_run(&s.m, move);
+			  (LEAD_PERIODS + s.hold) * s.m.pc.period_s, &rec, move);
 	if (!r)
 		r = to_trace(&s, rec, tr);
 out:

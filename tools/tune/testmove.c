@@ -214,10 +214,25 @@ int tune_move_read(struct tune_move *s, unsigned int rec,
 	return 0;
 }
 
-int tune_move_run(struct tune_move *s, int (*move)(struct tune_move *s))
+/* What the test changed back: its own (undo), then the limits. */
+static int put_back(struct tune_move *s)
 {
-	int r = move(s);
+	int u = s->undo ? s->undo(s) : 0;
+	int r = tune_move_restore(s);
 
+	return u ? u : r;
+}
+
+int tune_move_run(struct tune_move *s, unsigned int signals, double span_s,
+		  unsigned int *rec, int (*move)(struct tune_move *s))
+{
+	int r = tune_move_arm(s, signals, span_s, rec);
+
+	if (r) {
+		put_back(s);
+		return r;
+	}
+	r = move(s);
 	if (r == -SH2000_EFERR) {
 		/* the bound the user set: back to the start */
 		sh2000_gather_stop(s->h);
@@ -231,10 +246,10 @@ int tune_move_run(struct tune_move *s, int (*move)(struct tune_move *s))
 		snprintf(what, sizeof(what), "%s test", s->name);
 		r = tune_move_fail(s, r, what);
 		sh2000_gather_stop(s->h);
-		tune_move_restore(s);
+		put_back(s);
 		return r;
 	}
-	return tune_move_restore(s);
+	return put_back(s);
 }
 
 void tune_move_end(struct tune_move *s)

@@ -105,9 +105,8 @@ static int after(struct sh2000 *h, unsigned int axis, int r, double start)
 	return r;
 }
 
-/* Writes what fn prints into a memory stream to path: an exit code. */
-static int write_csv(const char *path, void (*fn)(FILE *m, const void *ctx),
-		     const void *ctx)
+int tune_write_csv(const char *path, void (*fn)(FILE *m, const void *ctx),
+		   const void *ctx)
 {
 	char *text = NULL;
 	size_t len = 0;
@@ -166,7 +165,7 @@ int tune_run_ramp(struct sh2000 *h, const struct tune_opts *o)
 	}
 	r = after(h, o->axis, r, rp.start);
 	if (!r && o->csv)
-		r = write_csv(o->csv, ramp_csv, &rp);
+		r = tune_write_csv(o->csv, ramp_csv, &rp);
 	if (!r && o->plot) {
 		snprintf(title, sizeof(title), "%s axis %c: ramp at %g mm/s",
 			 sh2000_device(h), sh2000_tool_axis_name(o->axis), o->ramp_mms);
@@ -250,7 +249,7 @@ int tune_run_chirp(struct sh2000 *h, const struct tune_opts *o)
 	}
 	r = after(h, o->axis, r, (double)st.axis[o->axis].cmd_counts);
 	if (!r && o->csv)
-		r = write_csv(o->csv, chirp_csv, &fr);
+		r = tune_write_csv(o->csv, chirp_csv, &fr);
 	if (!r && o->plot) {
 		snprintf(title, sizeof(title), "%s axis %c: chirp %g-%g Hz, %g mm",
 			 sh2000_device(h), sh2000_tool_axis_name(o->axis), o->f0_hz,

@@ -98,6 +98,10 @@ int tune_parse_option(int c, const char *v, struct tune_opts *o);
 int tune_check_options(struct tune_opts *o);
 /* The axis' set-point is back at start (printed): an exit code. */
 int tune_check_back(struct sh2000 *h, unsigned int axis, double start);
+/* What fn prints, written to path whole (through a memory stream, so a
+ * failure leaves no half file): an exit code. */
+int tune_write_csv(const char *path, void (*fn)(FILE *m, const void *ctx),
+		   const void *ctx);
 /* Run, report, write and draw the ramp and chirp tests: an exit code. */
 int tune_run_ramp(struct sh2000 *h, const struct tune_opts *o);
 int tune_run_chirp(struct sh2000 *h, const struct tune_opts *o);
@@ -120,8 +124,8 @@ struct tune_move {
 	double dac_bound;	/* |DAC| on the card during the test */
 	int enabled_by_us;
 	/* what the test changed on the card beyond the limits, undone after
-	 * a following-error fault before the way back (NULL: nothing): an
-	 * exit code */
+	 * it (after a following-error fault before the way back; NULL:
+	 * nothing): an exit code */
 	int (*undo)(struct tune_move *s);
 };
 
@@ -149,10 +153,12 @@ int tune_move_arm(struct tune_move *s, unsigned int signals, double span_s,
  * it): an exit code. */
 int tune_move_read(struct tune_move *s, unsigned int rec,
 		   struct sh2000_gather_info *gi, double **values);
-/* move(s) (pushes, waits until idle: a library code), then the limits
- * back; after a following-error fault the axis back at its start
- * (TUNE_EXIT_ABORTED): an exit code. */
-int tune_move_run(struct tune_move *s, int (*move)(struct tune_move *s));
+/* Arm the record (tune_move_arm), move(s) (pushes, waits until idle: a
+ * library code), then undo and the limits back, whatever happened; after
+ * a following-error fault the axis back at its start (TUNE_EXIT_ABORTED):
+ * an exit code. */
+int tune_move_run(struct tune_move *s, unsigned int signals, double span_s,
+		  unsigned int *rec, int (*move)(struct tune_move *s));
 /* The axis disabled again if the test enabled it. */
 void tune_move_end(struct tune_move *s);
 

@@ -5,18 +5,7 @@
 # with the axis back at its start, the DAC bound, the bounds that refuse
 # before anything moves, usage errors (exit 2), and gnuplot missing.
 . "$(dirname "$0")/../ctl/testlib.sh"
-: "${TUNE:?TUNE must name sh2000-tune}"
-S=(-d sim)
-
-# figure NAME: the number after NAME in the last stdout
-figure() {
-	printf '%s\n' "$out" | sed -n "s/^$1 *\([-0-9.]*\).*/\1/p"
-}
-
-# close A B TOL: |A - B| <= TOL
-close() {
-	awk -v a="$1" -v b="$2" -v e="$3" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(a != "" && b != "" && d <= e) }'
-}
+. "$(dirname "$0")/tunelib.sh"
 
 # ---- ramp ----
 expect 0 "$TUNE" "${S[@]}" x --ramp 100 --enable --csv "$T/r.csv" --plot "$T/r.png" &&
@@ -35,9 +24,7 @@ read -r cpeak crms cacc < <(awk -F, 'NR == 1 { next }
 checks=$((checks + 1))
 close "$peak" "$cpeak" 0.005 && close "$rms" "$crms" 0.005 && close "$acc" "$cacc" 0.005 ||
 	fail "ramp report ($peak, $rms, $acc counts) is not the CSV's ($cpeak, $crms, $cacc)"
-checks=$((checks + 1))
-[ "$(head -c 8 "$T/r.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] ||
-	fail "--plot did not write a PNG"
+is_png "$T/r.png"
 # the other way, a shorter travel given
 expect 0 "$TUNE" "${S[@]}" y --ramp -50 --travel 3 --enable &&
 	out_has '^axis y: ramp -50 mm/s over 3 mm' && out_has '^back at the start +0\.000000 mm$'
@@ -75,9 +62,7 @@ awk -v w="$wc" -v p="$pm" -v g="$gm" 'BEGIN { exit !(w > 90 && w < 115 && p > 60
 	fail "implausible loop: crossover $wc Hz, PM $pm deg, GM $gm dB"
 checks=$((checks + 1))
 [ "$(wc -l < "$T/c.csv")" = 49 ] || fail "--csv: $(wc -l < "$T/c.csv") lines, expected 1 + 48"
-checks=$((checks + 1))
-[ "$(head -c 8 "$T/c.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] ||
-	fail "--plot did not write a PNG"
+is_png "$T/c.png"
 expect 0 "$TUNE" "${S[@]}" z --chirp 10:150 --enable --plot "$T/c.svg" &&
 	out_has '^gain margin +none measured up to 150 Hz'
 checks=$((checks + 1))

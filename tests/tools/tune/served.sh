@@ -22,7 +22,7 @@ expect 5 "$TUNE" "${S[@]}" x --step -0.5 --ferr-max 0.0002 &&
 expect 0 "$CTL" "${S[@]}" params x ferr_limit dac_limit
 checks=$((checks + 1))
 [ "$out" = "$before" ] || fail "limits after the abort: $out, before: $before"
-# the ramp and a chirp that shortens the coarse period (to 1 ms for
+# the ramp and a chirp that shortens the coarse period (to 0.5 ms for
 # 400 Hz; a served card runs in real time, so not to one servo cycle):
 # the limits and the card's timing as they were, the axis at its start
 expect 0 "$CTL" "${S[@]}" params global coarse_period_us fine_steps

@@ -1,0 +1,259 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * What every test move of sh2000-tune shares (step.c, ramp.c, chirp.c):
+ * the card idle and unfaulted with the axis enabled before anything moves;
+ * the user's following-error and DAC bounds lowered onto the card for the
+ * test and put back afterwards whatever happened; raw coarse points pushed
+ * in batches the ring has room for; a gather record armed on the motion's
+ * start and read out whole; and after a following-error fault, a reset and
+ * the planner (libsh2000-motion's runner) taking the axis back to where it
+ * started.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <sh2000/path.h>
+#include <sh2000/run.h>
+
+#include "tune.h"
+
+#define PRETRIGGER	10
+/* Records pushed at a time: a quarter of the ring, so that with a short
+ * coarse period (a fast sweep, 100 us) the ring still holds the time a
+ * batch takes to write while the host waits for room for the next. */
+#define PUSH_BATCH	16	/* of the ring's 64 */
+
+int tune_move_fail(struct tune_move *s, int r, const char *what)
+{
+	return sh2000_tool_fail(s->h, r, what);
+}
+
+int tune_move_push(struct tune_move *s, const int32_t *v, unsigned int n,
+		   unsigned int flags)
+{
+	int32_t pts[PUSH_BATCH][SH2000_AXES];
+	int r = 0;
+
+	while (n) {
+		unsigned int k = n < PUSH_BATCH ? n : PUSH_BATCH;
+
+		for (unsigned int i = 0; i < k; i++) {
+			memcpy(pts[i], s->p, sizeof(pts[i]));
+			pts[i][s->a] = v[i];
+		}
+		r = sh2000_wait_space(s->h, k, 5000);
+		if (r >= 0)
+			r = sh2000_push_counts(s->h, (const int32_t (*)[SH2000_AXES])pts,
+					       k, k == n ? flags : 0);
+		if (r < 0)
+			return r;
+		v += k;
+		n -= k;
+	}
+	return 0;
+}
+
+int tune_move_hold(struct tune_move *s, int32_t v, unsigned int n,
+		   unsigned int flags)
+{
+	int32_t pts[32];
+	int r = 0;
+
+	for (unsigned int i = 0; i < 32; i++)
+		pts[i] = v;
+	while (n && r >= 0) {
+		unsigned int k = n < 32 ? n : 32;
+
+		n -= k;
+		r = tune_move_push(s, pts, k, n ? 0 : flags);
+	}
+	return r;
+}
+
+int tune_move_prepare(struct tune_move *s)
+{
+	char an = sh2000_tool_axis_name(s->a);
+	struct sh2000_status st;
+	int r;
+
+	if ((r = sh2000_poll(s->h, &st)) < 0 || (r = sh2000_status_error(s->h, &st)) < 0)
+		return tune_move_fail(s, r, "cannot test");
+	if (st.card_state != SH2000_STATE_IDLE) {
+		sh2000_tool_msg("%s: card is %s, not idle: nothing moved",
+				sh2000_device(s->h), sh2000_state_name(st.card_state));
+		return SH2000_EXIT_CARD;
+	}
+	if (!(st.axis[s->a].state & SH2000_AXIS_ENABLED)) {
+		if (!s->o->enable) {
+			sh2000_tool_msg("%s: axis %c is not enabled (sh2000ctl enable %c, or --enable): nothing moved",
+					sh2000_device(s->h), an, an);
+			return SH2000_EXIT_CARD;
+		}
+		if ((r = sh2000_enable(s->h, 1u << s->a)) < 0)
+			return tune_move_fail(s, r, "enable");
+		s->enabled_by_us = 1;
+		if ((r = sh2000_poll(s->h, &st)) < 0)
+			return tune_move_fail(s, r, "status");
+	}
+	if ((r = sh2000_run_path_config(s->h, &s->pc)) < 0)
+		return tune_move_fail(s, r, "get parameter");
+	for (unsigned int a = 0; a < SH2000_AXES; a++)
+		s->p[a] = (int32_t)st.axis[a].cmd_counts;
+	s->start = s->p[s->a];
+	s->vlim = s->pc.vmax[s->a];
+	if (s->o->vmax > 0 && s->o->vmax < s->vlim)
+		s->vlim = s->o->vmax;
+	return 0;
+}
+
+int tune_move_lower_limits(struct tune_move *s)
+{
+	double ferr, dac;
+	int r;
+
+	if ((r = sh2000_param_get(s->h, s->a, SH2000_P_FERR_LIMIT, &s->ferr0)) < 0 ||
+	    (r = sh2000_param_get(s->h, s->a, SH2000_P_DAC_LIMIT, &s->dac0)) < 0)
+		return tune_move_fail(s, r, "get parameter");
+	ferr = s->o->ferr_max_mm < s->ferr0 ? s->o->ferr_max_mm : s->ferr0;
+	dac = s->o->dac_max > 0 && s->o->dac_max < s->dac0 ? s->o->dac_max : s->dac0;
+	s->dac_bound = dac;
+	r = sh2000_param_set(s->h, s->a, SH2000_P_FERR_LIMIT, ferr);
+	if (r >= 0) {
+		r = sh2000_param_set(s->h, s->a, SH2000_P_DAC_LIMIT, dac);
+		if (r < 0)
+			sh2000_param_set(s->h, s->a, SH2000_P_FERR_LIMIT, s->ferr0);
+	}
+	return r < 0 ? tune_move_fail(s, r, "set parameter") : 0;
+}
+
+int tune_move_restore(struct tune_move *s)
+{
+	int r = sh2000_param_set(s->h, s->a, SH2000_P_FERR_LIMIT, s->ferr0);
+
+	if (r >= 0)
+		r = sh2000_param_set(s->h, s->a, SH2000_P_DAC_LIMIT, s->dac0);
+	return r < 0 ? tune_move_fail(s, r, "restoring the limits") : 0;
+}
+
+int tune_move_recover(struct tune_move *s, int fault)
+{
+	struct sh2000_run_config rc;
+	struct sh2000_run *run = NULL;
+	double target[SH2000_AXES];
+	char err[512] = "";
+	int r;
+
+	sh2000_tool_msg("%s: %s test aborted: %s (limit %g mm during the test); returning to the start",
+			sh2000_device(s->h), s->name, sh2000_strerror(fault),
+			s->o->ferr_max_mm < s->ferr0 ? s->o->ferr_max_mm : s->ferr0);
+	if ((r = sh2000_reset(s->h)) < 0 ||
+	    (r = sh2000_param_set(s->h, s->a, SH2000_P_FERR_LIMIT, s->ferr0)) < 0 ||
+	    (r = sh2000_param_set(s->h, s->a, SH2000_P_DAC_LIMIT, s->dac0)) < 0 ||
+	    (r = sh2000_enable(s->h, 1u << s->a)) < 0)
+		return tune_move_fail(s, r, "recovering");
+	if (s->undo && (r = s->undo(s)))
+		return r;
+	if ((r = sh2000_run_path_config(s->h, &s->pc)) < 0)
+		return tune_move_fail(s, r, "recovering");
+	sh2000_run_config_default(&rc);
+	r = sh2000_run_create(&run, s->h, &s->pc, &rc, err, sizeof(err));
+	if (r < 0) {
+		sh2000_tool_msg("%s", err);
+		return sh2000_tool_exit_code(r);
+	}
+	memcpy(target, s->pc.start, sizeof(target));
+	target[s->a] = s->start / s->pc.counts_per_mm[s->a];
+	r = sh2000_path_move_abs(sh2000_run_path(run), target, 0);
+	if (r >= 0)
+		r = sh2000_run_finish(run);
+	if (r < 0)
+		sh2000_tool_msg("%s", sh2000_run_error(run));
+	sh2000_run_destroy(run);
+	return r < 0 ? sh2000_tool_exit_code(r) : TUNE_EXIT_ABORTED;
+}
+
+int tune_move_arm(struct tune_move *s, unsigned int signals, double span_s,
+		  unsigned int *rec)
+{
+	struct sh2000_gather_config gc;
+	double servo = s->pc.period_s / s->pc.fine_steps;
+	unsigned int nsig = (unsigned int)__builtin_popcount(signals);
+	unsigned int max = SH2000_GATHER_BUFFER_VALUES / nsig - PRETRIGGER;
+	int r;
+
+	sh2000_gather_config_default(&gc);
+	gc.signals[s->a] = signals;
+	gc.period = (unsigned int)ceil(span_s / servo / max);
+	gc.samples = (uint32_t)ceil(span_s / (servo * gc.period)) + PRETRIGGER;
+	gc.trigger = SH2000_GATHER_ON_MOTION;
+	gc.pretrigger = PRETRIGGER;
+	r = sh2000_gather_start(s->h, &gc);
+	if (r < 0)
+		return tune_move_fail(s, r, "gather");
+	*rec = (unsigned int)r;
+	return 0;
+}
+
+int tune_move_read(struct tune_move *s, unsigned int rec,
+		   struct sh2000_gather_info *gi, double **values)
+{
+	int r;
+
+	*values = NULL;
+	if ((r = sh2000_gather_wait(s->h, rec, gi, 10000)) < 0)
+		return tune_move_fail(s, r, "gather");
+	*values = malloc(sizeof(**values) * gi->values * (gi->samples + 1));
+	r = *values ? sh2000_gather_read(s->h, gi, 0, gi->samples, *values) : -12;
+	if (r < 0) {
+		free(*values);
+		*values = NULL;
+		return tune_move_fail(s, r, "gather");
+	}
+	return 0;
+}
+
+/* What the test changed back: its own (undo), then the limits. */
+static int put_back(struct tune_move *s)
+{
+	int u = s->undo ? s->undo(s) : 0;
+	int r = tune_move_restore(s);
+
+	return u ? u : r;
+}
+
+int tune_move_run(struct tune_move *s, unsigned int signals, double span_s,
+		  unsigned int *rec, int (*move)(struct tune_move *s))
+{
+	int r = tune_move_arm(s, signals, span_s, rec);
+
+	if (r) {
+		put_back(s);
+		return r;
+	}
+	r = move(s);
+	if (r == -SH2000_EFERR) {
+		/* the bound the user set: back to the start */
+		sh2000_gather_stop(s->h);
+		return tune_move_recover(s, r);
+	}
+	if (r < 0) {
+		/* anything else (an emergency stop, another fault) is the
+		 * operator's or the machine's: left as it is */
+		char what[32];
+
+		snprintf(what, sizeof(what), "%s test", s->name);
+		r = tune_move_fail(s, r, what);
+		sh2000_gather_stop(s->h);
+		put_back(s);
+		return r;
+	}
+	return put_back(s);
+}
+
+void tune_move_end(struct tune_move *s)
+{
+	if (s->enabled_by_us)
+		sh2000_disable(s->h, 1u << s->a);
+}

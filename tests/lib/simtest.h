@@ -3,6 +3,7 @@
 #ifndef SH2000_TEST_SIMTEST_H
 #define SH2000_TEST_SIMTEST_H
 
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -73,6 +74,70 @@ static inline int simtest_line(struct sh2000 *h, int32_t p[SH2000_AXES],
 		done += k;
 	}
 	return r;
+}
+
+/* The RAM word a RAM flip hits in the record pushed last, given the ring's
+ * HEAD (the number of the next record): its first position word. */
+static inline unsigned int simtest_last_record_word(uint64_t head)
+{
+	return SH2000_W_RING_BASE +
+	       (unsigned int)((head - 1) % SH2000_RING_RECORDS) *
+	       SH2000_RECORD_WORDS + SH2000_REC_POS_LO(0);
+}
+
+/*
+ * The fault matrices' LinuxCNC-style host: one record per coarse period
+ * (2 ms) on a fixed schedule, speeding up along X to `feed` mm/s in 20
+ * periods and keeping `ahead` records queued, as a servo thread pushes.
+ * at(ctx) runs once, right after record `at_point` was pushed. Ends with
+ * the first error (a poll, the card's status, a push, a sleep), or 0
+ * after max_points records.
+ */
+struct simtest_period {
+	double feed;
+	unsigned int ahead, at_point, max_points;
+	void (*at)(void *ctx);
+	void *ctx;
+};
+
+static inline int simtest_period(struct sh2000 *h,
+				 const struct simtest_period *c)
+{
+	const double step_mm = c->feed * 0.002, scale = 1e5;
+	struct sh2000_status st;
+	int32_t p[SH2000_AXES];
+	double x = 0.0, v = 0.0;
+	uint64_t next, now;
+	unsigned int i = 0;
+	int e = 0;
+
+	simtest_cmd(h, p);
+	next = sh2000_now_ns(h);
+	while (i < c->max_points && !e) {
+		e = sh2000_poll(h, &st);
+		if (!e)
+			e = sh2000_status_error(h, &st);
+		if (e)
+			break;
+		do {
+			v = v + step_mm / 20.0 < step_mm ? v + step_mm / 20.0 :
+							   step_mm;
+			x += v;
+			p[0] = (int32_t)llround(x * scale);
+			e = sh2000_push_counts(h,
+					       (const int32_t (*)[SH2000_AXES])&p,
+					       1, 0);
+			if (e > 0)
+				e = 0;
+			if (!e && ++i == c->at_point)
+				c->at(c->ctx);
+		} while (!e && ++st.queue_fill < c->ahead);
+		next += 2000000ull;
+		now = sh2000_now_ns(h);
+		if (!e && next > now)
+			e = sh2000_sleep_ns(h, next - now);
+	}
+	return e;
 }
 
 #endif

@@ -214,28 +214,3 @@ int served_activity(struct sh2000 *h, enum served_activity a,
 	return a == ACT_IDLE ? act_idle(h, c) :
 	       a == ACT_RUN ? act_run(h, c) : simtest_period(h, &pc);
 }
-
-void served_next_run(struct sh2000 *h)
-{
-	struct sh2000_path_config pc;
-	struct sh2000_status st;
-	struct sh2000_run *r;
-	double end[4];
-	char msg[256];
-	unsigned int a;
-
-	CHECK(sh2000_reset(h));
-	CHECK(sh2000_enable(h, 0xf));
-	CHECK(sh2000_run_path_config(h, &pc));
-	if (sh2000_run_create(&r, h, &pc, NULL, msg, sizeof(msg)) < 0)
-		fail_msg("next run: %s", msg);
-	for (a = 0; a < 4; a++)
-		end[a] = pc.start[a] + (a == 1 ? 5.0 : 0.0);
-	CHECK(sh2000_path_line(sh2000_run_path(r), end, 50.0));
-	if (sh2000_run_finish(r) != 0)
-		fail_msg("next run: %s", sh2000_run_error(r));
-	CHECK(sh2000_poll(h, &st));
-	assert_int_equal(st.card_state, SH2000_STATE_IDLE);
-	assert_true(fabs(st.axis[1].cmd_mm - end[1]) < 1e-5);
-	sh2000_run_destroy(r);
-}

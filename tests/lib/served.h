@@ -3,8 +3,7 @@
  * Helpers of the real-time fault matrices (docs/faults.md) on a served card
  * (sim:NAME): the card served by a child process that injects faults on
  * request, the host activities of the matrix (idle, a run, one record per
- * period) with a hook at the fault's moment, and the next run after a
- * reset. lib_matrix_shm, lib_matrix_cross and lib_matrix_tools use them.
+ * period) with a hook at the fault's moment. lib_matrix_shm, lib_matrix_cross and lib_matrix_tools use them.
  */
 #ifndef SH2000_TEST_SERVED_H
 #define SH2000_TEST_SERVED_H
@@ -67,9 +66,5 @@ struct served_act {
  * SERVED_AT_POINT records (idle: at once). Returns the error. */
 int served_activity(struct sh2000 *h, enum served_activity a,
 		    struct served_act *c);
-
-/* Reset, enable, a 5 mm line along Y at 50 mm/s: it must end idle at
- * its end. */
-void served_next_run(struct sh2000 *h);
 
 #endif

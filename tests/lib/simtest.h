@@ -15,6 +15,7 @@
 #include "sh2000/sh2000.h"
 #include "sh2000/sh2000_protocol.h"
 #include "sh2000/sim.h"
+#include "sh2000/run.h"
 
 #define CHECK(call) do { \
 	int r_ = (call); \
@@ -138,6 +139,33 @@ static inline int simtest_period(struct sh2000 *h,
 			e = sh2000_sleep_ns(h, next - now);
 	}
 	return e;
+}
+
+/* After a fault: reset, enable, a 5 mm line along Y at 50 mm/s through
+ * the runner; it must end idle at its end. */
+static inline void simtest_next_run(struct sh2000 *h)
+{
+	struct sh2000_path_config pc;
+	struct sh2000_status st;
+	struct sh2000_run *r;
+	double end[4];
+	char msg[256];
+	unsigned int a;
+
+	CHECK(sh2000_reset(h));
+	CHECK(sh2000_enable(h, 0xf));
+	CHECK(sh2000_run_path_config(h, &pc));
+	if (sh2000_run_create(&r, h, &pc, NULL, msg, sizeof(msg)) < 0)
+		fail_msg("next run: %s", msg);
+	for (a = 0; a < 4; a++)
+		end[a] = pc.start[a] + (a == 1 ? 5.0 : 0.0);
+	CHECK(sh2000_path_line(sh2000_run_path(r), end, 50.0));
+	if (sh2000_run_finish(r) != 0)
+		fail_msg("next run: %s", sh2000_run_error(r));
+	CHECK(sh2000_poll(h, &st));
+	assert_int_equal(st.card_state, SH2000_STATE_IDLE);
+	assert_true(fabs(st.axis[1].cmd_mm - end[1]) < 1e-5);
+	sh2000_run_destroy(r);
 }
 
 #endif

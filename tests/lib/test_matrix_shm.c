@@ -153,7 +153,7 @@ static int host_killed_once(enum served_activity a, int quiet)
 	c->ran = 1;
 	/* the dead host's motion lock is free at once */
 	CHECK(sh2000_claim_motion(h));
-	served_next_run(h);
+	simtest_next_run(h);
 	sh2000_close(h);
 	sh2000_sim_server_destroy(s);
 	close(go[1]);
@@ -251,7 +251,7 @@ static void server_killed(enum served_activity a)
 	/* a new server takes the name the dead one left */
 	served_spawn(&card, dev);
 	h = served_open(dev);
-	served_next_run(h);
+	simtest_next_run(h);
 	sh2000_close(h);
 	served_end(&card);
 }

@@ -29,13 +29,19 @@ extern char **environ;
 #define STILL_MS	100.0	/* the card at rest this long: the cell ends */
 #define CELL_MS		3000.0	/* longest a cell may take after the fault */
 /*
- * A tool's way out after it learnt the fault (its emergency stop's
- * acknowledgement, the message, closing the handle, the process's end) is
- * a few ms on an idle machine; at a load average of 14 on 2 cores it took
- * up to 70 ms more. The exit bounds allow this much on top of
- * SERVED_SLACK_MS.
+ * A tool is a process of its own: what waits on it (its exit; the card's
+ * stop when the tool must stop it, after a stopped heartbeat) also waits
+ * for it to be scheduled, and for its way out (the emergency stop's
+ * acknowledgement, the message, the end of a process). A few ms on an idle
+ * machine; at a load average of 15 on 2 cores up to 70 ms more. Those
+ * bounds allow this much on top of SERVED_SLACK_MS.
  */
-#define TOOL_EXIT_MS	100.0
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+/* the tools built with the sanitizers run 2..3 times slower */
+#define TOOL_SLACK_MS	250.0
+#else
+#define TOOL_SLACK_MS	100.0
+#endif
 
 enum tool { T_MOVE, T_UPLOAD, TOOLS };
 
@@ -50,6 +56,7 @@ struct fault {
 	int exit_code;		/* the tool's status (-N: killed by signal N) */
 	const char *says;	/* in the tool's message */
 	int latched;		/* what the card's status names afterwards */
+	int tool_stops;		/* the card stops when the tool stops it */
 	/* documented bounds (docs/faults.md), ms after the injection: the
 	 * set-point at rest, the tool's exit */
 	double stop_ms, exit_ms;
@@ -63,21 +70,21 @@ struct fault {
  */
 static const struct fault faults[] = {
 	{ "heartbeat stop", SH2000_INJECT_HEARTBEAT_STOP, 1, "heartbeat",
-	  -SH2000_EESTOP, HB_MS + 6.0, HB_MS + 6.0 },
+	  -SH2000_EESTOP, 1, HB_MS + 6.0, HB_MS + 6.0 },
 	{ "DSP stall", SH2000_INJECT_DSP_STALL, 1, "heartbeat",
-	  -SH2000_EESTOP, 0.0, HB_MS + 16.0 },
+	  -SH2000_EESTOP, 0, 0.0, HB_MS + 16.0 },
 	{ "RAM word flip", SH2000_INJECT_RAM_FLIP, 4, "rejected",
-	  -SH2000_EREJECTED, 150.0, 156.0 },
+	  -SH2000_EREJECTED, 0, 150.0, 156.0 },
 	{ "axis jam", SH2000_INJECT_JAM, 4, "following error",
-	  -SH2000_EFERR, 30.0, 36.0 },
+	  -SH2000_EFERR, 0, 30.0, 36.0 },
 	{ "limit switch", SH2000_INJECT_LIMIT, 4, "limit switch",
-	  -SH2000_EHARD_LIMIT, 23.0, 8.0 },
+	  -SH2000_EHARD_LIMIT, 0, 23.0, 8.0 },
 	{ "segment drop", SH2000_INJECT_DROP_SEGMENT, 4, "rejected",
-	  -SH2000_EREJECTED, 150.0, 156.0 },
+	  -SH2000_EREJECTED, 0, 150.0, 156.0 },
 	{ "counter glitch", SH2000_INJECT_COUNTER_GLITCH, 4, "counter",
-	  -SH2000_ECOUNTER, 23.0, 8.0 },
+	  -SH2000_ECOUNTER, 0, 23.0, 8.0 },
 	{ "tool SIGKILL", KILL_TOOL, -SIGKILL, NULL,
-	  -SH2000_EHOST_TIMEOUT, 100.0 + 21.0, 0.0 },
+	  -SH2000_EHOST_TIMEOUT, 0, 100.0 + 21.0, 0.0 },
 };
 
 #define NFAULTS (sizeof(faults) / sizeof(faults[0]))
@@ -230,8 +237,13 @@ static int moved(struct watch *w)
 	CHECK(sh2000_ram_read(h, SH2000_W_AXIS_STATE(0), SH2000_AXES, ax));
 	for (unsigned int a = 0; a < SH2000_AXES; a++) {
 		if (p.axis[a].fine_cmd != w->cmd[a] &&
-		    (ax[a] & SH2000_AXIS_ENABLED))
+		    (ax[a] & SH2000_AXIS_ENABLED)) {
 			m = 1;
+			if (served_now_ms() - w->t_inj > CELL_MS - 1.0)
+				fprintf(stderr, "state %u: axis %u moved %.1f counts, v %.0f counts/s, dac %d, state 0x%04x\n",
+					p.state, a, p.axis[a].fine_cmd - w->cmd[a],
+					p.axis[a].velocity, p.axis[a].dac, ax[a]);
+		}
 		w->cmd[a] = p.axis[a].fine_cmd;
 	}
 	return m;
@@ -298,9 +310,9 @@ static void watch_after(struct watch *w)
 		if (t - w->t_inj > CELL_MS) {
 			if (!w->exited)
 				kill(w->tool, SIGKILL);
-			fail_msg("%s: %s after %.0f ms", w->f->name,
+			fail_msg("%s: %s after %.0f ms (tool status %d)", w->f->name,
 				 w->exited ? "the card still moves" :
-				 "the tool has not exited", CELL_MS);
+				 "the tool has not exited", CELL_MS, w->status);
 		}
 		nanosleep(&tick, NULL);
 	}
@@ -448,6 +460,7 @@ static void tool_cell(unsigned int fi, enum tool t)
 {
 	const struct fault *f = &faults[fi];
 	const struct cell *c = &cells[fi][t];
+	double slack;
 	int tries = 0;
 
 	while (!tool_cell_once(fi, t))
@@ -458,15 +471,16 @@ static void tool_cell(unsigned int fi, enum tool t)
 		fail_msg("%s / %s: the card names %d (%s), expected %d", f->name,
 			 tool_name[t], c->named, sh2000_strerror(c->named),
 			 f->latched);
-	if (c->stop_ms > f->stop_ms + SERVED_SLACK_MS)
+	slack = SERVED_SLACK_MS + (f->tool_stops ? TOOL_SLACK_MS : 0.0);
+	if (c->stop_ms > f->stop_ms + slack)
 		fail_msg("%s / %s: set-point moved %.1f ms after the fault (bound %.1f + %.0f; the watcher woke up to %.1f ms late)",
-			 f->name, tool_name[t], c->stop_ms, f->stop_ms,
-			 SERVED_SLACK_MS, c->late_ms);
-	if (f->what != KILL_TOOL &&
-	    c->exit_ms > f->exit_ms + SERVED_SLACK_MS + TOOL_EXIT_MS)
-		fail_msg("%s / %s: the tool exited %.1f ms after the fault (bound %.1f + %.0f + %.0f; the watcher woke up to %.1f ms late)",
-			 f->name, tool_name[t], c->exit_ms, f->exit_ms,
-			 SERVED_SLACK_MS, TOOL_EXIT_MS, c->late_ms);
+			 f->name, tool_name[t], c->stop_ms, f->stop_ms, slack,
+			 c->late_ms);
+	slack = SERVED_SLACK_MS + TOOL_SLACK_MS;
+	if (f->what != KILL_TOOL && c->exit_ms > f->exit_ms + slack)
+		fail_msg("%s / %s: the tool exited %.1f ms after the fault (bound %.1f + %.0f; the watcher woke up to %.1f ms late)",
+			 f->name, tool_name[t], c->exit_ms, f->exit_ms, slack,
+			 c->late_ms);
 }
 
 static void test_tools(void **state)
@@ -504,7 +518,19 @@ static void print_table(void)
 
 static int setup(void **state)
 {
+	const char *asan = getenv("ASAN_OPTIONS");
+	char opts[512];
+
 	(void)state;
+	/*
+	 * In a sanitizer build LeakSanitizer scans a tool's memory as it
+	 * exits: 0.5 s at a load average of 14, not the tool's way out. The
+	 * tools' own tests (tests/tools) check their leaks; here the exit is
+	 * timed. The test itself read its options when it started.
+	 */
+	snprintf(opts, sizeof(opts), "%s%sdetect_leaks=0", asan ? asan : "",
+		 asan && *asan ? ":" : "");
+	setenv("ASAN_OPTIONS", opts, 1);
 	if (!mkdtemp(workdir))
 		return -1;
 	write_file("line.ngc", "G21 G90 G17 F6000\nG1 X200\nM2\n");

@@ -27,12 +27,18 @@ void served_name(char *buf, size_t len, const char *what)
 	snprintf(buf, len, "sim:mx-%s-%d", what, (int)getpid());
 }
 
+/* A server just started may not have run its first cycle within the
+ * heartbeat limit on a loaded machine: that is tried again (1 s). */
 struct sh2000 *served_open(const char *dev)
 {
+	const struct timespec pause_50ms = { 0, 50000000 };
 	struct sh2000 *h = NULL;
 	char msg[256];
-	int r = sh2000_open(&h, dev, msg, sizeof(msg));
+	int r, tries = 0;
 
+	while ((r = sh2000_open(&h, dev, msg, sizeof(msg))) ==
+	       -SH2000_EHEARTBEAT && ++tries < 20)
+		nanosleep(&pause_50ms, NULL);
 	if (r < 0)
 		fail_msg("open %s: %s", dev, msg);
 	return h;

@@ -475,7 +475,8 @@ static void tool_cell(unsigned int fi, enum tool t)
 	/* the tool's few wake-ups on its way out are each as late as the
 	 * watcher's worst at most: the machine's load during the cell */
 	tool = TOOL_SLACK_MS + 3.0 * c->late_ms;
-	slack = SERVED_SLACK_MS + (f->tool_stops ? tool : 0.0);
+	/* a watcher that woke up late saw the last move late */
+	slack = SERVED_SLACK_MS + c->late_ms + (f->tool_stops ? tool : 0.0);
 	if (c->stop_ms > f->stop_ms + slack)
 		fail_msg("%s / %s: set-point moved %.1f ms after the fault (bound %.1f + %.0f; the watcher woke up to %.1f ms late)",
 			 f->name, tool_name[t], c->stop_ms, f->stop_ms, slack,

@@ -92,10 +92,12 @@ double hsc_snap_time(const struct hsc_card *c)
  */
 void hsc_clock_offset(struct hsc_card *c, long late_ns)
 {
-	uint16_t age = (uint16_t)(c->st.heartbeat - (uint16_t)c->st.card_cycle);
+	/* the heartbeat is read before the snapshot, which may be a cycle
+	 * newer: no age then */
+	int16_t age = (int16_t)(c->st.heartbeat - (uint16_t)c->st.card_cycle);
 	double per = c->period_ns > 0 ? (double)c->period_ns : 1e6;
 	double host = (double)c->tick + (double)late_ns / per -
-		      (double)age * (double)c->servo_ns / per;
+		      (double)(age > 0 ? age : 0) * (double)c->servo_ns / per;
 	double off = host - c->snap_t;
 
 	if (!c->clock_off_valid || fabs(off - c->clock_off) > 2.0)

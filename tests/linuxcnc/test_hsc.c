@@ -7,7 +7,9 @@
  * sequence, that LinuxCNC's following error equals the card's own within
  * 1 um on a 200 mm/s move, the fill of the ring, the emergency stop both
  * ways, a jam as an amplifier fault, an underrun, a STOP from another
- * program and the reset that clears them.
+ * program and the reset that clears them; and two cards whose clocks are
+ * off by +-100 ppm in one thread (each ring's fill, the skew between
+ * their set-points).
  */
 #include <math.h>
 #include <setjmp.h>

@@ -33,9 +33,12 @@
  * heartbeat's quantisation and the read's jitter. */
 #define TB_KP		0.006
 #define TB_KI		0.00002
-/* A single phase reading this far from the last one is a late read or a
- * card that was descheduled for a moment, not the clock: skipped. */
+/* A phase reading this far from the last one is a late read or a served
+ * card that was descheduled and is catching up its cycles, not the clock:
+ * skipped, unless it stays off for TB_PERSIST readings (longer than a
+ * served card catches up: 50 ms). */
 #define TB_OUTLIER	0.3
+#define TB_PERSIST	100
 /* rtapi_app limits a correction to 1 % of the period. */
 #define TB_LIMIT	0.01
 /* A phase error this large is not drift: the card restarted, or the
@@ -101,6 +104,17 @@ int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 	x = (double)(tb->hb_ext - tb->hb0) / per_tick -
 	    (double)late_ns / (double)period_ns - tb->off;
 	eps = x - tb->clock;
+	/*
+	 * A transient is skipped before it is judged: taking a new reference
+	 * on it would move the thread's phase against card 0 once the card
+	 * caught up, and with it the delay of every point card 0 plays (its
+	 * skew against the other cards).
+	 */
+	if (fabs(eps - tb->phase) > TB_OUTLIER && tb->outliers < TB_PERSIST) {
+		tb->outliers++;
+		return 0;
+	}
+	tb->outliers = 0;
 	if (fabs(eps) > TB_RELOCK) {
 		/* the rate estimate (integ) stays: only the phase jumped */
 		tb->locked = 0;
@@ -108,11 +122,6 @@ int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 		tb->step = 1.0;
 		return 1;
 	}
-	if (fabs(eps - tb->phase) > TB_OUTLIER && tb->outliers < 10) {
-		tb->outliers++;
-		return 0;
-	}
-	tb->outliers = 0;
 	tb->phase = eps;
 	tb->integ = clamp(tb->integ + TB_KI * eps, TB_LIMIT);
 	y = TB_KP * eps + tb->integ;

@@ -228,7 +228,17 @@ static double card_time(const struct card *k, uint64_t cycle)
 	return k->a + (b0 + k->b) * (double)cycle;
 }
 
+#define WINDOWS		10	/* the run in tenths, for a timeline */
+
+struct window {
+	int mmin[2], mmax[2];		/* fill: medians of each second */
+	double skew_max, skew_sum;
+	long skews;
+};
+
 struct result {
+	double t_from, t_len;		/* the judged part of the run, ns */
+	struct window w[WINDOWS];
 	int fmin[2], fmax[2];		/* every snapshot */
 	int mmin[2], mmax[2];		/* the medians of each second */
 	long outside[2], counted[2];	/* snapshots beyond target +- 2 */
@@ -253,17 +263,33 @@ static int median(const long *hist, long n)
 	return FILL_MAX - 1;
 }
 
-static void median_min_max(int i, const long *hist, long n, struct result *res)
+/* The tenth of the run time t is in. */
+static struct window *window_at(struct result *res, double t)
 {
+	int w = (int)((t - res->t_from) / res->t_len * WINDOWS);
+
+	return &res->w[w < 0 ? 0 : w >= WINDOWS ? WINDOWS - 1 : w];
+}
+
+static void min_max(int v, int *lo, int *hi)
+{
+	if (v < *lo)
+		*lo = v;
+	if (v > *hi)
+		*hi = v;
+}
+
+static void median_min_max(int i, const long *hist, long n, double t,
+			   struct result *res)
+{
+	struct window *w = window_at(res, t);
 	int m;
 
 	if (!n)
 		return;
 	m = median(hist, n);
-	if (m < res->mmin[i])
-		res->mmin[i] = m;
-	if (m > res->mmax[i])
-		res->mmax[i] = m;
+	min_max(m, &res->mmin[i], &res->mmax[i]);
+	min_max(m, &w->mmin[i], &w->mmax[i]);
 }
 
 /*
@@ -293,7 +319,7 @@ static void judge_fill(const struct card *k, int i, double t_from, int target,
 			continue;
 		}
 		if (t >= win_end) {
-			median_min_max(i, hist, n, res);
+			median_min_max(i, hist, n, win_end - 1e9, res);
 			memset(hist, 0, sizeof(hist));
 			n = 0;
 			while (t >= win_end)
@@ -309,7 +335,7 @@ static void judge_fill(const struct card *k, int i, double t_from, int target,
 		if (f > res->fmax[i])
 			res->fmax[i] = f;
 	}
-	median_min_max(i, hist, n, res);
+	median_min_max(i, hist, n, win_end - 1e9, res);
 }
 
 /* Card 1's lag behind card 0 at each of its snapshots after t_from where
@@ -354,6 +380,14 @@ static void judge_skew(const struct card *k0, const struct card *k1,
 		res->skews++;
 		if (fabs(v) > res->skew_max)
 			res->skew_max = fabs(v);
+		{
+			struct window *w = window_at(res, t);
+
+			w->skew_sum += v;
+			w->skews++;
+			if (fabs(v) > w->skew_max)
+				w->skew_max = fabs(v);
+		}
 	}
 }
 
@@ -396,6 +430,12 @@ int main(int argc, char **argv)
 		nanosleep(&ts, NULL);
 	}
 	t_from = (double)t0 + warmup * 1e9;
+	res.t_from = t_from;
+	res.t_len = (seconds - warmup) * 1e9;
+	for (i = 0; i < WINDOWS; i++) {
+		res.w[i].mmin[0] = res.w[i].mmin[1] = 1 << 20;
+		res.w[i].mmax[0] = res.w[i].mmax[1] = -1;
+	}
 	for (i = 0; i < 2; i++) {
 		if (k[i].n < 100 || k[i].np < 2 * BLOCK) {
 			fprintf(stderr, "drift_probe: %s: too few snapshots (%zu)\n",
@@ -422,6 +462,16 @@ int main(int argc, char **argv)
 	       res.skew_max * 1e-3, res.skew_max / period,
 	       res.skew_sum / (double)res.skews * 1e-3, res.skews,
 	       res.vmin * 1e6);
+	for (i = 0; i < WINDOWS; i++) {
+		const struct window *w = &res.w[i];
+
+		printf("  %5.0f..%5.0f s: fill medians %d..%d and %d..%d, skew max |%.1f| us, mean %+.1f us\n",
+		       warmup + res.t_len * 1e-9 * i / WINDOWS,
+		       warmup + res.t_len * 1e-9 * (i + 1) / WINDOWS,
+		       w->mmin[0], w->mmax[0], w->mmin[1], w->mmax[1],
+		       w->skew_max * 1e-3,
+		       w->skews ? w->skew_sum / (double)w->skews * 1e-3 : 0.0);
+	}
 	printf("RESULT fill0 %d %d fill1 %d %d skew_us %.1f ppm0 %.1f ppm1 %.1f stopped %d\n",
 	       res.mmin[0], res.mmax[0], res.mmin[1], res.mmax[1],
 	       res.skew_max * 1e-3, ppm[0], ppm[1], res.stopped);

@@ -21,9 +21,9 @@
 /* How far the fill may stray from the target before the stream stalls
  * or drops a point (the clock correction normally keeps it within 1). */
 #define HSC_FILL_SLACK		8
-/* A further card's record may be pushed this much of a tick before the
- * command it holds (extrapolated from the last two ticks): about half a
- * tick centres its queue on the target like the first card's. */
+/* A record may be pushed this much of a tick before the command it holds
+ * (extrapolated from the last two ticks): half a tick centres the queue
+ * on the target. */
 #define HSC_LEAD		0.5
 /* Records pushed in one tick by the stream (a further card whose clock is
  * faster than the thread needs two now and then). */
@@ -91,6 +91,8 @@ struct hsc_timebase {
 	double integ;		/* PI integrator, records per tick */
 	double phase;		/* last phase error, records */
 	int outliers;		/* readings skipped in a row */
+	int settled;		/* ...of which the last agree */
+	double skipped;		/* the last skipped phase, records */
 	double rate;		/* card records per tick - 1 (estimate) */
 	double correction;	/* clock period correction, fraction */
 	double clock;		/* the clock the card is compared with,

@@ -35,9 +35,11 @@
 #define TB_KI		0.00002
 /* A phase reading this far from the last one is a late read or a served
  * card that was descheduled and is catching up its cycles, not the clock:
- * skipped, unless it stays off for TB_PERSIST readings (longer than a
- * served card catches up: 50 ms). */
+ * skipped, until TB_SETTLE readings in a row agree on a new phase (a card
+ * that restarted, the card's timing changed) or TB_PERSIST readings were
+ * skipped (longer than a served card catches up: 50 ms). */
 #define TB_OUTLIER	0.3
+#define TB_SETTLE	5
 #define TB_PERSIST	100
 /* rtapi_app limits a correction to 1 % of the period. */
 #define TB_LIMIT	0.01
@@ -105,14 +107,19 @@ int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 	    (double)late_ns / (double)period_ns - tb->off;
 	eps = x - tb->clock;
 	/*
-	 * A transient is skipped before it is judged: taking a new reference
-	 * on it would move the thread's phase against card 0 once the card
-	 * caught up, and with it the delay of every point card 0 plays (its
-	 * skew against the other cards).
+	 * A transient is skipped before it is judged: a new reference taken
+	 * in the middle of one would move the thread's phase against card 0
+	 * once the card caught up, and with it the delay of every point card
+	 * 0 plays (its skew against the other cards).
 	 */
 	if (fabs(eps - tb->phase) > TB_OUTLIER && tb->outliers < TB_PERSIST) {
+		/* readings that move (a card catching up) never settle */
+		tb->settled = tb->outliers && fabs(eps - tb->skipped) <= TB_OUTLIER ?
+			      tb->settled + 1 : 1;
+		tb->skipped = eps;
 		tb->outliers++;
-		return 0;
+		if (tb->settled < TB_SETTLE)
+			return 0;
 	}
 	tb->outliers = 0;
 	if (fabs(eps) > TB_RELOCK) {

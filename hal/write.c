@@ -205,7 +205,14 @@ static void start_stream(struct hsc_card *c, int target)
 	 * the card starts on the first and needs the next a coarse period
 	 * later */
 	c->rec_n = 0;
-	c->due = 0;
+	/*
+	 * The card starts on the batch when it lands, this tick's lateness
+	 * after the tick's start; the stream's schedule starts there too, so
+	 * every card plays the command with the same delay whenever its
+	 * stream started (the cards' skew).
+	 */
+	c->due = c->late_ns < c->period_ns ?
+		 -(double)c->late_ns / (double)c->period_ns : -1.0;
 	for (i = 0; i < target; i++)
 		push(c, c->last_cmd, (double)c->tick, 0);
 	c->streaming = c->sfault == HSC_SF_NONE;
@@ -217,14 +224,14 @@ static void start_stream(struct hsc_card *c, int target)
 /*
  * The stream after the first batch follows the card's clock
  * (timebase.c): the k-th record holds the command at the instant the
- * card's clock reached k - target + 1 coarse periods after the batch, so
- * the card plays the command at its own rate with a constant delay. For
- * the first card the thread itself follows its clock: one record per
- * tick, the tick's command. For a further card the virtual clock counts
- * its periods in the thread's time: about one record per tick, the
- * command interpolated between the last two ticks' (or extrapolated up
- * to HSC_LEAD of a tick, which keeps the queue centred like the first
- * card's), and now and then none or two.
+ * card's clock reached k - target + 1 coarse periods after the batch
+ * landed, so the card plays the command at its own rate with a constant
+ * delay. For the first card the thread itself follows its clock: one
+ * record per tick. For a further card the virtual clock counts its
+ * periods in the thread's time: about one record per tick, and now and
+ * then none or two. Either way the command is interpolated between the
+ * last two ticks' (or extrapolated up to HSC_LEAD of a tick, which keeps
+ * the queue centred).
  *
  * Only when that fails (a card that slipped, a thread that fell far
  * behind) does the stream stall a point or add one, which moves the

@@ -201,9 +201,6 @@ static void start_stream(struct hsc_card *c, int target)
 {
 	int i;
 
-	/* enough records ahead for a thread that is late, pushed at once:
-	 * the card starts on the first and needs the next a coarse period
-	 * later */
 	c->rec_n = 0;
 	/*
 	 * The card starts on the batch when it lands, this tick's lateness
@@ -213,6 +210,9 @@ static void start_stream(struct hsc_card *c, int target)
 	 */
 	c->due = c->late_ns < c->period_ns ?
 		 -(double)c->late_ns / (double)c->period_ns : -1.0;
+	/* enough records ahead for a thread that is late, pushed at once:
+	 * the card starts on the first and needs the next a coarse period
+	 * later */
 	for (i = 0; i < target; i++)
 		push(c, c->last_cmd, (double)c->tick, 0);
 	c->streaming = c->sfault == HSC_SF_NONE;

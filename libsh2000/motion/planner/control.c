@@ -219,7 +219,7 @@ static void follow(const struct ctl *c, double vt, double *ds, double *v,
 	*a = c->trap ? 0.0 : c->a;
 	pl_trans_plan(c->lim, c->v, *a, vt, &tr);
 	for (i = 0; i < (unsigned int)tr.n && t > 0.0; i++) {
-		double dt = fmin(t, tr.dur[i]);
+		double dt = pl_min(tr.dur[i], t);
 
 		if (c->trap)
 			*a = tr.acc[i];

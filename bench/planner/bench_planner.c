@@ -11,7 +11,7 @@
  *  - following error of the simulated axes on the circle, PID alone versus
  *    PID plus velocity and acceleration feed-forward;
  *  - coarse points planned per second on one core.
- * Usage: bench_planner
+ * Usage: bench_planner [throughput [lines|circles|freeform]]
  */
 #include <errno.h>
 #include <math.h>
@@ -387,24 +387,31 @@ static int card_contour(enum shape s, int raw, int ff, double *emax,
 }
 #endif
 
-static void print_throughput(void)
+/* The throughput table; only the cases whose name is `only` (lines,
+ * circles, freeform) when given: one case alone is what a profiler wants. */
+static void print_throughput(const char *only)
 {
-	int raw;
+	static const char *const name[] = { "lines", "circles", "freeform" };
+	static const char *const what[] = {
+		"20000 lines of 0.5 mm, 300 mm/s",
+		"200 NURBS circles R 5, 300 mm/s",
+		"100 free-form NURBS + lines",
+	};
+	int raw, k;
 
 	printf("Throughput (CPU time of this thread, sink discards the points):\n");
 	printf("%-40s %-12s %16s\n", "program", "output", "points/s");
-	for (raw = 1; raw >= 0; raw--) {
-		printf("%-40s %-12s %16.0f\n", "20000 lines of 0.5 mm, 300 mm/s",
-		       raw ? "raw" : "compensated", throughput(0, raw));
-		printf("%-40s %-12s %16.0f\n", "200 NURBS circles R 5, 300 mm/s",
-		       raw ? "raw" : "compensated", throughput(1, raw));
-		printf("%-40s %-12s %16.0f\n", "100 free-form NURBS + lines",
-		       raw ? "raw" : "compensated", throughput(2, raw));
-	}
+	for (raw = 1; raw >= 0; raw--)
+		for (k = 0; k < 3; k++)
+			if (!only || !strcmp(only, name[k]))
+				printf("%-40s %-12s %16.0f\n", what[k],
+				       raw ? "raw" : "compensated",
+				       throughput(k, raw));
 	printf("(real time needs %d points/s at a 2 ms period)\n", 500);
 }
 
-/* bench_planner [throughput]: everything, or the throughput table alone */
+/* bench_planner [throughput [lines|circles|freeform]]: everything, or the
+ * throughput table alone, or one of its cases */
 int main(int argc, char **argv)
 {
 	struct sh2000_path_stats st;
@@ -412,7 +419,7 @@ int main(int argc, char **argv)
 	int raw;
 
 	if (argc > 1 && !strcmp(argv[1], "throughput")) {
-		print_throughput();
+		print_throughput(argc > 2 ? argv[2] : NULL);
 		return 0;
 	}
 
@@ -498,6 +505,6 @@ card_done:
 	printf("Through the card model: not built (needs libsh2000).\n\n");
 #endif
 
-	print_throughput();
+	print_throughput(NULL);
 	return 0;
 }

@@ -31,8 +31,10 @@
 
 struct sh2000_bscomp {
 	unsigned int half, naxes, len;	/* len = 2 half + 1 */
-	double *w;		/* weights, index 0..half (|k|) */
-	double *q;		/* ring of len points */
+	double *w;		/* weights by window position 0..len-1 */
+	/* ring of len points, each stored twice (at i and i + len) so that
+	 * the window from the oldest is contiguous: no modulo per tap */
+	double *q;
 	unsigned int head;	/* oldest */
 	double *x0, *last;	/* rest point at start, last Q */
 	int emitting;		/* a point has left: no more skipping */
@@ -58,8 +60,8 @@ int sh2000_bscomp_create(struct sh2000_bscomp **out, unsigned int half,
 	c->half = half;
 	c->naxes = naxes;
 	c->len = 2 * half + 1;
-	c->w = calloc(half + 1, sizeof(double));
-	c->q = calloc((size_t)c->len * naxes, sizeof(double));
+	c->w = calloc(c->len, sizeof(double));
+	c->q = calloc((size_t)2 * c->len * naxes, sizeof(double));
 	c->x0 = calloc(naxes, sizeof(double));
 	c->last = calloc(naxes, sizeof(double));
 	c->tail = calloc((size_t)c->len * naxes, sizeof(double));
@@ -68,12 +70,14 @@ int sh2000_bscomp_create(struct sh2000_bscomp **out, unsigned int half,
 		return -ENOMEM;
 	}
 	for (k = 0; k <= half; k++) {
-		c->w[k] = w;
+		c->w[half + k] = w;
 		sum += k ? 2.0 * w : w;
 		w *= -r;
 	}
-	for (k = 0; k <= half; k++)
-		c->w[k] /= sum;
+	for (k = 0; k <= half; k++) {
+		c->w[half + k] /= sum;
+		c->w[half - k] = c->w[half + k];
+	}
 	*out = c;
 	return 0;
 }
@@ -94,7 +98,7 @@ void sh2000_bscomp_start(struct sh2000_bscomp *c, const double *x)
 {
 	unsigned int i;
 
-	for (i = 0; i < c->len; i++)
+	for (i = 0; i < 2 * c->len; i++)
 		memcpy(c->q + (size_t)i * c->naxes, x, c->naxes * sizeof(double));
 	memcpy(c->x0, x, c->naxes * sizeof(double));
 	memcpy(c->last, x, c->naxes * sizeof(double));
@@ -104,27 +108,28 @@ void sh2000_bscomp_start(struct sh2000_bscomp *c, const double *x)
 	c->ntail = c->itail = 0;
 }
 
-/* P at the centre of the window. */
+/* P at the centre of the window: the sum over the window from the oldest
+ * point, in that order on every axis (the same sums as ever). */
 static void centre(const struct sh2000_bscomp *c, double *p)
 {
+	const double *q = c->q + (size_t)c->head * c->naxes;
 	unsigned int ax, k;
 
 	for (ax = 0; ax < c->naxes; ax++) {
 		double s = 0.0;
 
-		for (k = 0; k < c->len; k++) {
-			unsigned int d = k > c->half ? k - c->half : c->half - k;
-
-			s += c->w[d] * c->q[(size_t)((c->head + k) % c->len) *
-					    c->naxes + ax];
-		}
+		for (k = 0; k < c->len; k++)
+			s += c->w[k] * q[(size_t)k * c->naxes + ax];
 		p[ax] = s;
 	}
 }
 
 static void shift_in(struct sh2000_bscomp *c, const double *q)
 {
-	memcpy(c->q + (size_t)c->head * c->naxes, q, c->naxes * sizeof(double));
+	size_t n = c->naxes * sizeof(double);
+
+	memcpy(c->q + (size_t)c->head * c->naxes, q, n);
+	memcpy(c->q + (size_t)(c->head + c->len) * c->naxes, q, n);
 	c->head = (c->head + 1) % c->len;
 }
 

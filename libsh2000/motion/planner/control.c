@@ -107,26 +107,6 @@ static int lower_ok(const struct ctl *c, double j)
 	return 1;
 }
 
-static int cons_ok(const struct ctl *c, double s, double v, double a);
-
-/* Every limit ahead can still be met: lower j is better here. */
-static int upper_ok(const struct ctl *c, double j)
-{
-	double s, v, a, pk, J = c->lim->J;
-
-	step_state(c, j, &s, &v, &a);
-	if (!c->trap && a > c->lim->A * (1.0 + 1e-12))
-		return 0;
-	pk = fmax(c->v, v);
-	if (!c->trap && c->a > 0.0 && a < 0.0)
-		pk = fmax(pk, c->v + c->a * c->a / (2.0 * fabs(j)));
-	if (pk > c->vcur + V_EPS)
-		return 0;
-	if (!c->trap && a > 0.0 && v + a * a / (2.0 * J) > c->vcur + V_EPS)
-		return 0;
-	return cons_ok(c, s, v, a);
-}
-
 /* The limits ahead, from the state reached after advancing s. */
 static int cons_ok(const struct ctl *c, double s, double v, double a)
 {
@@ -150,10 +130,12 @@ static int cons_ok(const struct ctl *c, double s, double v, double a)
 	return 1;
 }
 
-/* upper_ok() as a number: the least room any of its conditions leaves
- * after a step with jerk j (>= 0: every limit ahead still reachable). The
- * rooms are speeds or distances; only their signs and their zeros, where
- * the binding condition is just met, matter to the search. */
+/* Every limit ahead can still be met after a step with jerk j (lower j is
+ * better here) when this is >= 0: the least room any of the conditions
+ * leaves (no acceleration above A, no speed above the current limit
+ * within the step or on the way to a = 0, cons_ok() on the state
+ * reached). The rooms are speeds or distances; only their signs and their
+ * zeros, where the binding condition is just met, matter to the search. */
 static double upper_slack(const struct ctl *c, double j)
 {
 	double s, v, a, pk, J = c->lim->J, m;
@@ -161,7 +143,11 @@ static double upper_slack(const struct ctl *c, double j)
 
 	step_state(c, j, &s, &v, &a);
 	m = c->trap ? INFINITY : c->lim->A * (1.0 + 1e-12) - a;
-	pk = pl_max(c->v, v);
+	/* the speed at the start counts only when it is too high: as a
+	 * constant room it would hide how the others change with j */
+	if (c->v > c->vcur + V_EPS)
+		m = pl_min(m, c->vcur + V_EPS - c->v);
+	pk = v;
 	if (!c->trap && c->a > 0.0 && a < 0.0)
 		pk = pl_max(pk, c->v + c->a * c->a / (2.0 * fabs(j)));
 	m = pl_min(m, c->vcur + V_EPS - pk);
@@ -182,39 +168,18 @@ static double upper_slack(const struct ctl *c, double j)
 	return m;
 }
 
-/* The highest jerk in [lo, hi] with upper_slack() >= 0, lo passing and hi
- * failing: false position with the Illinois fix, a bisection every third
- * step, down to 2J / 65536 -- the bisection's resolution in a few
- * evaluations instead of sixteen. */
-static double highest_jerk(const struct ctl *c, double lo, double hi)
+static double slack_at(const void *c, double j)
 {
-	double flo = upper_slack(c, lo), fhi = upper_slack(c, hi);
-	double tol = (hi - lo) / 65536.0;
-	int side = 0, it;
+	return upper_slack(c, j);
+}
 
-	for (it = 0; it < 40 && hi - lo > tol; it++) {
-		double m = it % 3 == 2 || !(flo - fhi > 0.0) ?
-			   0.5 * (lo + hi) : (lo * fhi - hi * flo) / (fhi - flo);
-		double fm;
-
-		if (!(m > lo && m < hi))
-			m = 0.5 * (lo + hi);
-		fm = upper_slack(c, m);
-		if (fm >= 0.0) {
-			lo = m;
-			flo = fm;
-			if (side > 0)
-				fhi *= 0.5;
-			side = 1;
-		} else {
-			hi = m;
-			fhi = fm;
-			if (side < 0)
-				flo *= 0.5;
-			side = -1;
-		}
-	}
-	return lo;
+/* The highest jerk in [lo, hi] with upper_slack() >= 0, lo passing (flo)
+ * and hi failing (fhi), to 2J / 65536 (search.c). */
+static double highest_jerk(const struct ctl *c, double lo, double hi,
+			   double flo, double fhi)
+{
+	return pl_highest_pass(slack_at, c, lo, hi, flo, fhi,
+			       (hi - lo) / 65536.0);
 }
 
 /* The speed of the limit that binds: the current one if it is exceeded,
@@ -254,7 +219,7 @@ static void follow(const struct ctl *c, double vt, double *ds, double *v,
 	*a = c->trap ? 0.0 : c->a;
 	pl_trans_plan(c->lim, c->v, *a, vt, &tr);
 	for (i = 0; i < (unsigned int)tr.n && t > 0.0; i++) {
-		double dt = fmin(t, tr.dur[i]);
+		double dt = pl_min(tr.dur[i], t);
 
 		if (c->trap)
 			*a = tr.acc[i];
@@ -396,9 +361,10 @@ static double bisect(const struct ctl *c, int (*ok)(const struct ctl *, double),
  */
 static void choose_step(const struct ctl *c, double *ds, double *v, double *a)
 {
-	double J = c->trap ? c->lim->A : c->lim->J, jl, jh;
+	double J = c->trap ? c->lim->A : c->lim->J, jl, jh, fJ, fl;
 
-	if (upper_ok(c, J) && lower_ok(c, J)) {
+	fJ = upper_slack(c, J);
+	if (fJ >= 0.0 && lower_ok(c, J)) {
 		step_state(c, J, ds, v, a);
 		if (c->trap)
 			*a = J;
@@ -412,7 +378,8 @@ static void choose_step(const struct ctl *c, double *ds, double *v, double *a)
 	/* the lowest jerk that does not run backwards ... */
 	jl = lower_ok(c, -J) ? -J : bisect(c, lower_ok, -J, J, 1);
 	/* ... and the highest that keeps every limit reachable */
-	jh = upper_ok(c, jl) ? highest_jerk(c, jl, J) : NAN;
+	fl = upper_slack(c, jl);
+	jh = fl >= 0.0 ? highest_jerk(c, jl, J, fl, fJ) : NAN;
 	if (isnan(jh) || !lower_ok(c, jh)) {
 		brake(c, ds, v, a);
 		return;

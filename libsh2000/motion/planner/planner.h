@@ -123,6 +123,12 @@ static inline void pl_integrate(double *s, double *v, double *a, double j,
 	*a += dt * j;
 }
 
+/* search.c: the highest x in [lo, hi] with f(x) >= 0, f non-increasing,
+ * f(lo) = flo >= 0 > fhi = f(hi), to within tol. */
+double pl_highest_pass(double (*f)(const void *ctx, double x), const void *ctx,
+		       double lo, double hi, double flo, double fhi,
+		       double tol);
+
 /* ---- the planner ------------------------------------------------------ */
 
 struct sh2000_bscomp;

@@ -34,7 +34,7 @@ void pl_trans_plan(const struct pl_limits *lim, double v, double a,
 	if (v1 >= vnat) {
 		/* ramp a up to ap, hold, ramp down to 0:
 		 * dv = (2 ap^2 - a^2) / 2J + ap th */
-		ap = sqrt(fmax(0.0, (2.0 * J * (v1 - v) + a * a) / 2.0));
+		ap = sqrt(pl_max((2.0 * J * (v1 - v) + a * a) / 2.0, 0.0));
 		th = 0.0;
 		if (ap > A) {
 			ap = A;
@@ -44,12 +44,12 @@ void pl_trans_plan(const struct pl_limits *lim, double v, double a,
 			ap = a;
 		tr->dur[0] = (ap - a) / J;
 		tr->jerk[0] = J;
-		tr->dur[1] = fmax(th, 0.0);
+		tr->dur[1] = pl_max(th, 0.0);
 		tr->jerk[1] = 0.0;
 		tr->dur[2] = ap / J;
 		tr->jerk[2] = -J;
 	} else {
-		ap = -sqrt(fmax(0.0, (2.0 * J * (v - v1) + a * a) / 2.0));
+		ap = -sqrt(pl_max((2.0 * J * (v - v1) + a * a) / 2.0, 0.0));
 		th = 0.0;
 		if (ap < -A) {
 			ap = -A;
@@ -59,7 +59,7 @@ void pl_trans_plan(const struct pl_limits *lim, double v, double a,
 			ap = a;
 		tr->dur[0] = (a - ap) / J;
 		tr->jerk[0] = -J;
-		tr->dur[1] = fmax(th, 0.0);
+		tr->dur[1] = pl_max(th, 0.0);
 		tr->jerk[1] = 0.0;
 		tr->dur[2] = -ap / J;
 		tr->jerk[2] = J;

@@ -30,6 +30,13 @@ struct tune_opts {
 	int enable;		/* enable the axis for the test, disable after */
 	const char *csv;	/* the record as CSV, or NULL */
 	const char *plot;	/* PNG or SVG, or NULL */
+	/* --auto (autotune.h): identify, design, then write or not */
+	int autotune;
+	double travel_mm;	/* the excitation stays within start +- this */
+	double bandwidth_hz;	/* 0: the design's default */
+	double margin_deg;
+	int apply, dry_run;
+	const char *save;	/* parameter file, or NULL */
 };
 
 /* A gathered step: times (s, 0 at the step's first set-point change) and
@@ -66,5 +73,13 @@ void tune_trace_free(struct tune_trace *tr);
  * exit code. */
 int tune_plot(const struct tune_trace *tr, const struct tune_metrics *m,
 	      const char *out, const char *title);
+
+/* The step's report, the check that the axis is back at its start (an
+ * exit code) and the CSV of a trace (an exit code): main.c. */
+void tune_report(const struct tune_opts *o, const struct tune_trace *tr,
+		 const struct tune_metrics *m);
+int tune_check_back(struct sh2000 *h, const struct tune_opts *o,
+		    const struct tune_trace *tr);
+int tune_write_csv(const struct tune_trace *tr, const char *path);
 
 #endif /* SH2000_TUNE_H */

@@ -1,0 +1,155 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * sh2000-tune --auto: identify the plant (ident.c: it moves the axis
+ * within the user's bounds and back), design PID + feed-forward for the
+ * bandwidth and margin asked (design.c), print the old and new gains with
+ * the margins each gives on the identified plant, then, as asked: nothing
+ * (--dry-run), a parameter file (--save), the gains on the card all or
+ * none (--apply) checked by a step test, and the step drawn (--plot; the
+ * old gains are put back after it unless --apply).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "autotune.h"
+#include "ident.h"
+#include "tune.h"
+
+static void print_plant(const struct tune_ident_result *r, char an)
+{
+	const struct tune_plant *pl = &r->plant;
+
+	printf("axis %c: identified from %.2f s of motion, at most %.3f mm from the start\n",
+	       an, r->seconds, r->amplitude_mm);
+	printf("plant gain g            %.6g counts/s^2 per DAC code\n", pl->g);
+	printf("friction pole b/m       %.4g 1/s\n", pl->p);
+	printf("dead time               %u servo cycles (%g ms)\n", pl->d,
+	       pl->d * pl->T * 1e3);
+	printf("fit residual            %.3g counts RMS (%.3g %% of the motion's, %zu samples)\n",
+	       pl->resid, pl->resid_rel * 100, pl->samples);
+}
+
+static void print_margins(const char *what, const struct tune_margins *m)
+{
+	printf("%-24s", what);
+	if (!m->stable) {
+		printf("unstable\n");
+		return;
+	}
+	printf("phase %.1f deg at %.1f Hz, gain ", m->pm_deg, m->wc_hz);
+	if (isinf(m->gm_db))
+		printf("infinite\n");
+	else
+		printf("%.1f dB at %.1f Hz\n", m->gm_db, m->wpc_hz);
+}
+
+static void print_gains(const struct tune_gains *o, const struct tune_gains *n)
+{
+	printf("gain        old             new\n");
+	printf("kp          %-15.6g %.6g    DAC codes/count\n", o->kp, n->kp);
+	printf("ti          %-15.6g %.6g    s\n", o->ti, n->ti);
+	printf("td          %-15.6g %.6g    s\n", o->td, n->td);
+	printf("kvff        %-15.6g %.6g    DAC codes per count/s\n", o->kvff, n->kvff);
+	printf("kaff        %-15.6g %.6g    DAC codes per count/s^2\n", o->kaff, n->kaff);
+}
+
+/* The step test with the gains now on the card, reported (and drawn). */
+static int check_step(struct sh2000 *h, const struct tune_opts *o)
+{
+	struct tune_opts so = *o;
+	struct tune_trace tr;
+	struct tune_metrics m;
+	char title[160];
+	int r;
+
+	if (so.step_mm == 0)
+		so.step_mm = TUNE_AUTO_STEP_MM;
+	printf("step test with the new gains:\n");
+	r = tune_step(h, &so, &tr);
+	if (!r) {
+		if (tune_metrics(&tr, &m) < 0)
+			sh2000_tool_msg("%s: the encoder never reached 90 %% of the step",
+					sh2000_device(h));
+		tune_report(&so, &tr, &m);
+		r = tune_check_back(h, &so, &tr);
+	}
+	if (!r && o->csv)
+		r = tune_write_csv(&tr, o->csv);
+	if (!r && o->plot) {
+		snprintf(title, sizeof(title), "%s axis %c: step of %g mm, auto-tuned gains",
+			 sh2000_device(h), sh2000_tool_axis_name(o->axis), so.step_mm);
+		r = tune_plot(&tr, &m, o->plot, title);
+	}
+	tune_trace_free(&tr);
+	return r;
+}
+
+/* The new gains on the card (all or none), the step test, and the old
+ * ones back unless they are to stay. */
+static int try_gains(struct sh2000 *h, const struct tune_opts *o,
+		     const struct tune_gains *old, const struct tune_gains *gn)
+{
+	char why[512];
+	int r, r2;
+
+	r = tune_gains_set(h, o->axis, gn, old, why, sizeof(why));
+	if (r < 0) {
+		sh2000_tool_msg("%s: the new gains were not applied: %s; the old gains are back",
+				sh2000_device(h), why);
+		return sh2000_tool_exit_code(r);
+	}
+	printf("%s\n", o->apply ? "the new gains are on the card" :
+	       "the new gains are on the card for the step test only");
+	r = check_step(h, o);
+	if (o->apply)
+		return r;
+	r2 = tune_gains_set(h, o->axis, old, gn, why, sizeof(why));
+	if (r2 < 0) {
+		sh2000_tool_msg("%s: the old gains could not be put back: %s",
+				sh2000_device(h), why);
+		return r ? r : sh2000_tool_exit_code(r2);
+	}
+	printf("the old gains are back on the card\n");
+	return r;
+}
+
+int tune_auto(struct sh2000 *h, const struct tune_opts *o)
+{
+	struct tune_design_req req = { o->bandwidth_hz, o->margin_deg };
+	struct tune_ident_result id;
+	struct tune_gains old, gn;
+	struct tune_margins mo, mn;
+	char why[512], an = sh2000_tool_axis_name(o->axis);
+	int r;
+
+	if ((r = tune_gains_get(h, o->axis, &old)) < 0)
+		return sh2000_tool_fail(h, r, "get parameter");
+	r = tune_ident(h, o, &id);
+	if (r)
+		return r;
+	print_plant(&id, an);
+	if (tune_design(&id.plant, &req, &gn, &mn, why, sizeof(why)) < 0) {
+		sh2000_tool_msg("%s: axis %c: %s; nothing written", sh2000_device(h),
+				an, why);
+		return SH2000_EXIT_CARD;
+	}
+	tune_margins_of(&id.plant, &old, &mo);
+	printf("design                  %.1f Hz crossover%s, phase margin %g deg asked\n",
+	       mn.wc_hz, o->bandwidth_hz > 0 ? "" : " (the default for this plant)",
+	       o->margin_deg);
+	print_gains(&old, &gn);
+	print_margins("predicted, old gains", &mo);
+	print_margins("predicted, new gains", &mn);
+	if (o->dry_run) {
+		printf("dry run: nothing written (the card's gains are as they were)\n");
+		return 0;
+	}
+	if (o->save && (r = tune_gains_save(o->save, sh2000_device(h), o->axis, &gn)))
+		return r;
+	if (o->save)
+		printf("saved to %s (sh2000ctl params load %s)\n", o->save, o->save);
+	if (o->apply || o->plot)
+		return try_gains(h, o, &old, &gn);
+	return 0;
+}

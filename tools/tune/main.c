@@ -129,7 +129,7 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 	o->ferr_max_mm = 0.1;
 	o->hold_s = 0.2;
 	o->margin_deg = TUNE_DEFAULT_MARGIN;
-	o->travel_mm = 2.0;
+	o->travel_mm = 0.1;
 	opterr = 0;
 	while (!r && (c = getopt_long(argc, argv, ":d:hV", lo, NULL)) != -1) {
 		switch (c) {

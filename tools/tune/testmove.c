@@ -18,6 +18,10 @@
 
 #include "testmove.h"
 
+/* The way back after a fault: this share of the velocity bound and of the
+ * axis' acceleration. */
+#define RECOVER_SLOWER 0.1
+
 int tune_move_fail(struct tune_move *s, int r, const char *what)
 {
 	return sh2000_tool_fail(s->h, r, what);
@@ -151,6 +155,8 @@ int tune_move_recover(struct tune_move *s, int fault, const char *test)
 	    (r = sh2000_enable(s->h, 1u << s->a)) < 0 ||
 	    (r = sh2000_run_path_config(s->h, &s->pc)) < 0)
 		return tune_move_fail(s, r, "recovering");
+	/* gently: the gains that just faulted may be far off */
+	s->pc.amax[s->a] *= RECOVER_SLOWER;
 	sh2000_run_config_default(&rc);
 	r = sh2000_run_create(&run, s->h, &s->pc, &rc, err, sizeof(err));
 	if (r < 0) {
@@ -159,7 +165,8 @@ int tune_move_recover(struct tune_move *s, int fault, const char *test)
 	}
 	memcpy(target, s->pc.start, sizeof(target));
 	target[s->a] = s->start / s->pc.counts_per_mm[s->a];
-	r = sh2000_path_move_abs(sh2000_run_path(run), target, 0);
+	r = sh2000_path_move_abs(sh2000_run_path(run), target,
+				 tune_move_vmax(s) * RECOVER_SLOWER);
 	if (r >= 0)
 		r = sh2000_run_finish(run);
 	if (r < 0)

@@ -16,8 +16,10 @@
  * mass: 6 m/s^2, so the planner slows that circle down). The following
  * error limit is 2 mm so that a slow loop is not taken for an unstable
  * one; the tuner's own test moves lower it to its 0.1 mm.
- * Usage: bench_tune [quick]   (quick: the first plant, coarse grid only is
- * not offered: the whole run takes a few minutes)
+ * Usage: bench_tune          the table (a few minutes of CPU)
+ *        bench_tune smoke    the default plant: tuned and both circles, no
+ *                            search; exit 1 unless the tuned circle is
+ *                            stable and better than the start (a ctest)
  */
 #include <math.h>
 #include <stdio.h>
@@ -108,7 +110,7 @@ static int autotune(struct sh2000 *h, struct row *w)
 	return 0;
 }
 
-static int one_plant(const struct plant_case *pc, struct row *w)
+static int one_plant(const struct plant_case *pc, struct row *w, int search)
 {
 	struct bench_machine m;
 	struct sh2000 *h = NULL;
@@ -123,7 +125,8 @@ static int one_plant(const struct plant_case *pc, struct row *w)
 	if (bench_card_open(&h, &m, &bad) == 0 && autotune(h, w) == 0 &&
 	    circle_with(&m, &bad, &w->init) == 0 &&
 	    circle_with(&m, &w->tuned, &w->autot) == 0 &&
-	    search_best(&m, &w->best, &w->search, &w->runs, &w->unstable_runs) == 0)
+	    (!search ||
+	     search_best(&m, &w->best, &w->search, &w->runs, &w->unstable_runs) == 0))
 		r = 0;
 	if (r)
 		fprintf(stderr, "bench_tune: %s: failed\n", pc->name);
@@ -148,13 +151,27 @@ static void print_gains(const char *what, const struct tune_gains *g)
 	       what, g->kp, g->ti, g->td, g->kvff, g->kaff);
 }
 
-int main(void)
+static int smoke(void)
+{
+	struct row w;
+
+	if (one_plant(&cases[0], &w, 0))
+		return 1;
+	printf("smoke (%s plant): circle max following error %.1f counts at the start, %.1f tuned%s; PM %.1f deg\n",
+	       cases[0].name, w.init.max_ferr, w.autot.max_ferr,
+	       w.autot.unstable ? " (UNSTABLE)" : "", w.m.pm_deg);
+	return !w.autot.unstable && w.autot.max_ferr < w.init.max_ferr ? 0 : 1;
+}
+
+int main(int argc, char **argv)
 {
 	struct row rows[3];
 	int fail = 0, ok = 1;
 
+	if (argc > 1 && !strcmp(argv[1], "smoke"))
+		return smoke();
 	for (unsigned int i = 0; i < 3; i++)
-		fail |= one_plant(&cases[i], &rows[i]);
+		fail |= one_plant(&cases[i], &rows[i], 1);
 	if (fail)
 		return 1;
 	printf("Auto-tuning benchmark: sh2000-tune --auto (default bandwidth, phase margin %g deg)\n"

@@ -11,7 +11,6 @@
  */
 #include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include <sh2000/sh2000_cardsim.h>
@@ -22,6 +21,7 @@
 #define ND 6
 #define NI 5
 #define NF 5
+#define KP_MAX 1000.0	/* the card's range of kp */
 
 struct grid {
 	double kp[7], td[7], ti[7], kvff[7], kaff[7];
@@ -41,13 +41,12 @@ static int search_grid(const struct bench_machine *m, const struct grid *G,
 					G->kvff[d], G->kaff[e] };
 		struct circle_result res;
 
+		if (g.kp > KP_MAX)	/* beyond what the card takes */
+			continue;
 		if (circle_with(m, &g, &res) < 0)
 			return -1;
 		(*runs)++;
 		if (res.unstable) {
-			if (getenv("BENCH_TUNE_DEBUG"))
-				fprintf(stderr, "unstable kp %g td %g ti %g: %s\n",
-					g.kp, g.td, g.ti, res.why);
 			(*unstable)++;
 			continue;
 		}

@@ -44,14 +44,24 @@ static void print_margins(const char *what, const struct tune_margins *m)
 		printf("%.1f dB at %.1f Hz\n", m->gm_db, m->wpc_hz);
 }
 
+/* Old and new, as the parameter file writes them (values that read
+ * back as the same binary32 the card keeps). */
 static void print_gains(const struct tune_gains *o, const struct tune_gains *n)
 {
+	static const unsigned int ids[] = { SH2000_P_KP, SH2000_P_TI, SH2000_P_TD,
+					    SH2000_P_KVFF, SH2000_P_KAFF };
+	const double ov[] = { o->kp, o->ti, o->td, o->kvff, o->kaff };
+	const double nv[] = { n->kp, n->ti, n->td, n->kvff, n->kaff };
+
 	printf("gain        old             new\n");
-	printf("kp          %-15.6g %.6g    DAC codes/count\n", o->kp, n->kp);
-	printf("ti          %-15.6g %.6g    s\n", o->ti, n->ti);
-	printf("td          %-15.6g %.6g    s\n", o->td, n->td);
-	printf("kvff        %-15.6g %.6g    DAC codes per count/s\n", o->kvff, n->kvff);
-	printf("kaff        %-15.6g %.6g    DAC codes per count/s^2\n", o->kaff, n->kaff);
+	for (unsigned int i = 0; i < 5; i++) {
+		char a[64], b[64];
+
+		sh2000_tool_param_format(a, sizeof(a), ids[i], ov[i]);
+		sh2000_tool_param_format(b, sizeof(b), ids[i], nv[i]);
+		printf("%-11s %-15s %-15s %s\n", sh2000_param_name(ids[i]), a, b,
+		       sh2000_param_unit(ids[i]));
+	}
 }
 
 /* The step test with the gains now on the card, reported (and drawn). */

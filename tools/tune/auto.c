@@ -5,8 +5,8 @@
  * bandwidth and margin asked (design.c), print the old and new gains with
  * the margins each gives on the identified plant, then, as asked: nothing
  * (--dry-run), a parameter file (--save), the gains on the card all or
- * none (--apply) checked by a step test, and the step drawn (--plot; the
- * old gains are put back after it unless --apply).
+ * none (--apply) checked by a step test, and the step drawn or written
+ * (--plot, --csv; the old gains are put back after it unless --apply).
  */
 #include <math.h>
 #include <stdio.h>
@@ -159,7 +159,7 @@ int tune_auto(struct sh2000 *h, const struct tune_opts *o)
 		return r;
 	if (o->save)
 		printf("saved to %s (sh2000ctl params load %s)\n", o->save, o->save);
-	if (o->apply || o->plot)
+	if (o->apply || o->plot || o->csv)
 		return try_gains(h, o, &old, &gn);
 	return 0;
 }

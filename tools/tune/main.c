@@ -59,8 +59,8 @@ static void usage(FILE *f)
 "                       (--step, default 0.01 mm) with them\n"
 "  --save FILE          the gains as a parameter file (sh2000ctl params load)\n"
 "  --dry-run            identify (it moves) and design, write nothing\n"
-"  --plot FILE          the step with the new gains (without --apply the old\n"
-"                       gains are put back after it)\n"
+"  --plot, --csv FILE   the step with the new gains (without --apply the\n"
+"                       old gains are put back after it)\n"
 "  -h, --help           this help\n"
 "  -V, --version        versions\n"
 "\n"
@@ -87,9 +87,10 @@ static int check_auto(const struct tune_opts *o, int auto_only)
 					 o->apply ? "apply" : o->save ? "save" :
 					 o->dry_run ? "dry-run" :
 					 auto_only ? "bandwidth, --margin or --travel" : "auto");
-	if (o->dry_run && (o->apply || o->save || o->plot))
+	if (o->dry_run && (o->apply || o->save || o->plot || o->csv))
 		return sh2000_tool_usage(NULL, "--dry-run writes nothing: not with --%s",
-					 o->apply ? "apply" : o->save ? "save" : "plot");
+					 o->apply ? "apply" : o->save ? "save" :
+					 o->plot ? "plot" : "csv");
 	if (o->margin_deg < 20 || o->margin_deg > 89)
 		return sh2000_tool_usage(NULL, "--margin: %g is not a phase margin 20..89 degrees",
 					 o->margin_deg);

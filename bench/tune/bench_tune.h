@@ -44,12 +44,22 @@ int circle_run(struct sh2000 *h, struct circle_result *res);
 int circle_with(const struct bench_machine *m, const struct tune_gains *g,
 		struct circle_result *res);
 
+/* Gains whose predicted phase margin (on the true plant) is below this
+ * are not admissible for the tuner: the search reports its best with
+ * and without them. */
+#define SEARCH_MIN_PM 45.0
+
+struct search_best {
+	struct circle_result any, pm;	/* best of all / of the admissible */
+	struct tune_gains any_gains, pm_gains;
+	struct tune_margins any_margins, pm_margins;
+	unsigned int runs, unstable;
+};
+
 /* The best gains by the circle's max following error: a coarse grid
- * around the true plant's values, then a finer one around the coarse
- * best, every run on a fresh card. *runs and *unstable count the runs.
- * 0 or -1. */
-int search_best(const struct bench_machine *m, struct tune_gains *best,
-		struct circle_result *res, unsigned int *runs,
-		unsigned int *unstable);
+ * around the true plant's values, then finer ones around the best of all
+ * and around the best admissible, every run on a fresh card (servo period
+ * 100 us, the card's default). 0 or -1. */
+int search_best(const struct bench_machine *m, struct search_best *sb);
 
 #endif /* BENCH_TUNE_H */

@@ -57,13 +57,15 @@ struct tune_design_req {
 };
 
 #define TUNE_DEFAULT_MARGIN 50.0
-/* Integral time against the crossover: Ti = TUNE_TI_RATIO / wc. */
-#define TUNE_TI_RATIO 6.0
-/* The default bandwidth (tune_default_bandwidth): the share of the most a
- * discrete PD can lead that the design uses, and the integral's lag at
- * the crossover (atan(1 / TUNE_TI_RATIO)). */
-#define TUNE_LEAD_SHARE 0.85
-#define TUNE_TI_LAG_DEG 9.5
+/* The least gain margin the design gives, dB. */
+#define TUNE_MIN_GM_DB 10.0
+/* The integral time against the crossover, Ti wc, the design chooses
+ * within (the integral's zero at most at the crossover: bench_tune
+ * measured 0.7 -> 3.3, 1 -> 2.6, 1.5 -> 3.0 counts on its circle, default
+ * plant); the crossover (theta = wc T) below a quarter of the servo rate. */
+#define TUNE_RATIO_MIN 1.0
+#define TUNE_RATIO_MAX 20.0
+#define TUNE_TH_MAX (M_PI / 2)
 
 /* ---- identification (identfit.c: pure) ---- */
 
@@ -80,17 +82,19 @@ int tune_ident_fit(const double *enc, const double *dac, size_t n, double T,
 
 /* ---- design (design.c: pure) ---- */
 
-/* The crossover the design takes by default for this plant and margin, Hz:
- * what a discrete PD can lead at it, less the delay's phase. */
+/* The crossover the design takes by default for this plant and margin,
+ * Hz (0: none keeps the margins). */
 double tune_default_bandwidth(const struct tune_plant *pl, double margin_deg);
 
 /*
- * PID gains giving a crossover of req->bandwidth_hz (or the default) with
- * the phase margin req->margin_deg on plant pl, and the plant's exact
- * inverse as feed-forward (kaff = 1/g, kvff = p/g). *m gets the predicted
- * margins of the result. 0, or -1 with the reason in why (no PID reaches
- * the margin at that bandwidth, or the predicted margin is below the one
- * asked): the gains are then not to be used.
+ * PID gains with the phase margin req->margin_deg at the crossover
+ * req->bandwidth_hz (0: the crossover is chosen too), a gain margin of at
+ * least TUNE_MIN_GM_DB and a stable closed loop, with the highest
+ * integral gain Kp/Ti (the least following error on a path, see
+ * design.c); the plant's exact inverse as feed-forward (kaff = 1/g,
+ * kvff = p/g). *m gets the predicted margins. 0, or -1 with the reason
+ * in why (no PID keeps the margins at that bandwidth): the gains are then
+ * not to be used.
  */
 int tune_design(const struct tune_plant *pl, const struct tune_design_req *req,
 		struct tune_gains *gn, struct tune_margins *m, char *why,

@@ -8,13 +8,15 @@
  * and the plant m a = kF u - b v sampled with the DAC held over the servo
  * cycle (zero-order hold, exact) and d cycles of dead time is
  *   P(z) = z^-d (b0 z + b1) / ((z - 1)(z - a)),  a = exp(-p T).
- * The design puts the crossover at the bandwidth asked with the phase
- * margin asked: Ti is tied to the crossover (TUNE_TI_RATIO), which leaves
- * C linear in Kp and Kp Td/tau, two unknowns for the two equations of
- * C(wc) = e^{j(-pi + PM - arg P)} / |P|. The feed-forward is the plant's
- * exact inverse. Margins are then measured on the whole frequency axis and
- * stability checked on the closed loop's characteristic polynomial, so a
- * second crossover or a conditionally stable loop cannot pass unseen.
+ * For a crossover wc and Ti = ratio / wc, C is linear in Kp and
+ * Kp Td/tau: two unknowns for the two equations of
+ * C(wc) = e^{j(-pi + PM - arg P)} / |P|, the phase margin asked at wc.
+ * Of those designs (wc given or searched, ratio searched) the design takes
+ * the one with the highest integral gain Kp/Ti whose margins hold:
+ * measured on the whole frequency axis (so a second crossover cannot pass
+ * unseen), the gain margin at least TUNE_MIN_GM_DB, and the closed loop's
+ * characteristic polynomial stable. The feed-forward is the plant's exact
+ * inverse.
  */
 #include <complex.h>
 #include <math.h>
@@ -179,45 +181,17 @@ void tune_margins_of(const struct tune_plant *pl, const struct tune_gains *gn,
 	m->stable = closed_loop_stable(pl, gn);
 }
 
-double tune_default_bandwidth(const struct tune_plant *pl, double margin_deg)
+/* Kp, Td and Ti for crossover theta = wc T with phase margin pm_deg and
+ * Ti = ratio / wc, and the feed-forward: 0, or -1 when no PID does it
+ * (Kp <= 0). */
+static int solve_at(const struct tune_plant *pl, double th, double ratio,
+		    double pm_deg, struct tune_gains *gn)
 {
-	/* A discrete PD leads at most (180 - theta)/2 degrees at theta = w T;
-	 * the design takes a share of that, pays the integral's lag, and the
-	 * delay costs (d + 1/2) theta (the hold's half cycle and the dead
-	 * time): theta where what is left is the margin. */
-	double th = (TUNE_LEAD_SHARE * 90 - TUNE_TI_LAG_DEG - margin_deg) /
-		    (TUNE_LEAD_SHARE * 0.5 + pl->d + 0.5);
+	double tau = pl->T, wc = th / tau, det, kd;
+	double complex P = plant_at(pl, th), A, D, Cs;
 
-	if (th < 0.2)
-		th = 0.2;
-	if (th > 30)
-		th = 30;
-	return th / DEG / (2 * M_PI * pl->T);
-}
-
-int tune_design(const struct tune_plant *pl, const struct tune_design_req *req,
-		struct tune_gains *gn, struct tune_margins *m, char *why,
-		size_t whylen)
-{
-	double hz = req->bandwidth_hz > 0 ? req->bandwidth_hz :
-		    tune_default_bandwidth(pl, req->margin_deg);
-	double wc = 2 * M_PI * hz, th = wc * pl->T, tau = pl->T, det, kd;
-	double complex P, A, D, Cs;
-
-	memset(gn, 0, sizeof(*gn));
-	if (!(pl->g > 0) || !(pl->p >= 0) || !(pl->T > 0)) {
-		snprintf(why, whylen, "the plant (gain %g, friction pole %g 1/s) is not a mass on a servo period",
-			 pl->g, pl->p);
-		return -1;
-	}
-	if (th >= M_PI * 0.5) {
-		snprintf(why, whylen, "a bandwidth of %g Hz is beyond a quarter of the servo rate (%g Hz)",
-			 hz, 0.25 / pl->T);
-		return -1;
-	}
-	P = plant_at(pl, th);
-	ctrl_parts(tau, TUNE_TI_RATIO / wc, th, &A, &D);
-	Cs = cexp(I * (-M_PI + req->margin_deg / DEG - carg(P))) / cabs(P);
+	ctrl_parts(tau, ratio / wc, th, &A, &D);
+	Cs = cexp(I * (-M_PI + pm_deg / DEG - carg(P))) / cabs(P);
 	/* Kp A + Kd D = Cs: two real equations */
 	det = creal(A) * cimag(D) - cimag(A) * creal(D);
 	gn->kp = (creal(Cs) * cimag(D) - cimag(Cs) * creal(D)) / det;
@@ -227,21 +201,126 @@ int tune_design(const struct tune_plant *pl, const struct tune_design_req *req,
 		kd = 0;
 		gn->kp = 1 / cabs(P * A);
 	}
-	gn->ti = TUNE_TI_RATIO / wc;
+	gn->ti = ratio / wc;
 	gn->td = gn->kp > 0 ? kd * tau / gn->kp : 0;
 	gn->kaff = 1 / pl->g;
 	gn->kvff = pl->p / pl->g;
+	return gn->kp > 0 && isfinite(gn->kp) && isfinite(gn->td) ? 0 : -1;
+}
+
+/* Gains the design may give: the asked phase margin over the whole
+ * frequency axis, the gain margin floor, a stable closed loop. */
+static int admissible(const struct tune_plant *pl, const struct tune_gains *gn,
+		      double pm_deg, struct tune_margins *m)
+{
 	tune_margins_of(pl, gn, m);
-	if (!(gn->kp > 0) || !isfinite(gn->td)) {
-		snprintf(why, whylen, "no PID reaches a phase margin of %g deg at %g Hz on this plant (its delay costs %.1f deg there): ask a lower --bandwidth or --margin",
-			 req->margin_deg, hz, (pl->d + 0.5) * th * DEG);
+	return m->stable && m->pm_deg >= pm_deg - 0.05 && m->gm_db >= TUNE_MIN_GM_DB;
+}
+
+struct candidate {
+	double th, ratio, ki;	/* ki = Kp/Ti: the figure of merit */
+	struct tune_gains g;
+	struct tune_margins m;
+};
+
+/* Try (th, ratio): keep it in *best when admissible with a higher ki. */
+static void try_at(const struct tune_plant *pl, double th, double ratio,
+		   double pm_deg, struct candidate *best)
+{
+	struct candidate c = { .th = th, .ratio = ratio };
+
+	if (th <= 0 || th >= TUNE_TH_MAX || ratio < TUNE_RATIO_MIN ||
+	    ratio > TUNE_RATIO_MAX || solve_at(pl, th, ratio, pm_deg, &c.g) < 0 ||
+	    !admissible(pl, &c.g, pm_deg, &c.m))
+		return;
+	c.ki = c.g.kp / c.g.ti;
+	if (c.ki > best->ki)
+		*best = c;
+}
+
+/*
+ * The PID with the highest integral gain Kp/Ti that keeps the margins:
+ * with the plant's inverse as feed-forward, what is left of the following
+ * error on a path is a disturbance at the path's low frequencies, which
+ * the loop divides by |L| ~ (Kp/Ti) g / w^3 there (the integral's share
+ * dominates). A grid over the ratio Ti wc (and over the crossover when
+ * fixed_th is 0), then a pattern search around the best.
+ */
+static struct candidate optimise(const struct tune_plant *pl, double fixed_th,
+				 double pm_deg)
+{
+	struct candidate best = { .ki = 0 };
+	double lo = log(1e-3), hi = log(TUNE_TH_MAX * 0.999);
+	double step_th = fixed_th > 0 ? 0 : 0.2, step_r = 0.2;
+	int nth = fixed_th > 0 ? 1 : 36;
+
+	for (int i = 0; i < nth; i++)
+		for (int k = 0; k < 16; k++)
+			try_at(pl, fixed_th > 0 ? fixed_th : exp(lo + (hi - lo) * i / (nth - 1)),
+			       TUNE_RATIO_MIN * pow(TUNE_RATIO_MAX / TUNE_RATIO_MIN, k / 15.0),
+			       pm_deg, &best);
+	for (int it = 0; best.ki > 0 && it < 40; it++) {
+		struct candidate before = best;
+
+		for (int a = -1; a <= 1; a++)
+			for (int b = -1; b <= 1; b++)
+				try_at(pl, before.th * exp(a * step_th),
+				       before.ratio * exp(b * step_r), pm_deg, &best);
+		if (best.ki == before.ki) {
+			step_th /= 2;
+			step_r /= 2;
+		}
+	}
+	return best;
+}
+
+double tune_default_bandwidth(const struct tune_plant *pl, double margin_deg)
+{
+	struct candidate c = optimise(pl, 0, margin_deg);
+
+	return c.ki > 0 ? c.th / (2 * M_PI * pl->T) : 0;
+}
+
+int tune_design(const struct tune_plant *pl, const struct tune_design_req *req,
+		struct tune_gains *gn, struct tune_margins *m, char *why,
+		size_t whylen)
+{
+	double th = 2 * M_PI * req->bandwidth_hz * pl->T;
+	struct candidate c;
+
+	memset(gn, 0, sizeof(*gn));
+	memset(m, 0, sizeof(*m));
+	if (!(pl->g > 0) || !(pl->p >= 0) || !(pl->T > 0)) {
+		snprintf(why, whylen, "the plant (gain %g, friction pole %g 1/s) is not a mass on a servo period",
+			 pl->g, pl->p);
 		return -1;
 	}
-	if (!m->stable || m->pm_deg < req->margin_deg - 0.05) {
-		snprintf(why, whylen, "the gains for %g Hz give a predicted phase margin of %.1f deg%s, below the %g deg asked: ask a lower --bandwidth or --margin",
-			 hz, m->pm_deg, m->stable ? "" : " and an unstable loop",
-			 req->margin_deg);
+	if (th >= TUNE_TH_MAX) {
+		snprintf(why, whylen, "a bandwidth of %g Hz is beyond a quarter of the servo rate (%g Hz)",
+			 req->bandwidth_hz, 0.25 / pl->T);
 		return -1;
 	}
+	c = optimise(pl, th, req->margin_deg);
+	if (!(c.ki > 0)) {
+		/* what the middle of the range would give, for the message */
+		struct tune_gains g;
+		struct tune_margins mm = { 0 };
+		double t = th > 0 ? th : 0.1;
+		int ok = solve_at(pl, t, 6, req->margin_deg, &g) == 0;
+
+		if (ok)
+			tune_margins_of(pl, &g, &mm);
+		if (!ok || mm.pm_deg < req->margin_deg - 0.05 || !mm.stable)
+			snprintf(why, whylen, "no PID reaches a phase margin of %g deg at %g Hz on this plant (its delay costs %.1f deg there): ask a lower --bandwidth or --margin",
+				 req->margin_deg, t / (2 * M_PI * pl->T),
+				 (pl->d + 0.5) * t * DEG);
+		else
+			snprintf(why, whylen, "the gains for %g Hz with a phase margin of %g deg leave a gain margin of %.1f dB, below %g dB: ask a lower --bandwidth or --margin",
+				 t / (2 * M_PI * pl->T), req->margin_deg, mm.gm_db,
+				 TUNE_MIN_GM_DB);
+		return -1;
+	}
+	*gn = c.g;
+	*m = c.m;
 	return 0;
 }

@@ -81,6 +81,9 @@ int hsc_open(struct hsc_card *c, int index, const char *device, char *msg,
 	c->last_faults = st.card_faults;
 	sh2000_port_counters(c->h, &c->pc_last);
 	hsc_tb_reset(&c->tb);
+	/* the first card's clock drives the thread; the others' are
+	 * followed by a virtual clock each */
+	c->tb.follow = !c->master;
 	return 0;
 }
 
@@ -209,6 +212,7 @@ void hsc_read(struct hsc_card *c, const struct hsc_in *in,
 		c->cfg_step = 0;
 		c->servo_ns = period_ns / hsc_fine_steps(period_ns);
 	}
+	hsc_tb_advance(&c->tb, c->tick);
 	r = sh2000_poll_once(c->h, &st);
 	if (r == 0) {
 		c->lost = 0;
@@ -246,8 +250,7 @@ void hsc_read(struct hsc_card *c, const struct hsc_in *in,
 	out->card_state = (int32_t)c->st.card_state;
 	out->queue_fill = (int32_t)c->st.queue_fill;
 	out->underruns = c->underruns;
-	out->delay_ms = c->delay_valid ?
-		(c->delay + c->clock_off) * (double)c->period_ns * 1e-6 : 0;
+	out->delay_ms = hsc_delay_ms(c);
 	out->fault = c->lost || hsc_faulted(&c->st) || c->sfault != HSC_SF_NONE;
 	out->ok = !out->fault && c->st_valid;
 }

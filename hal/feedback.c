@@ -19,12 +19,14 @@
  * If it does not (a lost record, a card that stopped on its own), the
  * difference shows in LinuxCNC's following error too.
  *
- * Time is in coarse periods: commands by tick, the snapshot by the
- * card's servo cycle (hsc_snap_time). D is measured by matching the
- * set-point against the history while the command moves steadily (where
+ * Time is the card's, in coarse periods: commands by the stream's record
+ * (the card plays one per period of its clock; write.c), the snapshot by
+ * the card's servo cycle (hsc_snap_time). D is measured by matching the
+ * set-point against the records while the command moves steadily (where
  * the match is unambiguous and the B-spline's smoothing of accelerations
- * does not bias it), and filtered: while the time base is locked it is
- * constant.
+ * does not bias it), and filtered: while the card plays the stream
+ * without a gap it is constant, whatever the card's clock does against
+ * the PC's.
  */
 #include <math.h>
 #include <string.h>
@@ -38,30 +40,32 @@
 /* Filter of the measured delay. */
 #define FB_GAIN			0.1
 
-/* The command at fractional tick u (linear between ticks) and its
- * velocity there; 0, or -1 when u is outside the history. */
+/* The stream's command at fractional record u (linear between records),
+ * its velocity there (counts per record) and, if t is not NULL, the
+ * thread time (ticks) of that command; 0, or -1 when u is outside the
+ * history. */
 static int history_at(const struct hsc_card *c, double u,
-		      double pos[SH2000_AXES], double vel[SH2000_AXES])
+		      double pos[SH2000_AXES], double vel[SH2000_AXES],
+		      double *t)
 {
-	uint64_t last = c->hist_tick, first;
+	uint64_t kept = c->rec_n < HSC_HISTORY ? c->rec_n : HSC_HISTORY;
 	double fl = floor(u), f = u - fl;
-	uint64_t k;
-	unsigned int a;
+	unsigned int a, i0, i1;
 
-	if (!c->hist_n)
+	if (!c->rec_n || fl < (double)(c->rec_n - kept) ||
+	    fl + 2 > (double)c->rec_n)
 		return -1;
-	first = c->hist_n >= HSC_HISTORY ? last - (HSC_HISTORY - 1) :
-		last - (c->hist_n - 1);
-	if (fl < (double)first || fl + 1 > (double)last)
-		return -1;
-	k = (uint64_t)fl;
+	i0 = (unsigned int)((uint64_t)fl % HSC_HISTORY);
+	i1 = (i0 + 1) % HSC_HISTORY;
 	for (a = 0; a < SH2000_AXES; a++) {
-		double p0 = c->hist[k % HSC_HISTORY][a];
-		double p1 = c->hist[(k + 1) % HSC_HISTORY][a];
+		double p0 = c->rec[i0][a];
+		double p1 = c->rec[i1][a];
 
 		pos[a] = p0 + f * (p1 - p0);
 		vel[a] = p1 - p0;
 	}
+	if (t)
+		*t = c->rec_t[i0] + f * (c->rec_t[i1] - c->rec_t[i0]);
 	return 0;
 }
 
@@ -83,15 +87,17 @@ double hsc_snap_time(const struct hsc_card *c)
 /*
  * For the delay-ms pin only: the PC's time of the snapshot (the read's
  * time less the snapshot's age; HEARTBEAT counts the same servo cycles as
- * SNAP_TIME) minus its card time, filtered: the delay in card time plus
- * this is the delay a person measures.
+ * SNAP_TIME) minus its card time, filtered: with it the snapshot's card
+ * time becomes the thread's time a person measures.
  */
 void hsc_clock_offset(struct hsc_card *c, long late_ns)
 {
-	uint16_t age = (uint16_t)(c->st.heartbeat - (uint16_t)c->st.card_cycle);
+	/* the heartbeat is read before the snapshot, which may be a cycle
+	 * newer: no age then */
+	int16_t age = (int16_t)(c->st.heartbeat - (uint16_t)c->st.card_cycle);
 	double per = c->period_ns > 0 ? (double)c->period_ns : 1e6;
 	double host = (double)c->tick + (double)late_ns / per -
-		      (double)age * (double)c->servo_ns / per;
+		      (double)(age > 0 ? age : 0) * (double)c->servo_ns / per;
 	double off = host - c->snap_t;
 
 	if (!c->clock_off_valid || fabs(off - c->clock_off) > 2.0)
@@ -111,11 +117,11 @@ void hsc_delay_update(struct hsc_card *c)
 	if (!c->streaming || !en)
 		return;
 	t = c->snap_t;
-	/* first guess: the card plays the record pushed about fill + 2
-	 * ticks ago (the ring, then the B-spline window) */
+	/* first guess: the card plays the record pushed fill + 2 records
+	 * before the newest (the ring, then the B-spline window) */
 	u = c->delay_valid ? t - c->delay :
-	    (double)c->hist_tick - (double)c->st.queue_fill - 2.0;
-	if (history_at(c, u, pos, vel) < 0)
+	    (double)c->rec_n - 1.0 - (double)c->st.queue_fill - 2.0;
+	if (history_at(c, u, pos, vel, NULL) < 0)
 		return;
 	for (a = 0; a < SH2000_AXES; a++) {
 		if (!(en & (1u << a)))
@@ -128,7 +134,8 @@ void hsc_delay_update(struct hsc_card *c)
 	/* one Newton step along the motion, then check it is steady over
 	 * the neighbouring ticks */
 	u += dot / v2;
-	if (history_at(c, u - 1, pa, va) < 0 || history_at(c, u, pos, vel) < 0)
+	if (history_at(c, u - 1, pa, va, NULL) < 0 ||
+	    history_at(c, u, pos, vel, NULL) < 0)
 		return;
 	for (a = 0; a < SH2000_AXES; a++)
 		if (fabs(vel[a] - va[a]) > FB_MAX_ACCEL * sqrt(v2) + 1.0)
@@ -151,9 +158,21 @@ double hsc_feedback_counts(const struct hsc_card *c, unsigned int a)
 	if (!c->streaming || !c->have_cmd)
 		return (double)ax->pos_counts;
 	if (c->delay_valid &&
-	    history_at(c, c->snap_t - c->delay, pos, vel) == 0)
+	    history_at(c, c->snap_t - c->delay, pos, vel, NULL) == 0)
 		return (double)ax->pos_counts + (double)c->last_cmd[a] - pos[a];
 	/* no delay measured yet: the set-point is the delayed command */
 	return (double)ax->pos_counts + (double)c->last_cmd[a] -
 	       (double)ax->cmd_counts;
+}
+
+/* The delay from a command to the card's set-point in the thread's time,
+ * ms (the delay-ms pin); 0 while unknown. */
+double hsc_delay_ms(const struct hsc_card *c)
+{
+	double pos[SH2000_AXES], vel[SH2000_AXES], t;
+
+	if (!c->delay_valid || !c->clock_off_valid ||
+	    history_at(c, c->snap_t - c->delay, pos, vel, &t) < 0)
+		return 0;
+	return (c->snap_t + c->clock_off - t) * (double)c->period_ns * 1e-6;
 }

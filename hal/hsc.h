@@ -21,6 +21,13 @@
 /* How far the fill may stray from the target before the stream stalls
  * or drops a point (the clock correction normally keeps it within 1). */
 #define HSC_FILL_SLACK		8
+/* A record may be pushed this much of a tick before the command it holds
+ * (extrapolated from the last two ticks): half a tick centres the queue
+ * on the target. */
+#define HSC_LEAD		0.5
+/* Records pushed in one tick by the stream (a further card whose clock is
+ * faster than the thread needs two now and then). */
+#define HSC_MAX_PUSH		2
 /* Servo cycles per coarse period the driver aims at (100 us at 1 ms). */
 #define HSC_SERVO_NS		100000
 
@@ -73,6 +80,8 @@ enum hsc_stream_fault {
 
 /* The clock of the card against the servo thread's (timebase.c). */
 struct hsc_timebase {
+	int follow;		/* a virtual clock follows the card, not
+				 * the thread (cards after the first) */
 	int locked;		/* has a reference */
 	uint64_t hb_ext;	/* heartbeat extended to 64 bits */
 	uint16_t hb_last;
@@ -82,11 +91,18 @@ struct hsc_timebase {
 	double integ;		/* PI integrator, records per tick */
 	double phase;		/* last phase error, records */
 	int outliers;		/* readings skipped in a row */
+	int settled;		/* ...of which the last agree */
+	double skipped;		/* the last skipped phase, records */
 	double rate;		/* card records per tick - 1 (estimate) */
-	double correction;	/* thread period correction, fraction */
+	double correction;	/* clock period correction, fraction */
+	double clock;		/* the clock the card is compared with,
+				 * records since the reference: the
+				 * thread's ticks, or the virtual clock */
+	double step;		/* how far it moved this tick, records */
+	uint64_t tick_last;	/* tick of the last advance */
 };
 
-#define HSC_HISTORY	256u	/* ticks of commands kept (power of 2) */
+#define HSC_HISTORY	256u	/* records of commands kept (power of 2) */
 
 struct hsc_card {
 	struct sh2000 *h;
@@ -124,10 +140,18 @@ struct hsc_card {
 	uint64_t estop_tick;
 	uint64_t tick;
 
-	/* commands in counts, one per tick: hist[tick % HSC_HISTORY] */
-	int32_t hist[HSC_HISTORY][SH2000_AXES];
-	uint64_t hist_n;	/* entries written */
-	uint64_t hist_tick;	/* tick of the newest */
+	/*
+	 * The stream's records as commanded (counts, every axis) and the
+	 * thread time (ticks) of the command each one holds: rec[k %
+	 * HSC_HISTORY] is the stream's k-th record. The card plays them one
+	 * per coarse period of its clock, so feedback.c matches its
+	 * set-points against them in the card's time.
+	 */
+	int32_t rec[HSC_HISTORY][SH2000_AXES];
+	double rec_t[HSC_HISTORY];
+	uint64_t rec_n;		/* records of this stream the card has */
+	double due;		/* the stream's schedule: records due after
+				 * the first batch, on the card's clock */
 	long servo_ns;		/* the card's servo period as configured */
 	long late_ns;		/* this tick's lateness */
 	int queue_target;	/* records, as the pin last said */
@@ -136,7 +160,8 @@ struct hsc_card {
 	double delay;		/* command to card set-point, card time */
 	int clock_off_valid;
 	double clock_off;	/* PC time - card time of snapshots */
-	int32_t last_cmd[SH2000_AXES];
+	int32_t last_cmd[SH2000_AXES];	/* this tick's command */
+	int32_t prev_cmd[SH2000_AXES];	/* the last tick's */
 	int have_cmd;
 
 	uint32_t underruns;
@@ -180,9 +205,12 @@ double hsc_snap_time(const struct hsc_card *c);
 void hsc_clock_offset(struct hsc_card *c, long late_ns);
 void hsc_delay_update(struct hsc_card *c);
 double hsc_feedback_counts(const struct hsc_card *c, unsigned int a);
+double hsc_delay_ms(const struct hsc_card *c);
 
 /* timebase.c */
 void hsc_tb_reset(struct hsc_timebase *tb);
+/* Every tick, before the heartbeat is read: the clock moves on. */
+void hsc_tb_advance(struct hsc_timebase *tb, uint64_t tick);
 /* A heartbeat read `late_ns` after the tick's start. Returns 1 when the
  * card's clock jumped (the reference starts again). */
 int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,

@@ -1,17 +1,27 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 /*
  * The card's clock against the servo thread's. The card consumes one
- * record per coarse period of its own clock; the thread pushes one per
- * tick of the PC's. The two clocks differ by tens of ppm, so without
- * correction the ring slowly fills or drains. The card heartbeat (+1 per
- * servo cycle) read at every tick is the phase detector; a PI filter turns
- * the phase error into a correction of the thread's period, which
- * hal_sh2000.c hands to rtapi_task_pll_set_correction() (as lcec does for
- * EtherCAT distributed clocks and hostmot2 with its DPLL).
+ * record per coarse period of its own clock; the thread pushes records at
+ * the ticks of the PC's. The clocks differ by tens of ppm, so without
+ * care the ring slowly fills or drains. The card heartbeat (+1 per servo
+ * cycle) read at every tick is the phase detector; a PI filter turns the
+ * phase error into a correction of a clock's period:
+ *
+ * - the first card (the master) corrects the servo thread itself:
+ *   hal_sh2000.c hands the correction to rtapi_task_pll_set_correction()
+ *   (as lcec does for EtherCAT distributed clocks and hostmot2 with its
+ *   DPLL), and the clock compared with the card is the thread's ticks;
+ * - a further card (a follower) cannot move the thread: the filter
+ *   corrects a virtual clock instead, advanced here by 1 - correction
+ *   records per tick, which then counts that card's coarse periods in the
+ *   thread's time. write.c resamples the command stream on it.
+ *
+ * The loop is the same in both cases: the phase error integrates the
+ * clock's rate error minus the correction.
  *
  * Units: records (= coarse periods = ticks when locked). The heartbeat is
  * quantised to a servo cycle, a tenth of a record at the default timing;
- * the filter's bandwidth (time constant about 100 ticks) averages that.
+ * the filter's bandwidth (time constant about 300 ticks) averages that.
  */
 #include <math.h>
 
@@ -23,9 +33,14 @@
  * heartbeat's quantisation and the read's jitter. */
 #define TB_KP		0.006
 #define TB_KI		0.00002
-/* A single phase reading this far from the last one is a late read or a
- * card that was descheduled for a moment, not the clock: skipped. */
+/* A phase reading this far from the last one is a late read or a served
+ * card that was descheduled and is catching up its cycles, not the clock:
+ * skipped, until TB_SETTLE readings in a row agree on a new phase (a card
+ * that restarted, the card's timing changed) or TB_PERSIST readings were
+ * skipped (longer than a served card catches up: 50 ms). */
 #define TB_OUTLIER	0.3
+#define TB_SETTLE	5
+#define TB_PERSIST	100
 /* rtapi_app limits a correction to 1 % of the period. */
 #define TB_LIMIT	0.01
 /* A phase error this large is not drift: the card restarted, or the
@@ -39,11 +54,28 @@ void hsc_tb_reset(struct hsc_timebase *tb)
 	tb->phase = 0;
 	tb->rate = 0;
 	tb->correction = 0;
+	tb->clock = 0;
+	tb->step = 1.0;
+	tb->tick_last = 0;
 }
 
 static double clamp(double v, double lim)
 {
 	return v > lim ? lim : v < -lim ? -lim : v;
+}
+
+void hsc_tb_advance(struct hsc_timebase *tb, uint64_t tick)
+{
+	uint64_t n = tick - tb->tick_last;
+
+	tb->tick_last = tick;
+	if (!tb->locked) {
+		tb->step = 1.0;
+		return;
+	}
+	/* the master's clock is the (corrected) thread: whole ticks */
+	tb->step = tb->follow ? (double)n * (1.0 - tb->correction) : (double)n;
+	tb->clock += tb->step;
 }
 
 int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
@@ -60,6 +92,8 @@ int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 		tb->hb_last = hb;
 		tb->hb0 = hb;
 		tb->tick0 = tick;
+		tb->tick_last = tick;
+		tb->clock = 0;
 		tb->off = -(double)late_ns / (double)period_ns;
 		tb->phase = 0;
 		tb->outliers = 0;
@@ -71,22 +105,35 @@ int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 	/* card coarse periods since the reference, at the tick's start */
 	x = (double)(tb->hb_ext - tb->hb0) / per_tick -
 	    (double)late_ns / (double)period_ns - tb->off;
-	eps = x - (double)(tick - tb->tick0);
-	if (fabs(eps) > TB_RELOCK) {
-		tb->locked = 0;
-		hsc_tb_update(tb, tick, hb, late_ns, period_ns, servo_ns);
-		return 1;
-	}
-	if (fabs(eps - tb->phase) > TB_OUTLIER && tb->outliers < 10) {
+	eps = x - tb->clock;
+	/*
+	 * A transient is skipped before it is judged: a new reference taken
+	 * in the middle of one would move the thread's phase against card 0
+	 * once the card caught up, and with it the delay of every point card
+	 * 0 plays (its skew against the other cards).
+	 */
+	if (fabs(eps - tb->phase) > TB_OUTLIER && tb->outliers < TB_PERSIST) {
+		/* readings that move (a card catching up) never settle */
+		tb->settled = tb->outliers && fabs(eps - tb->skipped) <= TB_OUTLIER ?
+			      tb->settled + 1 : 1;
+		tb->skipped = eps;
 		tb->outliers++;
-		return 0;
+		if (tb->settled < TB_SETTLE)
+			return 0;
 	}
 	tb->outliers = 0;
+	if (fabs(eps) > TB_RELOCK) {
+		/* the rate estimate (integ) stays: only the phase jumped */
+		tb->locked = 0;
+		hsc_tb_update(tb, tick, hb, late_ns, period_ns, servo_ns);
+		tb->step = 1.0;
+		return 1;
+	}
 	tb->phase = eps;
 	tb->integ = clamp(tb->integ + TB_KI * eps, TB_LIMIT);
 	y = TB_KP * eps + tb->integ;
 	tb->rate = tb->integ;
-	/* a card ahead (eps > 0) needs shorter ticks */
+	/* a card ahead (eps > 0) needs shorter ticks (a faster clock) */
 	tb->correction = clamp(-y, TB_LIMIT);
 	return 0;
 }

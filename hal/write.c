@@ -107,35 +107,66 @@ static int command_counts(struct hsc_card *c, const struct hsc_in *in,
 	return 0;
 }
 
-/* The point of this tick: the command for enabled axes, where a disabled
+/* The point for the card: the command for enabled axes, where a disabled
  * axis is for the others (the card rejects a disabled axis moved). */
-static void point(struct hsc_card *c, int32_t pt[SH2000_AXES])
+static void point(struct hsc_card *c, const int32_t cmd[SH2000_AXES],
+		  int32_t pt[SH2000_AXES])
 {
 	unsigned int a, en = hsc_enabled(&c->st);
 
 	for (a = 0; a < SH2000_AXES; a++)
-		pt[a] = en & (1u << a) ? c->last_cmd[a] :
+		pt[a] = en & (1u << a) ? cmd[a] :
 			(int32_t)c->st.axis[a].pos_counts;
 }
 
 /*
- * One point of the stream. The library posts it in the card's mailbox
+ * One record of the stream: the command cmd, which is the pins' command
+ * at thread time t (ticks). The library posts it in the card's mailbox
  * (protocol 1.3, a few port cycles above the status just read) where it
- * can, else writes it into the ring. Returns the library's answer.
+ * can, else writes it into the ring. A record the card has is kept in
+ * the history feedback.c matches the card's set-points against. Returns
+ * the library's answer.
  */
-static int push(struct hsc_card *c, unsigned int flags)
+static int push(struct hsc_card *c, const int32_t cmd[SH2000_AXES], double t,
+		unsigned int flags)
 {
 	int32_t pt[SH2000_AXES];
 	int r;
 
-	point(c, pt);
+	point(c, cmd, pt);
 	r = sh2000_push_point(c->h, pt, flags);
-	if (r < 0 && r != -EAGAIN && r != -SH2000_EQUEUE_FULL) {
+	if (r >= 0) {
+		unsigned int k = (unsigned int)(c->rec_n % HSC_HISTORY);
+
+		memcpy(c->rec[k], cmd, sizeof(c->rec[k]));
+		c->rec_t[k] = t;
+		c->rec_n++;
+	} else if (r != -EAGAIN && r != -SH2000_EQUEUE_FULL) {
 		snprintf(c->err, sizeof(c->err), "%s", sh2000_last_error(c->h));
 		c->sfault = HSC_SF_COMMAND;
 		c->streaming = 0;
 	}
 	return r;
+}
+
+/* The pins' command at thread time t (ticks): linear through the last
+ * two ticks' commands, which extrapolates for a t after this tick. */
+static void command_at(const struct hsc_card *c, double t,
+		       int32_t cmd[SH2000_AXES])
+{
+	double f = t - ((double)c->tick - 1.0);
+	unsigned int a;
+
+	if (f < 0)
+		f = 0;
+	for (a = 0; a < SH2000_AXES; a++) {
+		double p0 = c->prev_cmd[a], p1 = c->last_cmd[a];
+		double v = nearbyint(p0 + f * (p1 - p0));
+
+		/* only an extrapolation leaves the two commands' range */
+		cmd[a] = v < INT32_MIN || v > INT32_MAX ? c->last_cmd[a] :
+			 (int32_t)v;
+	}
 }
 
 /* Is the stream still the card's motion? */
@@ -170,30 +201,51 @@ static void start_stream(struct hsc_card *c, int target)
 {
 	int i;
 
+	c->rec_n = 0;
+	/*
+	 * The card starts on the batch when it lands, this tick's lateness
+	 * after the tick's start; the stream's schedule starts there too, so
+	 * every card plays the command with the same delay whenever its
+	 * stream started (the cards' skew).
+	 */
+	c->due = c->late_ns < c->period_ns ?
+		 -(double)c->late_ns / (double)c->period_ns : -1.0;
 	/* enough records ahead for a thread that is late, pushed at once:
 	 * the card starts on the first and needs the next a coarse period
 	 * later */
 	for (i = 0; i < target; i++)
-		push(c, 0);
+		push(c, c->last_cmd, (double)c->tick, 0);
 	c->streaming = c->sfault == HSC_SF_NONE;
 	c->seen_running = 0;
 	c->delay_valid = 0;
 	c->stream_ticks = -1;	/* this tick's point is in the batch */
 }
 
+/*
+ * The stream after the first batch follows the card's clock
+ * (timebase.c): the k-th record holds the command at the instant the
+ * card's clock reached k - target + 1 coarse periods after the batch
+ * landed, so the card plays the command at its own rate with a constant
+ * delay. For the first card the thread itself follows its clock: one
+ * record per tick. For a further card the virtual clock counts its
+ * periods in the thread's time: about one record per tick, and now and
+ * then none or two. Either way the command is interpolated between the
+ * last two ticks' (or extrapolated up to HSC_LEAD of a tick, which keeps
+ * the queue centred).
+ *
+ * Only when that fails (a card that slipped, a thread that fell far
+ * behind) does the stream stall a point or add one, which moves the
+ * card's timeline by a period: the measured delay is void then. A tick
+ * that runs late sees the card ahead by its lateness.
+ */
 static void stream(struct hsc_card *c, int target)
 {
-	int fill = (int)c->st.queue_fill;
+	int fill = (int)c->st.queue_fill, n;
+	double step = c->tb.step > 0.5 ? c->tb.step : 1.0;
 
 	if (c->stream_ticks++ < 0)
 		return;
-	/*
-	 * One point per tick; the clock correction keeps the fill. Only
-	 * when that fails (a card that slipped, a thread that fell far
-	 * behind) does the stream stall a point or drop one, which moves
-	 * the card's timeline by a tick: the measured delay is void then.
-	 * A tick that runs late sees the card ahead by its lateness.
-	 */
+	c->due += step;
 	if (c->st_fresh) {
 		int ahead = fill + (int)(c->late_ns / c->period_ns);
 		int slack = target / 2 > HSC_FILL_SLACK ? target / 2 :
@@ -202,14 +254,26 @@ static void stream(struct hsc_card *c, int target)
 		if (ahead > target + slack ||
 		    fill >= (int)sh2000_queue_size(c->h) - 1) {
 			c->delay_valid = 0;
+			c->due -= 1.0;
 			return;
 		}
 		if (ahead < target - slack && fill < 2) {
 			c->delay_valid = 0;
-			push(c, 0);
+			c->due += 1.0;
+			push(c, c->last_cmd, (double)c->tick, 0);
 		}
 	}
-	push(c, 0);
+	for (n = 0; n < HSC_MAX_PUSH; n++) {
+		double s = (double)c->rec_n - (double)target + 1.0;
+		double t = (double)c->tick - (c->due - s) / step;
+		int32_t cmd[SH2000_AXES];
+
+		if (s > c->due + HSC_LEAD * step)
+			break;
+		command_at(c, t, cmd);
+		if (push(c, cmd, t, 0) < 0)
+			break;
+	}
 }
 
 static void commands(struct hsc_card *c, const struct hsc_in *in, int target)
@@ -241,7 +305,8 @@ static void commands(struct hsc_card *c, const struct hsc_in *in, int target)
 		if ((want & en) != en || want != en) {
 			/* an axis is being disabled: end the motion where
 			 * the command is, then disable once idle */
-			if (push(c, SH2000_PUSH_END) == -EAGAIN)
+			if (push(c, c->last_cmd, (double)c->tick,
+				 SH2000_PUSH_END) == -EAGAIN)
 				return;	/* the handle is busy: next tick */
 			c->streaming = 0;
 			c->ending = 1;
@@ -277,17 +342,18 @@ void hsc_write(struct hsc_card *c, const struct hsc_in *in,
 		c->reset_edge = 1;
 	c->reset_last = in->fault_reset;
 
+	/* the last two ticks' commands (a bad one repeats the last good) */
 	if (command_counts(c, in, cmd) == 0) {
+		memcpy(c->prev_cmd, c->have_cmd ? c->last_cmd : cmd, sizeof(cmd));
 		memcpy(c->last_cmd, cmd, sizeof(cmd));
 		c->have_cmd = 1;
-	} else if (c->streaming) {
-		c->sfault = HSC_SF_POINT;
-		c->streaming = 0;
+	} else {
+		memcpy(c->prev_cmd, c->last_cmd, sizeof(cmd));
+		if (c->streaming) {
+			c->sfault = HSC_SF_POINT;
+			c->streaming = 0;
+		}
 	}
-	/* one entry per tick (a bad command repeats the last good one) */
-	memcpy(c->hist[c->tick % HSC_HISTORY], c->last_cmd, sizeof(cmd));
-	c->hist_n++;
-	c->hist_tick = c->tick;
 	if (c->ending && c->st_fresh && !hsc_moving(c->st.card_state))
 		c->ending = 0;
 	check_stream(c);
@@ -296,7 +362,9 @@ void hsc_write(struct hsc_card *c, const struct hsc_in *in,
 	if (c->streaming && c->sfault == HSC_SF_NONE)
 		stream(c, target);
 
-	out->pll_correction_ns = c->master && c->tb.locked ?
+	/* the first card's corrects the thread, a further card's its
+	 * virtual clock */
+	out->pll_correction_ns = c->tb.locked ?
 		(int32_t)lrint(c->tb.correction * (double)c->period_ns) : 0;
 	if (sh2000_port_counters(c->h, &pc) == 0) {
 		c->port_cycles = (uint32_t)((pc.clears + pc.increments +

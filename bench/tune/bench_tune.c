@@ -51,7 +51,7 @@ static const struct plant_case cases[] = {
 
 struct row {
 	struct tune_plant id;
-	struct tune_margins m;
+	struct tune_design_margins m;
 	struct tune_gains tuned;
 	struct circle_result init, autot;
 	struct search_best sb;
@@ -92,7 +92,7 @@ static int autotune(struct sh2000 *h, struct row *w)
 				       .travel_mm = 0.1, .margin_deg = TUNE_DEFAULT_MARGIN };
 		struct tune_ident_result id;
 		struct tune_gains g, old;
-		struct tune_margins m;
+		struct tune_design_margins m;
 
 		if (tune_ident(h, &o, &id) != 0)
 			return -1;
@@ -100,7 +100,7 @@ static int autotune(struct sh2000 *h, struct row *w)
 			fprintf(stderr, "bench_tune: design: %s\n", why);
 			return -1;
 		}
-		if (tune_gains_get(h, a, &old) < 0 ||
+		if (tune_read_gains(h, a, &old) < 0 ||
 		    tune_gains_set(h, a, &g, &old, why, sizeof(why)) < 0)
 			return -1;
 		if (a == 0) {
@@ -152,7 +152,7 @@ static void print_ident(const struct plant_case *pc, const struct row *w)
 }
 
 static void print_gains(const char *what, const struct tune_gains *g,
-			const struct tune_margins *m)
+			const struct tune_design_margins *m)
 {
 	printf("    %-7s kp %-9.5g ti %-9.4g td %-9.4g kvff %-10.5g kaff %-10.5g PM %5.1f GM %5.1f dB at %4.0f Hz\n",
 	       what, g->kp, g->ti, g->td, g->kvff, g->kaff, m->pm_deg, m->gm_db,
@@ -189,7 +189,7 @@ static int bandwidths(void)
 		for (unsigned int k = 0; k < sizeof(hz) / sizeof(hz[0]); k++) {
 			struct tune_design_req req = { hz[k], TUNE_DEFAULT_MARGIN };
 			struct tune_gains g;
-			struct tune_margins mg;
+			struct tune_design_margins mg;
 			struct circle_result res;
 			char why[256];
 

@@ -52,7 +52,7 @@ int circle_with(const struct bench_machine *m, const struct tune_gains *g,
 struct search_best {
 	struct circle_result any, pm;	/* best of all / of the admissible */
 	struct tune_gains any_gains, pm_gains;
-	struct tune_margins any_margins, pm_margins;
+	struct tune_design_margins any_margins, pm_margins;
 	unsigned int runs, unstable;
 };
 

@@ -40,7 +40,7 @@ int bench_card_open(struct sh2000 **h, const struct bench_machine *m,
 		r = sh2000_param_set(*h, (int)a, SH2000_P_AMAX, m->amax);
 	for (unsigned int a = 0; a < 2 && r >= 0; a++) {
 		r = sh2000_param_set(*h, (int)a, SH2000_P_FERR_LIMIT, m->ferr_limit);
-		if (r >= 0 && g && (r = tune_gains_get(*h, a, &old)) >= 0)
+		if (r >= 0 && g && (r = tune_read_gains(*h, a, &old)) >= 0)
 			r = tune_gains_set(*h, a, g, &old, why, sizeof(why));
 	}
 	if (r >= 0)

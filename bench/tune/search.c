@@ -42,7 +42,7 @@ static int search_grid(const struct bench_machine *m, const struct grid *G,
 
 		if (g.kp > KP_MAX)	/* beyond what the card takes */
 			continue;
-		struct tune_margins mg;
+		struct tune_design_margins mg;
 
 		if (circle_with(m, &g, &res) < 0)
 			return -1;

@@ -42,26 +42,32 @@ int sh2000_cmd_result_error(unsigned int res)
 }
 
 /*
- * After a timeout: a stopped card is the better explanation. The timeout
- * can be shorter than the heartbeat limit (100 ms each for sim:NAME, or a
- * caller's longer limit), so "alive" means seen moving, else the poll
- * ends in EHEARTBEAT once the limit has passed.
+ * The host's limit has passed without an answer. A card that ran on
+ * meanwhile had its chance; a served card whose process was descheduled
+ * for the whole wait (a loaded machine) has not, and answers in the first
+ * cycle it runs. So the host looks again until the card has run
+ * LATE_CYCLES servo cycles past the limit (a stopped card ends the wait in
+ * EHEARTBEAT through the poll, once the heartbeat limit has passed: the
+ * timeout can be shorter than that limit, 100 ms each for sim:NAME).
+ * Returns 1 once the card has had them, 0 to look again, or an error.
  */
-static int why_silent(struct sh2000 *h, const char *what, int timeout_ms)
-{
-	struct sh2000_status st;
-	int r = sh2000_poll_locked(h, &st);
-	uint16_t hb = st.heartbeat;
+#define LATE_CYCLES	3u
 
-	while (r == 0 && st.heartbeat == hb) {
-		sh2000_hold_wait(h, h->servo_ns ? h->servo_ns : CMD_POLL_NS);
-		r = sh2000_poll_locked(h, &st);
-	}
+static int card_had_its_chance(struct sh2000 *h, int *late, uint16_t *hb_late,
+			       struct sh2000_status *st)
+{
+	int r = sh2000_poll_locked(h, st);
+
 	if (r < 0)
 		return r;
-	return sh2000_fail(h, -SH2000_ETIMEOUT,
-			   "%s: no answer within %d ms (card state %s, heartbeat alive)",
-			   what, timeout_ms, sh2000_state_name(st.card_state));
+	if (!*late) {
+		*late = 1;
+		*hb_late = st->heartbeat;
+	}
+	if ((uint16_t)(st->heartbeat - *hb_late) >= LATE_CYCLES)
+		return 1;
+	sh2000_hold_wait(h, h->servo_ns ? h->servo_ns : CMD_POLL_NS);
+	return 0;
 }
 
 int sh2000_cmd_write(struct sh2000 *h, unsigned int op, unsigned int axis,
@@ -127,11 +133,12 @@ int sh2000_cmd_exchange(struct sh2000 *h, unsigned int op, unsigned int axis,
 			unsigned int param, int32_t arg, int32_t *value,
 			int timeout_ms)
 {
+	struct sh2000_status st;
 	uint16_t ack[4];
-	uint16_t seq;
+	uint16_t seq, hb_late = 0;
 	uint64_t t0, limit;
 	char what[96];
-	int r;
+	int r, late = 0;
 
 	r = sh2000_cmd_write(h, op, axis, param, arg);
 	if (r < 0)
@@ -147,16 +154,25 @@ int sh2000_cmd_exchange(struct sh2000 *h, unsigned int op, unsigned int axis,
 		/* the clock before the look: a program descheduled between a
 		 * look and the clock (a loaded machine) looks once more after
 		 * the limit instead of timing out an answered command */
-		int late = sh2000_now_locked(h) - t0 > limit;
+		int over = late || sh2000_now_locked(h) - t0 > limit;
 
 		r = sh2000_rd(h, SH2000_W_CMD_ACK, 4, ack);
 		if (r < 0)
 			return r;
 		if (ack[0] == seq)
 			break;
-		if (late)
-			return why_silent(h, what, (int)(limit / 1000000ull));
-		sh2000_hold_wait(h, CMD_POLL_NS);
+		if (!over) {
+			sh2000_hold_wait(h, CMD_POLL_NS);
+			continue;
+		}
+		r = card_had_its_chance(h, &late, &hb_late, &st);
+		if (r < 0)
+			return r;
+		if (r)
+			return sh2000_fail(h, -SH2000_ETIMEOUT,
+					   "%s: no answer within %d ms (card state %s, heartbeat alive)",
+					   what, (int)(limit / 1000000ull),
+					   sh2000_state_name(st.card_state));
 	}
 	if (ack[1] != SH2000_RES_OK)
 		return sh2000_fail(h, sh2000_cmd_result_error(ack[1]), "%s: card answered %s",
@@ -290,9 +306,10 @@ int sh2000_set_position(struct sh2000 *h, unsigned int axis, double pos_mm)
 
 int sh2000_estop(struct sh2000 *h, int timeout_ms)
 {
+	struct sh2000_status st;
 	uint64_t t0, limit;
-	uint16_t w[2];	/* ESTOP_ACK, STATE */
-	int r;
+	uint16_t w[2], hb_late = 0;	/* w: ESTOP_ACK, STATE */
+	int r, late = 0;
 
 	__atomic_add_fetch(&h->urgent, 1, __ATOMIC_ACQ_REL);
 	pthread_mutex_lock(&h->lock);
@@ -324,14 +341,17 @@ int sh2000_estop(struct sh2000 *h, int timeout_ms)
 			if (r < 0)
 				break;
 		}
-		if (sh2000_now_locked(h) - t0 > limit) {
-			r = why_silent(h, "emergency stop", (int)(limit / 1000000ull));
-			if (r == -SH2000_ETIMEOUT)
-				r = sh2000_fail(h, r,
-						"emergency stop not acknowledged within %d ms (ESTOP_REQ %u, ESTOP_ACK %u)",
+		if (late || sh2000_now_locked(h) - t0 > limit) {
+			r = card_had_its_chance(h, &late, &hb_late, &st);
+			if (r == 1)
+				r = sh2000_fail(h, -SH2000_ETIMEOUT,
+						"emergency stop not acknowledged within %d ms (card state %s, ESTOP_REQ %u, ESTOP_ACK %u)",
 						(int)(limit / 1000000ull),
+						sh2000_state_name(st.card_state),
 						h->estop_req, w[0]);
-			break;
+			if (r)
+				break;
+			continue;
 		}
 		sh2000_hold_wait(h, ESTOP_POLL_NS);
 	}

@@ -80,33 +80,40 @@ static int check_config(struct sh2000 *h, const struct sh2000_gather_config *c)
 	return 0;
 }
 
-static int configure_and_arm(struct sh2000 *h,
-			     const struct sh2000_gather_config *c)
+/* One GATHER_SET per field, axes' signal masks first, in the order of
+ * protocol.md §17; the first refusal ends it (nothing is armed). */
+static int configure_fields(struct sh2000 *h,
+			    const struct sh2000_gather_config *c)
 {
-	int32_t record = 0;
-	unsigned int a;
+	const struct {
+		uint16_t field;
+		uint32_t value;
+	} global[] = {
+		{ SH2000_GF_PERIOD, c->period },
+		{ SH2000_GF_SAMPLES, c->samples },
+		{ SH2000_GF_TRIGGER, c->trigger },
+		{ SH2000_GF_PRETRIGGER, c->pretrigger },
+	};
+	unsigned int a, k;
 	int r = 0;
 
 	for (a = 0; !r && a < SH2000_AXES; a++)
 		r = sh2000_cmd_exchange(h, SH2000_CMD_GATHER_SET, a,
 					SH2000_GF_SIGNALS, (int32_t)c->signals[a],
 					NULL, SH2000_CMD_TIMEOUT_MS);
-	if (!r)
+	for (k = 0; !r && k < sizeof(global) / sizeof(global[0]); k++)
 		r = sh2000_cmd_exchange(h, SH2000_CMD_GATHER_SET, SH2000_AXIS_GLOBAL,
-					SH2000_GF_PERIOD, (int32_t)c->period,
+					global[k].field, (int32_t)global[k].value,
 					NULL, SH2000_CMD_TIMEOUT_MS);
-	if (!r)
-		r = sh2000_cmd_exchange(h, SH2000_CMD_GATHER_SET, SH2000_AXIS_GLOBAL,
-					SH2000_GF_SAMPLES, (int32_t)c->samples,
-					NULL, SH2000_CMD_TIMEOUT_MS);
-	if (!r)
-		r = sh2000_cmd_exchange(h, SH2000_CMD_GATHER_SET, SH2000_AXIS_GLOBAL,
-					SH2000_GF_TRIGGER, (int32_t)c->trigger,
-					NULL, SH2000_CMD_TIMEOUT_MS);
-	if (!r)
-		r = sh2000_cmd_exchange(h, SH2000_CMD_GATHER_SET, SH2000_AXIS_GLOBAL,
-					SH2000_GF_PRETRIGGER, (int32_t)c->pretrigger,
-					NULL, SH2000_CMD_TIMEOUT_MS);
+	return r;
+}
+
+static int configure_and_arm(struct sh2000 *h,
+			     const struct sh2000_gather_config *c)
+{
+	int32_t record = 0;
+	int r = configure_fields(h, c);
+
 	if (!r)
 		r = sh2000_cmd_exchange(h, SH2000_CMD_GATHER_ARM, 0, 0, 0, &record,
 					SH2000_CMD_TIMEOUT_MS);

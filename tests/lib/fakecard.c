@@ -20,11 +20,21 @@ static void logit(struct fakecard *f, enum fake_op op)
 
 static void tick(struct fakecard *f, uint64_t ns)
 {
-	uint64_t before = f->now_ns / 100000u;
+	uint64_t from = f->now_ns > f->stalled_until ? f->now_ns : f->stalled_until;
 
 	f->now_ns += ns;
-	if (f->hb_running)
-		f->ram[SH2000_W_HEARTBEAT] += (uint16_t)(f->now_ns / 100000u - before);
+	if (f->hb_running && f->now_ns > from)
+		f->ram[SH2000_W_HEARTBEAT] += (uint16_t)(f->now_ns / 100000u -
+							 from / 100000u);
+	if (f->stall_pending == SH2000_W_CMD_SEQ + 1 && f->now_ns > f->stalled_until) {
+		f->ram[SH2000_W_CMD_RESULT] = f->ack_result;
+		f->ram[SH2000_W_CMD_ACK] = f->ram[SH2000_W_CMD_SEQ];
+	} else if (f->stall_pending && f->now_ns > f->stalled_until) {
+		f->ram[SH2000_W_ESTOP_ACK] = f->ram[SH2000_W_ESTOP_REQ];
+		f->ram[SH2000_W_STATE] = SH2000_STATE_ESTOP;
+	}
+	if (f->now_ns > f->stalled_until)
+		f->stall_pending = 0;
 }
 
 static void fake_out(struct sh2000 *h, unsigned int reg, uint16_t v)
@@ -44,6 +54,12 @@ static void fake_out(struct sh2000 *h, unsigned int reg, uint16_t v)
 	case SH2000_REG_DATA:
 		logit(f, FAKE_WR);
 		f->ram[f->counter] = v;
+		if ((f->counter == SH2000_W_CMD_SEQ ||
+		     f->counter == SH2000_W_ESTOP_REQ) && f->stall_ns) {
+			f->stalled_until = f->now_ns + f->stall_ns;
+			f->stall_pending = (int)f->counter + 1;
+			break;
+		}
 		if (f->counter == SH2000_W_CMD_SEQ && f->late_ack_ns) {
 			f->ack_pending = 1;
 		} else if (f->counter == SH2000_W_CMD_SEQ && f->auto_ack) {

@@ -43,6 +43,12 @@ struct fakecard {
 	 * descheduled between its read and its next step */
 	uint64_t late_ack_ns;
 	int ack_pending;
+	/* the card's process descheduled for that long right after a command
+	 * was written (a served card on a loaded machine): no heartbeat, no
+	 * answer until then; the answer comes in its first cycle after */
+	uint64_t stall_ns;
+	uint64_t stalled_until;
+	int stall_pending;	/* 1 + the word written: CMD_SEQ or ESTOP_REQ */
 };
 
 struct fakecard *fakecard_new(void);

@@ -136,9 +136,8 @@ static void inject(struct track *t, int streaming)
 
 	if (t->f->what == SH2000_INJECT_RAM_FLIP)
 		arg = streaming ?
-		      SH2000_W_RING_BASE + (unsigned int)((sh2000_next_segment(t->h) - 1) %
-				SH2000_RING_RECORDS) * SH2000_RECORD_WORDS +
-		      SH2000_REC_POS_LO(0) : SH2000_W_MAGIC;
+		      simtest_last_record_word(sh2000_next_segment(t->h)) :
+		      SH2000_W_MAGIC;
 	else if (t->f->what == SH2000_INJECT_LIMIT)
 		arg = 1;
 	t->inj_ns = sh2000_now_ns(t->h);
@@ -224,54 +223,24 @@ static int act_run(struct track *t)
 	return e;
 }
 
-/* Poll and check, keeping the status. */
-static int look_st(struct sh2000 *h, struct sh2000_status *st)
+static void period_at(void *ctx)
 {
-	int e = sh2000_poll(h, st);
-
-	return e < 0 ? e : sh2000_status_error(h, st);
+	inject(ctx, 1);
 }
 
-/* One record per coarse period (2 ms) on a fixed schedule, as a servo
- * thread pushes, speeding up to FEED and keeping PERIOD_AHEAD records
- * queued; the fault after AT_POINT records. */
-#define PERIOD_AHEAD 4u
+/* One record per coarse period (simtest_period), 4 queued; the fault
+ * after AT_POINT records. */
 static int act_period(struct track *t)
 {
+	const struct simtest_period c = {
+		.feed = FEED, .ahead = 4, .at_point = AT_POINT,
+		.max_points = 2000, .at = period_at, .ctx = t,
+	};
 	struct sh2000 *h = t->h;
-	const double step_mm = FEED * 0.002, scale = 1e5;
-	struct sh2000_status st;
-	int32_t p[SH2000_AXES];
-	double x = 0.0, v = 0.0;
-	uint64_t next, now;
-	unsigned int i = 0;
-	int e = 0;
+	int e;
 
 	CHECK(sh2000_watch_cycles(h, on_cycle, t));
-	simtest_cmd(h, p);
-	next = sh2000_now_ns(h);
-	while (i < 2000 && !e) {
-		e = look_st(h, &st);
-		if (e)
-			break;
-		do {
-			v = v + step_mm / 20.0 < step_mm ? v + step_mm / 20.0 :
-							   step_mm;
-			x += v;
-			p[0] = (int32_t)llround(x * scale);
-			e = sh2000_push_counts(h,
-					       (const int32_t (*)[SH2000_AXES])&p,
-					       1, 0);
-			if (e > 0)
-				e = 0;
-			if (!e && ++i == AT_POINT)
-				inject(t, 1);
-		} while (!e && ++st.queue_fill < PERIOD_AHEAD);
-		next += 2000000ull;
-		now = sh2000_now_ns(h);
-		if (!e && next > now)
-			CHECK(sh2000_sleep_ns(h, next - now));
-	}
+	e = simtest_period(h, &c);
 	t->err_ns = sh2000_now_ns(h);
 	if (e)
 		host_halt(h);
@@ -283,11 +252,6 @@ static void recover(struct track *t, struct cell *c)
 {
 	struct sh2000 *h = t->h;
 	struct sh2000_status st;
-	struct sh2000_path_config pc;
-	struct sh2000_run *r;
-	double end[4];
-	char msg[256];
-	unsigned int a;
 
 	CHECK(sh2000_sim_inject(h, SH2000_INJECT_CLEAR, 0, 0));
 	sh2000_watch_cycles(h, NULL, NULL);
@@ -302,20 +266,7 @@ static void recover(struct track *t, struct cell *c)
 		c->latched = st.card_faults;
 		c->state = st.card_state;
 	}
-	CHECK(sh2000_reset(h));
-	CHECK(sh2000_enable(h, 0xf));
-	CHECK(sh2000_run_path_config(h, &pc));
-	if (sh2000_run_create(&r, h, &pc, NULL, msg, sizeof(msg)) < 0)
-		fail_msg("next run: %s", msg);
-	for (a = 0; a < 4; a++)
-		end[a] = pc.start[a] + (a == 1 ? 5.0 : 0.0);
-	CHECK(sh2000_path_line(sh2000_run_path(r), end, 50.0));
-	if (sh2000_run_finish(r) != 0)
-		fail_msg("next run: %s", sh2000_run_error(r));
-	CHECK(sh2000_poll(h, &st));
-	assert_int_equal(st.card_state, SH2000_STATE_IDLE);
-	assert_true(fabs(st.axis[1].cmd_mm - end[1]) < 1e-5);
-	sh2000_run_destroy(r);
+	simtest_next_run(h);
 }
 
 static void run_cell(unsigned int fi, enum activity act)

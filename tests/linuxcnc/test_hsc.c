@@ -7,7 +7,9 @@
  * sequence, that LinuxCNC's following error equals the card's own within
  * 1 um on a 200 mm/s move, the fill of the ring, the emergency stop both
  * ways, a jam as an amplifier fault, an underrun, a STOP from another
- * program and the reset that clears them.
+ * program and the reset that clears them; and two cards whose clocks are
+ * off by +-100 ppm in one thread (each ring's fill, the skew between
+ * their set-points).
  */
 #include <math.h>
 #include <setjmp.h>
@@ -295,6 +297,177 @@ static void test_stopped_by_another_program(void **state)
 	rig_close(r);
 }
 
+/* ---- two cards on their own clocks (issue 12, item 4) ---- */
+
+#define DRIFT_PPM	100.0
+#define DRIFT_TARGET	10
+#define OBS_RING	64u
+
+/* A card's fine set-point of axis x at every servo cycle, in host time
+ * (the card model's: a period lasts nominal * (1 + ppm * 1e-6)). */
+struct obs {
+	double scale;		/* host ns per card ns */
+	double t[OBS_RING], x[OBS_RING];
+	unsigned int n;
+};
+
+static void observe(void *ctx, const struct sh2000_probe *p)
+{
+	struct obs *o = ctx;
+
+	o->t[o->n % OBS_RING] = (double)p->time_ns * o->scale;
+	o->x[o->n % OBS_RING] = p->axis[0].fine_cmd;
+	o->n++;
+}
+
+/* Card 0's set-point at host time t and its velocity (counts per ns);
+ * 0, or -1 when t is not inside the cycles kept. */
+static int obs_at(const struct obs *o, double t, double *x, double *v)
+{
+	unsigned int i;
+
+	for (i = 1; i < OBS_RING && i < o->n; i++) {
+		unsigned int k1 = (o->n - i) % OBS_RING;
+		unsigned int k0 = (o->n - i - 1) % OBS_RING;
+
+		if (o->t[k0] <= t && t <= o->t[k1]) {
+			double dt = o->t[k1] - o->t[k0];
+
+			*v = (o->x[k1] - o->x[k0]) / dt;
+			*x = o->x[k0] + (t - o->t[k0]) * *v;
+			return 0;
+		}
+	}
+	return -1;
+}
+
+struct drift {
+	struct rig *r[2];
+	struct obs o[2];
+	uint64_t t_next;
+	long correction_ns;
+};
+
+/* One period of a thread running both cards, slaved to card 0's clock as
+ * rtapi_task_pll_set_correction() slaves it. The cards' times only
+ * advance on their own port cycles: both are brought to the tick. */
+static void drift_tick(struct drift *d, double cmd_mm)
+{
+	int i;
+
+	for (i = 0; i < 2; i++) {
+		struct hsc_card *c = &d->r[i]->c;
+		uint64_t now = sh2000_now_ns(c->h);
+
+		if (now < d->t_next)
+			sh2000_sleep_ns(c->h, d->t_next - now);
+		now = sh2000_now_ns(c->h);
+		hsc_read(c, &d->r[i]->in, &d->r[i]->out, PERIOD_NS,
+			 (long)(now - d->t_next));
+	}
+	for (i = 0; i < 2; i++) {
+		d->r[i]->in.axis[0].position_cmd = cmd_mm;
+		hsc_write(&d->r[i]->c, &d->r[i]->in, &d->r[i]->out);
+	}
+	d->correction_ns = d->r[0]->out.pll_correction_ns;
+	d->t_next += (uint64_t)(PERIOD_NS + d->correction_ns);
+}
+
+static void test_two_cards_drift(void **state)
+{
+	struct drift d = { 0 };
+	double ppm[2] = { DRIFT_PPM, -DRIFT_PPM }, skew_max = 0, skew_0 = 0;
+	double A = 10.0, w = 2 * 3.14159265358979 * 1.0, vmax = A * w, x_0;
+	int fill_min[2] = { 1000, 1000 }, fill_max[2] = { -1, -1 };
+	int i, k, n = 60000, samples = 0;
+	uint64_t cycles[2] = { 0, 0 };
+	uint32_t cycles_max[2] = { 0, 0 };
+
+	(void)state;
+	for (i = 0; i < 2; i++) {
+		char msg[256];
+
+		d.r[i] = calloc(1, sizeof(*d.r[i]));
+		assert_non_null(d.r[i]);
+		if (hsc_open(&d.r[i]->c, i, "sim", msg, sizeof(msg)) < 0)
+			fail_msg("hsc_open: %s", msg);
+		assert_int_equal(sh2000_sim_set_clock_ppm(d.r[i]->c.h, ppm[i]), 0);
+		d.o[i].scale = 1.0 + ppm[i] * 1e-6;
+		assert_int_equal(sh2000_sim_set_observer(d.r[i]->c.h, observe,
+							 &d.o[i]), 0);
+		d.r[i]->in.axis[0].position_scale = hsc_default_scale(&d.r[i]->c, 0);
+		d.r[i]->in.queue_target = DRIFT_TARGET;
+	}
+	assert_int_equal(d.r[0]->c.master, 1);
+	assert_int_equal(d.r[1]->c.master, 0);
+	for (i = 0; i < 2; i++) {
+		uint64_t now = sh2000_now_ns(d.r[i]->c.h);
+
+		if (now > d.t_next)
+			d.t_next = now;
+	}
+	/* both cards enabled where they stand (the same place), streaming */
+	drift_tick(&d, 0.0);
+	x_0 = d.r[0]->out.axis[0].position_fb;
+	assert_true(fabs(d.r[1]->out.axis[0].position_fb - x_0) < 0.001);
+	d.r[0]->in.axis[0].enable = d.r[1]->in.axis[0].enable = 1;
+	for (k = 0; k < 100; k++)
+		drift_tick(&d, x_0);
+	assert_true(d.r[0]->c.streaming && d.r[1]->c.streaming);
+	/* a minute of the same motion on both: 10 mm (1 - cos), 1 Hz */
+	for (k = 0; k < n; k++) {
+		double t = k * 1e-3, x0, v0;
+
+		drift_tick(&d, x_0 + A * (1 - cos(w * t)));
+		for (i = 0; i < 2; i++) {
+			assert_true(d.r[i]->out.ok);
+			cycles[i] += d.r[i]->out.port_cycles;
+			if (d.r[i]->out.port_cycles > cycles_max[i])
+				cycles_max[i] = d.r[i]->out.port_cycles;
+			if (k < 1000 || !d.r[i]->c.st_fresh)
+				continue;
+			if (d.r[i]->out.queue_fill < fill_min[i])
+				fill_min[i] = d.r[i]->out.queue_fill;
+			if (d.r[i]->out.queue_fill > fill_max[i])
+				fill_max[i] = d.r[i]->out.queue_fill;
+		}
+		/* skew: card 0's set-point where card 1's latest is, in
+		 * host time, over card 0's velocity, where it is fast */
+		if (d.o[1].n && obs_at(&d.o[0], d.o[1].t[(d.o[1].n - 1) % OBS_RING],
+				       &x0, &v0) == 0 &&
+		    fabs(v0) * 1e9 > 0.7 * vmax * d.r[0]->in.axis[0].position_scale) {
+			double skew = (x0 - d.o[1].x[(d.o[1].n - 1) % OBS_RING]) / v0;
+
+			if (!samples++)
+				skew_0 = skew;
+			if (fabs(skew) > skew_max)
+				skew_max = fabs(skew);
+		}
+	}
+	print_message("two cards at %+g and %+g ppm, 1 ms thread on card 0 (correction %ld ns), %d s of motion: fill %d..%d and %d..%d (target %d), skew of card 1 against card 0 at most %.1f us (%d samples, the first %.1f us)\n",
+		      ppm[0], ppm[1], d.correction_ns, n / 1000, fill_min[0],
+		      fill_max[0], fill_min[1], fill_max[1], DRIFT_TARGET,
+		      skew_max * 1e-3, samples, skew_0 * 1e-3);
+	print_message("port cycles per tick: card 0 %.1f on average (at most %u), card 1 %.1f (at most %u: a tick with two points)\n",
+		      (double)cycles[0] / n, cycles_max[0],
+		      (double)cycles[1] / n, cycles_max[1]);
+	/* issue 12: <= 150 port cycles per tick, a follower's occasional
+	 * second point (through the ring) included */
+	assert_true(cycles[0] <= 150ull * (uint64_t)n);
+	assert_true(cycles[1] <= 150ull * (uint64_t)n);
+	/* the thread follows card 0: 100 ppm of a period */
+	assert_true(labs(d.correction_ns - (long)(DRIFT_PPM * 1e-6 * PERIOD_NS)) <= 20);
+	assert_true(samples > 1000);
+	for (i = 0; i < 2; i++) {
+		assert_true(fill_min[i] >= DRIFT_TARGET - 2);
+		assert_true(fill_max[i] <= DRIFT_TARGET + 2);
+		assert_int_equal(d.r[i]->out.underruns, 0);
+	}
+	assert_true(skew_max < 0.25 * PERIOD_NS);
+	for (i = 0; i < 2; i++)
+		rig_close(d.r[i]);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -303,6 +476,7 @@ int main(void)
 		cmocka_unit_test(test_jam_is_amp_fault),
 		cmocka_unit_test(test_underrun),
 		cmocka_unit_test(test_stopped_by_another_program),
+		cmocka_unit_test(test_two_cards_drift),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -100,6 +100,22 @@ def card_pos():
     return [a["pos_mm"] for a in json.loads(out.splitlines()[-1])["axes"]][:3]
 
 
+def card_pos_at_rest(timeout=3.0):
+    """The card's position once it has stopped moving: LinuxCNC calls a
+    move done on position-fb, while the card model (its own process) may
+    still be playing the last queued periods on a loaded machine. Two
+    readings 0.1 s apart within 0.1 um; the last reading after timeout."""
+    end = time.time() + timeout
+    last = card_pos()
+    while time.time() < end:
+        time.sleep(0.1)
+        pos = card_pos()
+        if pos and last and all(abs(a - b) < 1e-4 for a, b in zip(pos, last)):
+            return pos
+        last = pos
+    return last
+
+
 def machine_on():
     """estop reset (twice if the card had to be reset first), then on."""
     for _ in range(3):
@@ -189,7 +205,7 @@ def run():
     # position-fb, which runs ahead of the encoder by latch velocity x
     # delay (1 mm/s x ~32 ms here).
     global OFFSET
-    pos = card_pos()
+    pos = card_pos_at_rest()
     check("card at LinuxCNC's home position", pos and all(abs(p - (5.0 - 300.0)) < 0.05 for p in pos),
           "card %s, expected -295" % pos)
     OFFSET = [p - 5.0 for p in pos] if pos else [0.0, 0.0, 0.0]

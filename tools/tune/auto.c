@@ -6,11 +6,15 @@
  * the margins each gives on the identified plant, then, as asked: nothing
  * (--dry-run), a parameter file (--save), the gains on the card all or
  * none (--apply) checked by a step test, and the step drawn or written
- * (--plot, --csv; the old gains are put back after it unless --apply).
+ * (--plot, --csv; the old gains are put back after it unless --apply);
+ * with --plot also a chirp with the new gains (testruns.c), its Bode plot
+ * beside the step's picture and its measured margins beside the design's.
  */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+
+#include <sh2000/run.h>
 
 #include "autotune.h"
 #include "ident.h"
@@ -30,7 +34,7 @@ static void print_plant(const struct tune_ident_result *r, char an)
 	       pl->resid, pl->resid_rel * 100, pl->samples);
 }
 
-static void print_margins(const char *what, const struct tune_margins *m)
+static void print_margins(const char *what, const struct tune_design_margins *m)
 {
 	printf("%-24s", what);
 	if (!m->stable) {
@@ -64,41 +68,88 @@ static void print_gains(const struct tune_gains *o, const struct tune_gains *n)
 	}
 }
 
-/* The step test with the gains now on the card, reported (and drawn). */
-static int check_step(struct sh2000 *h, const struct tune_opts *o)
+/* The Bode plot's file beside the step's: FILE-bode.png for FILE.png. */
+static void bode_name(char *out, size_t len, const char *plot)
+{
+	const char *dot = strrchr(plot, '.');
+	const char *slash = strrchr(plot, '/');
+	int stem = dot && (!slash || dot > slash) ? (int)(dot - plot) : (int)strlen(plot);
+
+	snprintf(out, len, "%.*s-bode%s", stem, plot, plot + stem);
+}
+
+/* The new gains' predicted margins beside those a chirp measured. */
+static void print_measured(const struct tune_design_margins *pred,
+			   const struct tune_margins *meas)
+{
+	printf("margins, new gains      predicted   measured (chirp)\n");
+	printf("%-24s%-12.2f%.2f Hz\n", "crossover", pred->wc_hz, meas->wc_hz);
+	printf("%-24s%-12.1f%.1f deg\n", "phase margin", pred->pm_deg, meas->pm_deg);
+	printf("%-24s", "gain margin");
+	if (isinf(pred->gm_db))
+		printf("%-12s", "infinite");
+	else
+		printf("%-12.1f", pred->gm_db);
+	if (isnan(meas->gm_db))
+		printf("none measured (the phase stays above -180 deg)\n");
+	else
+		printf("%.1f dB\n", meas->gm_db);
+}
+
+/* A chirp around the predicted crossover with the gains now on the card:
+ * its Bode plot beside the step's picture, the margins it measures beside
+ * the design's. */
+static int check_chirp(struct sh2000 *h, const struct tune_opts *o,
+		       const struct tune_design_margins *pred, char *bode,
+		       size_t len)
+{
+	struct tune_opts co = *o;
+	struct tune_margins meas;
+	struct sh2000_path_config pc;
+	int r;
+
+	if ((r = sh2000_run_path_config(h, &pc)) < 0)
+		return sh2000_tool_fail(h, r, "get parameter");
+	bode_name(bode, len, o->plot);
+	co.test = TUNE_TEST_CHIRP;
+	co.csv = NULL;
+	co.plot = bode;
+	co.f0_hz = fmax(1, pred->wc_hz / TUNE_AUTO_CHIRP_SPAN);
+	co.f1_hz = fmin(pred->wc_hz * TUNE_AUTO_CHIRP_SPAN,
+			TUNE_AUTO_CHIRP_TOP * tune_chirp_f1_max(pc.period_s / pc.fine_steps));
+	co.duration_s = fmin(10, fmax(TUNE_CHIRP_DURATION, 4 / co.f0_hz));
+	if ((r = tune_check_options(&co)))
+		return r;
+	printf("chirp with the new gains:\n");
+	r = tune_run_chirp(h, &co, &meas);
+	if (!r)
+		print_measured(pred, &meas);
+	return r;
+}
+
+/* The step test with the gains now on the card, reported (and drawn),
+ * and with --plot a chirp's Bode plot and measured margins. */
+static int check_gains(struct sh2000 *h, const struct tune_opts *o,
+		       const struct tune_design_margins *pred)
 {
 	struct tune_opts so = *o;
-	struct tune_trace tr;
-	struct tune_metrics m;
-	char title[160];
+	char bode[4096];
 	int r;
 
 	if (so.step_mm == 0)
 		so.step_mm = TUNE_AUTO_STEP_MM;
 	printf("step test with the new gains:\n");
-	r = tune_step(h, &so, &tr);
-	if (!r) {
-		if (tune_metrics(&tr, &m) < 0)
-			sh2000_tool_msg("%s: the encoder never reached 90 %% of the step",
-					sh2000_device(h));
-		tune_report(&so, &tr, &m);
-		r = tune_check_back(h, &so, &tr);
-	}
-	if (!r && o->csv)
-		r = tune_write_csv(&tr, o->csv);
-	if (!r && o->plot) {
-		snprintf(title, sizeof(title), "%s axis %c: step of %g mm, auto-tuned gains",
-			 sh2000_device(h), sh2000_tool_axis_name(o->axis), so.step_mm);
-		r = tune_plot(&tr, &m, o->plot, title);
-	}
-	tune_trace_free(&tr);
+	r = tune_run_step(h, &so, ", auto-tuned gains");
+	if (!r && o->plot)
+		r = check_chirp(h, o, pred, bode, sizeof(bode));
 	return r;
 }
 
 /* The new gains on the card (all or none), the step test, and the old
  * ones back unless they are to stay. */
 static int try_gains(struct sh2000 *h, const struct tune_opts *o,
-		     const struct tune_gains *old, const struct tune_gains *gn)
+		     const struct tune_gains *old, const struct tune_gains *gn,
+		     const struct tune_design_margins *pred)
 {
 	char why[512];
 	int r, r2;
@@ -111,7 +162,7 @@ static int try_gains(struct sh2000 *h, const struct tune_opts *o,
 	}
 	printf("%s\n", o->apply ? "the new gains are on the card" :
 	       "the new gains are on the card for the step test only");
-	r = check_step(h, o);
+	r = check_gains(h, o, pred);
 	if (o->apply)
 		return r;
 	r2 = tune_gains_set(h, o->axis, old, gn, why, sizeof(why));
@@ -124,16 +175,17 @@ static int try_gains(struct sh2000 *h, const struct tune_opts *o,
 	return r;
 }
 
-int tune_auto(struct sh2000 *h, const struct tune_opts *o)
+/* Identify, design, print, write as asked. */
+static int identify_and_design(struct sh2000 *h, const struct tune_opts *o)
 {
 	struct tune_design_req req = { o->bandwidth_hz, o->margin_deg };
 	struct tune_ident_result id;
 	struct tune_gains old, gn;
-	struct tune_margins mo, mn;
+	struct tune_design_margins mo, mn;
 	char why[512], an = sh2000_tool_axis_name(o->axis);
 	int r;
 
-	if ((r = tune_gains_get(h, o->axis, &old)) < 0)
+	if ((r = tune_read_gains(h, o->axis, &old)) < 0)
 		return sh2000_tool_fail(h, r, "get parameter");
 	r = tune_ident(h, o, &id);
 	if (r)
@@ -160,6 +212,20 @@ int tune_auto(struct sh2000 *h, const struct tune_opts *o)
 	if (o->save)
 		printf("saved to %s (sh2000ctl params load %s)\n", o->save, o->save);
 	if (o->apply || o->plot || o->csv)
-		return try_gains(h, o, &old, &gn);
+		return try_gains(h, o, &old, &gn, &mn);
 	return 0;
+}
+
+int tune_auto(struct sh2000 *h, const struct tune_opts *o)
+{
+	/* the axis enabled (--enable) once for the identification, the step
+	 * and the chirp: disabled between them it would drift, and each
+	 * test would start elsewhere */
+	struct tune_move m = { .h = h, .o = o, .a = o->axis, .name = "auto-tuning" };
+	int r = tune_move_prepare(&m);
+
+	if (!r)
+		r = identify_and_design(h, o);
+	tune_move_end(&m);
+	return r;
 }

@@ -3,8 +3,9 @@
  * sh2000-tune --auto: plant identification (ident.c on the card, identfit.c
  * the least squares), gain design (design.c, pure), writing the gains
  * all-or-nothing and as a parameter file (gains.c), and the whole flow
- * (auto.c). Kept apart from tune.h so the step test's interface stays
- * as it was.
+ * (auto.c). Kept apart from tune.h, the test moves' interface. The
+ * design's predicted margins are struct tune_design_margins; the ones a
+ * chirp measures, struct tune_design_margins (margins.c).
  */
 #ifndef SH2000_TUNE_AUTOTUNE_H
 #define SH2000_TUNE_AUTOTUNE_H
@@ -12,6 +13,8 @@
 #include <stddef.h>
 
 #include <sh2000/sh2000.h>
+
+#include "tune.h"	/* struct tune_gains, struct tune_opts */
 
 /* The dead times the identification tries, servo cycles 0..IDENT_DMAX. */
 #define TUNE_IDENT_DMAX 4
@@ -32,17 +35,8 @@ struct tune_plant {
 	size_t samples;
 };
 
-/* The card's PID + feed-forward gains, as its parameters hold them. */
-struct tune_gains {
-	double kp;	/* DAC codes per count */
-	double ti;	/* s, 0: no integral */
-	double td;	/* s */
-	double kvff;	/* DAC codes per count/s */
-	double kaff;	/* DAC codes per count/s^2 */
-};
-
 /* Predicted loop figures (controller x plant incl. delay, discrete). */
-struct tune_margins {
+struct tune_design_margins {
 	double pm_deg;		/* phase margin, degrees */
 	double gm_db;		/* gain margin above the crossover, dB
 				 * (INFINITY: the phase never crosses -180) */
@@ -97,18 +91,16 @@ double tune_default_bandwidth(const struct tune_plant *pl, double margin_deg);
  * not to be used.
  */
 int tune_design(const struct tune_plant *pl, const struct tune_design_req *req,
-		struct tune_gains *gn, struct tune_margins *m, char *why,
+		struct tune_gains *gn, struct tune_design_margins *m, char *why,
 		size_t whylen);
 
 /* The predicted margins of gains gn on plant pl (the card's discrete PID
  * in its exact form, the plant with its delay). */
 void tune_margins_of(const struct tune_plant *pl, const struct tune_gains *gn,
-		     struct tune_margins *m);
+		     struct tune_design_margins *m);
 
 /* ---- the card's gains (gains.c) ---- */
 
-/* Read the five gains of axis a. A library error (< 0). */
-int tune_gains_get(struct sh2000 *h, unsigned int a, struct tune_gains *gn);
 /*
  * Write all five gains of axis a or none: when one set fails, the ones
  * already written are put back to old and the error is returned, the
@@ -127,8 +119,15 @@ int tune_gains_save(const char *path, const char *device, unsigned int a,
 
 /* The step of the check after --apply when --step is not given, mm. */
 #define TUNE_AUTO_STEP_MM 0.01
+/* The identification's travel window from the start when --travel is
+ * not given, mm. */
+#define TUNE_AUTO_TRAVEL_MM 0.1
+/* The chirp of the check with --plot: from the predicted crossover / this
+ * (at least 1 Hz) to the crossover * this (where the gain margin lies), */
+#define TUNE_AUTO_CHIRP_SPAN 6.0
+/* and below this share of the highest F1 the servo period permits */
+#define TUNE_AUTO_CHIRP_TOP 0.9
 
-struct tune_opts;
 /* sh2000-tune --auto on h with o: an exit code. */
 int tune_auto(struct sh2000 *h, const struct tune_opts *o);
 

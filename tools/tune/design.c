@@ -64,15 +64,6 @@ static void ctrl_parts(double tau, double ti, double th, double complex *A,
 	*D = d;
 }
 
-static double complex ctrl_at(const struct tune_gains *gn, double tau,
-			      double th)
-{
-	double complex A, D;
-
-	ctrl_parts(tau, gn->ti, th, &A, &D);
-	return gn->kp * (A + (gn->td / tau) * D);
-}
-
 /* All roots of c[0] z^n + ... + c[n] inside |z| = 1 (Schur-Cohn step-down:
  * every reflection coefficient below 1 in magnitude). */
 static int schur_stable(const double *c, int n)
@@ -147,7 +138,7 @@ static double pm_of(double acc)
 }
 
 void tune_margins_of(const struct tune_plant *pl, const struct tune_gains *gn,
-		     struct tune_margins *m)
+		     struct tune_design_margins *m)
 {
 	double lo = log(1e-5), hi = log(M_PI * 0.99999);
 	double prev_mag = 0, prev_ph = 0, acc = 0, prev_acc = 0;
@@ -158,7 +149,7 @@ void tune_margins_of(const struct tune_plant *pl, const struct tune_gains *gn,
 	m->wpc_hz = 0;
 	for (int i = 0; i <= SCAN_POINTS; i++) {
 		double th = exp(lo + (hi - lo) * i / SCAN_POINTS);
-		double complex L = ctrl_at(gn, pl->T, th) * plant_at(pl, th);
+		double complex L = tune_pid_response(gn, pl->T, th / (2 * M_PI * pl->T)) * plant_at(pl, th);
 		double mag = cabs(L), ph = carg(L), hz = th / (2 * M_PI * pl->T);
 
 		acc = unwrap(ph, prev_ph, acc, i == 0);
@@ -211,7 +202,7 @@ static int solve_at(const struct tune_plant *pl, double th, double ratio,
 /* Gains the design may give: the asked phase margin over the whole
  * frequency axis, the gain margin floor, a stable closed loop. */
 static int admissible(const struct tune_plant *pl, const struct tune_gains *gn,
-		      double pm_deg, struct tune_margins *m)
+		      double pm_deg, struct tune_design_margins *m)
 {
 	tune_margins_of(pl, gn, m);
 	return m->stable && m->pm_deg >= pm_deg - 0.05 && m->gm_db >= TUNE_MIN_GM_DB;
@@ -220,7 +211,7 @@ static int admissible(const struct tune_plant *pl, const struct tune_gains *gn,
 struct candidate {
 	double th, ratio, ki;	/* ki = Kp/Ti: the figure of merit */
 	struct tune_gains g;
-	struct tune_margins m;
+	struct tune_design_margins m;
 };
 
 /* Try (th, ratio): keep it in *best when admissible with a higher ki. */
@@ -282,7 +273,7 @@ double tune_default_bandwidth(const struct tune_plant *pl, double margin_deg)
 }
 
 int tune_design(const struct tune_plant *pl, const struct tune_design_req *req,
-		struct tune_gains *gn, struct tune_margins *m, char *why,
+		struct tune_gains *gn, struct tune_design_margins *m, char *why,
 		size_t whylen)
 {
 	double th = 2 * M_PI * req->bandwidth_hz * pl->T;
@@ -304,7 +295,7 @@ int tune_design(const struct tune_plant *pl, const struct tune_design_req *req,
 	if (!(c.ki > 0)) {
 		/* what the middle of the range would give, for the message */
 		struct tune_gains g;
-		struct tune_margins mm = { 0 };
+		struct tune_design_margins mm = { 0 };
 		double t = th > 0 ? th : 0.1;
 		int ok = solve_at(pl, t, 6, req->margin_deg, &g) == 0;
 

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The card's five loop gains of one axis: read, written all or none (a
- * set that fails puts the ones already written back), and saved as a
- * parameter file section through the tools' shared writer (paramfile.c),
+ * The card's five loop gains of one axis (read by freqresp.c's
+ * tune_read_gains()): written all or none (a set that fails puts the ones
+ * already written back), and saved as a parameter file section through the tools' shared writer (paramfile.c),
  * so `sh2000ctl params load` reads it as it reads its own files.
  */
 #include <errno.h>
@@ -23,17 +23,6 @@ static double *field(struct tune_gains *g, unsigned int i)
 	double *f[NGAINS] = { &g->kp, &g->ti, &g->td, &g->kvff, &g->kaff };
 
 	return f[i];
-}
-
-int tune_gains_get(struct sh2000 *h, unsigned int a, struct tune_gains *gn)
-{
-	for (unsigned int i = 0; i < NGAINS; i++) {
-		int r = sh2000_param_get(h, (int)a, ids[i], field(gn, i));
-
-		if (r < 0)
-			return r;
-	}
-	return 0;
 }
 
 int tune_gains_set(struct sh2000 *h, unsigned int a,

@@ -19,7 +19,6 @@
 
 #include "autotune.h"
 #include "ident.h"
-#include "testmove.h"
 
 #define IDENT_SECONDS	1.5	/* at most, the record's size permitting */
 #define IDENT_FADE_S	0.15
@@ -28,8 +27,8 @@
 #define IDENT_RATIO	1.6	/* between tones */
 #define LEAD_PERIODS	4
 #define BACK_PERIODS	8
-#define PRETRIGGER	4
 #define NSIG		2	/* encoder, dac */
+#define RECORD_SPARE	16	/* samples: testmove.c's pretrigger and more */
 #define FINE		16	/* evaluation points per coarse period */
 
 /* The unscaled excitation at t (s) of a test lasting len s, in mm. */
@@ -68,7 +67,7 @@ static int32_t *plan(struct tune_move *s, size_t n, double *amp)
 		vm = fmax(vm, fabs(x2 - x0) / (2 * h));
 		am = fmax(am, fabs(x2 - 2 * x1 + x0) / (h * h));
 	}
-	k = fmin(s->o->travel_mm / xm, fmin(tune_move_vmax(s) / vm,
+	k = fmin(s->o->travel_mm / xm, fmin(s->vlim / vm,
 					    s->pc.amax[s->a] / am));
 	*amp = k * xm;
 	for (size_t i = 0; v && i < n; i++)
@@ -76,51 +75,33 @@ static int32_t *plan(struct tune_move *s, size_t n, double *amp)
 	return v;
 }
 
-/* Arm a record of encoder and DAC every servo cycle from the motion's
- * start: *rec its number. An exit code. */
-static int arm(struct tune_move *s, size_t periods, unsigned int *rec)
-{
-	struct sh2000_gather_config gc;
-	int r;
-
-	sh2000_gather_config_default(&gc);
-	gc.signals[s->a] = 1u << SH2000_GS_ENCODER | 1u << SH2000_GS_DAC;
-	gc.period = 1;
-	gc.samples = (uint32_t)((periods + LEAD_PERIODS + BACK_PERIODS) *
-				s->pc.fine_steps) + PRETRIGGER;
-	gc.trigger = SH2000_GATHER_ON_MOTION;
-	gc.pretrigger = PRETRIGGER;
-	r = sh2000_gather_start(s->h, &gc);
-	if (r < 0)
-		return tune_move_fail(s, r, "gather");
-	*rec = (unsigned int)r;
-	return 0;
-}
-
 /* The record, fitted. An exit code. */
 static int fit(struct tune_move *s, unsigned int rec, struct tune_plant *pl)
 {
 	struct sh2000_gather_info gi;
-	double *v, *enc, *dac;
+	double *v, *enc = NULL;
 	char why[256];
 	int r;
 
-	if ((r = sh2000_gather_wait(s->h, rec, &gi, 10000)) < 0)
-		return tune_move_fail(s, r, "gather");
-	v = malloc(sizeof(*v) * NSIG * 2 * gi.samples);
-	r = v ? sh2000_gather_read(s->h, &gi, 0, gi.samples, v) : -12;
-	if (r < 0) {
+	if ((r = tune_move_read(s, rec, &gi, &v)))
+		return r;
+	if (gi.period != 1) {
+		sh2000_tool_msg("%s: identification: the record is not every servo cycle", sh2000_device(s->h));
 		free(v);
-		return tune_move_fail(s, r, "gather");
+		return SH2000_EXIT_CARD;
 	}
-	enc = v + NSIG * gi.samples;
-	dac = enc + gi.samples;
+	enc = malloc(sizeof(*enc) * 2 * gi.samples);
+	if (!enc) {
+		free(v);
+		return tune_move_fail(s, -12, "identification");
+	}
 	for (uint32_t i = 0; i < gi.samples; i++) {
 		enc[i] = v[NSIG * i];
-		dac[i] = v[NSIG * i + 1];
+		enc[gi.samples + i] = v[NSIG * i + 1];
 	}
-	r = tune_ident_fit(enc, dac, gi.samples, gi.sample_s, TUNE_IDENT_DMAX,
-			   pl, why, sizeof(why));
+	r = tune_ident_fit(enc, enc + gi.samples, gi.samples, gi.sample_s,
+			   TUNE_IDENT_DMAX, pl, why, sizeof(why));
+	free(enc);
 	free(v);
 	if (r < 0) {
 		sh2000_tool_msg("%s: identification: %s", sh2000_device(s->h), why);
@@ -129,24 +110,35 @@ static int fit(struct tune_move *s, unsigned int rec, struct tune_plant *pl)
 	return 0;
 }
 
-/* The excitation and the way back; an error ends the test. */
-static int move(struct tune_move *s, const int32_t *pts, size_t n)
+/* The excitation (ident_ctx's points) and the way back; tune_move_run()
+ * arms the record before and puts the limits back after. */
+struct ident_ctx {
+	struct tune_move m;	/* first: tune_move_run() hands it back */
+	int32_t *pts;
+	size_t n;
+};
+
+static int move(struct tune_move *m)
 {
-	int r = tune_move_hold(s, s->start, LEAD_PERIODS, 0);
+	const struct ident_ctx *c = (const struct ident_ctx *)m;
+	int r = tune_move_hold(m, m->start, LEAD_PERIODS, 0);
 
 	if (r >= 0)
-		r = tune_move_points(s, pts, n, 0);
+		r = tune_move_push(m, c->pts, (unsigned int)c->n, 0);
 	if (r >= 0)
-		r = tune_move_hold(s, s->start, BACK_PERIODS, SH2000_PUSH_END);
+		r = tune_move_hold(m, m->start, BACK_PERIODS, SH2000_PUSH_END);
 	if (r >= 0)
-		r = sh2000_wait_idle(s->h, 20000);
+		r = sh2000_wait_idle(m->h, 20000);
 	return r;
 }
 
+/* The excitation's coarse periods: as long as IDENT_SECONDS, or as the
+ * card's record holds every servo cycle of it and of the way there and
+ * back. */
 static size_t periods_of(const struct tune_move *s)
 {
 	double servo = s->pc.period_s / s->pc.fine_steps;
-	double cap = (SH2000_GATHER_BUFFER_VALUES / NSIG - PRETRIGGER) * servo;
+	double cap = (SH2000_GATHER_BUFFER_VALUES / NSIG - RECORD_SPARE) * servo;
 	double len = fmin(IDENT_SECONDS,
 			  cap - (LEAD_PERIODS + BACK_PERIODS + 1) * s->pc.period_s);
 
@@ -156,48 +148,38 @@ static size_t periods_of(const struct tune_move *s)
 int tune_ident(struct sh2000 *h, const struct tune_opts *o,
 	       struct tune_ident_result *res)
 {
-	struct tune_move s = { .h = h, .o = o, .a = o->axis };
+	struct ident_ctx c = { .m = { .h = h, .o = o, .a = o->axis,
+				      .name = "identification" } };
+	struct tune_move *s = &c.m;
 	unsigned int rec = 0;
-	int32_t *pts = NULL;
-	size_t n;
 	int r;
 
 	memset(res, 0, sizeof(*res));
-	if ((r = tune_move_begin(&s)))
+	if ((r = tune_move_prepare(s)))
 		goto out;
-	res->start = s.start;
-	n = periods_of(&s);
-	if (n * s.pc.period_s < 4 * IDENT_FADE_S) {
+	res->start = s->start;
+	c.n = periods_of(s);
+	if (c.n * s->pc.period_s < 4 * IDENT_FADE_S) {
 		sh2000_tool_msg("%s: the card's record holds %.3f s at this servo period, too short to identify: nothing moved",
-				sh2000_device(h), (double)n * s.pc.period_s);
+				sh2000_device(h), (double)c.n * s->pc.period_s);
 		r = SH2000_EXIT_CARD;
 		goto out;
 	}
-	pts = plan(&s, n, &res->amplitude_mm);
-	if (!pts) {
-		r = tune_move_fail(&s, -12, "identification");
+	c.pts = plan(s, c.n, &res->amplitude_mm);
+	if (!c.pts) {
+		r = tune_move_fail(s, -12, "identification");
 		goto out;
 	}
-	res->seconds = (double)n * s.pc.period_s;
-	if ((r = tune_move_limits(&s)))
+	res->seconds = (double)c.n * s->pc.period_s;
+	if ((r = tune_move_lower_limits(s)))
 		goto out;
-	r = arm(&s, n, &rec);
-	if (!r && (r = move(&s, pts, n)) < 0) {
-		sh2000_gather_stop(h);
-		if (r == -SH2000_EFERR) {
-			r = tune_move_recover(&s, r, "identification");
-			goto out;
-		}
-		r = tune_move_fail(&s, r, "identification");
-	}
+	r = tune_move_run(s, 1u << SH2000_GS_ENCODER | 1u << SH2000_GS_DAC,
+			  (double)(c.n + LEAD_PERIODS + BACK_PERIODS) * s->pc.period_s,
+			  &rec, move);
 	if (!r)
-		r = tune_move_restore(&s);
-	else
-		tune_move_restore(&s);
-	if (!r)
-		r = fit(&s, rec, &res->plant);
+		r = fit(s, rec, &res->plant);
 out:
-	free(pts);
-	tune_move_end(&s);
+	free(c.pts);
+	tune_move_end(s);
 	return r;
 }

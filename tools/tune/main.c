@@ -3,9 +3,10 @@
  * sh2000-tune: loop tuning tests on an SH-2000TH card (sh2000-tune(1)).
  * The step test: a bounded step of the set-point, gathered on the card
  * every servo cycle (protocol 1.2), reported as rise time, overshoot and
- * settling time to 10 counts, optionally drawn and written as CSV. The
- * axis ends where it started. Auto-tuning (--auto, auto.c): identify the
- * plant, design PID + feed-forward, print, write as asked.
+ * settling time to 10 counts, optionally drawn and written as CSV; the
+ * ramp and chirp tests (testruns.c). The axis ends where it started.
+ * Auto-tuning (--auto, auto.c): identify the plant, design PID +
+ * feed-forward, print, write as asked.
  */
 #include <getopt.h>
 #include <math.h>
@@ -23,13 +24,21 @@
 static void usage(FILE *f)
 {
 	fprintf(f,
-"Usage: sh2000-tune [-d DEVICE] AXIS --step MM [OPTIONS]\n"
+"Usage: sh2000-tune [-d DEVICE] AXIS --step MM | --ramp MM/S | --chirp F0:F1\n"
+"                   [OPTIONS]\n"
 "       sh2000-tune [-d DEVICE] AXIS --auto [--apply] [--save FILE] [--dry-run]\n"
 "                   [--bandwidth HZ] [--margin DEG] [--travel MM] [OPTIONS]\n"
-"Step test of one axis' servo loop: the set-point steps by MM and holds,\n"
-"the card gathers set-point, encoder and DAC every servo cycle, then the\n"
-"axis steps back to where it started. Prints rise time (10-90 %%),\n"
-"overshoot, settling time to 10 counts, peak following error and DAC.\n"
+"Tests of one axis' servo loop, gathered on the card every servo cycle;\n"
+"the axis ends where it started.\n"
+"  step:  the set-point steps by MM and holds, then steps back. Prints rise\n"
+"         time (10-90 %%), overshoot, settling time to 10 counts, peak\n"
+"         following error and DAC.\n"
+"  ramp:  the set-point moves TRAVEL at MM/S (accelerating at the axis'\n"
+"         amax) and back. Prints the following error at constant speed\n"
+"         (peak, RMS) and while accelerating.\n"
+"  chirp: a logarithmic swept sine F0..F1 Hz around the start. Prints the\n"
+"         gain and phase margins, crossover and closed-loop bandwidth from\n"
+"         the measured plant and the card's PID.\n"
 "\n"
 "  -d, --device DEVICE  /dev/sh2000-N, io:0xNNN, sim or sim:NAME\n"
 "  --step MM            the step (signed); in one coarse period, so within\n"
@@ -41,9 +50,22 @@ static void usage(FILE *f)
 "                       0.1): beyond it the card faults, the test is\n"
 "                       aborted and the axis goes back to its start\n"
 "  --hold SECONDS       time at the step (default 0.2)\n"
+"  --ramp MM/S          the ramp's speed (signed: its direction)\n"
+"  --chirp F0:F1        the sweep's frequencies, Hz (F0 < F1)\n"
+"  --travel MM          the window the test stays in, from the start\n"
+"                       (ramp: its length, default enough to hold the\n"
+"                       speed 50 ms; chirp: default 1)\n"
+"  --amplitude MM       the sweep's amplitude (default 0.002)\n"
+"  --duration SECONDS   the sweep's length (default 0.8)\n"
+"  --accel MM/S^2       the sweep's acceleration bound: above the frequency\n"
+"                       where the amplitude would need more, it falls as\n"
+"                       1/f^2 (default: what takes half the DAC bound\n"
+"                       through the axis' kaff; without kaff its amax)\n"
 "  --enable             enable the axis for the test (disabled after)\n"
-"  --csv FILE           the gathered response as CSV\n"
-"  --plot FILE          the response as PNG, or SVG for FILE.svg (gnuplot)\n"
+"  --csv FILE           the gathered response (chirp: the frequency\n"
+"                       response) as CSV\n"
+"  --plot FILE          the response (chirp: the Bode plot) as PNG, or SVG\n"
+"                       for FILE.svg (gnuplot)\n"
 "\n"
 "Auto-tuning (--auto): the axis moves (a multisine within --travel, --vmax,\n"
 "the axis' amax, --dac-max and --ferr-max, and back to its start), the plant\n"
@@ -61,7 +83,10 @@ static void usage(FILE *f)
 "  --save FILE          the gains as a parameter file (sh2000ctl params load)\n"
 "  --dry-run            identify (it moves) and design, write nothing\n"
 "  --plot, --csv FILE   the step with the new gains (without --apply the\n"
-"                       old gains are put back after it)\n"
+"                       old gains are put back after it); --plot also\n"
+"                       sweeps a chirp with them and draws its Bode plot\n"
+"                       to FILE-bode.png (or .svg), and prints the\n"
+"                       measured margins beside the predicted ones\n"
 "  -h, --help           this help\n"
 "  -V, --version        versions\n"
 "\n"
@@ -81,13 +106,15 @@ static int number(const char *opt, const char *v, double lo, double *out)
 }
 
 /* --auto's options together (after the axis and the common ones). */
-static int check_auto(const struct tune_opts *o, int auto_only)
+static int check_auto(struct tune_opts *o, int auto_only, int tests)
 {
 	if (!o->autotune)
 		return sh2000_tool_usage(NULL, "--%s needs --auto",
 					 o->apply ? "apply" : o->save ? "save" :
 					 o->dry_run ? "dry-run" :
-					 auto_only ? "bandwidth, --margin or --travel" : "auto");
+					 auto_only ? "bandwidth or --margin" : "auto");
+	if (tests > 1 || o->test != TUNE_TEST_STEP)
+		return sh2000_tool_usage(NULL, "--auto: not with --ramp or --chirp");
 	if (o->dry_run && (o->apply || o->save || o->plot || o->csv))
 		return sh2000_tool_usage(NULL, "--dry-run writes nothing: not with --%s",
 					 o->apply ? "apply" : o->save ? "save" :
@@ -97,6 +124,8 @@ static int check_auto(const struct tune_opts *o, int auto_only)
 					 o->margin_deg);
 	if (o->hold_s > 10)
 		return sh2000_tool_usage(NULL, "--hold: at most 10 s");
+	if (!(o->travel_mm > 0))
+		o->travel_mm = TUNE_AUTO_TRAVEL_MM;
 	return 0;
 }
 
@@ -109,35 +138,43 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 		{ "dac-max", required_argument, NULL, 'D' },
 		{ "ferr-max", required_argument, NULL, 'f' },
 		{ "hold", required_argument, NULL, 'H' },
-		{ "enable", no_argument, NULL, 'e' },
-		{ "csv", required_argument, NULL, 'c' },
-		{ "plot", required_argument, NULL, 'p' },
+		/* ramp and chirp tests */
+		{ "ramp", required_argument, NULL, 'r' },
+		{ "chirp", required_argument, NULL, 'C' },
+		{ "travel", required_argument, NULL, 't' },
+		{ "amplitude", required_argument, NULL, 'A' },
+		{ "duration", required_argument, NULL, 'u' },
+		{ "accel", required_argument, NULL, 'a' },
 		/* --auto */
-		{ "auto", no_argument, NULL, 'A' },
+		{ "auto", no_argument, NULL, 'U' },
 		{ "apply", no_argument, NULL, 'Y' },
 		{ "save", required_argument, NULL, 'S' },
 		{ "dry-run", no_argument, NULL, 'n' },
 		{ "bandwidth", required_argument, NULL, 'B' },
 		{ "margin", required_argument, NULL, 'M' },
-		{ "travel", required_argument, NULL, 'T' },
+		{ "enable", no_argument, NULL, 'e' },
+		{ "csv", required_argument, NULL, 'c' },
+		{ "plot", required_argument, NULL, 'p' },
 		{ "help", no_argument, NULL, 'h' },
 		{ "version", no_argument, NULL, 'V' },
 		{ 0 }
 	};
-	int c, r = 0, have_step = 0, ax, auto_only = 0;
+	int c, r = 0, tests = 0, ax, auto_only = 0;
 	long l;
 
 	memset(o, 0, sizeof(*o));
 	o->ferr_max_mm = 0.1;
 	o->hold_s = 0.2;
+	o->amplitude_mm = TUNE_CHIRP_AMPLITUDE;
+	o->duration_s = TUNE_CHIRP_DURATION;
 	o->margin_deg = TUNE_DEFAULT_MARGIN;
-	o->travel_mm = 0.1;
 	opterr = 0;
 	while (!r && (c = getopt_long(argc, argv, ":d:hV", lo, NULL)) != -1) {
 		switch (c) {
 		case 'd': o->device_arg = optarg; break;
 		case 's':
-			have_step = 1;
+			tests++;
+			o->test = TUNE_TEST_STEP;
 			if (sh2000_tool_double(optarg, &o->step_mm) < 0 || o->step_mm == 0)
 				r = sh2000_tool_usage(NULL, "--step: '%s' is not a distance other than 0 in mm", optarg);
 			break;
@@ -149,17 +186,20 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 				r = sh2000_tool_usage(NULL, "--dac-max: '%s' is not a DAC code 1..32767", optarg);
 			o->dac_max = (int)l;
 			break;
-		case 'e': o->enable = 1; break;
-		case 'c': o->csv = optarg; break;
-		case 'p': o->plot = optarg; break;
+		case 'r': case 'C': case 't': case 'A': case 'a': case 'u':
+			r = tune_parse_option(c, optarg, o);
+			tests += c == 'r' || c == 'C';
+			break;
 		/* --auto */
-		case 'A': o->autotune = 1; break;
+		case 'U': o->autotune = 1; break;
 		case 'Y': o->apply = 1; break;
 		case 'S': o->save = optarg; break;
 		case 'n': o->dry_run = 1; break;
 		case 'B': auto_only = 1; r = number("--bandwidth", optarg, 0, &o->bandwidth_hz); break;
 		case 'M': auto_only = 1; r = number("--margin", optarg, 0, &o->margin_deg); break;
-		case 'T': auto_only = 1; r = number("--travel", optarg, 0, &o->travel_mm); break;
+		case 'e': o->enable = 1; break;
+		case 'c': o->csv = optarg; break;
+		case 'p': o->plot = optarg; break;
 		case 'h': usage(stdout); return -1;
 		case 'V': sh2000_tool_print_version(SH2000_TOOLS_VERSION); return -1;
 		case ':': r = sh2000_tool_usage(NULL, "option %s needs a value", argv[optind - 1]); break;
@@ -175,81 +215,19 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 		return sh2000_tool_usage(NULL, "'%s' is not an axis (x y z a)", argv[optind]);
 	o->axis = (unsigned int)ax;
 	if (o->autotune || o->apply || o->save || o->dry_run || auto_only)
-		return check_auto(o, auto_only);
-	if (!have_step)
-		return sh2000_tool_usage(NULL, "--step MM or --auto is needed");
+		return check_auto(o, auto_only, tests);
+	if (tests != 1)
+		return sh2000_tool_usage(NULL, tests ? "one test at a time: --step, --ramp or --chirp" :
+					 "which test? --step MM, --ramp MM/S, --chirp F0:F1 or --auto");
 	if (o->hold_s > 10)
 		return sh2000_tool_usage(NULL, "--hold: at most 10 s");
-	return 0;
-}
-
-int tune_write_csv(const struct tune_trace *tr, const char *path)
-{
-	char *text = NULL;
-	size_t len = 0;
-	FILE *m = open_memstream(&text, &len);
-	int r;
-
-	if (!m) {
-		sh2000_tool_msg("--csv %s: out of memory", path);
-		return SH2000_EXIT_CARD;
-	}
-	fprintf(m, "time[s],setpoint[counts],encoder[counts],dac[DAC codes]\n");
-	for (size_t i = 0; i < tr->n; i++)
-		fprintf(m, "%.9g,%.10g,%.10g,%.10g\n", tr->t[i], tr->sp[i],
-			tr->enc[i], tr->dac[i]);
-	fclose(m);
-	r = sh2000_tool_write_text(path, text, len);
-	free(text);
-	return r;
-}
-
-void tune_report(const struct tune_opts *o, const struct tune_trace *tr,
-		   const struct tune_metrics *m)
-{
-	char an = sh2000_tool_axis_name(o->axis);
-
-	printf("axis %c: step %g mm (%.0f counts), held %g s\n", an, o->step_mm,
-	       tr->end - tr->start, o->hold_s);
-	printf("rise time (10-90 %%)     %.3f ms\n", m->rise_s * 1e3);
-	printf("overshoot               %.0f counts (%.1f %%)\n", m->overshoot,
-	       m->overshoot_pct);
-	if (m->settled)
-		printf("settling to %.0f counts   %.3f ms\n", TUNE_SETTLE_COUNTS,
-		       m->settle_s * 1e3);
-	else
-		printf("settling to %.0f counts   not settled within the hold\n",
-		       TUNE_SETTLE_COUNTS);
-	printf("peak following error    %.1f counts\n", m->peak_ferr);
-	printf("peak DAC                %.0f codes\n", m->peak_dac);
-}
-
-/* The set-point must be back where it started (tr->start). */
-int tune_check_back(struct sh2000 *h, const struct tune_opts *o,
-		      const struct tune_trace *tr)
-{
-	struct sh2000_status st;
-	int r = sh2000_poll(h, &st);
-
-	if (r < 0)
-		return sh2000_tool_fail(h, r, "status");
-	if ((double)st.axis[o->axis].cmd_counts != tr->start) {
-		sh2000_tool_msg("%s: axis %c is at %lld counts, not back at %.0f",
-				sh2000_device(h), sh2000_tool_axis_name(o->axis),
-				(long long)st.axis[o->axis].cmd_counts, tr->start);
-		return SH2000_EXIT_CARD;
-	}
-	printf("back at the start       %.6f mm\n", st.axis[o->axis].cmd_mm);
-	return 0;
+	return tune_check_options(o);
 }
 
 int main(int argc, char **argv)
 {
 	struct tune_opts o;
-	struct tune_trace tr;
-	struct tune_metrics m;
 	struct sh2000 *h = NULL;
-	char title[128];
 	int r;
 
 	sh2000_tool_init("sh2000-tune");
@@ -258,29 +236,16 @@ int main(int argc, char **argv)
 		return r < 0 ? SH2000_EXIT_OK : r;
 	if ((r = sh2000_tool_open(&h, o.device_arg)))
 		return r;
-	if (o.autotune) {
-		r = tune_auto(h, &o);
+	/* ramp and chirp tests */
+	if (o.test != TUNE_TEST_STEP) {
+		r = o.test == TUNE_TEST_RAMP ? tune_run_ramp(h, &o) : tune_run_chirp(h, &o, NULL);
 		sh2000_close(h);
 		return r;
 	}
-	r = tune_step(h, &o, &tr);
-	if (!r) {
-		if (tune_metrics(&tr, &m) < 0)
-			sh2000_tool_msg("%s: the encoder never reached 90 %% of the step",
-					sh2000_device(h));
-		tune_report(&o, &tr, &m);
-		r = tune_check_back(h, &o, &tr);
-	} else if (r == TUNE_EXIT_ABORTED && tune_check_back(h, &o, &tr)) {
-		r = SH2000_EXIT_CARD;
-	}
-	if (!r && o.csv)
-		r = tune_write_csv(&tr, o.csv);
-	if (!r && o.plot) {
-		snprintf(title, sizeof(title), "%s axis %c: step of %g mm",
-			 sh2000_device(h), sh2000_tool_axis_name(o.axis), o.step_mm);
-		r = tune_plot(&tr, &m, o.plot, title);
-	}
-	tune_trace_free(&tr);
+	if (o.autotune)
+		r = tune_auto(h, &o);
+	else
+		r = tune_run_step(h, &o, "");
 	sh2000_close(h);
 	return r;
 }

@@ -3,7 +3,8 @@
  * The step response as a picture through gnuplot (Debian's gnuplot-nox):
  * on top the set-point and the encoder in counts from the start with the
  * settling band, below the DAC code; times in ms from the step. The data
- * and the script go to a private temporary directory, removed after.
+ * and the script go to a private temporary directory, removed after
+ * (tune_gnuplot_run, for every picture of the tool).
  */
 #include <errno.h>
 #include <math.h>
@@ -20,8 +21,15 @@ struct plot_files {
 	char dir[64], data[96], script[96], err[96];
 };
 
-static int write_data(const struct tune_trace *tr, const char *path)
+struct step_plot {
+	const struct tune_trace *tr;
+	const struct tune_metrics *m;
+	const char *title;
+};
+
+static int write_data(const void *ctx, const char *path)
 {
+	const struct tune_trace *tr = ((const struct step_plot *)ctx)->tr;
 	FILE *f = fopen(path, "w");
 
 	if (!f)
@@ -32,20 +40,9 @@ static int write_data(const struct tune_trace *tr, const char *path)
 	return fclose(f) ? -errno : 0;
 }
 
-static int write_script(const struct plot_files *pf, const struct tune_trace *tr,
-			const struct tune_metrics *m, const char *out,
-			const char *title, int svg, int cairo)
+void tune_plot_terminal(FILE *f, const char *out, const char *title,
+			int svg, int cairo)
 {
-	double step = tr->end - tr->start;
-	FILE *f = fopen(pf->script, "w");
-	char settle[32];
-
-	if (!f)
-		return -errno;
-	if (m->settled)
-		snprintf(settle, sizeof(settle), "%.2f ms", m->settle_s * 1e3);
-	else
-		snprintf(settle, sizeof(settle), "not settled");
 	fputs(svg ? "set terminal svg size 1200,900 dynamic font 'Sans,11'\n" :
 	      cairo ? "set terminal pngcairo size 1200,900 font 'Sans,10'\n" :
 		      "set terminal png size 1200,900\n", f);
@@ -53,9 +50,26 @@ static int write_script(const struct plot_files *pf, const struct tune_trace *tr
 	sh2000_tool_gnuplot_quoted(f, out);
 	fputs("\nset grid\nset multiplot title ", f);
 	sh2000_tool_gnuplot_quoted(f, title);
+	fputs("\n", f);
+}
+
+static int write_script(FILE *f, const void *ctx, const char *out, int svg,
+			int cairo)
+{
+	const struct step_plot *sp = ctx;
+	const struct tune_trace *tr = sp->tr;
+	const struct tune_metrics *m = sp->m;
+	double step = tr->end - tr->start;
+	char settle[32];
+
+	if (m->settled)
+		snprintf(settle, sizeof(settle), "%.2f ms", m->settle_s * 1e3);
+	else
+		snprintf(settle, sizeof(settle), "not settled");
+	tune_plot_terminal(f, out, sp->title, svg, cairo);
 	/* the step takes milliseconds of a hold of many: show the step and
 	 * a few times its settling */
-	fprintf(f, "\nset xrange [%.3f:%.3f]\n", tr->t[0] * 1e3,
+	fprintf(f, "set xrange [%.3f:%.3f]\n", tr->t[0] * 1e3,
 		fmin(tr->t[tr->n - 1], m->settled ? fmax(4 * m->settle_s, 0.01) : INFINITY) * 1e3);
 	if (m->settled)
 		fprintf(f, "set arrow from %.4f, graph 0 to %.4f, graph 1 nohead dt 3\n",
@@ -75,7 +89,7 @@ static int write_script(const struct plot_files *pf, const struct tune_trace *tr
 	      "set title 'DAC output'\nset ylabel 'DAC code'\n"
 	      "plot DATA using 1:4 with lines lc rgb '#2a8a2a' title 'dac'\n"
 	      "unset multiplot\n", f);
-	return fclose(f) ? -errno : 0;
+	return 0;
 }
 
 static void cleanup(const struct plot_files *pf)
@@ -103,8 +117,28 @@ static int report_failure(const struct plot_files *pf, const char *out,
 	return TUNE_EXIT_HELPER;
 }
 
-int tune_plot(const struct tune_trace *tr, const struct tune_metrics *m,
-	      const char *out, const char *title)
+/* The script written to the temporary directory and closed. */
+static int script_file(const char *path, const void *ctx, const char *out,
+		       int svg, int cairo,
+		       int (*write_script)(FILE *f, const void *ctx,
+					   const char *out, int svg, int cairo))
+{
+	FILE *f = fopen(path, "w");
+	int e;
+
+	if (!f)
+		return -errno;
+	e = write_script(f, ctx, out, svg, cairo);
+	if (fclose(f) && !e)
+		e = -errno;
+	return e;
+}
+
+int tune_gnuplot_run(const char *name, const char *out,
+		     int (*write_data)(const void *ctx, const char *path),
+		     int (*write_script)(FILE *f, const void *ctx,
+					 const char *out, int svg, int cairo),
+		     const void *ctx)
 {
 	struct plot_files pf;
 	size_t n = strlen(out);
@@ -117,14 +151,14 @@ int tune_plot(const struct tune_trace *tr, const struct tune_metrics *m,
 		sh2000_tool_msg("--plot: temporary directory: %s", strerror(errno));
 		return SH2000_EXIT_CARD;
 	}
-	snprintf(pf.data, sizeof(pf.data), "%s/step.dat", pf.dir);
-	snprintf(pf.script, sizeof(pf.script), "%s/step.gp", pf.dir);
+	snprintf(pf.data, sizeof(pf.data), "%s/%s.dat", pf.dir, name);
+	snprintf(pf.script, sizeof(pf.script), "%s/%s.gp", pf.dir, name);
 	snprintf(pf.err, sizeof(pf.err), "%s/gnuplot.err", pf.dir);
 	snprintf(def, sizeof(def), "DATA='%s'", pf.data);
-	e = write_data(tr, pf.data);
+	e = write_data(ctx, pf.data);
 	/* pngcairo draws better; plain png (libgd) if this gnuplot lacks it */
 	for (int cairo = 1; !e && cairo >= 0; cairo--) {
-		e = write_script(&pf, tr, m, out, title, svg, cairo);
+		e = script_file(pf.script, ctx, out, svg, cairo, write_script);
 		if (!e)
 			e = sh2000_tool_gnuplot(def, pf.script, pf.err, &status);
 		if (e || (WIFEXITED(status) && WEXITSTATUS(status) == 0) || svg)
@@ -141,4 +175,12 @@ int tune_plot(const struct tune_trace *tr, const struct tune_metrics *m,
 	}
 	cleanup(&pf);
 	return r;
+}
+
+int tune_plot(const struct tune_trace *tr, const struct tune_metrics *m,
+	      const char *out, const char *title)
+{
+	struct step_plot sp = { .tr = tr, .m = m, .title = title };
+
+	return tune_gnuplot_run("step", out, write_data, write_script, &sp);
 }

@@ -1,55 +1,60 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * A bounded test move of one axis (testmove.h): shared by the step test
- * and the identification's excitation. Bounds first, nothing moved when
- * one is broken; during the test the card's following-error limit and DAC
- * limit are lowered to the user's, so the carriage stays within the
- * motion plus that following error and the DAC within its bound.
- * Afterwards, whatever happened, the limits are put back; after a
- * following-error fault the card is reset, the axis enabled again and
- * moved back to where it started by the planner (libsh2000-motion's
- * runner).
+ * What every test move of sh2000-tune shares (step.c, ramp.c, chirp.c):
+ * the card idle and unfaulted with the axis enabled before anything moves;
+ * the user's following-error and DAC bounds lowered onto the card for the
+ * test and put back afterwards whatever happened; raw coarse points pushed
+ * in batches the ring has room for; a gather record armed on the motion's
+ * start and read out whole; and after a following-error fault, a reset and
+ * the planner (libsh2000-motion's runner) taking the axis back to where it
+ * started.
  */
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <sh2000/path.h>
 #include <sh2000/run.h>
 
-#include "testmove.h"
+#include "tune.h"
 
+#define PRETRIGGER	10
+/* Records pushed at a time: a quarter of the ring, so that with a short
+ * coarse period (a fast sweep, 100 us) the ring still holds the time a
+ * batch takes to write while the host waits for room for the next. */
+#define PUSH_BATCH	16	/* of the ring's 64 */
 /* The way back after a fault: this share of the velocity bound and of the
- * axis' acceleration. */
-#define RECOVER_SLOWER 0.1
+ * axis' acceleration (the gains that just faulted may be far off: an
+ * auto-tuning's excitation runs on the old ones, its check on the new). */
+#define RECOVER_SLOWER	0.1
 
 int tune_move_fail(struct tune_move *s, int r, const char *what)
 {
 	return sh2000_tool_fail(s->h, r, what);
 }
 
-/* n coarse points, the axis at v[i] (every one at v[0] when step is 0),
- * in batches the ring has room for. */
-static int push(struct tune_move *s, const int32_t *v, size_t step,
-		size_t n, unsigned int flags)
+int tune_move_push(struct tune_move *s, const int32_t *v, unsigned int n,
+		   unsigned int flags)
 {
-	int32_t pts[32][SH2000_AXES];
+	int32_t pts[PUSH_BATCH][SH2000_AXES];
 	int r = 0;
 
 	while (n) {
-		size_t k = n < 32 ? n : 32;
+		unsigned int k = n < PUSH_BATCH ? n : PUSH_BATCH;
 
-		for (size_t i = 0; i < k; i++) {
+		for (unsigned int i = 0; i < k; i++) {
 			memcpy(pts[i], s->p, sizeof(pts[i]));
-			pts[i][s->a] = v[i * step];
+			pts[i][s->a] = v[i];
 		}
-		r = sh2000_wait_space(s->h, (unsigned int)k, 5000);
+		r = sh2000_wait_space(s->h, k, 5000);
 		if (r >= 0)
 			r = sh2000_push_counts(s->h, (const int32_t (*)[SH2000_AXES])pts,
-					       (unsigned int)k, k == n ? flags : 0);
+					       k, k == n ? flags : 0);
 		if (r < 0)
 			return r;
+		v += k;
 		n -= k;
-		v += k * step;
 	}
 	return 0;
 }
@@ -57,18 +62,21 @@ static int push(struct tune_move *s, const int32_t *v, size_t step,
 int tune_move_hold(struct tune_move *s, int32_t v, unsigned int n,
 		   unsigned int flags)
 {
-	return push(s, &v, 0, n, flags);
+	int32_t pts[32];
+	int r = 0;
+
+	for (unsigned int i = 0; i < 32; i++)
+		pts[i] = v;
+	while (n && r >= 0) {
+		unsigned int k = n < 32 ? n : 32;
+
+		n -= k;
+		r = tune_move_push(s, pts, k, n ? 0 : flags);
+	}
+	return r;
 }
 
-int tune_move_points(struct tune_move *s, const int32_t *v, size_t n,
-		     unsigned int flags)
-{
-	return push(s, v, 1, n, flags);
-}
-
-/* The card idle and unfaulted, the axis enabled (by us with --enable),
- * the planner's configuration and every axis' set-point taken. */
-int tune_move_begin(struct tune_move *s)
+int tune_move_prepare(struct tune_move *s)
 {
 	char an = sh2000_tool_axis_name(s->a);
 	struct sh2000_status st;
@@ -98,27 +106,13 @@ int tune_move_begin(struct tune_move *s)
 	for (unsigned int a = 0; a < SH2000_AXES; a++)
 		s->p[a] = (int32_t)st.axis[a].cmd_counts;
 	s->start = s->p[s->a];
+	s->vlim = s->pc.vmax[s->a];
+	if (s->o->vmax > 0 && s->o->vmax < s->vlim)
+		s->vlim = s->o->vmax;
 	return 0;
 }
 
-void tune_move_end(struct tune_move *s)
-{
-	if (s->enabled_by_us)
-		sh2000_disable(s->h, 1u << s->a);
-	s->enabled_by_us = 0;
-}
-
-double tune_move_vmax(const struct tune_move *s)
-{
-	double vlim = s->pc.vmax[s->a];
-
-	if (s->o->vmax > 0 && s->o->vmax < vlim)
-		vlim = s->o->vmax;
-	return vlim;
-}
-
-/* The user's following-error and DAC bounds on the card, all or none. */
-int tune_move_limits(struct tune_move *s)
+int tune_move_lower_limits(struct tune_move *s)
 {
 	double ferr, dac;
 	int r;
@@ -128,6 +122,7 @@ int tune_move_limits(struct tune_move *s)
 		return tune_move_fail(s, r, "get parameter");
 	ferr = s->o->ferr_max_mm < s->ferr0 ? s->o->ferr_max_mm : s->ferr0;
 	dac = s->o->dac_max > 0 && s->o->dac_max < s->dac0 ? s->o->dac_max : s->dac0;
+	s->dac_bound = dac;
 	r = sh2000_param_set(s->h, s->a, SH2000_P_FERR_LIMIT, ferr);
 	if (r >= 0) {
 		r = sh2000_param_set(s->h, s->a, SH2000_P_DAC_LIMIT, dac);
@@ -137,8 +132,16 @@ int tune_move_limits(struct tune_move *s)
 	return r < 0 ? tune_move_fail(s, r, "set parameter") : 0;
 }
 
-/* After a fault: reset, limits back, the axis enabled and at its start. */
-int tune_move_recover(struct tune_move *s, int fault, const char *test)
+int tune_move_restore(struct tune_move *s)
+{
+	int r = sh2000_param_set(s->h, s->a, SH2000_P_FERR_LIMIT, s->ferr0);
+
+	if (r >= 0)
+		r = sh2000_param_set(s->h, s->a, SH2000_P_DAC_LIMIT, s->dac0);
+	return r < 0 ? tune_move_fail(s, r, "restoring the limits") : 0;
+}
+
+int tune_move_recover(struct tune_move *s, int fault)
 {
 	struct sh2000_run_config rc;
 	struct sh2000_run *run = NULL;
@@ -146,16 +149,18 @@ int tune_move_recover(struct tune_move *s, int fault, const char *test)
 	char err[512] = "";
 	int r;
 
-	sh2000_tool_msg("%s: %s aborted: %s (limit %g mm during the test); returning to the start",
-			sh2000_device(s->h), test, sh2000_strerror(fault),
+	sh2000_tool_msg("%s: %s test aborted: %s (limit %g mm during the test); returning to the start",
+			sh2000_device(s->h), s->name, sh2000_strerror(fault),
 			s->o->ferr_max_mm < s->ferr0 ? s->o->ferr_max_mm : s->ferr0);
 	if ((r = sh2000_reset(s->h)) < 0 ||
 	    (r = sh2000_param_set(s->h, s->a, SH2000_P_FERR_LIMIT, s->ferr0)) < 0 ||
 	    (r = sh2000_param_set(s->h, s->a, SH2000_P_DAC_LIMIT, s->dac0)) < 0 ||
-	    (r = sh2000_enable(s->h, 1u << s->a)) < 0 ||
-	    (r = sh2000_run_path_config(s->h, &s->pc)) < 0)
+	    (r = sh2000_enable(s->h, 1u << s->a)) < 0)
 		return tune_move_fail(s, r, "recovering");
-	/* gently: the gains that just faulted may be far off */
+	if (s->undo && (r = s->undo(s)))
+		return r;
+	if ((r = sh2000_run_path_config(s->h, &s->pc)) < 0)
+		return tune_move_fail(s, r, "recovering");
 	s->pc.amax[s->a] *= RECOVER_SLOWER;
 	sh2000_run_config_default(&rc);
 	r = sh2000_run_create(&run, s->h, &s->pc, &rc, err, sizeof(err));
@@ -166,7 +171,7 @@ int tune_move_recover(struct tune_move *s, int fault, const char *test)
 	memcpy(target, s->pc.start, sizeof(target));
 	target[s->a] = s->start / s->pc.counts_per_mm[s->a];
 	r = sh2000_path_move_abs(sh2000_run_path(run), target,
-				 tune_move_vmax(s) * RECOVER_SLOWER);
+				 s->vlim * RECOVER_SLOWER);
 	if (r >= 0)
 		r = sh2000_run_finish(run);
 	if (r < 0)
@@ -175,11 +180,86 @@ int tune_move_recover(struct tune_move *s, int fault, const char *test)
 	return r < 0 ? sh2000_tool_exit_code(r) : TUNE_EXIT_ABORTED;
 }
 
-int tune_move_restore(struct tune_move *s)
+int tune_move_arm(struct tune_move *s, unsigned int signals, double span_s,
+		  unsigned int *rec)
 {
-	int r = sh2000_param_set(s->h, s->a, SH2000_P_FERR_LIMIT, s->ferr0);
+	struct sh2000_gather_config gc;
+	double servo = s->pc.period_s / s->pc.fine_steps;
+	unsigned int nsig = (unsigned int)__builtin_popcount(signals);
+	unsigned int max = SH2000_GATHER_BUFFER_VALUES / nsig - PRETRIGGER;
+	int r;
 
-	if (r >= 0)
-		r = sh2000_param_set(s->h, s->a, SH2000_P_DAC_LIMIT, s->dac0);
-	return r < 0 ? tune_move_fail(s, r, "restoring the limits") : 0;
+	sh2000_gather_config_default(&gc);
+	gc.signals[s->a] = signals;
+	gc.period = (unsigned int)ceil(span_s / servo / max);
+	gc.samples = (uint32_t)ceil(span_s / (servo * gc.period)) + PRETRIGGER;
+	gc.trigger = SH2000_GATHER_ON_MOTION;
+	gc.pretrigger = PRETRIGGER;
+	r = sh2000_gather_start(s->h, &gc);
+	if (r < 0)
+		return tune_move_fail(s, r, "gather");
+	*rec = (unsigned int)r;
+	return 0;
+}
+
+int tune_move_read(struct tune_move *s, unsigned int rec,
+		   struct sh2000_gather_info *gi, double **values)
+{
+	int r;
+
+	*values = NULL;
+	if ((r = sh2000_gather_wait(s->h, rec, gi, 10000)) < 0)
+		return tune_move_fail(s, r, "gather");
+	*values = malloc(sizeof(**values) * gi->values * (gi->samples + 1));
+	r = *values ? sh2000_gather_read(s->h, gi, 0, gi->samples, *values) : -12;
+	if (r < 0) {
+		free(*values);
+		*values = NULL;
+		return tune_move_fail(s, r, "gather");
+	}
+	return 0;
+}
+
+/* What the test changed back: its own (undo), then the limits. */
+static int put_back(struct tune_move *s)
+{
+	int u = s->undo ? s->undo(s) : 0;
+	int r = tune_move_restore(s);
+
+	return u ? u : r;
+}
+
+int tune_move_run(struct tune_move *s, unsigned int signals, double span_s,
+		  unsigned int *rec, int (*move)(struct tune_move *s))
+{
+	int r = tune_move_arm(s, signals, span_s, rec);
+
+	if (r) {
+		put_back(s);
+		return r;
+	}
+	r = move(s);
+	if (r == -SH2000_EFERR) {
+		/* the bound the user set: back to the start */
+		sh2000_gather_stop(s->h);
+		return tune_move_recover(s, r);
+	}
+	if (r < 0) {
+		/* anything else (an emergency stop, another fault) is the
+		 * operator's or the machine's: left as it is */
+		char what[32];
+
+		snprintf(what, sizeof(what), "%s test", s->name);
+		r = tune_move_fail(s, r, what);
+		sh2000_gather_stop(s->h);
+		put_back(s);
+		return r;
+	}
+	return put_back(s);
+}
+
+void tune_move_end(struct tune_move *s)
+{
+	if (s->enabled_by_us)
+		sh2000_disable(s->h, 1u << s->a);
 }

@@ -5,8 +5,9 @@
 # five gains it printed and runs its step check, --save writes a file that
 # `sh2000ctl params load` loads back onto the card; a design the plant
 # cannot meet is refused with nothing written. Then on the in-process
-# `sim`: the plant printed is the model's default, and bad inputs are
-# usage errors (exit 2).
+# `sim`: the plant printed is the model's default, --plot's chirp measures
+# the margins the design predicted, and bad inputs are usage errors
+# (exit 2).
 . "$(dirname "$0")/../ctl/testlib.sh"
 : "${TUNE:?TUNE must name sh2000-tune}"
 name=tuneauto$$
@@ -68,10 +69,37 @@ expect 0 "$TUNE" -d sim x --auto --enable --dry-run &&
 	out_has '^friction pole b/m +10 1/s$'
 expect 1 "$TUNE" -d sim x --auto --dry-run && err_has 'axis x is not enabled .*nothing moved'
 
+# --plot: the step with the new gains, then a chirp with them, its Bode
+# plot beside the step's picture and its measured margins beside the
+# design's predicted ones (the card model's loop: they agree)
+expect 0 "$TUNE" -d sim x --auto --enable --plot "$T/a.png" &&
+	out_has '^step test with the new gains:$' &&
+	out_has '^chirp with the new gains:$' &&
+	out_has '^margins, new gains +predicted +measured \(chirp\)$' &&
+	out_has '^the old gains are back on the card$'
+# row NAME: "predicted measured" of that row of the table
+row() {
+	printf '%s\n' "$out" | sed -n "/^margins, new gains/,\$ s/^$1  *\([-0-9.]*\)  *\([-0-9.]*\).*/\1 \2/p"
+}
+for c in "crossover 10" "phase margin 1" "gain margin 0.5"; do
+	set -- $c
+	tol=${!#}
+	name=${c% *}
+	read -r pred meas <<<"$(row "$name")"
+	checks=$((checks + 1))
+	awk -v a="$pred" -v b="$meas" -v e="$tol" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(a != "" && b != "" && d <= e) }' ||
+		fail "$name: predicted '$pred', measured '$meas' (tolerance $tol)"
+done
+for f in a.png a-bode.png; do
+	checks=$((checks + 1))
+	[ "$(head -c 8 "$T/$f" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] ||
+		fail "--auto --plot did not write the PNG $f"
+done
+
 # usage errors
 expect 2 "$TUNE" -d sim x --apply && err_has '--apply needs --auto'
 expect 2 "$TUNE" -d sim x --step 0.01 --save f && err_has '--save needs --auto'
-expect 2 "$TUNE" -d sim x --margin 50 --step 0.01 && err_has '--bandwidth, --margin or --travel needs --auto'
+expect 2 "$TUNE" -d sim x --margin 50 --step 0.01 && err_has '--bandwidth or --margin needs --auto'
 expect 2 "$TUNE" -d sim x --auto --dry-run --apply && err_has '--dry-run writes nothing: not with --apply'
 expect 2 "$TUNE" -d sim x --auto --dry-run --save f && err_has 'not with --save'
 expect 2 "$TUNE" -d sim x --auto --margin 95 && err_has '--margin: 95 is not a phase margin 20\.\.89'

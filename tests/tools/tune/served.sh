@@ -1,8 +1,8 @@
 #!/bin/bash
-# sh2000-tune on a card served by sh2000-sim: after a step test and after
-# one aborted on the following-error limit, sh2000ctl (a second program)
-# finds the limits as they were, nothing latched, the axis still enabled
-# and its set-point at the start.
+# sh2000-tune on a card served by sh2000-sim: after a step test, one
+# aborted on the following-error limit, a ramp and a chirp, sh2000ctl (a
+# second program) finds the limits and the card's timing as they were,
+# nothing latched, the axis still enabled and its set-point at the start.
 . "$(dirname "$0")/../ctl/testlib.sh"
 : "${TUNE:?TUNE must name sh2000-tune}"
 name=tune$$
@@ -22,6 +22,21 @@ expect 5 "$TUNE" "${S[@]}" x --step -0.5 --ferr-max 0.0002 &&
 expect 0 "$CTL" "${S[@]}" params x ferr_limit dac_limit
 checks=$((checks + 1))
 [ "$out" = "$before" ] || fail "limits after the abort: $out, before: $before"
+# the ramp and a chirp that shortens the coarse period (to 0.5 ms for
+# 400 Hz; a served card runs in real time, so not to one servo cycle):
+# the limits and the card's timing as they were, the axis at its start
+expect 0 "$CTL" "${S[@]}" params global coarse_period_us fine_steps
+timing=$out
+expect 0 "$TUNE" "${S[@]}" x --ramp 50 --travel 2 &&
+	out_has '^back at the start +1\.000000 mm$'
+expect 0 "$TUNE" "${S[@]}" x --chirp 10:400 --duration 0.5 &&
+	out_has '^crossover' && out_has '^back at the start +1\.000000 mm$'
+expect 0 "$CTL" "${S[@]}" params x ferr_limit dac_limit
+checks=$((checks + 1))
+[ "$out" = "$before" ] || fail "limits after the ramp and chirp: $out, before: $before"
+expect 0 "$CTL" "${S[@]}" params global coarse_period_us fine_steps
+checks=$((checks + 1))
+[ "$out" = "$timing" ] || fail "timing after the chirp: $out, before: $timing"
 expect 0 "$CTL" "${S[@]}" status --json &&
 	json_check /state = idle /faults = '[]' /axes/0/enabled = true /axes/0/cmd_mm '~' 1,1e-9
 stop_sim

@@ -67,7 +67,7 @@ static void simulate(const struct tune_plant *pl, const struct tune_gains *g,
 }
 
 static void design_ok(const struct tune_plant *pl, double hz, double pm,
-		      struct tune_gains *g, struct tune_margins *m)
+		      struct tune_gains *g, struct tune_design_margins *m)
 {
 	struct tune_design_req req = { hz, pm };
 	char why[256] = "";
@@ -78,7 +78,7 @@ static void design_ok(const struct tune_plant *pl, double hz, double pm,
 
 static void check_gain_margin(const struct tune_plant *pl,
 			      const struct tune_gains *g,
-			      const struct tune_margins *m)
+			      const struct tune_design_margins *m)
 {
 	double k = pow(10, m->gm_db / 20), f, l;
 
@@ -112,7 +112,7 @@ static double complex loop_at(const struct tune_plant *pl,
 static void test_default_plant(void **state)
 {
 	struct tune_gains g;
-	struct tune_margins m;
+	struct tune_design_margins m;
 	double complex L;
 
 	(void)state;
@@ -135,7 +135,7 @@ static void test_bandwidth_and_delay(void **state)
 {
 	struct tune_plant heavy = plant_default, late = plant_default;
 	struct tune_gains g;
-	struct tune_margins m;
+	struct tune_design_margins m;
 
 	(void)state;
 	heavy.g /= 10;
@@ -159,7 +159,7 @@ static void test_refusals(void **state)
 	struct tune_design_req req = { 1500, 60 };
 	struct tune_plant none = plant_default;
 	struct tune_gains g;
-	struct tune_margins m;
+	struct tune_design_margins m;
 	char why[256] = "";
 
 	(void)state;
@@ -181,7 +181,7 @@ static void test_refusals(void **state)
 static void test_margins_of_defaults(void **state)
 {
 	const struct tune_gains def = { 0.5, 0.02, 0.004, 0, 0 };
-	struct tune_margins m;
+	struct tune_design_margins m;
 
 	(void)state;
 	tune_margins_of(&plant_default, &def, &m);

@@ -93,6 +93,14 @@ int sh2000_tool_long(const char *s, long min, long max, long *v);
  * half-written file is removed. Returns an exit code. */
 int sh2000_tool_write_text(const char *path, const char *text, size_t len);
 
+/* Parameter files (paramfile.c; the format is sh2000ctl's, see
+ * tools/ctl/params_plan.h): a shortest text of parameter id's value v
+ * that reads back as v (as the same float for a binary32 one), and the
+ * line "name = value   # unit". */
+void sh2000_tool_param_format(char *buf, size_t len, unsigned int id,
+			      double v);
+void sh2000_tool_param_line(FILE *f, unsigned int id, double v);
+
 /* Run "gnuplot -e DEF SCRIPT" (DEF e.g. "DATA='file'"), its stdout to
  * /dev/null and stderr into errfile; *status as waitpid() gives it. 0, or
  * -errno when it cannot run (-ENOENT: not on PATH, Debian package

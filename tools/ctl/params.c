@@ -25,32 +25,6 @@ int ctl_param_is_mm(unsigned int id)
 	return u && !strncmp(u, "mm", 2);
 }
 
-/* A shortest text that reads back as v: exactly, or for a binary32
- * parameter as the same float (the card keeps floats); no exponent for
- * whole numbers that have one. */
-static void fmt_value(char *buf, size_t len, double v, int f32)
-{
-	int prec = 1;
-
-	if (fabs(v) >= 1 && fabs(v) < 1e17)
-		prec = (int)floor(log10(fabs(v))) + 1;
-	for (; prec <= 17; prec++) {
-		double back;
-
-		snprintf(buf, len, "%.*g", prec, v);
-		back = strtod(buf, NULL);
-		if (back == v || (f32 && (float)back == (float)v))
-			return;
-	}
-}
-
-static int is_f32(unsigned int id)
-{
-	const struct sh2000_param_info *pi = sh2000_param_lookup(id);
-
-	return pi && pi->type == SH2000_PT_F32;
-}
-
 static int plan_read_file(struct ctl_plan *p, const char *path)
 {
 	FILE *f = strcmp(path, "-") ? fopen(path, "r") : stdin;
@@ -273,7 +247,6 @@ static int print_section(struct ctl *c, FILE *f, unsigned int s)
 
 	fprintf(f, "[%s]\n", ctl_plan_section(s));
 	for (unsigned int id = lo; id < hi; id++) {
-		char val[64], lhs[160];
 		double v;
 		int r;
 
@@ -283,13 +256,7 @@ static int print_section(struct ctl *c, FILE *f, unsigned int s)
 				     id, &v);
 		if (r < 0)
 			return sh2000_tool_fail(c->h, r, "get parameter");
-		fmt_value(val, sizeof(val), v, is_f32(id));
-		snprintf(lhs, sizeof(lhs), "%s = %s", sh2000_param_name(id), val);
-		if (id == SH2000_P_DAC_RANGE)
-			fprintf(f, "%-32s # 0: 0..5 V, 1: 0..10 V, 2: +-5 V, 3: +-10 V\n",
-				lhs);
-		else
-			fprintf(f, "%-32s # %s\n", lhs, sh2000_param_unit(id));
+		sh2000_tool_param_line(f, id, v);
 	}
 	return 0;
 }
@@ -406,7 +373,7 @@ int ctl_params(struct ctl *c, int argc, char **argv)
 					     (unsigned int)id, &v);
 			if (r < 0)
 				return sh2000_tool_fail(c->h, r, "get parameter");
-			fmt_value(val, sizeof(val), v, is_f32((unsigned int)id));
+			sh2000_tool_param_format(val, sizeof(val), (unsigned int)id, v);
 			printf("%s = %s\n", argv[i], val);
 		}
 		return r;

@@ -84,6 +84,8 @@ static void usage(FILE *f)
 "  -r, --ready-fd FD  write \"ready\\n\" to file descriptor FD once serving,\n"
 "                     then close it\n"
 "  -q, --quiet        print nothing on stdout (errors still go to stderr)\n"
+"  --mass KG          every axis' moving mass (default 2)\n"
+"  --friction NS_PER_M  every axis' viscous friction, N/(m/s) (default 20)\n"
 "  -h, --help         this help\n"
 "  -V, --version      versions of the tool, the library and the protocol\n"
 "\n"
@@ -114,7 +116,31 @@ struct serve_opts {
 	unsigned int flags;
 	double ppm;
 	int quiet, ready_fd;
+	/* the machine behind the card: every axis' plant */
+	struct sh2000_sim_config cfg;
 };
+
+/* The card model's documented plant, for what differs from it. */
+static struct sh2000_plant_config plant_default(void)
+{
+	struct sh2000_sim_config c;
+
+	sh2000_sim_config_default(&c);
+	return c.axis[0];
+}
+#define PLANT_DEFAULT plant_default()
+
+/* --mass (> 0) or --friction (>= 0): every axis' value, at most max. */
+static int plant_option(const char *opt, const char *arg, int positive,
+			double max, double *v)
+{
+	if (sh2000_tool_double(arg, v) < 0 || *v < 0 || (positive && *v == 0) ||
+	    *v > max)
+		return sh2000_tool_usage(NULL, positive ?
+					 "%s: '%s' is not a number above 0 and at most %g" :
+					 "%s: '%s' is not a number in 0..%g", opt, arg, max);
+	return -1;
+}
 
 /* "real time", "free-running", with the clock's error if any. */
 static void print_mode(const struct serve_opts *o)
@@ -123,6 +149,10 @@ static void print_mode(const struct serve_opts *o)
 							       "real time");
 	if (o->ppm != 0.0)
 		printf(", clock %+g ppm", o->ppm);
+	if (o->cfg.axis[0].mass_kg != PLANT_DEFAULT.mass_kg ||
+	    o->cfg.axis[0].friction_ns_per_m != PLANT_DEFAULT.friction_ns_per_m)
+		printf(", plant %g kg, %g N/(m/s)", o->cfg.axis[0].mass_kg,
+		       o->cfg.axis[0].friction_ns_per_m);
 }
 
 static int serve_name(const char *name, const struct serve_opts *o)
@@ -136,7 +166,7 @@ static int serve_name(const char *name, const struct serve_opts *o)
 	snprintf(path, sizeof(path), "/dev/shm/sh2000-%s", name);
 	stale = stat(path, &sb) == 0;
 	msg[0] = '\0';
-	r = sh2000_sim_server_create(&s, name, NULL, o->flags, msg,
+	r = sh2000_sim_server_create(&s, name, &o->cfg, o->flags, msg,
 				     sizeof(msg));
 	if (r < 0) {
 		sh2000_tool_msg("%s", msg[0] ? msg : sh2000_strerror(r));
@@ -215,7 +245,7 @@ static int serve_attach(const char *path, const struct serve_opts *o)
 	}
 	close(fd);
 	msg[0] = '\0';
-	r = sh2000_sim_server_attach(&s, ram, NULL, o->flags, msg, sizeof(msg));
+	r = sh2000_sim_server_attach(&s, ram, &o->cfg, o->flags, msg, sizeof(msg));
 	if (r < 0) {
 		sh2000_tool_msg("%s: %s", path, msg[0] ? msg : sh2000_strerror(r));
 		munmap(ram, maplen);
@@ -249,7 +279,9 @@ static int serve_attach(const char *path, const struct serve_opts *o)
 static int option(int c, const char *arg, const char **attach,
 		  struct serve_opts *o)
 {
+	double v;
 	long l;
+	int r;
 
 	switch (c) {
 	case 'a':
@@ -277,6 +309,16 @@ static int option(int c, const char *arg, const char **attach,
 	case 'q':
 		o->quiet = 1;
 		return -1;
+	case 'm':
+		r = plant_option("--mass", arg, 1, 1e4, &v);
+		for (unsigned int a = 0; r < 0 && a < SH2000_AXES; a++)
+			o->cfg.axis[a].mass_kg = v;
+		return r;
+	case 'f':
+		r = plant_option("--friction", arg, 0, 1e6, &v);
+		for (unsigned int a = 0; r < 0 && a < SH2000_AXES; a++)
+			o->cfg.axis[a].friction_ns_per_m = v;
+		return r;
 	case 'h':
 		usage(stdout);
 		return SH2000_EXIT_OK;
@@ -316,6 +358,8 @@ int main(int argc, char **argv)
 		{ "clock-ppm", required_argument, NULL, 'c' },
 		{ "ready-fd", required_argument, NULL, 'r' },
 		{ "quiet", no_argument, NULL, 'q' },
+		{ "mass", required_argument, NULL, 'm' },
+		{ "friction", required_argument, NULL, 'f' },
 		{ "help", no_argument, NULL, 'h' },
 		{ "version", no_argument, NULL, 'V' },
 		{ NULL, 0, NULL, 0 },
@@ -325,6 +369,7 @@ int main(int argc, char **argv)
 	const char *attach = NULL;
 	int c, r;
 
+	sh2000_sim_config_default(&o.cfg);
 	sh2000_tool_init("sh2000-sim");
 	opterr = 0;
 	while ((c = getopt_long(argc, argv, "+a:Fc:r:qhV", opts, NULL)) != -1) {

@@ -41,6 +41,11 @@ struct chirp_ctx {
 	double accel;		/* counts/s^2 the sweep may reach */
 };
 
+double tune_chirp_f1_max(double servo_s)
+{
+	return TUNE_CHIRP_F_PERIOD / (servo_s * BEYOND);
+}
+
 /* A coarse period that carries F1. */
 static int check_timing(struct chirp_ctx *c)
 {

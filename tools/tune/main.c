@@ -5,6 +5,8 @@
  * every servo cycle (protocol 1.2), reported as rise time, overshoot and
  * settling time to 10 counts, optionally drawn and written as CSV; the
  * ramp and chirp tests (testruns.c). The axis ends where it started.
+ * Auto-tuning (--auto, auto.c): identify the plant, design PID +
+ * feed-forward, print, write as asked.
  */
 #include <getopt.h>
 #include <math.h>
@@ -12,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "autotune.h"
 #include "tune.h"
 
 #ifndef SH2000_TOOLS_VERSION
@@ -23,6 +26,8 @@ static void usage(FILE *f)
 	fprintf(f,
 "Usage: sh2000-tune [-d DEVICE] AXIS --step MM | --ramp MM/S | --chirp F0:F1\n"
 "                   [OPTIONS]\n"
+"       sh2000-tune [-d DEVICE] AXIS --auto [--apply] [--save FILE] [--dry-run]\n"
+"                   [--bandwidth HZ] [--margin DEG] [--travel MM] [OPTIONS]\n"
 "Tests of one axis' servo loop, gathered on the card every servo cycle;\n"
 "the axis ends where it started.\n"
 "  step:  the set-point steps by MM and holds, then steps back. Prints rise\n"
@@ -61,13 +66,35 @@ static void usage(FILE *f)
 "                       response) as CSV\n"
 "  --plot FILE          the response (chirp: the Bode plot) as PNG, or SVG\n"
 "                       for FILE.svg (gnuplot)\n"
+"\n"
+"Auto-tuning (--auto): the axis moves (a multisine within --travel, --vmax,\n"
+"the axis' amax, --dac-max and --ferr-max, and back to its start), the plant\n"
+"is identified from the card's record, PID and feed-forward gains designed;\n"
+"prints old and new gains and the predicted margins.\n"
+"  --auto               identify and design\n"
+"  --bandwidth HZ       the loop's crossover (default: the highest integral\n"
+"                       gain the margins allow)\n"
+"  --margin DEG         phase margin, 20..89 (default 50); gains predicted\n"
+"                       below it are refused\n"
+"  --travel MM          the identification stays within the start +- MM\n"
+"                       (default 0.1)\n"
+"  --apply              write the gains (all or none), then a step test\n"
+"                       (--step, default 0.01 mm) with them\n"
+"  --save FILE          the gains as a parameter file (sh2000ctl params load)\n"
+"  --dry-run            identify (it moves) and design, write nothing\n"
+"  --plot, --csv FILE   the step with the new gains (without --apply the\n"
+"                       old gains are put back after it); --plot also\n"
+"                       sweeps a chirp with them and draws its Bode plot\n"
+"                       to FILE-bode.png (or .svg), and prints the\n"
+"                       measured margins beside the predicted ones\n"
 "  -h, --help           this help\n"
 "  -V, --version        versions\n"
 "\n"
 "Exit status: 0 done, 1 the card or the library failed (or a bound\n"
 "refused the step: nothing moved), 2 usage error, 3 device, 4 fault\n"
 "latched, 5 aborted on the following-error limit (axis back at its\n"
-"start), 6 gnuplot missing or failed.\n");
+"start), 6 gnuplot missing or failed; --auto: 1 also when the design is\n"
+"refused (nothing written).\n");
 }
 
 static int number(const char *opt, const char *v, double lo, double *out)
@@ -75,6 +102,30 @@ static int number(const char *opt, const char *v, double lo, double *out)
 	if (sh2000_tool_double(v, out) < 0 || *out <= lo)
 		return sh2000_tool_usage(NULL, "%s: '%s' is not a number above %g",
 					 opt, v, lo);
+	return 0;
+}
+
+/* --auto's options together (after the axis and the common ones). */
+static int check_auto(struct tune_opts *o, int auto_only, int tests)
+{
+	if (!o->autotune)
+		return sh2000_tool_usage(NULL, "--%s needs --auto",
+					 o->apply ? "apply" : o->save ? "save" :
+					 o->dry_run ? "dry-run" :
+					 auto_only ? "bandwidth or --margin" : "auto");
+	if (tests > 1 || o->test != TUNE_TEST_STEP)
+		return sh2000_tool_usage(NULL, "--auto: not with --ramp or --chirp");
+	if (o->dry_run && (o->apply || o->save || o->plot || o->csv))
+		return sh2000_tool_usage(NULL, "--dry-run writes nothing: not with --%s",
+					 o->apply ? "apply" : o->save ? "save" :
+					 o->plot ? "plot" : "csv");
+	if (o->margin_deg < 20 || o->margin_deg > 89)
+		return sh2000_tool_usage(NULL, "--margin: %g is not a phase margin 20..89 degrees",
+					 o->margin_deg);
+	if (o->hold_s > 10)
+		return sh2000_tool_usage(NULL, "--hold: at most 10 s");
+	if (!(o->travel_mm > 0))
+		o->travel_mm = TUNE_AUTO_TRAVEL_MM;
 	return 0;
 }
 
@@ -94,6 +145,13 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 		{ "amplitude", required_argument, NULL, 'A' },
 		{ "duration", required_argument, NULL, 'u' },
 		{ "accel", required_argument, NULL, 'a' },
+		/* --auto */
+		{ "auto", no_argument, NULL, 'U' },
+		{ "apply", no_argument, NULL, 'Y' },
+		{ "save", required_argument, NULL, 'S' },
+		{ "dry-run", no_argument, NULL, 'n' },
+		{ "bandwidth", required_argument, NULL, 'B' },
+		{ "margin", required_argument, NULL, 'M' },
 		{ "enable", no_argument, NULL, 'e' },
 		{ "csv", required_argument, NULL, 'c' },
 		{ "plot", required_argument, NULL, 'p' },
@@ -101,7 +159,7 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 		{ "version", no_argument, NULL, 'V' },
 		{ 0 }
 	};
-	int c, r = 0, tests = 0, ax;
+	int c, r = 0, tests = 0, ax, auto_only = 0;
 	long l;
 
 	memset(o, 0, sizeof(*o));
@@ -109,6 +167,7 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 	o->hold_s = 0.2;
 	o->amplitude_mm = TUNE_CHIRP_AMPLITUDE;
 	o->duration_s = TUNE_CHIRP_DURATION;
+	o->margin_deg = TUNE_DEFAULT_MARGIN;
 	opterr = 0;
 	while (!r && (c = getopt_long(argc, argv, ":d:hV", lo, NULL)) != -1) {
 		switch (c) {
@@ -131,6 +190,13 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 			r = tune_parse_option(c, optarg, o);
 			tests += c == 'r' || c == 'C';
 			break;
+		/* --auto */
+		case 'U': o->autotune = 1; break;
+		case 'Y': o->apply = 1; break;
+		case 'S': o->save = optarg; break;
+		case 'n': o->dry_run = 1; break;
+		case 'B': auto_only = 1; r = number("--bandwidth", optarg, 0, &o->bandwidth_hz); break;
+		case 'M': auto_only = 1; r = number("--margin", optarg, 0, &o->margin_deg); break;
 		case 'e': o->enable = 1; break;
 		case 'c': o->csv = optarg; break;
 		case 'p': o->plot = optarg; break;
@@ -148,51 +214,20 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 	if (ax < 0)
 		return sh2000_tool_usage(NULL, "'%s' is not an axis (x y z a)", argv[optind]);
 	o->axis = (unsigned int)ax;
+	if (o->autotune || o->apply || o->save || o->dry_run || auto_only)
+		return check_auto(o, auto_only, tests);
 	if (tests != 1)
 		return sh2000_tool_usage(NULL, tests ? "one test at a time: --step, --ramp or --chirp" :
-					 "which test? --step MM, --ramp MM/S or --chirp F0:F1");
+					 "which test? --step MM, --ramp MM/S, --chirp F0:F1 or --auto");
 	if (o->hold_s > 10)
 		return sh2000_tool_usage(NULL, "--hold: at most 10 s");
 	return tune_check_options(o);
 }
 
-static void step_csv(FILE *m, const void *ctx)
-{
-	const struct tune_trace *tr = ctx;
-
-	fprintf(m, "time[s],setpoint[counts],encoder[counts],dac[DAC codes]\n");
-	for (size_t i = 0; i < tr->n; i++)
-		fprintf(m, "%.9g,%.10g,%.10g,%.10g\n", tr->t[i], tr->sp[i],
-			tr->enc[i], tr->dac[i]);
-}
-
-static void report(const struct tune_opts *o, const struct tune_trace *tr,
-		   const struct tune_metrics *m)
-{
-	char an = sh2000_tool_axis_name(o->axis);
-
-	printf("axis %c: step %g mm (%.0f counts), held %g s\n", an, o->step_mm,
-	       tr->end - tr->start, o->hold_s);
-	printf("rise time (10-90 %%)     %.3f ms\n", m->rise_s * 1e3);
-	printf("overshoot               %.0f counts (%.1f %%)\n", m->overshoot,
-	       m->overshoot_pct);
-	if (m->settled)
-		printf("settling to %.0f counts   %.3f ms\n", TUNE_SETTLE_COUNTS,
-		       m->settle_s * 1e3);
-	else
-		printf("settling to %.0f counts   not settled within the hold\n",
-		       TUNE_SETTLE_COUNTS);
-	printf("peak following error    %.1f counts\n", m->peak_ferr);
-	printf("peak DAC                %.0f codes\n", m->peak_dac);
-}
-
 int main(int argc, char **argv)
 {
 	struct tune_opts o;
-	struct tune_trace tr;
-	struct tune_metrics m;
 	struct sh2000 *h = NULL;
-	char title[128];
 	int r;
 
 	sh2000_tool_init("sh2000-tune");
@@ -203,28 +238,14 @@ int main(int argc, char **argv)
 		return r;
 	/* ramp and chirp tests */
 	if (o.test != TUNE_TEST_STEP) {
-		r = o.test == TUNE_TEST_RAMP ? tune_run_ramp(h, &o) : tune_run_chirp(h, &o);
+		r = o.test == TUNE_TEST_RAMP ? tune_run_ramp(h, &o) : tune_run_chirp(h, &o, NULL);
 		sh2000_close(h);
 		return r;
 	}
-	r = tune_step(h, &o, &tr);
-	if (!r) {
-		if (tune_metrics(&tr, &m) < 0)
-			sh2000_tool_msg("%s: the encoder never reached 90 %% of the step",
-					sh2000_device(h));
-		report(&o, &tr, &m);
-		r = tune_check_back(h, o.axis, tr.start);
-	} else if (r == TUNE_EXIT_ABORTED && tune_check_back(h, o.axis, tr.start)) {
-		r = SH2000_EXIT_CARD;
-	}
-	if (!r && o.csv)
-		r = tune_write_csv(o.csv, step_csv, &tr);
-	if (!r && o.plot) {
-		snprintf(title, sizeof(title), "%s axis %c: step of %g mm",
-			 sh2000_device(h), sh2000_tool_axis_name(o.axis), o.step_mm);
-		r = tune_plot(&tr, &m, o.plot, title);
-	}
-	tune_trace_free(&tr);
+	if (o.autotune)
+		r = tune_auto(h, &o);
+	else
+		r = tune_run_step(h, &o, "");
 	sh2000_close(h);
 	return r;
 }

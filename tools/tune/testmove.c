@@ -24,6 +24,10 @@
  * coarse period (a fast sweep, 100 us) the ring still holds the time a
  * batch takes to write while the host waits for room for the next. */
 #define PUSH_BATCH	16	/* of the ring's 64 */
+/* The way back after a fault: this share of the velocity bound and of the
+ * axis' acceleration (the gains that just faulted may be far off: an
+ * auto-tuning's excitation runs on the old ones, its check on the new). */
+#define RECOVER_SLOWER	0.1
 
 int tune_move_fail(struct tune_move *s, int r, const char *what)
 {
@@ -157,6 +161,7 @@ int tune_move_recover(struct tune_move *s, int fault)
 		return r;
 	if ((r = sh2000_run_path_config(s->h, &s->pc)) < 0)
 		return tune_move_fail(s, r, "recovering");
+	s->pc.amax[s->a] *= RECOVER_SLOWER;
 	sh2000_run_config_default(&rc);
 	r = sh2000_run_create(&run, s->h, &s->pc, &rc, err, sizeof(err));
 	if (r < 0) {
@@ -165,7 +170,8 @@ int tune_move_recover(struct tune_move *s, int fault)
 	}
 	memcpy(target, s->pc.start, sizeof(target));
 	target[s->a] = s->start / s->pc.counts_per_mm[s->a];
-	r = sh2000_path_move_abs(sh2000_run_path(run), target, 0);
+	r = sh2000_path_move_abs(sh2000_run_path(run), target,
+				 s->vlim * RECOVER_SLOWER);
 	if (r >= 0)
 		r = sh2000_run_finish(run);
 	if (r < 0)

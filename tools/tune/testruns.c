@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The ramp and chirp tests as sh2000-tune runs them: their options and
- * the checks that need no card (usage errors, exit 2, nothing opened),
- * the reports, CSV and pictures, and the check that the axis is back
- * where it started (the step's too).
+ * The step, ramp and chirp tests as sh2000-tune runs them: the ramp's and
+ * chirp's options and the checks that need no card (usage errors, exit 2,
+ * nothing opened), the reports, CSV and pictures, and the check that the
+ * axis is back where it started.
  */
 #include <math.h>
 #include <stdio.h>
@@ -124,6 +124,61 @@ int tune_write_csv(const char *path, void (*fn)(FILE *m, const void *ctx),
 	return r;
 }
 
+static void step_csv(FILE *m, const void *ctx)
+{
+	const struct tune_trace *tr = ctx;
+
+	fprintf(m, "time[s],setpoint[counts],encoder[counts],dac[DAC codes]\n");
+	for (size_t i = 0; i < tr->n; i++)
+		fprintf(m, "%.9g,%.10g,%.10g,%.10g\n", tr->t[i], tr->sp[i],
+			tr->enc[i], tr->dac[i]);
+}
+
+static void step_report(const struct tune_opts *o, const struct tune_trace *tr,
+			const struct tune_metrics *m)
+{
+	char an = sh2000_tool_axis_name(o->axis);
+
+	printf("axis %c: step %g mm (%.0f counts), held %g s\n", an, o->step_mm,
+	       tr->end - tr->start, o->hold_s);
+	printf("rise time (10-90 %%)     %.3f ms\n", m->rise_s * 1e3);
+	printf("overshoot               %.0f counts (%.1f %%)\n", m->overshoot,
+	       m->overshoot_pct);
+	if (m->settled)
+		printf("settling to %.0f counts   %.3f ms\n", TUNE_SETTLE_COUNTS,
+		       m->settle_s * 1e3);
+	else
+		printf("settling to %.0f counts   not settled within the hold\n",
+		       TUNE_SETTLE_COUNTS);
+	printf("peak following error    %.1f counts\n", m->peak_ferr);
+	printf("peak DAC                %.0f codes\n", m->peak_dac);
+}
+
+int tune_run_step(struct sh2000 *h, const struct tune_opts *o, const char *note)
+{
+	struct tune_trace tr;
+	struct tune_metrics m;
+	char title[160];
+	int r = tune_step(h, o, &tr);
+
+	if (!r) {
+		if (tune_metrics(&tr, &m) < 0)
+			sh2000_tool_msg("%s: the encoder never reached 90 %% of the step",
+					sh2000_device(h));
+		step_report(o, &tr, &m);
+	}
+	r = after(h, o->axis, r, tr.start);
+	if (!r && o->csv)
+		r = tune_write_csv(o->csv, step_csv, &tr);
+	if (!r && o->plot) {
+		snprintf(title, sizeof(title), "%s axis %c: step of %g mm%s",
+			 sh2000_device(h), sh2000_tool_axis_name(o->axis), o->step_mm, note);
+		r = tune_plot(&tr, &m, o->plot, title);
+	}
+	tune_trace_free(&tr);
+	return r;
+}
+
 static void ramp_csv(FILE *m, const void *ctx)
 {
 	const struct tune_ramp *rp = ctx;
@@ -228,7 +283,8 @@ static void chirp_report(const struct tune_opts *o, const struct tune_fr *fr,
 	printf("peak DAC                %.0f codes\n", fr->peak_dac);
 }
 
-int tune_run_chirp(struct sh2000 *h, const struct tune_opts *o)
+int tune_run_chirp(struct sh2000 *h, const struct tune_opts *o,
+		   struct tune_margins *measured)
 {
 	struct tune_fr fr;
 	struct tune_margins m;
@@ -243,6 +299,8 @@ int tune_run_chirp(struct sh2000 *h, const struct tune_opts *o)
 	if (!r) {
 		tune_margins(&fr, &m);
 		chirp_report(o, &fr, &m);
+		if (measured)
+			*measured = m;
 		if (fr.dac_saturated)
 			sh2000_tool_msg("%s: the DAC reached its bound during the sweep: the response is not linear there (a smaller --amplitude or --accel)",
 					sh2000_device(h));

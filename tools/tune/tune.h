@@ -45,6 +45,13 @@ struct tune_opts {
 	int enable;		/* enable the axis for the test, disable after */
 	const char *csv;	/* the record as CSV, or NULL */
 	const char *plot;	/* PNG or SVG, or NULL */
+	/* --auto (autotune.h): identify, design, then write or not; its
+	 * excitation stays within start +- travel_mm */
+	int autotune;
+	double bandwidth_hz;	/* 0: the design's default */
+	double margin_deg;
+	int apply, dry_run;
+	const char *save;	/* parameter file, or NULL */
 };
 
 /* A gathered step: times (s, 0 at the step's first set-point change) and
@@ -102,9 +109,15 @@ int tune_check_back(struct sh2000 *h, unsigned int axis, double start);
  * failure leaves no half file): an exit code. */
 int tune_write_csv(const char *path, void (*fn)(FILE *m, const void *ctx),
 		   const void *ctx);
-/* Run, report, write and draw the ramp and chirp tests: an exit code. */
+/* Run, report, write and draw the step test (note: the end of the
+ * picture's title, "" or ", ..."), the ramp and chirp tests: an exit
+ * code. */
+int tune_run_step(struct sh2000 *h, const struct tune_opts *o, const char *note);
 int tune_run_ramp(struct sh2000 *h, const struct tune_opts *o);
-int tune_run_chirp(struct sh2000 *h, const struct tune_opts *o);
+/* The chirp's margins also into *measured, when not NULL (on 0). */
+struct tune_margins;
+int tune_run_chirp(struct sh2000 *h, const struct tune_opts *o,
+		   struct tune_margins *measured);
 
 /* ---- what the test moves share (testmove.c) ---- */
 
@@ -267,6 +280,9 @@ int tune_chirp_timing_apply(struct tune_move *m, struct tune_chirp_timing *t,
  * and compute *fr: an exit code as tune_step's. */
 int tune_chirp(struct sh2000 *h, const struct tune_opts *o,
 	       struct tune_fr *fr);
+/* The highest F1 a sweep may have at servo period servo_s (the coarse
+ * period shortened to one servo cycle). */
+double tune_chirp_f1_max(double servo_s);
 /* The margins of fr's loop and closed loop: 0, or -1 when fr's loop never
  * crosses 0 dB in the measured band (no crossover, no phase margin; the
  * other figures are still filled, NAN where absent). */

@@ -59,7 +59,7 @@ expect 1 "$TUNE" "${S[@]}" x --step 0.01 && err_has 'axis x is not enabled .*not
 # usage errors
 expect 2 "$TUNE" "${S[@]}" --step 0.01 && err_has 'which AXIS'
 expect 2 "$TUNE" "${S[@]}" q --step 0.01 && err_has "'q' is not an axis"
-expect 2 "$TUNE" "${S[@]}" x && err_has 'which test\? --step MM, --ramp MM/S or --chirp F0:F1'
+expect 2 "$TUNE" "${S[@]}" x && err_has 'which test\? --step MM, --ramp MM/S, --chirp F0:F1 or --auto'
 expect 2 "$TUNE" "${S[@]}" x --step 0 && err_has "--step: '0'"
 expect 2 "$TUNE" "${S[@]}" x --step 0.01 --dac-max 0 && err_has "--dac-max: '0'"
 expect 2 "$TUNE" "${S[@]}" x --step 0.01 --ferr-max -1 && err_has "--ferr-max: '-1'"

@@ -523,6 +523,92 @@ static void test_nurbs_freeform(void **s)
 	rec_free(&dense);
 }
 
+/* A cusp inside a knot span: the derivative passes through zero and the
+ * curve turns back. Found by fuzz_plan: the planner went through at full
+ * speed (steps of 2.7 mm in one period, the arc length's Newton thrown
+ * off by |C'| = 0), then, once it stopped there, stayed at rest for ever.
+ * It must stop at the cusp, reverse within the limits and finish. */
+struct closest {
+	const double *to;
+	double d;
+};
+
+static void closest_fn(void *ctx, const double x[4])
+{
+	struct closest *c = ctx;
+	double d = 0.0;
+
+	for (unsigned int ax = 0; ax < 4; ax++)
+		d += (x[ax] - c->to[ax]) * (x[ax] - c->to[ax]);
+	c->d = fmin(c->d, sqrt(d));
+}
+
+static void cusp_case(const struct sh2000_nurbs *n, const double start[4],
+		      const double cusp[4], const double end[4], int raw)
+{
+	struct sh2000_path_config c = cfg_of(raw, 0);
+	struct closest cl = { cusp, INFINITY };
+	struct sh2000_path *p;
+	struct rec r;
+
+	memcpy(c.start, start, sizeof(c.start));
+	p = mk(&c, &r);
+	if (sh2000_path_nurbs(p, n, 62))
+		fail_msg("%s", sh2000_path_error(p));
+	assert_int_equal(sh2000_path_finish(p), 0);
+	check_limits(&r, &c);
+	assert_end(&r, end);
+	/* the card's fine path gets there */
+	fine_path(&r, c.fine_steps, closest_fn, &cl);
+	print_message("cusp at (%g, %g), %s: %zu records, the card's path within %.3g mm of it\n",
+		      cusp[0], cusp[1], raw ? "raw" : "compensated", r.n, cl.d);
+	assert_true(cl.d < 0.001);
+	assert_true(r.n < 200);		/* 0.4 s at most: no creeping */
+	sh2000_path_destroy(p);
+	rec_free(&r);
+}
+
+static void test_nurbs_cusp(void **s)
+{
+	/* rational, on one axis: x goes 2 -> 1.4404 -> 3 (fuzz_plan's
+	 * input, tests/fuzz/corpus/plan/J-cusp.json) */
+	static const double pts1[3][4] = { { 2, 0 }, { 1, 0 }, { 3, 0 } };
+	static const double w1[3] = { 2, 3, 1 };
+	static const double k1[6] = { 0, 0, 0, 1, 1, 1 };
+	static const double s1[4] = { 2, 0 }, c1[4] = { 1.44039465, 0 },
+			    e1[4] = { 3, 0 };
+	/* the planar cubic with a cusp at its middle: B'(1/2) = 0 */
+	static const double pts2[4][4] = { { 0, 0 }, { 1, 1 }, { 0, 1 },
+					   { 1, 0 } };
+	static const double k2[8] = { 0, 0, 0, 0, 1, 1, 1, 1 };
+	static const double s2[4] = { 0, 0 }, c2[4] = { 0.5, 0.75 },
+			    e2[4] = { 1, 0 };
+	struct sh2000_nurbs n1 = { 2, 3, pts1, w1, k1 };
+	struct sh2000_nurbs n2 = { 3, 4, pts2, NULL, k2 };
+
+	/* standing still over a whole span is refused, with where */
+	static const double pts3[4][4] = { { 0, 0 }, { 0, 0 }, { 0, 0 },
+					   { 1, 0 } };
+	static const double k3[7] = { 0, 0, 0, 0.5, 1, 1, 1 };
+	struct sh2000_nurbs n3 = { 2, 4, pts3, NULL, k3 };
+	struct sh2000_path_config c = cfg_of(0, 0);
+	struct sh2000_path *p;
+	struct rec r;
+
+	(void)s;
+	for (int raw = 0; raw <= 1; raw++) {
+		cusp_case(&n1, s1, c1, e1, raw);
+		cusp_case(&n2, s2, c2, e2, raw);
+	}
+	p = mk(&c, &r);
+	assert_int_equal(sh2000_path_nurbs(p, &n3, 62), -EINVAL);
+	assert_non_null(strstr(sh2000_path_error(p), "stands still"));
+	assert_int_equal(sh2000_path_finish(p), 0);
+	assert_int_equal(r.n, 0);
+	sh2000_path_destroy(p);
+	rec_free(&r);
+}
+
 /* Degree 1 (a polyline with corners) and degree 5; a pause in the middle
  * of a NURBS resumes on the curve. */
 static void test_nurbs_degrees_and_pause(void **s)
@@ -1085,6 +1171,7 @@ int main(void)
 		cmocka_unit_test(test_bad_config),
 		cmocka_unit_test(test_constant_memory),
 		cmocka_unit_test(test_nurbs_memory_released),
+		cmocka_unit_test(test_nurbs_cusp),
 		cmocka_unit_test(test_override_pause_resume),
 		cmocka_unit_test(test_stop_discards),
 		cmocka_unit_test(test_sink_failure),

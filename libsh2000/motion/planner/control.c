@@ -420,7 +420,9 @@ static int substep(struct sh2000_path *p, double h)
 	c.v = p->v;
 	c.a = p->a;
 	c.vcur = halt ? 0.0 : pl_cap(p, b);
-	if (b->corner && p->s < zone * b->vj)
+	/* a stop has no zone: s a rounding below zero (a curve's arc
+	 * accounting) must not hold the carriage at the corner for ever */
+	if (b->corner && b->vj > 0.0 && p->s < zone * b->vj)
 		c.vcur = fmin(c.vcur, b->vj);
 	/* a higher feed only once the lower one is feed_zone behind */
 	if (!halt && b->feed > b->prev_feed &&

@@ -11,14 +11,61 @@
 
 #include "planner.h"
 
+/* A cusp between two samples: the tangent there turns by more than 90
+ * degrees, which a smooth curve sampled this densely only does where its
+ * derivative passes through zero (the carriage must stop and reverse).
+ * Bisection on the sign of C'(u) . t0 finds where it turns; both sides
+ * are then blocks of their own, so their junction stops the motion. */
+static double find_cusp(const struct pl_nurbs *nb, double lo, double hi,
+			const double t0[SH2000_AXES])
+{
+	double c[SH2000_AXES], d1[SH2000_AXES];
+
+	for (unsigned int it = 0; it < 60 && hi - lo > 1e-15 * (1.0 + fabs(hi)); it++) {
+		double m = 0.5 * (lo + hi), dot = 0.0;
+
+		pl_nurbs_eval(nb, m, c, d1, NULL);
+		for (unsigned int ax = 0; ax < SH2000_AXES; ax++)
+			dot += d1[ax] * t0[ax];
+		if (dot > 0.0)
+			lo = m;
+		else
+			hi = m;
+	}
+	return 0.5 * (lo + hi);
+}
+
+static double dot4(const double a[SH2000_AXES], const double b[SH2000_AXES])
+{
+	double s = 0.0;
+
+	for (unsigned int ax = 0; ax < SH2000_AXES; ax++)
+		s += a[ax] * b[ax];
+	return s;
+}
+
+/* The block's five samples, the ends taken from inside the block: at a
+ * C0 knot or a cusp the other side's tangent is another one (a corner). */
+static void sample_block(const struct pl_nurbs *nb, double u0, double u1,
+			 unsigned int i, double t[SH2000_AXES], double *speed,
+			 double *kappa)
+{
+	double u = i == 0 ? u0 + (u1 - u0) * 1e-9 :
+		   i < 4 ? u0 + (u1 - u0) * i / 4.0 : u1 - (u1 - u0) * 1e-9;
+
+	*speed = pl_nurbs_frame(nb, u, t, kappa);
+}
+
 int pl_nurbs_expand(struct sh2000_path *p)
 {
 	struct pl_nurbs *nb = p->pending;
 
 	while (nb && p->count < p->cap) {
 		struct pl_block b;
-		double u0, u1, du, ks, vl = INFINITY, tt[SH2000_AXES];
-		unsigned int i, ax;
+		double u0, u1, du, vl = INFINITY, still;
+		double ts[5][SH2000_AXES], sp[5], ks[5];
+		unsigned int i, ax, last = 0;
+		int cusp = 0;
 
 		if (nb->span >= nb->c.npoints) {
 			nb->expanded = 1;
@@ -37,7 +84,31 @@ int pl_nurbs_expand(struct sh2000_path *p)
 		u0 = nb->c.knots[nb->span] + du * nb->sub;
 		u1 = nb->sub + 1 == PL_NURBS_SUBDIV ? nb->c.knots[nb->span + 1]
 						    : u0 + du;
-		if (++nb->sub == PL_NURBS_SUBDIV) {
+		if (nb->cut > u0 && nb->cut < u1)
+			u0 = nb->cut;	/* the rest after a cusp */
+		for (i = 0; i <= 4; i++) {
+			sample_block(nb, u0, u1, i, ts[i], &sp[i], &ks[i]);
+			if (i > 0 && dot4(ts[last], ts[i]) < 0.0) {
+				double lo = u0 + (u1 - u0) * (last ? last / 4.0 : 1e-9);
+				double hi = u0 + (u1 - u0) * (i < 4 ? i / 4.0 : 1.0 - 1e-9);
+				double uc = find_cusp(nb, lo, hi, ts[last]);
+
+				/* one so close to the start is the start's:
+				 * splitting there would not move the carriage */
+				if (uc - u0 > 1e-6 * (u1 - u0)) {
+					u1 = uc;
+					cusp = 1;
+					break;
+				}
+			}
+			if (dot4(ts[i], ts[i]) > 0.5)
+				last = i;	/* a zero tangent has no say */
+		}
+		if (cusp)	/* the block ends at the cusp: sampled anew */
+			for (i = 0; i <= 4; i++)
+				sample_block(nb, u0, u1, i, ts[i], &sp[i], &ks[i]);
+		nb->cut = cusp ? u1 : 0.0;
+		if (!cusp && ++nb->sub == PL_NURBS_SUBDIV) {
 			nb->sub = 0;
 			nb->span++;
 		}
@@ -48,21 +119,17 @@ int pl_nurbs_expand(struct sh2000_path *p)
 		b.g.nurbs.u0 = u0;
 		b.g.nurbs.u1 = u1;
 		b.L = pl_nurbs_length(nb, u0, u1);
-		/* the speed limit over the block: five samples */
-		for (i = 0; i <= 4; i++) {
-			/* the end from the left: at a C0 knot the next
-			 * span's tangent is another one (a corner) */
-			double u = i < 4 ? u0 + (u1 - u0) * i / 4.0
-					 : u1 - (u1 - u0) * 1e-9;
-
-			pl_nurbs_frame(nb, u, tt, &ks);
-			vl = fmin(vl, pl_curve_vlim(p, tt, ks));
-			if (i == 0)
-				memcpy(b.t0, tt, sizeof(tt));
-			if (i == 4)
-				memcpy(b.t1, tt, sizeof(tt));
-		}
+		/* the speed limit over the block from its samples, but not
+		 * from one where the curve nearly stands still: that is a
+		 * cusp, whose curvature grows without bound while the
+		 * junction stops the carriage there anyway */
+		still = 1e-3 * b.L / (u1 - u0);
+		for (i = 0; i <= 4; i++)
+			if (sp[i] >= still)
+				vl = fmin(vl, pl_curve_vlim(p, ts[i], ks[i]));
 		b.vlim = vl;
+		memcpy(b.t0, ts[0], sizeof(b.t0));
+		memcpy(b.t1, ts[4], sizeof(b.t1));
 		pl_nurbs_eval(nb, u0, b.p0, NULL, NULL);
 		pl_nurbs_eval(nb, u1, b.p1, NULL, NULL);
 		for (ax = 0; ax < SH2000_AXES; ax++)

@@ -99,20 +99,25 @@ double pl_nurbs_length(const struct pl_nurbs *nb, double u0, double u1)
 double pl_nurbs_frame(const struct pl_nurbs *nb, double u,
 		      double t[SH2000_AXES], double *kappa)
 {
-	double c[SH2000_AXES], d1[SH2000_AXES], d2[SH2000_AXES], n1 = 0.0, n2 = 0.0, dot = 0.0, cr;
-	unsigned int ax;
+	double c[SH2000_AXES], d1[SH2000_AXES], d2[SH2000_AXES], n1 = 0.0, cr = 0.0;
+	unsigned int ax, bx;
 
 	pl_nurbs_eval(nb, u, c, d1, d2);
-	for (ax = 0; ax < SH2000_AXES; ax++) {
+	for (ax = 0; ax < SH2000_AXES; ax++)
 		n1 += d1[ax] * d1[ax];
-		n2 += d2[ax] * d2[ax];
-		dot += d1[ax] * d2[ax];
-	}
 	n1 = sqrt(n1);
 	for (ax = 0; ax < SH2000_AXES; ax++)
 		t[ax] = n1 > 0.0 ? d1[ax] / n1 : 0.0;
-	/* |C' x C''| / |C'|^3, written for any dimension */
-	cr = n1 * n1 * n2 - dot * dot;
+	/* |C' x C''|^2 as the sum of its 2x2 minors, written for any
+	 * dimension: unlike |C'|^2 |C''|^2 - (C'.C'')^2 it does not cancel
+	 * when the two are nearly parallel, so a straight curve whose |C'|
+	 * goes to zero (a cusp) keeps curvature zero instead of noise / |C'|^3 */
+	for (ax = 0; ax < SH2000_AXES; ax++)
+		for (bx = ax + 1; bx < SH2000_AXES; bx++) {
+			double m = d1[ax] * d2[bx] - d1[bx] * d2[ax];
+
+			cr += m * m;
+		}
 	*kappa = (n1 > 0.0 && cr > 0.0) ? sqrt(cr) / (n1 * n1 * n1) : 0.0;
 	return n1;
 }

@@ -73,11 +73,14 @@ static double step(struct sh2000_path *p, const struct pl_nurbs *nb,
 		   double u, double ds, double c[4], double *len)
 {
 	double u0 = p->hist_u[0], sp0 = p->hist_speed, m[SH2000_AXES];
-	double sp1 = 0.0, spm, L = 0.0;
+	double sp1 = 0.0, spm, L = 0.0, lo = u0, hi = nb->umax;
 	unsigned int it;
 
-	for (it = 0; it < 12; it++) {
-		double f;
+	/* Newton, kept inside the bracket [lo, hi] of parameters whose arc
+	 * is known short / long: near a cusp |C'| goes to zero and a plain
+	 * Newton step would throw the point far along the curve */
+	for (it = 0; it < 60; it++) {
+		double f, un;
 
 		sp1 = point_speed(nb, u, c);
 		spm = point_speed(nb, 0.5 * (u0 + u), m);
@@ -86,16 +89,20 @@ static double step(struct sh2000_path *p, const struct pl_nurbs *nb,
 		if (it == 0 && p->hist_n >= 3 && ds > 1e-6 && u < nb->umax)
 			p->feed_fluct_pred = fmax(p->feed_fluct_pred,
 						  fabs(f) / ds);
-		if (fabs(f) < 1e-12 * (1.0 + ds) || sp1 <= 0.0)
+		if (fabs(f) < 1e-12 * (1.0 + ds))
+			break;
+		if (f < 0.0)
+			lo = u;
+		else
+			hi = u;
+		if (u == nb->umax && f < 0.0)
+			break;		/* the curve ends first */
+		if (hi - lo <= 1e-15 * (1.0 + fabs(hi)))
 			break;
 		p->nurbs_corr++;
-		u = fmin(fmax(u - f / sp1, u0), nb->umax);
-		if (u == nb->umax && f < 0.0) {
-			sp1 = point_speed(nb, u, c);
-			spm = point_speed(nb, 0.5 * (u0 + u), m);
-			L = (u - u0) / 6.0 * (sp0 + 4.0 * spm + sp1);
-			break;
-		}
+		un = sp1 > 0.0 ? u - f / sp1 : NAN;
+		u = un > lo && un < hi ? un : un >= hi && hi == nb->umax ? hi
+						     : 0.5 * (lo + hi);
 	}
 	if (u < nb->umax && ds > 1e-6)
 		p->feed_fluct = fmax(p->feed_fluct, fabs(L - ds) / ds);

@@ -282,11 +282,15 @@ int sh2000_path_arc(struct sh2000_path *p, const struct sh2000_path_arc *arc,
 
 /* ---- NURBS ----------------------------------------------------------------- */
 
-/* The copy starts where the planner is and never stands still (the
- * arc-length parametrisation needs C' != 0). */
+/* The copy starts where the planner is and never stands still over a
+ * stretch: a piece of zero length has no direction to plan along. A cusp,
+ * where C' passes through zero at one parameter and the curve turns
+ * back, is geometry like a corner: the expansion finds it and the
+ * carriage stops there (expand.c). */
 static int nurbs_geometry(struct sh2000_path *p, const struct pl_nurbs *nb)
 {
 	double c[SH2000_AXES], tt[SH2000_AXES], ks, d = 0.0;
+	double still = 1e-9 * (1.0 + fabs(nb->umax - nb->umin));
 	const double *U = nb->c.knots;
 	unsigned int a, k;
 	size_t i;
@@ -301,16 +305,23 @@ static int nurbs_geometry(struct sh2000_path *p, const struct pl_nurbs *nb)
 			      c[0], c[1], c[2], c[3], d, p->qend[0],
 			      p->qend[1], p->qend[2], p->qend[3]);
 	for (i = nb->c.degree; i < nb->c.npoints; i++) {
+		double h = (U[i + 1] - U[i]) / 8.0;
+		int was_still = 0;
+
 		if (U[i] >= U[i + 1])
 			continue;
 		for (k = 0; k <= 8; k++) {
-			double u = U[i] + (U[i + 1] - U[i]) * k / 8.0;
+			/* the span's ends from inside it: a C0 knot's other
+			 * side belongs to the next span */
+			double u = k == 0 ? U[i] + h * 1e-9 :
+				   k == 8 ? U[i + 1] - h * 1e-9 : U[i] + h * k;
+			int is_still = pl_nurbs_frame(nb, u, tt, &ks) < still;
 
-			if (pl_nurbs_frame(nb, u, tt, &ks) <
-			    1e-9 * (1.0 + fabs(nb->umax - nb->umin)))
+			if (is_still && was_still)
 				return pl_err(p, -EINVAL,
-					      "nurbs: the curve stands still (zero derivative) at u = %g",
-					      u);
+					      "nurbs: the curve stands still (zero derivative) from u = %g to u = %g: repeated control points?",
+					      u - h, u);
+			was_still = is_still;
 		}
 	}
 	return 0;

@@ -609,6 +609,47 @@ static void test_nurbs_cusp(void **s)
 	rec_free(&r);
 }
 
+/* A heavy weight on the last point crowds a tight turn into a thousandth
+ * of a knot span. Found by fuzz_plan: the turn's low speed limit held a
+ * whole 4 mm block back, 5 s at 0.7 mm/s for a 70 mm/s program. The
+ * expansion halves blocks whose limit varies a lot. */
+static void test_nurbs_heavy_weight(void **s)
+{
+	static const double pts[4][4] = { { 2, 0 }, { 1, 0 }, { 1, 1, 0, 8 },
+					  { 2, 1 } };
+	static const double w[4] = { 1, 3, 5, 4444 };
+	static const double k[7] = { 0, 0, 0, 1, 2, 2, 2 };
+	static const double start[4] = { 2, 0 }, end[4] = { 2, 1 };
+	struct sh2000_nurbs n = { 2, 4, pts, w, k };
+	struct sh2000_path_config c = cfg_of(0, 0);
+	struct sh2000_path *p;
+	struct rec r;
+	double L = 0.0;
+
+	(void)s;
+	memcpy(c.start, start, sizeof(c.start));
+	p = mk(&c, &r);
+	assert_int_equal(sh2000_path_nurbs(p, &n, 70), 0);
+	assert_int_equal(sh2000_path_finish(p), 0);
+	check_limits(&r, &c);
+	assert_end(&r, end);
+	for (size_t i = 1; i < r.n; i++) {
+		double d = 0.0;
+
+		for (unsigned int ax = 0; ax < 4; ax++)
+			d += (r.x[i][ax] - r.x[i - 1][ax]) *
+			     (r.x[i][ax] - r.x[i - 1][ax]);
+		L += sqrt(d);
+	}
+	print_message("heavy weight: %.3f mm in %zu records (%.1f mm/s on average)\n",
+		      L, r.n, L / (r.n * c.period_s));
+	/* 10.6 mm at up to 70 mm/s: well under a second, not seconds */
+	assert_true(L > 10.0);
+	assert_true(r.n * c.period_s < 1.0);
+	sh2000_path_destroy(p);
+	rec_free(&r);
+}
+
 /* Degree 1 (a polyline with corners) and degree 5; a pause in the middle
  * of a NURBS resumes on the curve. */
 static void test_nurbs_degrees_and_pause(void **s)
@@ -1172,6 +1213,7 @@ int main(void)
 		cmocka_unit_test(test_constant_memory),
 		cmocka_unit_test(test_nurbs_memory_released),
 		cmocka_unit_test(test_nurbs_cusp),
+		cmocka_unit_test(test_nurbs_heavy_weight),
 		cmocka_unit_test(test_override_pause_resume),
 		cmocka_unit_test(test_stop_discards),
 		cmocka_unit_test(test_sink_failure),

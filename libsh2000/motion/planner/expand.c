@@ -56,16 +56,82 @@ static void sample_block(const struct pl_nurbs *nb, double u0, double u1,
 	*speed = pl_nurbs_frame(nb, u, t, kappa);
 }
 
+/* A candidate block [u0, u1] of a curve, looked at through five samples. */
+struct probe {
+	double u0, u1;
+	double t[5][SH2000_AXES], speed[5], kappa[5];
+	double L, vlim, vhigh;	/* length; lowest and highest sample limit */
+	int cusp;		/* u1 was brought back to a cusp */
+};
+
+/* A cusp between two samples shortens the block to it. */
+static void find_cusp_in(const struct pl_nurbs *nb, struct probe *pr)
+{
+	double u0 = pr->u0, u1 = pr->u1;
+	unsigned int i, last = 0;
+
+	for (i = 0; i <= 4; i++) {
+		sample_block(nb, u0, u1, i, pr->t[i], &pr->speed[i], &pr->kappa[i]);
+		if (i > 0 && dot4(pr->t[last], pr->t[i]) < 0.0) {
+			double lo = u0 + (u1 - u0) * (last ? last / 4.0 : 1e-9);
+			double hi = u0 + (u1 - u0) * (i < 4 ? i / 4.0 : 1.0 - 1e-9);
+			double uc = find_cusp(nb, lo, hi, pr->t[last]);
+
+			/* one so close to the start is the start's:
+			 * splitting there would not move the carriage */
+			if (uc - u0 > 1e-6 * (u1 - u0)) {
+				pr->u1 = uc;
+				pr->cusp = 1;
+				return;
+			}
+		}
+		if (dot4(pr->t[i], pr->t[i]) > 0.5)
+			last = i;	/* a zero tangent has no say */
+	}
+}
+
+static void probe_block(const struct sh2000_path *p,
+			const struct pl_nurbs *nb, struct probe *pr)
+{
+	double still;
+	unsigned int i;
+
+	pr->cusp = 0;
+	find_cusp_in(nb, pr);
+	if (pr->cusp)	/* the block ends at the cusp: sampled anew */
+		for (i = 0; i <= 4; i++)
+			sample_block(nb, pr->u0, pr->u1, i, pr->t[i],
+				     &pr->speed[i], &pr->kappa[i]);
+	pr->L = pl_nurbs_length(nb, pr->u0, pr->u1);
+	/* the speed limit over the block from its samples, but not from one
+	 * where the curve nearly stands still: that is a cusp, whose
+	 * curvature grows without bound while the junction stops the
+	 * carriage there anyway */
+	still = 1e-3 * pr->L / (pr->u1 - pr->u0);
+	pr->vlim = INFINITY;
+	pr->vhigh = 0.0;
+	for (i = 0; i <= 4; i++)
+		if (pr->speed[i] >= still) {
+			double v = pl_curve_vlim(p, pr->t[i], pr->kappa[i]);
+
+			pr->vlim = fmin(pr->vlim, v);
+			pr->vhigh = fmax(pr->vhigh, v);
+		}
+}
+
+/* Halvings of a sixteenth of a span at most (4096 pieces). */
+#define PL_NURBS_SPLIT_MIN (1.0 / 4096.0)
+
 int pl_nurbs_expand(struct sh2000_path *p)
 {
 	struct pl_nurbs *nb = p->pending;
 
 	while (nb && p->count < p->cap) {
 		struct pl_block b;
-		double u0, u1, du, vl = INFINITY, still;
-		double ts[5][SH2000_AXES], sp[5], ks[5];
-		unsigned int i, ax, last = 0;
-		int cusp = 0;
+		struct probe pr;
+		double du;
+		unsigned int ax;
+		int split = 0;
 
 		if (nb->span >= nb->c.npoints) {
 			nb->expanded = 1;
@@ -81,34 +147,23 @@ int pl_nurbs_expand(struct sh2000_path *p)
 			continue;
 		}
 		du = (nb->c.knots[nb->span + 1] - nb->c.knots[nb->span]) / PL_NURBS_SUBDIV;
-		u0 = nb->c.knots[nb->span] + du * nb->sub;
-		u1 = nb->sub + 1 == PL_NURBS_SUBDIV ? nb->c.knots[nb->span + 1]
-						    : u0 + du;
-		if (nb->cut > u0 && nb->cut < u1)
-			u0 = nb->cut;	/* the rest after a cusp */
-		for (i = 0; i <= 4; i++) {
-			sample_block(nb, u0, u1, i, ts[i], &sp[i], &ks[i]);
-			if (i > 0 && dot4(ts[last], ts[i]) < 0.0) {
-				double lo = u0 + (u1 - u0) * (last ? last / 4.0 : 1e-9);
-				double hi = u0 + (u1 - u0) * (i < 4 ? i / 4.0 : 1.0 - 1e-9);
-				double uc = find_cusp(nb, lo, hi, ts[last]);
-
-				/* one so close to the start is the start's:
-				 * splitting there would not move the carriage */
-				if (uc - u0 > 1e-6 * (u1 - u0)) {
-					u1 = uc;
-					cusp = 1;
-					break;
-				}
-			}
-			if (dot4(ts[i], ts[i]) > 0.5)
-				last = i;	/* a zero tangent has no say */
+		pr.u0 = nb->c.knots[nb->span] + du * nb->sub;
+		pr.u1 = nb->sub + 1 == PL_NURBS_SUBDIV ? nb->c.knots[nb->span + 1]
+						       : pr.u0 + du;
+		if (nb->cut > pr.u0 && nb->cut < pr.u1)
+			pr.u0 = nb->cut;	/* the rest after a cut */
+		probe_block(p, nb, &pr);
+		/* where the limit changes a lot within the block (a tight
+		 * turn where a heavy weight crowds the parameter), halve it:
+		 * the low limit would hold the whole block back */
+		while (!pr.cusp && pr.vhigh > 4.0 * pr.vlim &&
+		       pr.u1 - pr.u0 > du * PL_NURBS_SPLIT_MIN) {
+			pr.u1 = 0.5 * (pr.u0 + pr.u1);
+			probe_block(p, nb, &pr);
+			split = 1;
 		}
-		if (cusp)	/* the block ends at the cusp: sampled anew */
-			for (i = 0; i <= 4; i++)
-				sample_block(nb, u0, u1, i, ts[i], &sp[i], &ks[i]);
-		nb->cut = cusp ? u1 : 0.0;
-		if (!cusp && ++nb->sub == PL_NURBS_SUBDIV) {
+		nb->cut = pr.cusp || split ? pr.u1 : NAN;
+		if (isnan(nb->cut) && ++nb->sub == PL_NURBS_SUBDIV) {
 			nb->sub = 0;
 			nb->span++;
 		}
@@ -116,22 +171,14 @@ int pl_nurbs_expand(struct sh2000_path *p)
 		b.type = BLK_NURBS;
 		b.feed = p->pending_feed;
 		b.g.nurbs.nb = nb;
-		b.g.nurbs.u0 = u0;
-		b.g.nurbs.u1 = u1;
-		b.L = pl_nurbs_length(nb, u0, u1);
-		/* the speed limit over the block from its samples, but not
-		 * from one where the curve nearly stands still: that is a
-		 * cusp, whose curvature grows without bound while the
-		 * junction stops the carriage there anyway */
-		still = 1e-3 * b.L / (u1 - u0);
-		for (i = 0; i <= 4; i++)
-			if (sp[i] >= still)
-				vl = fmin(vl, pl_curve_vlim(p, ts[i], ks[i]));
-		b.vlim = vl;
-		memcpy(b.t0, ts[0], sizeof(b.t0));
-		memcpy(b.t1, ts[4], sizeof(b.t1));
-		pl_nurbs_eval(nb, u0, b.p0, NULL, NULL);
-		pl_nurbs_eval(nb, u1, b.p1, NULL, NULL);
+		b.g.nurbs.u0 = pr.u0;
+		b.g.nurbs.u1 = pr.u1;
+		b.L = pr.L;
+		b.vlim = pr.vlim;
+		memcpy(b.t0, pr.t[0], sizeof(b.t0));
+		memcpy(b.t1, pr.t[4], sizeof(b.t1));
+		pl_nurbs_eval(nb, pr.u0, b.p0, NULL, NULL);
+		pl_nurbs_eval(nb, pr.u1, b.p1, NULL, NULL);
 		for (ax = 0; ax < SH2000_AXES; ax++)
 			if (!isfinite(b.p1[ax]))
 				b.p1[ax] = b.p0[ax];

@@ -42,6 +42,7 @@ struct pl_nurbs *pl_nurbs_new(struct sh2000_path *p,
 	nb->umin = sh2000_nurbs_umin(&nb->c);
 	nb->umax = sh2000_nurbs_umax(&nb->c);
 	nb->span = n->degree;
+	nb->cut = NAN;
 	nb->expanded = 0;
 	nb->refs = 0;
 	return nb;

@@ -22,8 +22,9 @@ struct pl_nurbs {
 	unsigned int refs;	/* blocks in the window that use it */
 	unsigned int span;	/* expansion: next knot span ... */
 	unsigned int sub;	/* ... and next subdivision in it */
-	double cut;		/* a cusp inside that subdivision: the next
-				 * block starts there (0 when none) */
+	double cut;		/* a cusp or a halving inside that
+				 * subdivision: the next block starts
+				 * there (NAN when none) */
 	int expanded;		/* every block of it has been queued */
 	size_t bytes;		/* what the copy holds */
 };

@@ -154,9 +154,10 @@ int pl_nurbs_expand(struct sh2000_path *p)
 			pr.u0 = nb->cut;	/* the rest after a cut */
 		probe_block(p, nb, &pr);
 		/* where the limit changes a lot within the block (a tight
-		 * turn where a heavy weight crowds the parameter), halve it:
-		 * the low limit would hold the whole block back */
-		while (!pr.cusp && pr.vhigh > 4.0 * pr.vlim &&
+		 * turn where a heavy weight crowds the parameter, or the
+		 * approach to a sharp turn), halve it: the low limit would
+		 * hold the whole block back */
+		while (pr.vhigh > 4.0 * pr.vlim &&
 		       pr.u1 - pr.u0 > du * PL_NURBS_SPLIT_MIN) {
 			pr.u1 = 0.5 * (pr.u0 + pr.u1);
 			probe_block(p, nb, &pr);

@@ -93,7 +93,7 @@ static void find_cusp_in(const struct pl_nurbs *nb, struct probe *pr)
 static void probe_block(const struct sh2000_path *p,
 			const struct pl_nurbs *nb, struct probe *pr)
 {
-	double still;
+	double still, lo, hi;
 	unsigned int i;
 
 	pr->cusp = 0;
@@ -102,7 +102,13 @@ static void probe_block(const struct sh2000_path *p,
 		for (i = 0; i <= 4; i++)
 			sample_block(nb, pr->u0, pr->u1, i, pr->t[i],
 				     &pr->speed[i], &pr->kappa[i]);
-	pr->L = pl_nurbs_length(nb, pr->u0, pr->u1);
+	lo = hi = pr->speed[0];
+	for (i = 1; i <= 4; i++) {
+		lo = fmin(lo, pr->speed[i]);
+		hi = fmax(hi, pr->speed[i]);
+	}
+	pr->L = hi <= 4.0 * lo ? pl_nurbs_length_even(nb, pr->u0, pr->u1)
+			       : pl_nurbs_length(nb, pr->u0, pr->u1);
 	/* the speed limit over the block from its samples, but not from one
 	 * where the curve nearly stands still: that is a cusp, whose
 	 * curvature grows without bound while the junction stops the

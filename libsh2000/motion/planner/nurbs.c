@@ -79,9 +79,9 @@ static double speed_at(const struct pl_nurbs *nb, double u)
 	return sqrt(s);
 }
 
-double pl_nurbs_length(const struct pl_nurbs *nb, double u0, double u1)
+/* 8-point Gauss-Legendre over [u0, u1]. */
+static double gauss8(const struct pl_nurbs *nb, double u0, double u1)
 {
-	/* 8-point Gauss-Legendre; the blocks are short, smooth pieces. */
 	static const double x[4] = { 0.1834346424956498, 0.5255324099163290,
 				     0.7966664774136267, 0.9602898564975363 };
 	static const double w[4] = { 0.3626837833783620, 0.3137066458778873,
@@ -89,12 +89,36 @@ double pl_nurbs_length(const struct pl_nurbs *nb, double u0, double u1)
 	double m = 0.5 * (u0 + u1), h = 0.5 * (u1 - u0), s = 0.0;
 	unsigned int i;
 
-	if (h <= 0.0)
-		return 0.0;
 	for (i = 0; i < 4; i++)
 		s += w[i] * (speed_at(nb, m - h * x[i]) +
 			     speed_at(nb, m + h * x[i]));
 	return s * h;
+}
+
+/* Halves until the two halves agree with the whole: a heavy weight can
+ * crowd most of a block's length into a sliver of its parameter, which
+ * one rule of 8 points misses (a 2 mm piece came out as 0.6 mm). */
+static double adaptive(const struct pl_nurbs *nb, double u0, double u1,
+		       double whole, unsigned int depth)
+{
+	double m = 0.5 * (u0 + u1), l = gauss8(nb, u0, m), r = gauss8(nb, m, u1);
+
+	if (depth >= 24 || fabs(l + r - whole) <= 1e-9 * (l + r) + 1e-15)
+		return l + r;
+	return adaptive(nb, u0, m, l, depth + 1) +
+	       adaptive(nb, m, u1, r, depth + 1);
+}
+
+double pl_nurbs_length(const struct pl_nurbs *nb, double u0, double u1)
+{
+	if (u1 <= u0)
+		return 0.0;
+	return adaptive(nb, u0, u1, gauss8(nb, u0, u1), 0);
+}
+
+double pl_nurbs_length_even(const struct pl_nurbs *nb, double u0, double u1)
+{
+	return u1 > u0 ? gauss8(nb, u0, u1) : 0.0;
 }
 
 double pl_nurbs_frame(const struct pl_nurbs *nb, double u,

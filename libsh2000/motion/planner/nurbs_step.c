@@ -85,6 +85,9 @@ static double step(struct sh2000_path *p, const struct pl_nurbs *nb,
 		sp1 = point_speed(nb, u, c);
 		spm = point_speed(nb, 0.5 * (u0 + u), m);
 		L = (u - u0) / 6.0 * (sp0 + 4.0 * spm + sp1);
+		/* Simpson's rule only where the speed is even over the step */
+		if (fmax(sp0, fmax(spm, sp1)) > 2.0 * fmin(sp0, fmin(spm, sp1)))
+			L = pl_nurbs_length(nb, u0, u);
 		f = L - ds;
 		if (it == 0 && p->hist_n >= 3 && ds > 1e-6 && u < nb->umax)
 			p->feed_fluct_pred = fmax(p->feed_fluct_pred,

@@ -47,8 +47,11 @@ void pl_nurbs_put(struct sh2000_path *p, struct pl_nurbs *nb);
 /* C, C' and C'' at u (d1, d2 may be NULL). */
 void pl_nurbs_eval(const struct pl_nurbs *nb, double u, double c[SH2000_AXES],
 		   double d1[SH2000_AXES], double d2[SH2000_AXES]);
-/* Arc length between u0 and u1 (Gauss-Legendre). */
+/* Arc length between u0 and u1 (adaptive Gauss-Legendre). */
 double pl_nurbs_length(const struct pl_nurbs *nb, double u0, double u1);
+/* The same for a piece whose speed |C'| is known to be even (within 4x):
+ * one 8-point rule. */
+double pl_nurbs_length_even(const struct pl_nurbs *nb, double u0, double u1);
 /* Curvature and unit tangent at u; returns |C'(u)|. */
 double pl_nurbs_frame(const struct pl_nurbs *nb, double u,
 		      double t[SH2000_AXES], double *kappa);

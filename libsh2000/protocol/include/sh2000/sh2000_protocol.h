@@ -142,9 +142,9 @@
  * last. RESET writes BIT := 0 first, then the rest 0. So a host that sees
  * a fault bit in the status words finds the record already written; it
  * reads the five words upwards and takes them when BIT != 0 and CHECK
- * matches (a mismatch: a RESET and a new first fault while it read; read
- * again). The record does not change until RESET, so a host reads it once
- * per fault, not every poll. docs/protocol.md 10.1.
+ * matches (a mismatch: a RESET, perhaps a new first fault, while it read;
+ * read again). The record does not change until RESET, so a host reads it
+ * once per fault, not every poll. docs/protocol.md 10.1.
  */
 #define SH2000_W_FIRST_FAULT		832u
 #define   SH2000_FF_BIT			0u	/* the SH2000_FAULT_* or

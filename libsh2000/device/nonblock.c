@@ -52,6 +52,13 @@ static int poll_once_locked(struct sh2000 *h, struct sh2000_status *st)
 	memset(st, 0, sizeof(*st));
 	st->host_time_ns = now;
 	sh2000_status_decode(h, w, st);
+	/* one read of the first-fault record at most: torn by a RESET, it
+	 * is read again on a later tick */
+	if (w[SH2000_W_MAGIC] == SH2000_PROTO_MAGIC) {
+		r = sh2000_first_fault_update(h, w, st, 1);
+		if (r < 0)
+			return r;
+	}
 	st->heartbeat_age_ns = sh2000_hb_note(h, st->heartbeat, now);
 	/* An unchanged heartbeat after a gap it may have wrapped in: the
 	 * watch restarted from now, so a stopped card still shows within

@@ -118,6 +118,13 @@ struct sh2000 {
 		unsigned int op;
 	} nbc;
 
+	/* first_fault.c: the first-fault record as last read (1.4) */
+	struct {
+		int valid;		/* read since the faults latched */
+		uint16_t cmd_ack;	/* CMD_ACK when it was read */
+		struct sh2000_first_fault ff;
+	} first;
+
 	/* mailbox.c: the point mailbox (protocol 1.3) */
 	uint16_t mbox_seq;		/* MBOX_SEQ as in the RAM */
 	int mbox_dirty;			/* posted since HEAD was last written */
@@ -175,6 +182,12 @@ int sh2000_status_alive(struct sh2000 *h, const uint16_t *w,
  * (extends the counters). */
 void sh2000_status_decode(struct sh2000 *h, const uint16_t *w,
 			  struct sh2000_status *st);
+/* first_fault.c: st->first_fault from the status words w[] a poll read
+ * (and decoded into *st), reading the record when the cached one may be
+ * stale; tries: reads of a record torn by a RESET before giving up (it
+ * is then left unknown). 0 or a bus error. */
+int sh2000_first_fault_update(struct sh2000 *h, const uint16_t *w,
+			      struct sh2000_status *st, unsigned int tries);
 int sh2000_status_error_locked(struct sh2000 *h,
 			       const struct sh2000_status *st);
 

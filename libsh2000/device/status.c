@@ -139,6 +139,11 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 	st->retries = tries;
 	st->host_time_ns = now;
 	sh2000_status_decode(h, w, st);
+	if (w[SH2000_W_MAGIC] == SH2000_PROTO_MAGIC) {
+		r = sh2000_first_fault_update(h, w, st, SH2000_POLL_RETRIES);
+		if (r < 0)
+			return r;
+	}
 	st->heartbeat_age_ns = sh2000_hb_note(h, st->heartbeat, now);
 	/* the same heartbeat as long ago: wrapped, or stopped? Watch it
 	 * until it moves or the limit says stopped */
@@ -260,63 +265,108 @@ static const struct {
 	{ SH2000_AXIS_FAULT_HOME, SH2000_EHOME, "homing failed" },
 };
 
-int sh2000_status_error_locked(struct sh2000 *h,
-			       const struct sh2000_status *st)
+/* Axis a's fault: the first bit of `bits` in the table's order. */
+static int axis_error(struct sh2000 *h, const struct sh2000_status *st,
+		      unsigned int a, unsigned int bits)
 {
-	unsigned int f = st->card_faults, a, i;
+	unsigned int i;
 
-	if (st->card_state == SH2000_STATE_ESTOP || (f & SH2000_FAULT_ESTOP))
+	for (i = 0; i < sizeof(axis_faults) / sizeof(axis_faults[0]); i++)
+		if (bits & axis_faults[i].bit)
+			return sh2000_fail(h, -axis_faults[i].code,
+					   "axis %u: %s (axis faults 0x%04x, following error %.6f mm)",
+					   a, axis_faults[i].what,
+					   st->axis[a].faults, st->axis[a].ferr_mm);
+	return sh2000_fail(h, -SH2000_EFAULTED,
+			   "axis %u: unknown fault bits 0x%04x", a, bits);
+}
+
+static int rejected_error(struct sh2000 *h, const struct sh2000_status *st)
+{
+	uint64_t last = h->segments ? h->segments - 1 : 0;
+	uint64_t seg = last - (uint16_t)((uint16_t)last - st->reject_seq);
+
+	return sh2000_fail(h, -SH2000_EREJECTED,
+			   "segment %llu (record seq %u) rejected: %s (rejection #%u)",
+			   (unsigned long long)seg, st->reject_seq,
+			   sh2000_reject_name(st->reject_reason),
+			   st->reject_count);
+}
+
+/* The card fault `bit` (one SH2000_FAULT_* bit). */
+static int card_error(struct sh2000 *h, const struct sh2000_status *st,
+		      unsigned int bit)
+{
+	unsigned int f = st->card_faults;
+
+	switch (bit) {
+	case SH2000_FAULT_ESTOP:
 		return sh2000_fail(h, -SH2000_EESTOP,
 				   "emergency stop latched (card state %s, faults 0x%04x); sh2000_reset() clears it",
 				   sh2000_state_name(st->card_state), f);
-	for (a = 0; a < SH2000_AXES; a++) {
-		unsigned int af = st->axis[a].faults;
-
-		if (!af)
-			continue;
-		for (i = 0; i < sizeof(axis_faults) / sizeof(axis_faults[0]); i++)
-			if (af & axis_faults[i].bit)
-				return sh2000_fail(h, -axis_faults[i].code,
-						   "axis %u: %s (axis faults 0x%04x, following error %.6f mm)",
-						   a, axis_faults[i].what, af,
-						   st->axis[a].ferr_mm);
+	case SH2000_FAULT_REJECTED:
+		return rejected_error(h, st);
+	case SH2000_FAULT_HOST_TIMEOUT:
+		return sh2000_fail(h, -SH2000_EHOST_TIMEOUT,
+				   "card stopped: no host heartbeat or segments within its host timeout");
+	case SH2000_FAULT_UNDERRUN:
+		return sh2000_fail(h, -SH2000_EUNDERRUN,
+				   "segment queue ran dry mid-motion: card made a controlled stop (state %s)",
+				   sh2000_state_name(st->card_state));
+	case SH2000_FAULT_PROTOCOL:
+		return sh2000_fail(h, -SH2000_EPROTOCOL,
+				   "card latched a protocol fault (impossible ring fill %u)",
+				   st->queue_fill);
+	case SH2000_FAULT_AXIS:
 		return sh2000_fail(h, -SH2000_EFAULTED,
-				   "axis %u: unknown fault bits 0x%04x", a, af);
+				   "card reports an axis fault but no axis has one");
+	default:
+		return sh2000_fail(h, -SH2000_EFAULTED,
+				   "card faulted (state %s, faults 0x%04x)",
+				   sh2000_state_name(st->card_state), f);
 	}
+}
+
+/* A card before 1.4 keeps no order of its faults: a fixed ranking. */
+static int ranked_error(struct sh2000 *h, const struct sh2000_status *st)
+{
+	static const unsigned int after_rejected[] = {
+		SH2000_FAULT_HOST_TIMEOUT, SH2000_FAULT_UNDERRUN,
+		SH2000_FAULT_PROTOCOL, SH2000_FAULT_AXIS,
+	};
+	unsigned int f = st->card_faults, a, i;
+
+	if (st->card_state == SH2000_STATE_ESTOP || (f & SH2000_FAULT_ESTOP))
+		return card_error(h, st, SH2000_FAULT_ESTOP);
+	for (a = 0; a < SH2000_AXES; a++)
+		if (st->axis[a].faults)
+			return axis_error(h, st, a, st->axis[a].faults);
 	/* a record refused because the card had already stopped is a
 	 * consequence: report the cause first */
 	if ((f & SH2000_FAULT_REJECTED) &&
 	    (st->reject_reason != SH2000_REJECT_STATE ||
 	     !(f & (SH2000_FAULT_HOST_TIMEOUT | SH2000_FAULT_UNDERRUN |
-		    SH2000_FAULT_PROTOCOL)))) {
-		uint64_t last = h->segments ? h->segments - 1 : 0;
-		uint64_t seg = last - (uint16_t)((uint16_t)last - st->reject_seq);
-
-		return sh2000_fail(h, -SH2000_EREJECTED,
-				   "segment %llu (record seq %u) rejected: %s (rejection #%u)",
-				   (unsigned long long)seg, st->reject_seq,
-				   sh2000_reject_name(st->reject_reason),
-				   st->reject_count);
-	}
-	if (f & SH2000_FAULT_HOST_TIMEOUT)
-		return sh2000_fail(h, -SH2000_EHOST_TIMEOUT,
-				   "card stopped: no host heartbeat or segments within its host timeout");
-	if (f & SH2000_FAULT_UNDERRUN)
-		return sh2000_fail(h, -SH2000_EUNDERRUN,
-				   "segment queue ran dry mid-motion: card made a controlled stop (state %s)",
-				   sh2000_state_name(st->card_state));
-	if (f & SH2000_FAULT_PROTOCOL)
-		return sh2000_fail(h, -SH2000_EPROTOCOL,
-				   "card latched a protocol fault (impossible ring fill %u)",
-				   st->queue_fill);
-	if (f & SH2000_FAULT_AXIS)
-		return sh2000_fail(h, -SH2000_EFAULTED,
-				   "card reports an axis fault but no axis has one");
+		    SH2000_FAULT_PROTOCOL))))
+		return rejected_error(h, st);
+	for (i = 0; i < sizeof(after_rejected) / sizeof(after_rejected[0]); i++)
+		if (f & after_rejected[i])
+			return card_error(h, st, after_rejected[i]);
 	if (f || st->card_state == SH2000_STATE_FAULT)
-		return sh2000_fail(h, -SH2000_EFAULTED,
-				   "card faulted (state %s, faults 0x%04x)",
-				   sh2000_state_name(st->card_state), f);
+		return card_error(h, st, 0);
 	return 0;
+}
+
+int sh2000_status_error_locked(struct sh2000 *h,
+			       const struct sh2000_status *st)
+{
+	const struct sh2000_first_fault *ff = &st->first_fault;
+
+	/* the card's own record of which came first (1.4) */
+	if (ff->bit && ff->axis < SH2000_AXES)
+		return axis_error(h, st, ff->axis, ff->bit);
+	if (ff->bit)
+		return card_error(h, st, ff->bit);
+	return ranked_error(h, st);
 }
 
 int sh2000_status_error(struct sh2000 *h, const struct sh2000_status *st)

@@ -53,6 +53,22 @@ static PyObject *status_fault(struct sh2000 *h, const struct sh2000_status *st)
 	return sh2k_error(e, h, NULL, NULL);
 }
 
+/* None, or {"axis": 0..3 or None, "bit", "name", "cycle"} (protocol 1.4) */
+static PyObject *first_fault_dict(const struct sh2000_first_fault *ff)
+{
+	int axis = ff->axis < SH2000_AXES;
+
+	if (!ff->bit)
+		Py_RETURN_NONE;
+	return Py_BuildValue("{s:N,s:I,s:s,s:K}",
+			     "axis", axis ? PyLong_FromUnsignedLong(ff->axis) :
+					    Py_NewRef(Py_None),
+			     "bit", ff->bit,
+			     "name", axis ? sh2000_axis_fault_name(ff->bit) :
+					    sh2000_fault_name(ff->bit),
+			     "cycle", (unsigned long long)ff->cycle);
+}
+
 PyObject *sh2k_status_dict(struct sh2000 *h, const struct sh2000_status *st)
 {
 	PyObject *axes = PyList_New(SH2000_AXES), *d;
@@ -68,7 +84,7 @@ PyObject *sh2k_status_dict(struct sh2000 *h, const struct sh2000_status *st)
 	}
 	if (!axes)
 		return NULL;
-	d = Py_BuildValue("{s:I,s:s,s:I,s:N,s:I,s:I,s:I,s:K,s:K,s:I,s:K,s:I,s:N}",
+	d = Py_BuildValue("{s:I,s:s,s:I,s:N,s:I,s:I,s:I,s:K,s:K,s:I,s:K,s:I,s:N,s:N}",
 			  "card_state", st->card_state,
 			  "card_state_name", sh2000_state_name(st->card_state),
 			  "card_faults", st->card_faults,
@@ -82,7 +98,8 @@ PyObject *sh2k_status_dict(struct sh2000 *h, const struct sh2000_status *st)
 			  "card_cycle", (unsigned long long)st->card_cycle,
 			  "reject_count", (unsigned int)st->reject_count,
 			  "host_time_ns", (unsigned long long)st->host_time_ns,
-			  "retries", st->retries, "axes", axes);
+			  "retries", st->retries, "axes", axes,
+			  "first_fault", first_fault_dict(&st->first_fault));
 	if (d && h) {
 		PyObject *f = status_fault(h, st);
 

@@ -15,7 +15,8 @@ from ._error import Error
 from ._gather import SIGNALS as GATHER_SIGNALS
 from ._gather import Gather, GatherInfo
 from ._program import Program
-from ._types import AXIS_NAMES, AxisStatus, Plan, Progress, RunStats, Status
+from ._types import (AXIS_NAMES, AxisStatus, FirstFault, Plan, Progress,
+                     RunStats, Status)
 
 _v = _sh2000.version()
 __version__ = _v["library"]
@@ -30,6 +31,6 @@ for _name in dir(_sh2000):
 del _name, _v
 
 # not "open": a star import would hide the built-in
-__all__ = ["Card", "Program", "Error", "Status", "AxisStatus", "Plan",
+__all__ = ["Card", "Program", "Error", "Status", "AxisStatus", "FirstFault", "Plan",
            "Progress", "RunStats", "Gather", "GatherInfo", "UNITS",
            "GATHER_SIGNALS", "AXIS_NAMES", "strerror"]

@@ -50,6 +50,17 @@ class AxisStatus:
 
 
 @dataclass(frozen=True)
+class FirstFault:
+    """struct sh2000_first_fault: the fault that latched first since the
+    last reset (a card from protocol 1.4). axis is 0..3 for an axis fault
+    (bit an AXIS_FAULT_*), None for a card fault (bit a FAULT_*)."""
+    axis: Optional[int]
+    bit: int
+    name: str
+    cycle: int
+
+
+@dataclass(frozen=True)
 class Status:
     """struct sh2000_status (one sh2000_poll). fault is the sh2000.Error the
     latched faults stand for (sh2000_status_error), or None."""
@@ -66,6 +77,7 @@ class Status:
     host_time_ns: int
     retries: int
     axes: Tuple[AxisStatus, ...]
+    first_fault: Optional[FirstFault]
     fault: Optional[Error]
 
     @classmethod
@@ -73,6 +85,8 @@ class Status:
         d = dict(d, card_fault_names=tuple(d["card_fault_names"]))
         d["axes"] = tuple(_build(AxisStatus, dict(a, fault_names=tuple(a["fault_names"])))
                           for a in d["axes"])
+        if d["first_fault"] is not None:
+            d["first_fault"] = _build(FirstFault, d["first_fault"])
         return _build(cls, d)
 
     def axis(self, name):

@@ -197,12 +197,44 @@ static void layout(void **state)
 	has(row);
 }
 
+/* The first-fault record (1.4) took reserved words: after the ring,
+ * before the gather window, and the table says where. */
+static void first_fault(void **state)
+{
+	static const struct { const char *name; unsigned int off; } rows[] = {
+		{ "`FIRST_FAULT`+`FF_BIT`", SH2000_FF_BIT },
+		{ "`FIRST_FAULT`+`FF_AXIS`", SH2000_FF_AXIS },
+		{ "`FIRST_FAULT`+`FF_CHECK`", SH2000_FF_CHECK },
+	};
+	unsigned int end = SH2000_W_FIRST_FAULT + SH2000_FIRST_FAULT_WORDS, i;
+	char row[128];
+
+	(void)state;
+	assert_true(SH2000_W_FIRST_FAULT >= SH2000_W_RING_END);
+	assert_true(end <= SH2000_W_GATHER_BASE);
+	for (i = 0; i < sizeof(rows) / sizeof(rows[0]); i++) {
+		snprintf(row, sizeof(row), "| %u | %s |",
+			 SH2000_W_FIRST_FAULT + rows[i].off, rows[i].name);
+		has(row);
+	}
+	snprintf(row, sizeof(row), "| %u, %u | `FIRST_FAULT`+`FF_CYCLE_LO/HI` |",
+		 SH2000_W_FIRST_FAULT + SH2000_FF_CYCLE_LO,
+		 SH2000_W_FIRST_FAULT + SH2000_FF_CYCLE_HI);
+	has(row);
+	snprintf(row, sizeof(row), "| %u..%u | reserved |", end, SH2000_W_GATHER_BASE - 1);
+	has(row);
+	snprintf(row, sizeof(row), "Version: **%u.%u**", SH2000_PROTO_MAJOR,
+		 SH2000_PROTO_MINOR);
+	has(row);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(params),
 		cmocka_unit_test(values),
 		cmocka_unit_test(layout),
+		cmocka_unit_test(first_fault),
 		cmocka_unit_test(gather),
 	};
 

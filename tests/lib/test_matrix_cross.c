@@ -9,7 +9,9 @@
  * - the server killed while a card fault is latched: the client learns it
  *   within the heartbeat limit of sim:NAME, and a new server of the name
  *   starts clean (idle, nothing latched) and the next run works;
- * - a card fault while another is latched: the first stays named.
+ * - a card fault while another is latched: the first stays named (the
+ *   card's first-fault record, protocol 1.4), also a fault on Y followed
+ *   by one on X.
  *
  * The card faults are those the card detects and latches itself, each
  * injected during a run after 150 records.
@@ -294,6 +296,8 @@ static const struct second seconds[] = {
 struct twice_cell {
 	int ran, meanwhile, named;
 	unsigned int card_faults, x_faults, y_faults;
+	struct sh2000_first_fault first;	/* the card's record */
+	uint64_t second_at;			/* card cycle before the 2nd */
 };
 
 static struct twice_cell twice[NFAULTS][NSECONDS];
@@ -329,6 +333,8 @@ static void twice_cell(unsigned int fi, unsigned int si)
 	assert_int_equal(e, faults[fi].code);
 	CHECK(sh2000_sleep_ns(h, 20000000ull));
 	assert_int_equal(poll_named(h, &latched), faults[fi].code);
+	CHECK(sh2000_poll(h, &st));
+	c->second_at = st.card_cycle;
 	CHECK(sh2000_sim_inject(h, seconds[si].what, 1, seconds[si].arg));
 	/* what a host polling meanwhile learns: two polls 15 ms apart see a
 	 * stopped heartbeat (the limit is 10 ms) */
@@ -345,16 +351,30 @@ static void twice_cell(unsigned int fi, unsigned int si)
 	c->card_faults = st.card_faults;
 	c->x_faults = st.axis[0].faults;
 	c->y_faults = st.axis[1].faults;
+	c->first = st.first_fault;
 	c->ran = 1;
 	sh2000_close(h);
 }
 
+/* The record names the first fault: the rejected segment (a card fault)
+ * or X's axis fault, latched before the second fault came. */
+static void assert_first_is(const struct twice_cell *c, const struct fault *f)
+{
+	if (f->code == -SH2000_EREJECTED) {
+		assert_int_equal(c->first.axis, SH2000_AXIS_GLOBAL);
+		assert_int_equal(c->first.bit, SH2000_FAULT_REJECTED);
+	} else {
+		assert_int_equal(c->first.axis, 0);
+		assert_true(c->first.bit & c->x_faults);
+	}
+	assert_true(c->first.cycle > 0 && c->first.cycle <= c->second_at);
+}
+
 /*
- * The first fault's bits stay latched, and it stays named, with one
- * exception: the card keeps no order of its faults, and the library names
- * an axis fault before a card-level one (sh2000_status_error()), so a
- * rejected segment followed by an axis fault is named as the axis fault
- * (docs/faults.md, "Not covered").
+ * The first fault's bits stay latched, and it stays named in every cell:
+ * the card's first-fault record says which came first, also for a
+ * rejected segment followed by an axis fault on Y, which a card without
+ * the record (1.3) had named as Y's fault (docs/faults.md).
  */
 static void test_fault_on_fault(void **state)
 {
@@ -370,16 +390,89 @@ static void test_fault_on_fault(void **state)
 						      SH2000_FAULT_AXIS));
 			if (!rejected)
 				assert_true(c->x_faults);
-			if (rejected && axis)
-				assert_int_equal(c->named,
-						 seconds[si].what == SH2000_INJECT_LIMIT ?
-						 -SH2000_EHARD_LIMIT :
-						 -SH2000_ECOUNTER);
-			else
-				assert_int_equal(c->named, faults[fi].code);
+			if (axis)	/* the second fault latched too */
+				assert_true(c->y_faults);
+			assert_int_equal(c->named, faults[fi].code);
+			assert_first_is(c, &faults[fi]);
 			if (!axis)
 				assert_int_equal(c->meanwhile, -SH2000_EHEARTBEAT);
 		}
+}
+
+/* ---- a fault on Y, then one on X (both at rest) ------------------------ */
+
+static const struct fault on_axis[] = {
+	{ "limit switch", SH2000_INJECT_LIMIT, -SH2000_EHARD_LIMIT },
+	{ "counter glitch", SH2000_INJECT_COUNTER_GLITCH, -SH2000_ECOUNTER },
+};
+
+#define NON_AXIS (sizeof(on_axis) / sizeof(on_axis[0]))
+
+struct yx_cell {
+	int ran, named;
+	unsigned int x_faults, y_faults;
+	struct sh2000_first_fault first;
+	uint64_t second_at;
+};
+
+static struct yx_cell yx[NON_AXIS][NON_AXIS];
+
+static unsigned int inject_arg(enum sh2000_inject what)
+{
+	return what == SH2000_INJECT_LIMIT ? 1 : 0;
+}
+
+/* Both axes enabled at rest: the first fault on Y, 20 ms later the second
+ * on X (axis 0, which an order of axes would name first). */
+static void yx_cell(unsigned int fy, unsigned int fx)
+{
+	struct yx_cell *c = &yx[fy][fx];
+	struct sh2000 *h = simtest_open();
+	struct sh2000_status st;
+
+	CHECK(sh2000_enable(h, 0x3));
+	CHECK(sh2000_sim_inject(h, on_axis[fy].what, 1, inject_arg(on_axis[fy].what)));
+	CHECK(sh2000_sleep_ns(h, 20000000ull));
+	CHECK(sh2000_poll(h, &st));
+	c->second_at = st.card_cycle;
+	CHECK(sh2000_sim_inject(h, on_axis[fx].what, 0, inject_arg(on_axis[fx].what)));
+	CHECK(sh2000_sleep_ns(h, 5000000ull));
+	CHECK(sh2000_sim_inject(h, SH2000_INJECT_CLEAR, 0, 0));
+	CHECK(sh2000_sleep_ns(h, 5000000ull));
+	CHECK(sh2000_poll(h, &st));
+	c->named = sh2000_status_error(h, &st);
+	c->x_faults = st.axis[0].faults;
+	c->y_faults = st.axis[1].faults;
+	c->first = st.first_fault;
+	c->ran = 1;
+	sh2000_close(h);
+}
+
+static void test_y_then_x(void **state)
+{
+	(void)state;
+	for (unsigned int fy = 0; fy < NON_AXIS; fy++)
+		for (unsigned int fx = 0; fx < NON_AXIS; fx++) {
+			const struct yx_cell *c = &yx[fy][fx];
+
+			yx_cell(fy, fx);
+			assert_true(c->x_faults && c->y_faults);
+			assert_int_equal(c->named, on_axis[fy].code);
+			assert_int_equal(c->first.axis, 1);
+			assert_true(c->first.bit & c->y_faults);
+			assert_true(c->first.cycle <= c->second_at);
+		}
+}
+
+static void first_text(char *buf, size_t n, const struct sh2000_first_fault *f)
+{
+	if (!f->bit)
+		snprintf(buf, n, "none");
+	else if (f->axis < SH2000_AXES)
+		snprintf(buf, n, "axis %u: %s", f->axis,
+			 sh2000_axis_fault_name(f->bit));
+	else
+		snprintf(buf, n, "%s", sh2000_fault_name(f->bit));
 }
 
 static void print_tables(void)
@@ -406,18 +499,34 @@ static void print_tables(void)
 			       c->new_code ? sh2000_strerror(c->new_code) :
 					     "nothing");
 	}
-	printf("\n| first fault (X, a run) | second fault (at rest) | a poll meanwhile | the card names | faults, X, Y |\n");
-	printf("| --- | --- | --- | --- | --- |\n");
+	printf("\n| first fault (X, a run) | second fault (at rest) | a poll meanwhile | first-fault record | the card names | faults, X, Y |\n");
+	printf("| --- | --- | --- | --- | --- | --- |\n");
 	for (unsigned int fi = 0; fi < NFAULTS; fi++)
 		for (unsigned int si = 0; si < NSECONDS; si++) {
 			const struct twice_cell *c = &twice[fi][si];
+			char first[64];
 
+			first_text(first, sizeof(first), &c->first);
 			if (c->ran)
-				printf("| %s | %s | %s | %s | 0x%04x, 0x%04x, 0x%04x |\n",
+				printf("| %s | %s | %s | %s | %s | 0x%04x, 0x%04x, 0x%04x |\n",
 				       faults[fi].name, seconds[si].name,
-				       sh2000_strerror(c->meanwhile),
+				       sh2000_strerror(c->meanwhile), first,
 				       sh2000_strerror(c->named), c->card_faults,
 				       c->x_faults, c->y_faults);
+		}
+	printf("\n| first fault (Y, at rest) | second fault (X, 20 ms later) | first-fault record | the card names | X, Y |\n");
+	printf("| --- | --- | --- | --- | --- |\n");
+	for (unsigned int fy = 0; fy < NON_AXIS; fy++)
+		for (unsigned int fx = 0; fx < NON_AXIS; fx++) {
+			const struct yx_cell *c = &yx[fy][fx];
+			char first[64];
+
+			first_text(first, sizeof(first), &c->first);
+			if (c->ran)
+				printf("| %s Y | %s X | %s | %s | 0x%04x, 0x%04x |\n",
+				       on_axis[fy].name, on_axis[fx].name, first,
+				       sh2000_strerror(c->named), c->x_faults,
+				       c->y_faults);
 		}
 }
 
@@ -427,6 +536,7 @@ int main(void)
 		cmocka_unit_test(test_host_killed_latched),
 		cmocka_unit_test(test_server_killed_latched),
 		cmocka_unit_test(test_fault_on_fault),
+		cmocka_unit_test(test_y_then_x),
 	};
 	int r = cmocka_run_group_tests(tests, NULL, NULL);
 

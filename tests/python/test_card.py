@@ -104,12 +104,17 @@ def test_enable_estop_reset(card):
     st = card.status()
     assert st.card_state_name == "estop"
     assert isinstance(st.fault, sh2000.Error) and st.fault.code == sh2000.EESTOP
+    ff = st.first_fault     # protocol 1.4: the card's first-fault record
+    assert isinstance(ff, sh2000.FirstFault)
+    assert ff.axis is None and ff.bit == st.card_faults     # the only one
+    assert ff.name == "emergency stop" and 0 < ff.cycle <= st.card_cycle + 10
     with pytest.raises(sh2000.Error) as e:
         card.enable("y")
     assert e.value.code == sh2000.ECMD_FAULTED
     card.reset()
     st = card.status()
     assert st.card_state == sh2000.STATE_IDLE and st.fault is None
+    assert st.first_fault is None
     card.disable("all")
     assert not any(a.enabled for a in card.status().axes)
 

@@ -156,6 +156,17 @@ static json_object *bits_json(unsigned int bits,
 	return a;
 }
 
+/* "axis Y limit switch" / "rejected" of the first-fault record. */
+static void first_fault_text(char *buf, size_t n,
+			     const struct sh2000_first_fault *ff)
+{
+	if (ff->axis < SH2000_AXES)
+		snprintf(buf, n, "axis %c %s", sh2000_tool_axis_name(ff->axis),
+			 sh2000_axis_fault_name(ff->bit));
+	else
+		snprintf(buf, n, "%s", sh2000_fault_name(ff->bit));
+}
+
 static void status_table(struct ctl *c, const struct sh2000_status *st)
 {
 	char f[256], s[256];
@@ -167,6 +178,11 @@ static void status_table(struct ctl *c, const struct sh2000_status *st)
 	       st->queue_fill + st->queue_free,
 	       (unsigned long long)st->card_cycle,
 	       st->heartbeat_age_ns / 1e6);
+	if (st->first_fault.bit) {
+		first_fault_text(f, sizeof(f), &st->first_fault);
+		printf("first fault: %s, cycle %llu\n", f,
+		       (unsigned long long)st->first_fault.cycle);
+	}
 	if (st->reject_count)
 		printf("last rejection: record %u, %s (%u so far)\n",
 		       st->reject_seq, sh2000_reject_name(st->reject_reason),
@@ -184,6 +200,26 @@ static void status_table(struct ctl *c, const struct sh2000_status *st)
 	}
 }
 
+/* null when none is known (nothing latched, or a card before 1.4) */
+static json_object *first_fault_json(const struct sh2000_first_fault *ff)
+{
+	json_object *o;
+	char n[2] = { 0, 0 };
+
+	if (!ff->bit)
+		return NULL;
+	o = json_object_new_object();
+	if (ff->axis < SH2000_AXES)
+		n[0] = sh2000_tool_axis_name(ff->axis);
+	json_object_object_add(o, "axis", n[0] ? json_object_new_string(n) : NULL);
+	json_object_object_add(o, "fault", json_object_new_string(
+		ff->axis < SH2000_AXES ? sh2000_axis_fault_name(ff->bit) :
+					  sh2000_fault_name(ff->bit)));
+	json_object_object_add(o, "bit", json_object_new_int((int)ff->bit));
+	json_object_object_add(o, "cycle", json_object_new_int64((int64_t)ff->cycle));
+	return o;
+}
+
 static void status_json(struct ctl *c, const struct sh2000_status *st,
 			const char *error)
 {
@@ -198,6 +234,7 @@ static void status_json(struct ctl *c, const struct sh2000_status *st,
 	json_object_object_add(o, "faults", bits_json(st->card_faults, sh2000_fault_name));
 	json_object_object_add(o, "fault_bits", json_object_new_int((int)st->card_faults));
 	json_object_object_add(o, "error", error ? json_object_new_string(error) : NULL);
+	json_object_object_add(o, "first_fault", first_fault_json(&st->first_fault));
 	json_object_object_add(o, "queue_fill", json_object_new_int((int)st->queue_fill));
 	json_object_object_add(o, "queue_free", json_object_new_int((int)st->queue_free));
 	json_object_object_add(o, "card_cycle", json_object_new_int64((int64_t)st->card_cycle));

@@ -146,6 +146,7 @@ struct sh2000_dsp {
 	uint16_t faults;
 	uint16_t heartbeat, estop_ack, tail, cmd_ack, snap_seq;
 	uint16_t reject_count;
+	int first_fault;	/* the first-fault record holds one (1.4) */
 	uint16_t host_hb;
 	uint64_t host_hb_cycles;	/* cycles since HOST_HEARTBEAT changed */
 	double fine_t;		/* where in the coarse period, 0..1 */
@@ -235,6 +236,13 @@ double sh2000_fw_servo_s(const struct sh2000_dsp *fw);
 void sh2000_fw_hold_at(struct sh2000_dsp *fw, unsigned int a, double x);
 /* The FPGA counter preset: the axis reads `pos` here from now on. */
 void sh2000_fw_set_position(struct sh2000_dsp *fw, unsigned int a, int64_t pos);
+
+/* latch.c: every fault the firmware latches: axis 0..3 and an
+ * SH2000_AXIS_FAULT_* bit, or SH2000_AXIS_GLOBAL and an SH2000_FAULT_*
+ * bit; the first since RESET also goes into the first-fault record. */
+void sh2000_fw_latch(struct sh2000_dsp *fw, unsigned int axis, uint16_t bit);
+/* RESET and boot: no first fault. */
+void sh2000_fw_first_fault_clear(struct sh2000_dsp *fw);
 
 /* params.c: results are SH2000_RES_* */
 uint16_t sh2000_fw_get_param(struct sh2000_dsp *fw, unsigned int axis,

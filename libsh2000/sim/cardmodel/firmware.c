@@ -130,7 +130,7 @@ static void stop_step(struct sh2000_dsp *fw, double T)
 
 static void card_fault(struct sh2000_dsp *fw, uint16_t bit)
 {
-	fw->faults |= bit;
+	sh2000_fw_latch(fw, SH2000_AXIS_GLOBAL, bit);
 	begin_stop(fw);
 	if (fw->state == SH2000_STATE_IDLE)
 		fw->state = SH2000_STATE_FAULT;
@@ -150,7 +150,7 @@ static void disable_axis(struct sh2000_dsp *fw, unsigned int a)
 static void axis_fault(struct sh2000_dsp *fw, unsigned int a, uint16_t bit,
 		       int disable)
 {
-	fw->ax[a].faults |= bit;
+	sh2000_fw_latch(fw, a, bit);
 	if (disable)
 		disable_axis(fw, a);
 	card_fault(fw, SH2000_FAULT_AXIS);
@@ -178,7 +178,7 @@ static void estop(struct sh2000_dsp *fw)
 	fw->fine_t = 0.0;
 	fw->need_point = 1;
 	fw->stop_left = 0;
-	fw->faults |= SH2000_FAULT_ESTOP;
+	sh2000_fw_latch(fw, SH2000_AXIS_GLOBAL, SH2000_FAULT_ESTOP);
 	fw->state = SH2000_STATE_ESTOP;
 }
 
@@ -321,6 +321,7 @@ static void reset(struct sh2000_dsp *fw)
 		sh2000_fw_hold_at(fw, a, (double)ax->act);
 	}
 	fw->faults = 0;
+	sh2000_fw_first_fault_clear(fw);
 	discard_ring(fw);
 	fw->ending = 0;
 	fw->pad_left = 0;
@@ -806,6 +807,7 @@ void sh2000_dsp_boot(struct sh2000_dsp *fw, struct sh2000_board *hw)
 			WR(fw, w, 0);
 	WR(fw, SH2000_W_ESTOP_ACK, fw->estop_ack);
 	WR(fw, SH2000_W_CMD_ACK, fw->cmd_ack);
+	sh2000_fw_first_fault_clear(fw);
 	sh2000_queue_boot(fw);
 	fw->state = SH2000_STATE_IDLE;
 	sh2000_fw_publish_words(fw);

@@ -73,12 +73,15 @@ expect 1 "$CTL" "${S[@]}" home x && err_has "^sh2000ctl: sim: home: .*axis not e
 # stop, estop, reset
 expect 0 "$CTL" "${S[@]}" enable x + stop + status --json && json_check /state = idle
 expect 4 "$CTL" "${S[@]}" enable x + estop + status --json &&
-	json_check /state = estop /fault_bits = 4 /error != null
-expect 4 "$CTL" "${S[@]}" enable x + estop + status && out_has "^state +estop"
+	json_check /state = estop /fault_bits = 4 /error != null \
+		/first_fault/fault = "emergency stop" /first_fault/bit = 4 \
+		/first_fault/axis = null
+expect 4 "$CTL" "${S[@]}" enable x + estop + status && out_has "^state +estop" &&
+	out_has "^first fault: emergency stop, cycle [0-9]+$"
 expect 4 "$CTL" "${S[@]}" enable x + estop + move x=1 && err_has "sim: cannot move: emergency stop"
 expect 4 "$CTL" "${S[@]}" estop + enable x && err_has "^sh2000ctl: sim: enable: "
 expect 0 "$CTL" "${S[@]}" enable x + estop + reset + status --json &&
-	json_check /state = idle /faults = '[]' /axes/0/enabled = true
+	json_check /state = idle /faults = '[]' /axes/0/enabled = true /first_fault = null
 expect 0 "$CTL" "${S[@]}" enable x + estop + reset + move x=1 && out_has "^x 1\.0"
 
 # dump: offsets in hex, 8 words a line, the magic at word 1

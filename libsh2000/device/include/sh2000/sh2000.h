@@ -213,6 +213,17 @@ struct sh2000_axis_status {
 	unsigned int faults;	/* SH2000_AXIS_FAULT_* bits */
 };
 
+/* The fault that latched first since the last reset (protocol 1.4: the
+ * card's first-fault record, docs/protocol.md 10.1). */
+struct sh2000_first_fault {
+	unsigned int bit;	/* an SH2000_AXIS_FAULT_* bit of `axis`, or
+				 * an SH2000_FAULT_* bit; 0: nothing latched,
+				 * or a card before 1.4 (sh2000_card_version) */
+	unsigned int axis;	/* 0..3, or SH2000_AXIS_GLOBAL: a card fault */
+	uint64_t cycle;		/* servo cycle it latched in, counted as
+				 * card_cycle */
+};
+
 struct sh2000_status {
 	unsigned int card_state;	/* enum sh2000_card_state */
 	unsigned int card_faults;	/* SH2000_FAULT_* bits */
@@ -228,6 +239,9 @@ struct sh2000_status {
 	uint64_t host_time_ns;		/* sh2000_now_ns() at the poll */
 	unsigned int retries;		/* torn snapshots re-read */
 	struct sh2000_axis_status axis[SH2000_AXES];
+	/* Appended in protocol 1.4: which of the latched faults came
+	 * first; sh2000_status_error() names it. */
+	struct sh2000_first_fault first_fault;
 };
 
 /* A card heartbeat unchanged for this long is a stopped DSP (or five
@@ -248,11 +262,17 @@ void sh2000_set_heartbeat_limit(struct sh2000 *h, uint64_t ns);
  * while the snapshot is torn), then the host heartbeat. Fills *st and
  * returns 0; -SH2000_EHEARTBEAT (with *st filled) when the card heartbeat
  * has not advanced for SH2000_HEARTBEAT_LIMIT_NS. Latched faults are in
- * *st, not in the return value (see sh2000_status_error()).
+ * *st, not in the return value (see sh2000_status_error()). The first
+ * poll that finds a fault latched on a 1.4 card also reads the card's
+ * first-fault record (words 832..836, 794 port cycles more, once per
+ * fault and again after a command while it stays latched).
  */
 int sh2000_poll(struct sh2000 *h, struct sh2000_status *st);
 /* The error a status' latched faults stand for (0 if none), with the
- * detail message set on h. */
+ * detail message set on h: the first fault (st->first_fault) of a card
+ * from protocol 1.4; on an older card, which keeps no order of its
+ * faults, an emergency stop, then axis faults (axis 0 first), then a
+ * rejected record, host timeout, underrun, protocol fault. */
 int sh2000_status_error(struct sh2000 *h, const struct sh2000_status *st);
 
 /* ---- commands -------------------------------------------------------- */

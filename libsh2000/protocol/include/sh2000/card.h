@@ -19,7 +19,7 @@ extern "C" {
 #endif
 
 #define SH2000_PROTO_MAJOR		1u
-#define SH2000_PROTO_MINOR		3u
+#define SH2000_PROTO_MINOR		4u
 #define SH2000_PROTO_VERSION		((SH2000_PROTO_MAJOR << 8) | SH2000_PROTO_MINOR)
 #define SH2000_PROTO_VERSION_MAJOR(v)	(((v) >> 8) & 0xffu)
 #define SH2000_PROTO_VERSION_MINOR(v)	((v) & 0xffu)
@@ -27,6 +27,7 @@ extern "C" {
 #define SH2000_PROTO_MINOR_TIME_BASE	1u	/* time_scale, time_ramp_ms */
 #define SH2000_PROTO_MINOR_GATHER	2u	/* data gathering (GATHER_*) */
 #define SH2000_PROTO_MINOR_MAILBOX	3u	/* POSTED and the point mailbox */
+#define SH2000_PROTO_MINOR_FIRST_FAULT	4u	/* the first-fault record (FF_*) */
 
 /* The one definition of the axis count. */
 #define SH2000_AXES			4u

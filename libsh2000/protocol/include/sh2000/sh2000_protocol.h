@@ -130,8 +130,35 @@
 #define SH2000_RECORD_WORDS		12u
 #define SH2000_W_RING_END \
 	(SH2000_W_RING_BASE + SH2000_RING_RECORDS * SH2000_RECORD_WORDS)
-/* Words RING_END..SH2000_W_GATHER_BASE-1 are reserved: both sides leave
- * them alone. */
+
+/*
+ * Protocol 1.4 (SH2000_PROTO_MINOR_FIRST_FAULT): the first-fault record,
+ * in words 832..836 that were reserved after the ring (the status words
+ * 0..46 have no free word, and 47..63 are the host's). C: which fault
+ * latched first since the last RESET (or boot), and in which servo cycle:
+ * FAULTS and AXIS_FAULTS(a) are bit sets and keep no order. The card
+ * writes it once, in the cycle the first fault bit latches and before it
+ * publishes that bit in FAULTS/AXIS_FAULTS: AXIS, CYCLE, CHECK, then BIT
+ * last. RESET writes BIT := 0 first, then the rest 0. So a host that sees
+ * a fault bit in the status words finds the record already written; it
+ * reads the five words upwards and takes them when BIT != 0 and CHECK
+ * matches (a mismatch: a RESET, perhaps a new first fault, while it read;
+ * read again). The record does not change until RESET, so a host reads it
+ * once per fault, not every poll. docs/protocol.md 10.1.
+ */
+#define SH2000_W_FIRST_FAULT		832u
+#define   SH2000_FF_BIT			0u	/* the SH2000_FAULT_* or
+						 * SH2000_AXIS_FAULT_* bit;
+						 * 0: none since RESET */
+#define   SH2000_FF_AXIS		1u	/* 0..3: an axis fault;
+						 * SH2000_AXIS_GLOBAL: a card
+						 * fault */
+#define   SH2000_FF_CYCLE_LO		2u	/* servo cycle it latched in */
+#define   SH2000_FF_CYCLE_HI		3u	/* (mod 2^32, as SNAP_TIME) */
+#define   SH2000_FF_CHECK		4u	/* sh2000_first_fault_check() */
+#define SH2000_FIRST_FAULT_WORDS	5u
+/* Words SH2000_W_FIRST_FAULT + SH2000_FIRST_FAULT_WORDS ..
+ * SH2000_W_GATHER_BASE-1 are reserved: both sides leave them alone. */
 
 /* Word offsets inside one record. */
 #define SH2000_REC_POS_LO(a)		(2u * (a))	/* int32 counts */
@@ -250,6 +277,13 @@ static inline uint16_t sh2000_gather_check(const uint16_t *w,
 					   unsigned int count)
 {
 	return sh2000_check16(w + 1, SH2000_GW_HEADER - 1u + count);
+}
+
+/* Check word of the first-fault record r[0..FIRST_FAULT_WORDS-1]: over
+ * BIT, AXIS, CYCLE_LO and CYCLE_HI. */
+static inline uint16_t sh2000_first_fault_check(const uint16_t *r)
+{
+	return sh2000_check16(r, SH2000_FF_CHECK);
 }
 
 /* Check word of a mailbox record: over the position words and the SEQ it

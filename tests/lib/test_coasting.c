@@ -19,6 +19,36 @@
 #define AT_POINT	150u	/* records streamed before the stall */
 #define FERR_MM		0.2	/* the default FERR_LIMIT, 20000 counts */
 
+/*
+ * A line from where the card is, by[a] mm along each axis a at feed mm/s,
+ * through the runner with rc's callbacks (NULL: none). Its result; its
+ * error in err; the start in start.
+ */
+static int run_line(struct sh2000 *h, const struct sh2000_run_config *rc,
+		    const double by[SH2000_AXES], double feed,
+		    double start[SH2000_AXES], char *err, size_t len)
+{
+	struct sh2000_path_config pc;
+	struct sh2000_run *r;
+	double end[SH2000_AXES];
+	char msg[256];
+	unsigned int a;
+	int e;
+
+	CHECK(sh2000_run_path_config(h, &pc));
+	if (sh2000_run_create(&r, h, &pc, rc, msg, sizeof(msg)) < 0)
+		fail_msg("run_create: %s", msg);
+	for (a = 0; a < SH2000_AXES; a++)
+		end[a] = pc.start[a] + by[a];
+	memcpy(start, pc.start, sizeof(pc.start));
+	e = sh2000_path_line(sh2000_run_path(r), end, feed);
+	if (!e)
+		e = sh2000_run_finish(r);
+	snprintf(err, len, "%s", e ? sh2000_run_error(r) : "");
+	sh2000_run_destroy(r);
+	return e;
+}
+
 struct stall {
 	struct sh2000 *h;
 	int injected;
@@ -39,31 +69,21 @@ static void stall_at(void *ctx, const struct sh2000_run_progress *p)
  * the stopped heartbeat and stops the card with an emergency stop. */
 static void stall_while_x_moves(struct sh2000 *h)
 {
+	const double by[SH2000_AXES] = { 200.0, 0, 0, 0 };
 	struct stall s = { .h = h };
-	struct sh2000_path_config pc;
 	struct sh2000_run_config rc;
-	struct sh2000_run *r;
-	double end[SH2000_AXES];
-	char msg[256];
+	double start[SH2000_AXES];
+	char err[512];
 	int e;
 
 	CHECK(sh2000_enable(h, 0x1));
-	CHECK(sh2000_run_path_config(h, &pc));
 	sh2000_run_config_default(&rc);
 	rc.progress = stall_at;
 	rc.ctx = &s;
-	if (sh2000_run_create(&r, h, &pc, &rc, msg, sizeof(msg)) < 0)
-		fail_msg("run_create: %s", msg);
-	memcpy(end, pc.start, sizeof(end));
-	end[0] += 200.0;
-	e = sh2000_path_line(sh2000_run_path(r), end, FEED);
-	if (!e)
-		e = sh2000_run_finish(r);
+	e = run_line(h, &rc, by, FEED, start, err, sizeof(err));
 	assert_true(s.injected);
 	if (e != -SH2000_EHEARTBEAT)
-		fail_msg("the stall: %d (%s), expected EHEARTBEAT", e,
-			 sh2000_run_error(r));
-	sh2000_run_destroy(r);
+		fail_msg("the stall: %d (%s), expected EHEARTBEAT", e, err);
 	/* the DSP runs again: it takes the emergency stop and sees the
 	 * counter jump, which disables X */
 	CHECK(sh2000_sim_inject(h, SH2000_INJECT_CLEAR, 0, 0));
@@ -72,7 +92,7 @@ static void stall_while_x_moves(struct sh2000 *h)
 
 /* X's carriage, per servo cycle, while Y's motion runs. */
 struct coast {
-	double y0;		/* Y's set-point when the run was planned */
+	double y0;		/* Y's set-point at the first sample */
 	int started;		/* Y's set-point has left y0 */
 	double x_start, v_start;	/* X then: mm, mm/s */
 	double x_prev, x_last, t_prev;
@@ -83,6 +103,8 @@ static void on_sample(void *ctx, const struct sh2000_run_sample *s)
 {
 	struct coast *c = ctx;
 
+	if (!c->have_prev)
+		c->y0 = s->cmd[1];
 	if (!c->started && fabs(s->cmd[1] - c->y0) > 1e-6) {
 		c->started = 1;
 		c->x_start = s->act[0];
@@ -95,40 +117,14 @@ static void on_sample(void *ctx, const struct sh2000_run_sample *s)
 	c->x_last = s->act[0];
 }
 
-/* Y by 5 mm at 50 mm/s through the runner; its result, and X's
- * carriage meanwhile in *c. */
-static int run_y(struct sh2000 *h, struct coast *c, char *err, size_t len)
-{
-	struct sh2000_path_config pc;
-	struct sh2000_run_config rc;
-	struct sh2000_run *r;
-	double end[SH2000_AXES];
-	char msg[256];
-	int e;
-
-	CHECK(sh2000_run_path_config(h, &pc));
-	memset(c, 0, sizeof(*c));
-	c->y0 = pc.start[1];
-	sh2000_run_config_default(&rc);
-	rc.sample = on_sample;
-	rc.ctx = c;
-	if (sh2000_run_create(&r, h, &pc, &rc, msg, sizeof(msg)) < 0)
-		fail_msg("run_create: %s", msg);
-	memcpy(end, pc.start, sizeof(end));
-	end[1] += 5.0;
-	e = sh2000_path_line(sh2000_run_path(r), end, 50.0);
-	if (!e)
-		e = sh2000_run_finish(r);
-	snprintf(err, len, "%s", e ? sh2000_run_error(r) : "");
-	sh2000_run_destroy(r);
-	return e;
-}
-
 static void next_run_while_coasting(void **state)
 {
+	const double by[SH2000_AXES] = { 0, 5.0, 0, 0 };
 	struct sh2000 *h = simtest_open();
+	struct sh2000_run_config rc;
 	struct sh2000_status st;
-	struct coast c;
+	struct coast c = { 0 };
+	double start[SH2000_AXES];
 	char err[512];
 	int e;
 
@@ -138,7 +134,10 @@ static void next_run_while_coasting(void **state)
 	CHECK(sh2000_enable(h, 0x2));
 	CHECK(sh2000_poll(h, &st));
 	assert_false(st.axis[0].state & SH2000_AXIS_ENABLED);
-	e = run_y(h, &c, err, sizeof(err));
+	sh2000_run_config_default(&rc);
+	rc.sample = on_sample;
+	rc.ctx = &c;
+	e = run_line(h, &rc, by, 50.0, start, err, sizeof(err));
 	if (e)
 		fail_msg("the run on Y while X coasts: %d: %s", e, err);
 	/* X did coast: fast when Y started, and further than FERR_LIMIT
@@ -151,7 +150,7 @@ static void next_run_while_coasting(void **state)
 	CHECK(sh2000_poll(h, &st));
 	assert_int_equal(st.card_state, SH2000_STATE_IDLE);
 	assert_int_equal(st.card_faults, 0);
-	assert_true(fabs(st.axis[1].cmd_mm - (c.y0 + 5.0)) < 1e-5);
+	assert_true(fabs(st.axis[1].cmd_mm - (start[1] + 5.0)) < 1e-5);
 	sh2000_close(h);
 }
 
@@ -159,39 +158,28 @@ static void next_run_while_coasting(void **state)
  * rejects it and the runner names X. */
 static void disabled_axis_moved(void **state)
 {
+	const double by[SH2000_AXES] = { 5.0, 5.0, 0, 0 };
 	struct sh2000 *h = simtest_open();
-	struct sh2000_path_config pc;
 	struct sh2000_status st;
-	struct sh2000_run *r;
-	double end[SH2000_AXES], x0;
-	char msg[256];
+	double start[SH2000_AXES];
+	char err[512];
 	int e;
 
 	(void)state;
 	CHECK(sh2000_enable(h, 0x2));
-	CHECK(sh2000_run_path_config(h, &pc));
-	x0 = pc.start[0];
-	if (sh2000_run_create(&r, h, &pc, NULL, msg, sizeof(msg)) < 0)
-		fail_msg("run_create: %s", msg);
-	memcpy(end, pc.start, sizeof(end));
-	end[0] += 5.0;
-	end[1] += 5.0;
-	e = sh2000_path_line(sh2000_run_path(r), end, 50.0);
-	if (!e)
-		e = sh2000_run_finish(r);
-	printf("# %s\n", sh2000_run_error(r));
+	e = run_line(h, NULL, by, 50.0, start, err, sizeof(err));
+	printf("# %s\n", err);
 	assert_int_equal(e, -SH2000_EREJECTED);
-	assert_non_null(strstr(sh2000_run_error(r), "axis not enabled"));
-	assert_non_null(strstr(sh2000_run_error(r),
+	assert_non_null(strstr(err, "axis not enabled"));
+	assert_non_null(strstr(err,
 			       "axis X is disabled and the run's records move it over"));
 	/* Y is enabled and moved: it is not named */
-	assert_null(strstr(sh2000_run_error(r), "axis Y"));
-	sh2000_run_destroy(r);
+	assert_null(strstr(err, "axis Y"));
 	CHECK(sh2000_poll(h, &st));
 	assert_int_equal(st.reject_reason, SH2000_REJECT_DISABLED);
 	assert_true(st.card_faults & SH2000_FAULT_REJECTED);
 	/* the card did not drive X */
-	assert_true(fabs(st.axis[0].pos_mm - x0) < 1e-6);
+	assert_true(fabs(st.axis[0].pos_mm - start[0]) < 1e-6);
 	sh2000_close(h);
 }
 

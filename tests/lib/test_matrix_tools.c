@@ -98,6 +98,7 @@ struct cell {
 	double exit_ms, stop_ms;
 	unsigned int state, card_faults;
 	int named;		/* the card's status error afterwards */
+	double coast_mm_s;	/* X's carriage then, at the reset */
 	double late_ms;
 };
 
@@ -347,41 +348,21 @@ static void find_said(const char *file, const char *dev, const char *says,
 }
 
 /*
- * A carriage the card let go of (a disabled axis: after a DSP stall it ran
- * on at its speed) coasts on its friction for a second or so. The next
- * run starts a disabled axis at its encoder and the card rejects a record
- * more than FERR_LIMIT from it (REJECT_DISABLED): an operator waits for
- * the machine to stand, and so does the test (below 0.05 mm/s: 5 um more).
+ * The card after the cell, the fault cleared: state, faults, the error
+ * its status names, and how fast X's carriage still goes. A carriage the
+ * card let go of (X disabled by the fault at 100 mm/s) coasts on its
+ * friction: the reset and the next run come at once, while it does.
  */
-static void wait_coasted(struct watch *w)
-{
-	const struct timespec tick = { 0, 1000000 };
-	double t0 = served_now_ms();
-	struct sh2000_probe p;
-	unsigned int a;
-
-	do {
-		sh2000_sim_server_probe(w->s, &p);
-		for (a = 0; a < SH2000_AXES; a++)
-			if (fabs(p.axis[a].velocity) > 5000.0)
-				break;
-		if (a == SH2000_AXES)
-			return;
-		nanosleep(&tick, NULL);
-	} while (served_now_ms() - t0 < 3000.0);
-	fail_msg("%s: the carriage still moves 3 s after the fault", w->f->name);
-}
-
-/* The card after the cell, the fault cleared: state, faults, the error
- * its status names. */
 static void card_after(struct watch *w, struct cell *c)
 {
 	struct sh2000 *h = w->h;
 	struct sh2000_status st;
+	struct sh2000_probe p;
 
 	CHECK(sh2000_sim_server_inject(w->s, SH2000_INJECT_CLEAR, 0, 0));
 	CHECK(sh2000_sleep_ns(h, 20000000ull));
-	wait_coasted(w);
+	sh2000_sim_server_probe(w->s, &p);
+	c->coast_mm_s = fabs(p.axis[0].velocity) * 1e-5;
 	CHECK(sh2000_poll(h, &st));
 	c->state = st.card_state;
 	c->card_faults = st.card_faults;
@@ -472,6 +453,13 @@ static void tool_cell(unsigned int fi, enum tool t)
 		fail_msg("%s / %s: the card names %d (%s), expected %d", f->name,
 			 tool_name[t], c->named, sh2000_strerror(c->named),
 			 f->latched);
+	/* a stalled DSP lets X go at its speed when it runs again (at the
+	 * clear, 20 ms before the reset): the next run, which worked, must
+	 * have started while X coasted (issue 11), 80 mm/s on an idle
+	 * machine, 1 mm/s 0.4 s later */
+	if (f->what == SH2000_INJECT_DSP_STALL && c->coast_mm_s < 1.0)
+		fail_msg("%s / %s: X at %.2f mm/s at the reset: the next run did not meet a coasting carriage",
+			 f->name, tool_name[t], c->coast_mm_s);
 	/* the tool's few wake-ups on its way out are each as late as the
 	 * watcher's worst at most: the machine's load during the cell */
 	tool = TOOL_SLACK_MS + 3.0 * c->late_ms;
@@ -498,8 +486,8 @@ static void test_tools(void **state)
 
 static void print_table(void)
 {
-	printf("| fault | tool | the tool said | exit status | in ms | set-point still after ms | card after (state, faults) |\n");
-	printf("| --- | --- | --- | ---: | ---: | ---: | --- |\n");
+	printf("| fault | tool | the tool said | exit status | in ms | set-point still after ms | card after (state, faults) | X coasting at the reset, mm/s |\n");
+	printf("| --- | --- | --- | ---: | ---: | ---: | --- | ---: |\n");
 	for (unsigned int fi = 0; fi < NFAULTS; fi++)
 		for (unsigned int t = 0; t < TOOLS; t++) {
 			const struct cell *c = &cells[fi][t];
@@ -514,10 +502,11 @@ static void print_table(void)
 			/* a killed tool's exit is the kill's */
 			if (faults[fi].what != KILL_TOOL)
 				snprintf(ms, sizeof(ms), "%.1f", c->exit_ms);
-			printf("| %s | %s | %s | %s | %s | %.1f | %u, 0x%04x |\n",
+			printf("| %s | %s | %s | %s | %s | %.1f | %u, 0x%04x | %.1f |\n",
 			       faults[fi].name, tool_name[t],
 			       c->said[0] ? c->said : "-", st, ms,
-			       c->stop_ms, c->state, c->card_faults);
+			       c->stop_ms, c->state, c->card_faults,
+			       c->coast_mm_s);
 		}
 }
 

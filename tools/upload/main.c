@@ -112,21 +112,34 @@ static void dry_run_report(const struct upl_opts *o,
 	printf("  axes moved           %s\n", plan->moved ? names : "none");
 }
 
-/* The plan starts where the card holds now (enabling keeps the position;
- * a card that moved meanwhile is refused). */
+/*
+ * The plan starts where the card holds now (enabling keeps the position;
+ * a card that moved meanwhile is refused). A disabled axis is held where
+ * the first pass read it: the card does not drive it and takes records
+ * that hold it anywhere (docs/protocol.md 7.4), while its carriage, let
+ * go of by a fault just before, may still coast.
+ */
 static int same_start(struct sh2000 *h, const struct upl_opts *o,
 		      struct sh2000_path_config *pc)
 {
 	double start[SH2000_AXES];
-	int x;
+	struct sh2000_status st;
+	int x, e;
 
 	memcpy(start, pc->start, sizeof(start));
 	x = path_config(h, o, pc);
 	if (x)
 		return x;
+	e = sh2000_poll(h, &st);
+	if (e < 0)
+		return sh2000_tool_fail(h, e, "status");
 	for (unsigned int a = 0; a < SH2000_AXES; a++) {
 		double v = fabs(start[a] - pc->start[a]);
 
+		if (!(st.axis[a].state & SH2000_AXIS_ENABLED)) {
+			pc->start[a] = start[a];
+			continue;
+		}
 		if (v > 0.001) {
 			sh2000_tool_msg("%s: axis %c moved by %.4f mm while the program was checked; nothing moved",
 					sh2000_device(h), "xyza"[a], v);

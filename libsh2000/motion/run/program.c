@@ -5,6 +5,7 @@
  * any length runs in the memory of the planner's window and one line.
  */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -45,8 +46,14 @@ static int plan_sink(void *ctx, const struct sh2000_path_point *pt)
 	unsigned int a;
 
 	c->plan->points++;
+	/* moved: half a count or more from the start. The planner's
+	 * arithmetic leaves an axis it holds an ulp or so off a start that
+	 * is no binary fraction (123.4567 mm), which moves nothing; calling
+	 * that a move had sh2000-upload enable an axis the program never
+	 * names (and catch its carriage, coasting after a fault) */
 	for (a = 0; a < SH2000_AXES; a++)
-		if (pt->mm[a] != c->start[a])
+		if (fabs(pt->mm[a] - c->start[a]) * c->pc->counts_per_mm[a] >=
+		    0.5)
 			c->plan->moved |= 1u << a;
 	if (!c->limits)
 		return 0;

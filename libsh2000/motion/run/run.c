@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "moved.h"
 #include "setpoints.h"
 #include "sh2000/run.h"
 #include "sh2000/sh2000_protocol.h"
@@ -27,6 +28,7 @@ struct sh2000_run {
 	double scale[SH2000_AXES];	/* counts per mm */
 	struct sh2000_limits limits;	/* the card's soft limits */
 	struct sh2000_setpoints sp;	/* ... kept by the set-points */
+	struct sh2000_moved moved;	/* what the records moved */
 	uint64_t servo_ns, coarse_ns;
 	uint64_t cycle0;		/* servo cycle at creation */
 	int32_t buf[SH2000_RING_RECORDS][SH2000_AXES];
@@ -75,16 +77,23 @@ static int fail(struct sh2000_run *r, int code, const char *fmt, ...)
 	return code;
 }
 
-/* A library call failed: keep its words (they name the device). */
+/* A library call failed: keep its words (they name the device). A
+ * rejected record gets the disabled axis it moved, when it did. */
 static int lib_fail(struct sh2000_run *r, int code, const char *what)
 {
+	struct sh2000_status st;
 	char detail[384];
 
 	sh2000_last_error_copy(r->h, detail, sizeof(detail));
 	if (detail[0])
-		return fail(r, code, "%s", detail);
-	return fail(r, code, "%s: %s: %s", sh2000_device(r->h), what,
-		    sh2000_strerror(code));
+		fail(r, code, "%s", detail);
+	else
+		fail(r, code, "%s: %s: %s", sh2000_device(r->h), what,
+		     sh2000_strerror(code));
+	if (code == -SH2000_EREJECTED && sh2000_poll(r->h, &st) >= 0)
+		sh2000_moved_note(&r->moved, &st, r->scale, r->err,
+				  sizeof(r->err));
+	return code;
 }
 
 int sh2000_run_path_config(struct sh2000 *h, struct sh2000_path_config *pc)
@@ -450,6 +459,7 @@ static void reset_plan(struct sh2000_run *r)
 	r->in_motion = 0;
 	r->have_last = 0;
 	r->failed = 0;
+	memset(&r->moved, 0, sizeof(r->moved));
 }
 
 /* A push that failed: -EAGAIN (a feed hold: the planner keeps the point)
@@ -497,6 +507,7 @@ static int sink(void *ctx, const struct sh2000_path_point *pt)
 		for (a = 0; a < SH2000_AXES; a++)
 			r->buf[r->n][a] = (int32_t)llround(mm[a] *
 							   r->scale[a]);
+	sh2000_moved_add(&r->moved, r->buf[r->n]);
 	r->n++;
 	r->seqs[r->emitted++ % RUN_SEQS] = pt->seq;
 	if (r->have_last) {

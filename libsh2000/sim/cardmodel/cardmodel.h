@@ -89,6 +89,10 @@ struct sh2000_fw_axis {
 	int16_t dac;
 	unsigned int sat_cycles;
 	int prev_limit;		/* switch bits last cycle, for edges */
+	/* a disabled axis: its position in the first record taken since the
+	 * motion started or the axis was disabled (REJECT_DISABLED) */
+	double rec_hold;
+	int have_rec_hold;
 	/* homing */
 	enum sh2000_home_phase home;
 	unsigned int home_flags;

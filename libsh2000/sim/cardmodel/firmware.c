@@ -143,6 +143,7 @@ static void disable_axis(struct sh2000_dsp *fw, unsigned int a)
 	ax->state &= (uint16_t)~(SH2000_AXIS_ENABLED | SH2000_AXIS_MOVING);
 	sh2000_home_abort(ax);
 	ax->dac = 0;
+	ax->have_rec_hold = 0;
 	sh2000_pid_reset(&ax->pid);
 	sh2000_fw_hold_at(fw, a, (double)ax->act);
 }
@@ -435,6 +436,26 @@ static int32_t rec_pos(const uint16_t *rec, unsigned int a)
 			 ((uint32_t)rec[SH2000_REC_POS_HI(a)] << 16));
 }
 
+/*
+ * REJECT_DISABLED: the records move a disabled axis, which the card does
+ * not drive (a host planning motion the card will not make). They may
+ * hold it anywhere: the first record taken since the motion started (or
+ * the axis was disabled) sets where, and later ones stay within
+ * FERR_LIMIT of it. The encoder is no reference for that: a carriage let
+ * go of coasts on (the default model axis 10 mm from 100 mm/s,
+ * docs/faults.md), so wherever the host read it, the carriage is
+ * elsewhere by the time the card takes the record. A record within FERR_LIMIT of the encoder is accepted too: a
+ * host that sends the position it reads, which the rule before asked
+ * for, still may.
+ */
+static int disabled_moved(const struct sh2000_fw_axis *ax, double p)
+{
+	double lim = (double)ax->prm.ferr_limit;
+
+	return ax->have_rec_hold && fabs(p - ax->rec_hold) > lim &&
+	       fabs(p - (double)ax->act) > lim;
+}
+
 static uint16_t validate(struct sh2000_dsp *fw, const uint16_t *rec)
 {
 	double step_max = 0.0;
@@ -454,8 +475,7 @@ static uint16_t validate(struct sh2000_dsp *fw, const uint16_t *rec)
 		double p = (double)rec_pos(rec, a);
 
 		if (!is_enabled(ax)) {
-			if (fabs(p - (double)ax->act) >
-			    (double)ax->prm.ferr_limit)
+			if (disabled_moved(ax, p))
 				return SH2000_REJECT_DISABLED;
 			continue;
 		}
@@ -508,10 +528,15 @@ static int next_point(struct sh2000_dsp *fw)
 	fw->seg_seq = rec[SH2000_REC_SEQ];
 	fw->have_seq = 1;
 	for (a = 0; a < SH2000_AXES; a++) {
-		double p = is_enabled(&fw->ax[a]) ? (double)rec_pos(rec, a) :
-						    (double)fw->ax[a].act;
+		struct sh2000_fw_axis *ax = &fw->ax[a];
+		double p = (double)rec_pos(rec, a);
 
-		sh2000_interp_push(&fw->ip, a, p);
+		if (!is_enabled(ax) && !ax->have_rec_hold) {
+			ax->rec_hold = p;
+			ax->have_rec_hold = 1;
+		}
+		sh2000_interp_push(&fw->ip, a, is_enabled(ax) ? p :
+					       (double)ax->act);
 	}
 	if (rec[SH2000_REC_FLAGS] & SH2000_REC_F_END) {
 		/* two more copies: the last window is (p, e, e, e), whose
@@ -611,6 +636,7 @@ static void reject_all(struct sh2000_dsp *fw)
 
 static void motion(struct sh2000_dsp *fw, double T)
 {
+	unsigned int a;
 	uint16_t fill;
 
 	sh2000_queue_receive(fw);
@@ -627,6 +653,8 @@ static void motion(struct sh2000_dsp *fw, double T)
 			break;
 		fw->state = SH2000_STATE_RUNNING;
 		fw->have_seq = 0;
+		for (a = 0; a < SH2000_AXES; a++)
+			fw->ax[a].have_rec_hold = 0;
 		fw->fine_t = 0.0;
 	fw->need_point = 1;
 		fw->host_hb_cycles = 0;

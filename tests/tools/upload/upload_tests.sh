@@ -329,6 +329,38 @@ t_shm() {
 	stop_sim
 }
 
+enabled_is() { # enabled_is NAME MASK: wait until sim:NAME shows MASK enabled
+	local i
+	for i in $(seq 200); do
+		"$PROBE" sim:$1 | grep -q "enabled=$2 " && return 0
+		sleep 0.01
+	done
+	return 1
+}
+
+# A program that moves Y alone, with X disabled at rest off the binary
+# fractions (123.4568 mm): X is not "moved" (the planner leaves a held axis
+# an ulp or so off such a start), so it is not enabled and stays as it is.
+t_moved_axes() {
+	[ -n "${CTL:-}" ] && [ -x "$CTL" ] || { echo "sh2000ctl not built: skipped"; exit 77; }
+	local name=upload-moved-$$
+	start_sim $name
+	# each step once the card shows the last (a served card acknowledges a
+	# command a moment before its state word shows it)
+	"$CTL" -d sim:$name enable x >ctl.out 2>&1 && enabled_is $name 1 &&
+		"$CTL" -d sim:$name move x=123.4568 --feed 100 >>ctl.out 2>&1 &&
+		"$CTL" -d sim:$name disable x >>ctl.out 2>&1 && enabled_is $name 0 ||
+		{ fail "sh2000ctl: X to 123.4568 mm, disabled"; cat ctl.out; }
+	printf 'G21 G90 G17 F3000\nG1 Y5\nM2\n' >y.ngc
+	expect 0 "--dry-run of a move on Y" -- "$UPLOAD" -d sim:$name --dry-run y.ngc &&
+		has "axes moved +y$" out
+	expect 0 "a move on Y" -- "$UPLOAD" -d sim:$name y.ngc
+	grep -q "enabling axes y$" err || { fail "enabled more than y:"; cat err; }
+	"$PROBE" sim:$name >p
+	has "state=1 fill=0 enabled=2 cmd=123\.45[67][0-9],5\.0000,0\.0000,0\.0000" p
+	stop_sim
+}
+
 # Starts sh2000-upload on long.ngc on sim:NAME in the background with its
 # stderr in FILE; UPLOAD_PID is its pid. Returns once the first progress
 # line is there (the signal handlers are in by then).
@@ -424,7 +456,7 @@ t_shm_other_stop() {
 }
 
 case ${1:-} in
-geometry|raw|override|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop|shm_hold|shm_other_stop)
+geometry|raw|override|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop|shm_hold|shm_other_stop|moved_axes)
 	"t_$1" ;;
 *) echo "usage: upload_tests.sh TEST"; exit 2 ;;
 esac

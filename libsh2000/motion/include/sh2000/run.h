@@ -206,7 +206,7 @@ struct sh2000_program_plan {
 	uint64_t blocks;	/* read */
 	uint64_t points;	/* coarse points planned */
 	double seconds;		/* planned time, dwells included */
-	unsigned int moved;	/* bit a: axis a moves */
+	unsigned int moved;	/* bit a: axis a moves (half a count or more) */
 	uint64_t optional_skipped;	/* M1 not paused at (optional_stop 0) */
 	/* a failure: "file:line[:column]" of the block and the reason */
 	char where[256];

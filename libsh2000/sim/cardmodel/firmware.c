@@ -5,7 +5,7 @@
  *   1. emergency stop (before anything else can act);
  *   2. sample the encoders, switches and index latches; axis checks;
  *   3. card heartbeat, host heartbeat watchdog;
- *   4. at most one command;
+ *   4. at most one command (its status words published before its ACK);
  *   5. ring and motion: records, B-spline, controlled stop or homing;
  *   6. PID + feed-forward per axis, following-error and DAC checks;
  *   7. DAC out (the board then holds it until the next interrupt);
@@ -415,6 +415,10 @@ static void command(struct sh2000_dsp *fw)
 	WR(fw, SH2000_W_CMD_VALUE_LO, value & 0xffffu);
 	WR(fw, SH2000_W_CMD_VALUE_HI, value >> 16);
 	WR(fw, SH2000_W_CMD_RESULT, res);
+	/* the status words the command changed (ENABLED, state, faults)
+	 * before the answer: a host that sees the ACK and polls at once must
+	 * not read the state from before the command */
+	sh2000_fw_publish_words(fw);
 	fw->cmd_ack = seq;
 	WR(fw, SH2000_W_CMD_ACK, seq);
 }

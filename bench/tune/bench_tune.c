@@ -10,15 +10,21 @@
  *  - the auto-tuner as sh2000-tune --auto runs it (identification on the
  *    card, design at the default bandwidth, phase margin 50 deg);
  *  - the reference move, R 5 mm circle at 300 mm/s (circle.c), with the
- *    start gains, the tuned ones, and every gain of the search (search.c).
+ *    start gains, the tuned ones and the search's (search.c, refine.c),
+ *    by the measure: the worst of 8 runs that start at other angles and
+ *    sub-count positions (measure.c), since one run's max following
+ *    error at 2-3 counts is a draw (the search's grids screen by one).
  * The card's amax is what the planner may use on the circle: 40 m/s^2,
  * or 60 % of what the motor can give at 10 V when that is less (10x the
  * mass: 6 m/s^2, so the planner slows that circle down). The following
  * error limit is 2 mm so that a slow loop is not taken for an unstable
  * one; the tuner's own test moves lower it to its 0.1 mm.
- * Usage: bench_tune          the table (a few minutes of CPU)
+ * Usage: bench_tune          the table (about two minutes of CPU)
  *        bench_tune bandwidth  the circle against the design's bandwidth
- *                            (phase margin 50 deg), on the true plants
+ *                            (phase margin 50 deg; and the default at
+ *                            45 deg), on the true plants
+ *        bench_tune variants the spread of one run of the circle over
+ *                            start angles, start positions, servo phase
  *        bench_tune smoke    the default plant: tuned and both circles, no
  *                            search; exit 1 unless the tuned circle is
  *                            stable and better than the start (a ctest)

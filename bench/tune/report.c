@@ -40,7 +40,7 @@ static void print_moves(const struct plant_case *cases, const struct row *rows,
 		const struct row *w = &rows[i];
 		int unst = w->init.unstable || w->autot.unstable;
 
-		printf("%-12s %5.0f %6.1f %9.1f %9.2f %9.2f %6.2f %9.2f %6.2f %6.1f %6.1f %9s %4u/%-5u %3u/%-4u\n",
+		printf("%-12s %5.0f %6.1f %9.1f %9.2f %9.2f %6.2f %9.2f %6.2f %6.1f %6.1f %9s %4u/%-5u %3u/%u\n",
 		       cases[i].name, w->amax / 1e3, w->autot.feed, w->init.max_ferr,
 		       w->autot.max_ferr, w->sb.any.res.max_ferr,
 		       w->autot.max_ferr / w->sb.any.res.max_ferr,

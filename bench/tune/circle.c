@@ -16,6 +16,7 @@
 #include <sh2000/path.h>
 #include <sh2000/run.h>
 #include <sh2000/sim.h>
+#include <sh2000/sh2000_cardsim.h>
 
 #include "bench_tune.h"
 
@@ -54,16 +55,33 @@ int bench_card_open(struct sh2000 **h, const struct bench_machine *m,
 	return 0;
 }
 
+int circle_variant_with(const struct bench_machine *m,
+			const struct tune_gains *g,
+			const struct circle_variant *v,
+			struct circle_result *res)
+{
+	struct bench_machine mv = *m;
+	struct sh2000 *h;
+	int r;
+
+	/* the carriage's start within a count of the scale: x and y */
+	for (unsigned int a = 0; a < 2; a++)
+		mv.cfg.axis[a].start_mm += v->start_counts / mv.cfg.axis[a].counts_per_mm;
+	r = bench_card_open(&h, &mv, g);
+	if (r == 0 && v->phase > 0)
+		sh2000_cardsim_advance(sh2000_sim_card(h), (uint64_t)(v->phase * 1e5));
+	if (r == 0)
+		r = circle_run(h, v->angle_deg, res);
+	sh2000_close(h);
+	return r;
+}
+
 int circle_with(const struct bench_machine *m, const struct tune_gains *g,
 		struct circle_result *res)
 {
-	struct sh2000 *h;
-	int r = bench_card_open(&h, m, g);
+	static const struct circle_variant v0 = { 0, 0, 0 };
 
-	if (r == 0)
-		r = circle_run(h, res);
-	sh2000_close(h);
-	return r;
+	return circle_variant_with(m, g, &v0, res);
 }
 
 static int arm(struct sh2000 *h, double seconds)
@@ -80,7 +98,8 @@ static int arm(struct sh2000 *h, double seconds)
 }
 
 /* The circle through the runner; 0 or the error (a fault: unstable). */
-static int run_circle(struct sh2000 *h, char *msg, size_t len)
+static int run_circle(struct sh2000 *h, double angle_deg, char *msg,
+		      size_t len)
 {
 	struct sh2000_path_config pc;
 	struct sh2000_run_config rc;
@@ -96,8 +115,8 @@ static int run_circle(struct sh2000 *h, char *msg, size_t len)
 	memset(&arc, 0, sizeof(arc));
 	arc.plane = SH2000_PLANE_XY;
 	memcpy(arc.end, pc.start, sizeof(arc.end));
-	arc.centre[0] = pc.start[0] - CIRCLE_R_MM;
-	arc.centre[1] = pc.start[1];
+	arc.centre[0] = pc.start[0] - CIRCLE_R_MM * cos(angle_deg * M_PI / 180);
+	arc.centre[1] = pc.start[1] - CIRCLE_R_MM * sin(angle_deg * M_PI / 180);
 	arc.ccw = 1;
 	r = sh2000_path_arc(sh2000_run_path(run), &arc, CIRCLE_FEED);
 	if (r >= 0)
@@ -141,7 +160,7 @@ static void figures(const double *v, uint32_t n, double T,
 	}
 }
 
-int circle_run(struct sh2000 *h, struct circle_result *res)
+int circle_run(struct sh2000 *h, double angle_deg, struct circle_result *res)
 {
 	struct sh2000_gather_info gi;
 	char msg[512] = "";
@@ -154,7 +173,7 @@ int circle_run(struct sh2000 *h, struct circle_result *res)
 		fprintf(stderr, "bench_tune: gather: %s\n", sh2000_last_error(h));
 		return -1;
 	}
-	r = run_circle(h, msg, sizeof(msg));
+	r = run_circle(h, angle_deg, msg, sizeof(msg));
 	if (r < 0) {
 		res->unstable = 1;
 		snprintf(res->why, sizeof(res->why), "%s", msg);

@@ -25,11 +25,6 @@
 #define BLEND_SPLINE_MM 0.001
 #define BLEND_SHARE_RAW 0.5
 
-static double dot4(const double *a, const double *b)
-{
-	return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
-}
-
 /* The last block queued, if it is a line that can still be shortened. */
 static struct pl_block *tail_line(struct sh2000_path *p)
 {
@@ -52,7 +47,7 @@ static void arc_block(struct sh2000_path *p, const struct pl_block *t,
 		      struct pl_block *k)
 {
 	const double *t1 = t->g.line.d, *t2 = b->g.line.d;
-	double c = dot4(t1, t2), n, w[SH2000_AXES], tt[SH2000_AXES];
+	double c = pl_dot(t1, t2), n, w[SH2000_AXES], tt[SH2000_AXES];
 	unsigned int a;
 
 	memset(k, 0, sizeof(*k));
@@ -61,7 +56,7 @@ static void arc_block(struct sh2000_path *p, const struct pl_block *t,
 	/* w: the direction towards the centre, in the plane of t1 and t2 */
 	for (a = 0; a < SH2000_AXES; a++)
 		w[a] = t2[a] - c * t1[a];
-	n = sqrt(dot4(w, w));
+	n = sqrt(pl_dot(w, w));
 	for (a = 0; a < SH2000_AXES; a++) {
 		w[a] /= n;
 		k->p0[a] = t->p1[a];
@@ -93,7 +88,7 @@ int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
 	t = tail_line(p);
 	if (!t || memcmp(t->p1, b->p0, sizeof(t->p1)))
 		return 0;
-	c = fmax(-1.0, fmin(1.0, dot4(t->g.line.d, b->g.line.d)));
+	c = fmax(-1.0, fmin(1.0, pl_dot(t->g.line.d, b->g.line.d)));
 	phi = acos(c);		/* the turn */
 	if (phi < 1e-6 || phi > M_PI - 1e-3)
 		return 0;	/* straight on, or back along itself */

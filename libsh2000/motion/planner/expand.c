@@ -22,12 +22,10 @@ static double find_cusp(const struct pl_nurbs *nb, double lo, double hi,
 	double c[SH2000_AXES], d1[SH2000_AXES];
 
 	for (unsigned int it = 0; it < 60 && hi - lo > 1e-15 * (1.0 + fabs(hi)); it++) {
-		double m = 0.5 * (lo + hi), dot = 0.0;
+		double m = 0.5 * (lo + hi);
 
 		pl_nurbs_eval(nb, m, c, d1, NULL);
-		for (unsigned int ax = 0; ax < SH2000_AXES; ax++)
-			dot += d1[ax] * t0[ax];
-		if (dot > 0.0)
+		if (pl_dot(d1, t0) > 0.0)
 			lo = m;
 		else
 			hi = m;
@@ -35,25 +33,20 @@ static double find_cusp(const struct pl_nurbs *nb, double lo, double hi,
 	return 0.5 * (lo + hi);
 }
 
-static double dot4(const double a[SH2000_AXES], const double b[SH2000_AXES])
+/* Where the block's five samples lie, the ends taken from inside the
+ * block: at a C0 knot or a cusp the other side's tangent is another one
+ * (a corner). */
+static double sample_u(double u0, double u1, unsigned int i)
 {
-	double s = 0.0;
-
-	for (unsigned int ax = 0; ax < SH2000_AXES; ax++)
-		s += a[ax] * b[ax];
-	return s;
+	return i == 0 ? u0 + (u1 - u0) * 1e-9 :
+	       i < 4 ? u0 + (u1 - u0) * i / 4.0 : u1 - (u1 - u0) * 1e-9;
 }
 
-/* The block's five samples, the ends taken from inside the block: at a
- * C0 knot or a cusp the other side's tangent is another one (a corner). */
 static void sample_block(const struct pl_nurbs *nb, double u0, double u1,
 			 unsigned int i, double t[SH2000_AXES], double *speed,
 			 double *kappa)
 {
-	double u = i == 0 ? u0 + (u1 - u0) * 1e-9 :
-		   i < 4 ? u0 + (u1 - u0) * i / 4.0 : u1 - (u1 - u0) * 1e-9;
-
-	*speed = pl_nurbs_frame(nb, u, t, kappa);
+	*speed = pl_nurbs_frame(nb, sample_u(u0, u1, i), t, kappa);
 }
 
 /* A candidate block [u0, u1] of a curve, looked at through five samples. */
@@ -72,10 +65,9 @@ static void find_cusp_in(const struct pl_nurbs *nb, struct probe *pr)
 
 	for (i = 0; i <= 4; i++) {
 		sample_block(nb, u0, u1, i, pr->t[i], &pr->speed[i], &pr->kappa[i]);
-		if (i > 0 && dot4(pr->t[last], pr->t[i]) < 0.0) {
-			double lo = u0 + (u1 - u0) * (last ? last / 4.0 : 1e-9);
-			double hi = u0 + (u1 - u0) * (i < 4 ? i / 4.0 : 1.0 - 1e-9);
-			double uc = find_cusp(nb, lo, hi, pr->t[last]);
+		if (i > 0 && pl_dot(pr->t[last], pr->t[i]) < 0.0) {
+			double uc = find_cusp(nb, sample_u(u0, u1, last),
+					      sample_u(u0, u1, i), pr->t[last]);
 
 			/* one so close to the start is the start's:
 			 * splitting there would not move the carriage */
@@ -85,7 +77,7 @@ static void find_cusp_in(const struct pl_nurbs *nb, struct probe *pr)
 				return;
 			}
 		}
-		if (dot4(pr->t[i], pr->t[i]) > 0.5)
+		if (pl_dot(pr->t[i], pr->t[i]) > 0.5)
 			last = i;	/* a zero tangent has no say */
 	}
 }

@@ -257,6 +257,17 @@ static inline double pl_max(double a, double b)
 	return a > b ? a : b;
 }
 
+/* The dot product of two axis vectors (tangents, directions). */
+static inline double pl_dot(const double a[SH2000_AXES],
+			    const double b[SH2000_AXES])
+{
+	double s = 0.0;
+
+	for (unsigned int ax = 0; ax < SH2000_AXES; ax++)
+		s += a[ax] * b[ax];
+	return s;
+}
+
 /* Block i of the window (0: the head). */
 static inline const struct pl_block *pl_block_at(const struct sh2000_path *p,
 						 unsigned int i)

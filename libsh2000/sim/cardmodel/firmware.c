@@ -448,9 +448,9 @@ static int32_t rec_pos(const uint16_t *rec, unsigned int a)
  * FERR_LIMIT of it. The encoder is no reference for that: a carriage let
  * go of coasts on (the default model axis 10 mm from 100 mm/s,
  * docs/faults.md), so wherever the host read it, the carriage is
- * elsewhere by the time the card takes the record. A record within FERR_LIMIT of the encoder is accepted too: a
- * host that sends the position it reads, which the rule before asked
- * for, still may.
+ * elsewhere by the time the card takes the record. A record within
+ * FERR_LIMIT of the encoder is accepted too: a host that sends the
+ * position it reads, which the rule before asked for, still may.
  */
 static int disabled_moved(const struct sh2000_fw_axis *ax, double p)
 {

@@ -8,7 +8,7 @@
  *  - the start: bad gains, the card's default PID without feed-forward
  *    (kp 0.5, ti 20 ms, td 4 ms, kvff = kaff = 0);
  *  - the auto-tuner as sh2000-tune --auto runs it (identification on the
- *    card, design at the default bandwidth, phase margin 50 deg);
+ *    card, design at the default bandwidth and margins);
  *  - the reference move, R 5 mm circle at 300 mm/s (circle.c), with the
  *    start gains, the tuned ones and the search's (search.c, refine.c),
  *    by the measure: the worst of 8 runs that start at other angles and
@@ -21,10 +21,13 @@
  * one; the tuner's own test moves lower it to its 0.1 mm.
  * Usage: bench_tune          the table (about two minutes of CPU)
  *        bench_tune bandwidth  the circle against the design's bandwidth
- *                            (phase margin 50 deg; and the default at
- *                            45 deg), on the true plants
+ *                            (the default margins), on the true plants
  *        bench_tune variants the spread of one run of the circle over
  *                            start angles, start positions, servo phase
+ *        bench_tune margins  the circle against the design's phase and
+ *                            gain margins asked, on the true plants
+ *        bench_tune feedforward  the default design with kvff and kaff
+ *                            5 % and 2 % off the plant's inverse
  *        bench_tune smoke    the default plant: tuned and both circles, no
  *                            search; exit 1 unless the tuned circle is
  *                            stable and better than the start (a ctest)
@@ -76,7 +79,7 @@ static void machine(const struct plant_case *pc, struct bench_machine *m)
 /* The tuner on x and y, as sh2000-tune --auto --apply runs it. */
 static int autotune(struct sh2000 *h, struct row *w)
 {
-	struct tune_design_req req = { 0, TUNE_DEFAULT_MARGIN };
+	struct tune_design_req req = { 0, TUNE_DEFAULT_MARGIN, 0 };
 	char why[512];
 
 	for (unsigned int a = 0; a < 2; a++) {
@@ -104,17 +107,20 @@ static int autotune(struct sh2000 *h, struct row *w)
 	return 0;
 }
 
-/* tuned, best, best45 and the best within the design's limits over
- * every variant of the circle: the search chose by CIRCLE_VARIANTS. */
+/* tuned, best, best45 and the best within the design's limits on the
+ * runs the search did not choose by, and over all of them. */
 static int check_all(const struct bench_machine *m, struct row *w)
 {
-	const struct tune_gains *g[4] = {
-		&w->tuned, &w->sb.any.g, &w->sb.pm.g, &w->sb.own.g
-	};
+	const struct search_point *p[4] = { NULL, &w->sb.any, &w->sb.pm, &w->sb.own };
 
-	for (unsigned int i = 0; i < 4; i++)
-		if (circle_measure(m, g[i], CIRCLE_VARIANTS_ALL, &w->all[i]) < 0)
+	for (unsigned int i = 0; i < 4; i++) {
+		const struct tune_gains *g = p[i] ? &p[i]->g : &w->tuned;
+
+		if (circle_measure_from(m, g, CIRCLE_VARIANTS, CIRCLE_HELD_OUT,
+					&w->held[i]) < 0)
 			return -1;
+		circle_worst(p[i] ? &p[i]->res : &w->autot, &w->held[i], &w->all[i]);
+	}
 	return 0;
 }
 
@@ -165,8 +171,7 @@ static int smoke(void)
  * bandwidths on each true plant: where the default lies on that curve. */
 static int bandwidths(void)
 {
-	/* the last: the default bandwidth at the benchmark's phase margin */
-	static const double hz[] = { 0, 200, 400, 600, 800, 1000, 1200, 0 };
+	static const double hz[] = { 0, 200, 400, 600, 800, 1000, 1200 };
 	const unsigned int n = sizeof(hz) / sizeof(hz[0]);
 
 	printf("%-12s %8s %8s %8s %10s %8s\n", "plant", "Hz", "PM deg", "GM dB",
@@ -178,9 +183,7 @@ static int bandwidths(void)
 		machine(&cases[i], &m);
 		search_true_plant(&m, &pl);
 		for (unsigned int k = 0; k < n; k++) {
-			struct tune_design_req req = {
-				hz[k], k + 1 < n ? TUNE_DEFAULT_MARGIN : SEARCH_MIN_PM
-			};
+			struct tune_design_req req = { hz[k], TUNE_DEFAULT_MARGIN, 0 };
 			struct tune_gains g;
 			struct tune_design_margins mg;
 			struct circle_result res;
@@ -195,12 +198,13 @@ static int bandwidths(void)
 			printf("%-12s %8.0f %8.1f %8.1f %10.2f %8.2f  Ti wc %.2f%s%s\n", cases[i].name,
 			       mg.wc_hz, mg.pm_deg, mg.gm_db, res.max_ferr, res.rms_ferr,
 			       g.ti * 2 * M_PI * mg.wc_hz,
-			       hz[k] != 0 ? "" : k + 1 < n ? " (default)" : " (default, --margin 45)",
+			       hz[k] != 0 ? "" : " (default)",
 			       res.unstable ? " unstable" : "");
 		}
 	}
-	printf("(the design on the true plant at phase margin %g deg and the crossover asked; max ferr,\n"
-	       " rms: the circle, counts, the worst of %u runs)\n", TUNE_DEFAULT_MARGIN, CIRCLE_VARIANTS);
+	printf("(the design on the true plant at phase margin %g deg, gain margin >= %g dB and the crossover\n"
+	       " asked; max ferr, rms: the circle, counts, the worst of %u runs)\n",
+	       TUNE_DEFAULT_MARGIN, TUNE_MIN_GM_DB, CIRCLE_VARIANTS);
 	return 0;
 }
 
@@ -222,7 +226,7 @@ static int variants(void)
 		machine(&cases[i], &m);
 		search_true_plant(&m, &pl);
 		for (unsigned int k = 0; k < sizeof(hz) / sizeof(hz[0]); k++) {
-			struct tune_design_req req = { hz[k], TUNE_DEFAULT_MARGIN };
+			struct tune_design_req req = { hz[k], TUNE_DEFAULT_MARGIN, 0 };
 			struct tune_gains g, g1;
 			struct tune_design_margins mg;
 			struct circle_result r0, w8, r1, w81, res;
@@ -260,8 +264,97 @@ static int variants(void)
 	}
 	printf("(max following error, counts; Hz: the design's crossover at phase margin %g deg, the\n"
 	       " first the default; run 0: the table's single run; least, most: over %u runs, 8 start\n"
-	       " angles x 4 start positions a quarter count apart; worst8: the measure; 8 phases: run 0\n"
+	       " angles x 8 start positions an eighth of a count apart; worst8: the measure; 8 phases: run 0\n"
 	       " started an eighth of a servo cycle apart)\n", TUNE_DEFAULT_MARGIN, CIRCLE_VARIANTS_ALL);
+	return 0;
+}
+
+/* The design's limits against the circle: designs on each true plant
+ * for pairs of (phase margin, gain margin floor) at the default
+ * bandwidth (and one above it), by the measure and over every variant:
+ * where the default margins lie. */
+static int margins(void)
+{
+	static const struct { double pm, gm, hz; } d[] = {
+		{ 50, 10, 0 }, { 48, 8, 0 }, { 46, 10, 0 }, { 46, 8, 0 },
+		{ TUNE_DEFAULT_MARGIN, TUNE_MIN_GM_DB, 0 },
+		{ TUNE_DEFAULT_MARGIN, 6, 0 }, { TUNE_DEFAULT_MARGIN, TUNE_MIN_GM_DB, 1050 },
+	};
+
+	printf("%-12s %5s %5s %7s %6s %6s %7s %7s %6s %6s %6s\n", "plant", "PM", "GM>=",
+	       "Hz", "PM", "GM dB", "worst8", "all", "rms", "Ti wc", "Td wc");
+	for (unsigned int i = 0; i < 3; i++) {
+		struct bench_machine m;
+		struct tune_plant pl;
+
+		machine(&cases[i], &m);
+		search_true_plant(&m, &pl);
+		for (unsigned int k = 0; k < sizeof(d) / sizeof(d[0]); k++) {
+			struct tune_design_req req = { d[k].hz, d[k].pm, d[k].gm };
+			struct tune_gains g;
+			struct tune_design_margins mg;
+			struct circle_result r8, ra;
+			char why[256];
+
+			if (tune_design(&pl, &req, &g, &mg, why, sizeof(why)) < 0) {
+				printf("%-12s %5.1f %5.1f refused: %s\n", cases[i].name,
+				       d[k].pm, d[k].gm, why);
+				continue;
+			}
+			if (circle_measure(&m, &g, CIRCLE_VARIANTS, &r8) < 0 ||
+			    circle_measure(&m, &g, CIRCLE_VARIANTS_ALL, &ra) < 0)
+				return 1;
+			printf("%-12s %5.1f %5.1f %7.0f %6.1f %6.1f %7.2f %7.2f %6.2f %6.2f %6.2f%s%s\n",
+			       cases[i].name, d[k].pm, d[k].gm, mg.wc_hz, mg.pm_deg,
+			       mg.gm_db, r8.max_ferr, ra.max_ferr, ra.rms_ferr,
+			       g.ti * 2 * M_PI * mg.wc_hz, g.td * 2 * M_PI * mg.wc_hz,
+			       k == 4 ? " (default)" : "", ra.unstable ? " unstable" : "");
+		}
+	}
+	printf("(the design on the true plant for the phase margin and gain margin floor asked, at the\n"
+	       " default bandwidth or the Hz asked; worst8: the measure; all: the worst of all %u runs;\n"
+	       " rms of those, counts)\n", CIRCLE_VARIANTS_ALL);
+	return 0;
+}
+
+/* The feed-forward against the plant's exact inverse: the default
+ * design on each true plant with kvff and kaff scaled, over every
+ * variant (is a gap to the search's best a better feed-forward?). */
+static int feedforward(void)
+{
+	static const double kv[] = { 0.9, 0.95, 1.0, 1.05 };
+	static const double ka[] = { 0.98, 1.0, 1.02 };
+
+	for (unsigned int i = 0; i < 3; i++) {
+		struct bench_machine m;
+		struct tune_plant pl;
+		struct tune_design_req req = { 0, TUNE_DEFAULT_MARGIN, 0 };
+		struct tune_gains g0;
+		struct tune_design_margins mg;
+		char why[256];
+
+		machine(&cases[i], &m);
+		search_true_plant(&m, &pl);
+		if (tune_design(&pl, &req, &g0, &mg, why, sizeof(why)) < 0)
+			return 1;
+		for (unsigned int a = 0; a < 4; a++) {
+			printf("%-12s kvff x%.2f:", cases[i].name, kv[a]);
+			for (unsigned int b = 0; b < 3; b++) {
+				struct tune_gains g = g0;
+				struct circle_result ra;
+
+				g.kvff *= kv[a];
+				g.kaff *= ka[b];
+				if (circle_measure(&m, &g, CIRCLE_VARIANTS_ALL, &ra) < 0)
+					return 1;
+				printf("  kaff x%.2f %5.2f (%.3f)", ka[b], ra.max_ferr, ra.rms_ferr);
+			}
+			printf("\n");
+		}
+	}
+	printf("(the default design on the true plant, kvff and kaff scaled from the plant's exact\n"
+	       " inverse; max following error on the circle, the worst of all %u runs, counts; RMS\n"
+	       " in brackets)\n", CIRCLE_VARIANTS_ALL);
 	return 0;
 }
 
@@ -276,9 +369,13 @@ int main(int argc, char **argv)
 		return bandwidths();
 	if (argc > 1 && !strcmp(argv[1], "variants"))
 		return variants();
+	if (argc > 1 && !strcmp(argv[1], "margins"))
+		return margins();
+	if (argc > 1 && !strcmp(argv[1], "feedforward"))
+		return feedforward();
 
 	if (argc > 1) {
-		fprintf(stderr, "usage: bench_tune [smoke | bandwidth | variants]\n");
+		fprintf(stderr, "usage: bench_tune [smoke | bandwidth | variants | margins | feedforward]\n");
 		return 2;
 	}
 	for (unsigned int i = 0; i < 3; i++)

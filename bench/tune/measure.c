@@ -9,7 +9,8 @@
  * start angles 45 deg apart, start positions a quarter count apart (the
  * phase of the servo cycle changes nothing in virtual time: the plant
  * steps per servo cycle). Variant 0 is circle_with()'s run, so one run
- * is a lower bound of the measure.
+ * is a lower bound of the measure. The verdict's runs are the other 56 of
+ * 64: the same angles at start positions an eighth of a count apart.
  */
 #include <math.h>
 
@@ -21,16 +22,18 @@ void circle_variant_of(unsigned int i, struct circle_variant *v)
 
 	v->angle_deg = 45.0 * a;
 	/* in each round of eight the quarter counts shift by one, so that
-	 * 32 variants are all 8 angles x 4 start positions */
-	v->start_counts = 0.25 * ((a + round) % 4);
+	 * 32 variants are all 8 angles x 4 start positions; the next 32 the
+	 * same an eighth of a count further */
+	v->start_counts = 0.25 * ((a + round) % 4) + (round >= 4 ? 0.125 : 0);
 	v->phase = 0;
 }
 
-int circle_measure(const struct bench_machine *m, const struct tune_gains *g,
-		   unsigned int n, struct circle_result *res)
+int circle_measure_from(const struct bench_machine *m,
+			const struct tune_gains *g, unsigned int first,
+			unsigned int n, struct circle_result *res)
 {
 	*res = (struct circle_result){ 0 };
-	for (unsigned int i = 0; i < n; i++) {
+	for (unsigned int i = first; i < first + n; i++) {
 		struct circle_variant v;
 		struct circle_result r;
 
@@ -46,4 +49,23 @@ int circle_measure(const struct bench_machine *m, const struct tune_gains *g,
 		res->feed = fmax(res->feed, r.feed);
 	}
 	return 0;
+}
+
+int circle_measure(const struct bench_machine *m, const struct tune_gains *g,
+		   unsigned int n, struct circle_result *res)
+{
+	return circle_measure_from(m, g, 0, n, res);
+}
+
+void circle_worst(const struct circle_result *a, const struct circle_result *b,
+		  struct circle_result *res)
+{
+	if (a->unstable || b->unstable) {
+		*res = a->unstable ? *a : *b;
+		return;
+	}
+	*res = *a;
+	res->max_ferr = fmax(a->max_ferr, b->max_ferr);
+	res->rms_ferr = fmax(a->rms_ferr, b->rms_ferr);
+	res->feed = fmax(a->feed, b->feed);
 }

@@ -178,7 +178,7 @@ static int try_gains(struct sh2000 *h, const struct tune_opts *o,
 /* Identify, design, print, write as asked. */
 static int identify_and_design(struct sh2000 *h, const struct tune_opts *o)
 {
-	struct tune_design_req req = { o->bandwidth_hz, o->margin_deg };
+	struct tune_design_req req = { o->bandwidth_hz, o->margin_deg, o->gm_db };
 	struct tune_ident_result id;
 	struct tune_gains old, gn;
 	struct tune_design_margins mo, mn;
@@ -197,9 +197,9 @@ static int identify_and_design(struct sh2000 *h, const struct tune_opts *o)
 		return SH2000_EXIT_CARD;
 	}
 	tune_margins_of(&id.plant, &old, &mo);
-	printf("design                  %.1f Hz crossover%s, phase margin %g deg asked\n",
+	printf("design                  %.1f Hz crossover%s, phase margin %g deg, gain margin %g dB asked\n",
 	       mn.wc_hz, o->bandwidth_hz > 0 ? "" : " (the default for this plant)",
-	       o->margin_deg);
+	       o->margin_deg, o->gm_db);
 	print_gains(&old, &gn);
 	print_margins("predicted, old gains", &mo);
 	print_margins("predicted, new gains", &mn);

@@ -48,11 +48,18 @@ struct tune_design_margins {
 struct tune_design_req {
 	double bandwidth_hz;	/* crossover asked; 0: the default */
 	double margin_deg;	/* phase margin asked */
+	double gm_db;		/* the least gain margin, dB; 0: TUNE_MIN_GM_DB */
 };
 
-#define TUNE_DEFAULT_MARGIN 50.0
-/* The least gain margin the design gives, dB. */
-#define TUNE_MIN_GM_DB 10.0
+/* The phase margin asked by default, degrees: the commissioning floor
+ * of 45 deg and half a degree for what the identified plant may differ
+ * from the machine (bench_tune margins: the circle's following error
+ * against the margins asked; docs/tools.md). */
+#define TUNE_DEFAULT_MARGIN 45.5
+/* The least gain margin the design gives by default, dB (--gain-margin):
+ * at the default phase margin the best design has 9 dB or so of its own,
+ * a floor of 10 would cut its crossover. */
+#define TUNE_MIN_GM_DB 8.0
 /* The integral time against the crossover, Ti wc, the design chooses
  * within (the integral's zero at most at the crossover: below it the RMS
  * following error grows, bench_tune bandwidth measured RMS 0.78 at 0.7,
@@ -80,7 +87,8 @@ int tune_ident_fit(const double *enc, const double *dac, size_t n, double T,
 
 /* The crossover the design takes by default for this plant and margin,
  * Hz (0: none keeps the margins). */
-double tune_default_bandwidth(const struct tune_plant *pl, double margin_deg);
+double tune_default_bandwidth(const struct tune_plant *pl,
+			      const struct tune_design_req *req);
 
 /*
  * PID gains with the phase margin req->margin_deg at the crossover

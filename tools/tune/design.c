@@ -14,9 +14,9 @@
  * Of those designs (wc given or searched, ratio searched) the design takes
  * the one with the highest integral gain Kp/Ti whose margins hold:
  * measured on the whole frequency axis (so a second crossover cannot pass
- * unseen), the gain margin at least TUNE_MIN_GM_DB, and the closed loop's
- * characteristic polynomial stable. The feed-forward is the plant's exact
- * inverse.
+ * unseen), the gain margin at least the floor asked (TUNE_MIN_GM_DB by
+ * default), and the closed loop's characteristic polynomial stable. The
+ * feed-forward is the plant's exact inverse.
  */
 #include <complex.h>
 #include <math.h>
@@ -202,10 +202,12 @@ static int solve_at(const struct tune_plant *pl, double th, double ratio,
 /* Gains the design may give: the asked phase margin over the whole
  * frequency axis, the gain margin floor, a stable closed loop. */
 static int admissible(const struct tune_plant *pl, const struct tune_gains *gn,
-		      double pm_deg, struct tune_design_margins *m)
+		      const struct tune_design_req *req,
+		      struct tune_design_margins *m)
 {
 	tune_margins_of(pl, gn, m);
-	return m->stable && m->pm_deg >= pm_deg - 0.05 && m->gm_db >= TUNE_MIN_GM_DB;
+	return m->stable && m->pm_deg >= req->margin_deg - 0.05 &&
+	       m->gm_db >= req->gm_db;
 }
 
 struct candidate {
@@ -216,13 +218,13 @@ struct candidate {
 
 /* Try (th, ratio): keep it in *best when admissible with a higher ki. */
 static void try_at(const struct tune_plant *pl, double th, double ratio,
-		   double pm_deg, struct candidate *best)
+		   const struct tune_design_req *req, struct candidate *best)
 {
 	struct candidate c = { .th = th, .ratio = ratio };
 
 	if (th <= 0 || th >= TUNE_TH_MAX || ratio < TUNE_RATIO_MIN ||
-	    ratio > TUNE_RATIO_MAX || solve_at(pl, th, ratio, pm_deg, &c.g) < 0 ||
-	    !admissible(pl, &c.g, pm_deg, &c.m))
+	    ratio > TUNE_RATIO_MAX || solve_at(pl, th, ratio, req->margin_deg, &c.g) < 0 ||
+	    !admissible(pl, &c.g, req, &c.m))
 		return;
 	c.ki = c.g.kp / c.g.ti;
 	if (c.ki > best->ki)
@@ -238,7 +240,7 @@ static void try_at(const struct tune_plant *pl, double th, double ratio,
  * fixed_th is 0), then a pattern search around the best.
  */
 static struct candidate optimise(const struct tune_plant *pl, double fixed_th,
-				 double pm_deg)
+				 const struct tune_design_req *req)
 {
 	struct candidate best = { .ki = 0 };
 	double lo = log(1e-3), hi = log(TUNE_TH_MAX * 0.999);
@@ -249,14 +251,14 @@ static struct candidate optimise(const struct tune_plant *pl, double fixed_th,
 		for (int k = 0; k < 16; k++)
 			try_at(pl, fixed_th > 0 ? fixed_th : exp(lo + (hi - lo) * i / (nth - 1)),
 			       TUNE_RATIO_MIN * pow(TUNE_RATIO_MAX / TUNE_RATIO_MIN, k / 15.0),
-			       pm_deg, &best);
+			       req, &best);
 	for (int it = 0; best.ki > 0 && it < 40; it++) {
 		struct candidate before = best;
 
 		for (int a = -1; a <= 1; a++)
 			for (int b = -1; b <= 1; b++)
 				try_at(pl, before.th * exp(a * step_th),
-				       before.ratio * exp(b * step_r), pm_deg, &best);
+				       before.ratio * exp(b * step_r), req, &best);
 		if (best.ki == before.ki) {
 			step_th /= 2;
 			step_r /= 2;
@@ -265,9 +267,21 @@ static struct candidate optimise(const struct tune_plant *pl, double fixed_th,
 	return best;
 }
 
-double tune_default_bandwidth(const struct tune_plant *pl, double margin_deg)
+/* req with its defaults filled in */
+static struct tune_design_req resolved(const struct tune_design_req *req)
 {
-	struct candidate c = optimise(pl, 0, margin_deg);
+	struct tune_design_req r = *req;
+
+	if (!(r.gm_db > 0))
+		r.gm_db = TUNE_MIN_GM_DB;
+	return r;
+}
+
+double tune_default_bandwidth(const struct tune_plant *pl,
+			      const struct tune_design_req *req)
+{
+	struct tune_design_req r = resolved(req);
+	struct candidate c = optimise(pl, 0, &r);
 
 	return c.ki > 0 ? c.th / (2 * M_PI * pl->T) : 0;
 }
@@ -276,7 +290,8 @@ int tune_design(const struct tune_plant *pl, const struct tune_design_req *req,
 		struct tune_gains *gn, struct tune_design_margins *m, char *why,
 		size_t whylen)
 {
-	double th = 2 * M_PI * req->bandwidth_hz * pl->T;
+	struct tune_design_req r = resolved(req);
+	double th = 2 * M_PI * r.bandwidth_hz * pl->T;
 	struct candidate c;
 
 	memset(gn, 0, sizeof(*gn));
@@ -291,24 +306,24 @@ int tune_design(const struct tune_plant *pl, const struct tune_design_req *req,
 			 req->bandwidth_hz, 0.25 / pl->T);
 		return -1;
 	}
-	c = optimise(pl, th, req->margin_deg);
+	c = optimise(pl, th, &r);
 	if (!(c.ki > 0)) {
-		/* what the middle of the range would give, for the message */
-		struct tune_gains g;
-		struct tune_design_margins mm = { 0 };
+		/* which limit refuses: the same search without the gain
+		 * margin floor tells */
+		struct tune_design_req loose = r;
 		double t = th > 0 ? th : 0.1;
-		int ok = solve_at(pl, t, 6, req->margin_deg, &g) == 0;
+		struct candidate l;
 
-		if (ok)
-			tune_margins_of(pl, &g, &mm);
-		if (!ok || mm.pm_deg < req->margin_deg - 0.05 || !mm.stable)
+		loose.gm_db = -INFINITY;
+		l = optimise(pl, th, &loose);
+		if (l.ki > 0)
+			snprintf(why, whylen, "the gains for %g Hz with a phase margin of %g deg leave a gain margin of %.1f dB, below %g dB: ask a lower --bandwidth, --margin or --gain-margin",
+				 th > 0 ? r.bandwidth_hz : l.m.wc_hz,
+				 req->margin_deg, l.m.gm_db, r.gm_db);
+		else
 			snprintf(why, whylen, "no PID reaches a phase margin of %g deg at %g Hz on this plant (its delay costs %.1f deg there): ask a lower --bandwidth or --margin",
 				 req->margin_deg, t / (2 * M_PI * pl->T),
 				 (pl->d + 0.5) * t * DEG);
-		else
-			snprintf(why, whylen, "the gains for %g Hz with a phase margin of %g deg leave a gain margin of %.1f dB, below %g dB: ask a lower --bandwidth or --margin",
-				 t / (2 * M_PI * pl->T), req->margin_deg, mm.gm_db,
-				 TUNE_MIN_GM_DB);
 		return -1;
 	}
 	*gn = c.g;

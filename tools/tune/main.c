@@ -27,7 +27,8 @@ static void usage(FILE *f)
 "Usage: sh2000-tune [-d DEVICE] AXIS --step MM | --ramp MM/S | --chirp F0:F1\n"
 "                   [OPTIONS]\n"
 "       sh2000-tune [-d DEVICE] AXIS --auto [--apply] [--save FILE] [--dry-run]\n"
-"                   [--bandwidth HZ] [--margin DEG] [--travel MM] [OPTIONS]\n"
+"                   [--bandwidth HZ] [--margin DEG] [--gain-margin DB]\n"
+"                   [--travel MM] [OPTIONS]\n"
 "Tests of one axis' servo loop, gathered on the card every servo cycle;\n"
 "the axis ends where it started.\n"
 "  step:  the set-point steps by MM and holds, then steps back. Prints rise\n"
@@ -74,8 +75,9 @@ static void usage(FILE *f)
 "  --auto               identify and design\n"
 "  --bandwidth HZ       the loop's crossover (default: the highest integral\n"
 "                       gain the margins allow)\n"
-"  --margin DEG         phase margin, 20..89 (default 50); gains predicted\n"
-"                       below it are refused\n"
+"  --margin DEG         phase margin, 20..89 (default 45.5); gains\n"
+"                       predicted below it are refused\n"
+"  --gain-margin DB     the least gain margin, 3..30 (default 8)\n"
 "  --travel MM          the identification stays within the start +- MM\n"
 "                       (default 0.1)\n"
 "  --apply              write the gains (all or none), then a step test\n"
@@ -112,7 +114,7 @@ static int check_auto(struct tune_opts *o, int auto_only, int tests)
 		return sh2000_tool_usage(NULL, "--%s needs --auto",
 					 o->apply ? "apply" : o->save ? "save" :
 					 o->dry_run ? "dry-run" :
-					 auto_only ? "bandwidth or --margin" : "auto");
+					 auto_only ? "bandwidth, --margin or --gain-margin" : "auto");
 	if (tests > 1 || o->test != TUNE_TEST_STEP)
 		return sh2000_tool_usage(NULL, "--auto: not with --ramp or --chirp");
 	if (o->dry_run && (o->apply || o->save || o->plot || o->csv))
@@ -122,6 +124,9 @@ static int check_auto(struct tune_opts *o, int auto_only, int tests)
 	if (o->margin_deg < 20 || o->margin_deg > 89)
 		return sh2000_tool_usage(NULL, "--margin: %g is not a phase margin 20..89 degrees",
 					 o->margin_deg);
+	if (o->gm_db < 3 || o->gm_db > 30)
+		return sh2000_tool_usage(NULL, "--gain-margin: %g is not a gain margin 3..30 dB",
+					 o->gm_db);
 	if (o->hold_s > 10)
 		return sh2000_tool_usage(NULL, "--hold: at most 10 s");
 	if (!(o->travel_mm > 0))
@@ -152,6 +157,7 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 		{ "dry-run", no_argument, NULL, 'n' },
 		{ "bandwidth", required_argument, NULL, 'B' },
 		{ "margin", required_argument, NULL, 'M' },
+		{ "gain-margin", required_argument, NULL, 'G' },
 		{ "enable", no_argument, NULL, 'e' },
 		{ "csv", required_argument, NULL, 'c' },
 		{ "plot", required_argument, NULL, 'p' },
@@ -168,6 +174,7 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 	o->amplitude_mm = TUNE_CHIRP_AMPLITUDE;
 	o->duration_s = TUNE_CHIRP_DURATION;
 	o->margin_deg = TUNE_DEFAULT_MARGIN;
+	o->gm_db = TUNE_MIN_GM_DB;
 	opterr = 0;
 	while (!r && (c = getopt_long(argc, argv, ":d:hV", lo, NULL)) != -1) {
 		switch (c) {
@@ -197,6 +204,7 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 		case 'n': o->dry_run = 1; break;
 		case 'B': auto_only = 1; r = number("--bandwidth", optarg, 0, &o->bandwidth_hz); break;
 		case 'M': auto_only = 1; r = number("--margin", optarg, 0, &o->margin_deg); break;
+		case 'G': auto_only = 1; r = number("--gain-margin", optarg, 0, &o->gm_db); break;
 		case 'e': o->enable = 1; break;
 		case 'c': o->csv = optarg; break;
 		case 'p': o->plot = optarg; break;

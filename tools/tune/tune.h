@@ -49,7 +49,8 @@ struct tune_opts {
 	 * excitation stays within start +- travel_mm */
 	int autotune;
 	double bandwidth_hz;	/* 0: the design's default */
-	double margin_deg;
+	double margin_deg;	/* phase margin asked, degrees */
+	double gm_db;		/* the least gain margin, dB */
 	int apply, dry_run;
 	const char *save;	/* parameter file, or NULL */
 };

@@ -28,7 +28,8 @@ expect 0 "$TUNE" "${S[@]}" x --auto --dry-run &&
 	out_has '^plant gain g +3051[0-9.]* counts/s\^2 per DAC code$' &&
 	out_has '^friction pole b/m +1 1/s$' &&
 	out_has '^dead time +0 servo cycles' &&
-	out_has '^predicted, new gains +phase 50\.0 deg' &&
+	out_has '^design .* phase margin 45\.5 deg, gain margin 8 dB asked$' &&
+	out_has '^predicted, new gains +phase 45\.5 deg' &&
 	out_has '^dry run: nothing written'
 checks=$((checks + 1))
 [ "$(gains)" = "$before" ] || fail "--dry-run changed the gains: $(gains), before: $before"
@@ -61,6 +62,15 @@ expect 1 "$TUNE" "${S[@]}" x --auto --apply --bandwidth 1500 --margin 60 &&
 	err_has 'no PID reaches a phase margin of 60 deg at 1500 Hz.*nothing written'
 checks=$((checks + 1))
 [ "$(gains)" = "$before" ] || fail "a refused design changed the gains"
+# a gain margin floor the default crossover's phase margin does not
+# leave at that bandwidth: refused the same way
+expect 1 "$TUNE" "${S[@]}" x --auto --apply --bandwidth 1000 --gain-margin 12 &&
+	err_has 'gain margin of [0-9.]* dB, below 12 dB.*nothing written'
+checks=$((checks + 1))
+[ "$(gains)" = "$before" ] || fail "a refused design changed the gains"
+# the same floor with the crossover left to the design: a lower one
+expect 0 "$TUNE" "${S[@]}" x --auto --dry-run --gain-margin 12 &&
+	out_has '^predicted, new gains +phase 45\.5 deg at [0-9.]* Hz, gain 1[2-9]\.[0-9] dB'
 stop_sim
 
 # the in-process card: the documented default plant
@@ -99,7 +109,9 @@ done
 # usage errors
 expect 2 "$TUNE" -d sim x --apply && err_has '--apply needs --auto'
 expect 2 "$TUNE" -d sim x --step 0.01 --save f && err_has '--save needs --auto'
-expect 2 "$TUNE" -d sim x --margin 50 --step 0.01 && err_has '--bandwidth or --margin needs --auto'
+expect 2 "$TUNE" -d sim x --margin 50 --step 0.01 && err_has '--bandwidth, --margin or --gain-margin needs --auto'
+expect 2 "$TUNE" -d sim x --gain-margin 6 --step 0.01 && err_has '--gain-margin needs --auto'
+expect 2 "$TUNE" -d sim x --auto --gain-margin 40 && err_has '--gain-margin: 40 is not a gain margin 3\.\.30 dB'
 expect 2 "$TUNE" -d sim x --auto --dry-run --apply && err_has '--dry-run writes nothing: not with --apply'
 expect 2 "$TUNE" -d sim x --auto --dry-run --save f && err_has 'not with --save'
 expect 2 "$TUNE" -d sim x --auto --margin 95 && err_has '--margin: 95 is not a phase margin 20\.\.89'

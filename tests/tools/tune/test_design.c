@@ -30,6 +30,9 @@ static const struct tune_plant plant_default = {
 	.g = 305175.78125, .p = 10, .d = 0, .T = TS,
 };
 
+/* the default bandwidth at a phase margin of 50 deg */
+static const struct tune_design_req req50 = { 0, 50, 0 };
+
 /* The loop simulated with the PID's gain scaled by k, from an error of
  * 1000 counts: the largest |e| in the last and in the first quarter of n
  * cycles. */
@@ -69,7 +72,7 @@ static void simulate(const struct tune_plant *pl, const struct tune_gains *g,
 static void design_ok(const struct tune_plant *pl, double hz, double pm,
 		      struct tune_gains *g, struct tune_design_margins *m)
 {
-	struct tune_design_req req = { hz, pm };
+	struct tune_design_req req = { hz, pm, 0 };
 	char why[256] = "";
 
 	if (tune_design(pl, &req, g, m, why, sizeof(why)) != 0)
@@ -121,7 +124,7 @@ static void test_default_plant(void **state)
 		      m.wc_hz, m.pm_deg, m.gm_db, g.kp, g.ti, g.td);
 	assert_true(m.stable);
 	assert_true(fabs(m.pm_deg - 50) < 0.2);
-	assert_true(fabs(m.wc_hz / tune_default_bandwidth(&plant_default, 50) - 1) < 0.01);
+	assert_true(fabs(m.wc_hz / tune_default_bandwidth(&plant_default, &req50) - 1) < 0.01);
 	L = loop_at(&plant_default, &g, m.wc_hz);
 	assert_true(fabs(cabs(L) - 1) < 0.01);
 	assert_true(fabs(carg(L) * 180 / M_PI + 180 - 50) < 0.3);
@@ -147,8 +150,8 @@ static void test_bandwidth_and_delay(void **state)
 	check_gain_margin(&heavy, &g, &m);
 	/* two cycles of dead time: a lower default, the margin all the same */
 	late.d = 2;
-	assert_true(tune_default_bandwidth(&late, 50) <
-		    0.5 * tune_default_bandwidth(&plant_default, 50));
+	assert_true(tune_default_bandwidth(&late, &req50) <
+		    0.5 * tune_default_bandwidth(&plant_default, &req50));
 	design_ok(&late, 0, 50, &g, &m);
 	assert_true(fabs(m.pm_deg - 50) < 0.2);
 	check_gain_margin(&late, &g, &m);
@@ -156,7 +159,7 @@ static void test_bandwidth_and_delay(void **state)
 
 static void test_refusals(void **state)
 {
-	struct tune_design_req req = { 1500, 60 };
+	struct tune_design_req req = { 1500, 60, 0 };
 	struct tune_plant none = plant_default;
 	struct tune_gains g;
 	struct tune_design_margins m;
@@ -175,6 +178,31 @@ static void test_refusals(void **state)
 	req.bandwidth_hz = 100;
 	assert_int_equal(tune_design(&none, &req, &g, &m, why, sizeof(why)), -1);
 	assert_non_null(strstr(why, "not a mass"));
+}
+
+/* The gain margin floor: kept at the default bandwidth (a lower one),
+ * and named when it is what refuses a bandwidth asked. */
+static void test_gain_margin_floor(void **state)
+{
+	struct tune_design_req req = { 0, 45.5, 12 };
+	struct tune_gains g;
+	struct tune_design_margins m, m8;
+	char why[256] = "";
+
+	(void)state;
+	design_ok(&plant_default, 0, 45.5, &g, &m8);
+	assert_int_equal(tune_design(&plant_default, &req, &g, &m, why, sizeof(why)), 0);
+	print_message("GM >= 12: %.1f Hz, GM %.2f dB (default floor: %.1f Hz, %.2f dB)\n",
+		      m.wc_hz, m.gm_db, m8.wc_hz, m8.gm_db);
+	assert_true(m.gm_db >= 12 && m8.gm_db >= TUNE_MIN_GM_DB);
+	assert_true(fabs(m.pm_deg - 45.5) < 0.2);
+	assert_true(m.wc_hz < m8.wc_hz);
+	check_gain_margin(&plant_default, &g, &m);
+	req.bandwidth_hz = 1000;
+	assert_int_equal(tune_design(&plant_default, &req, &g, &m, why, sizeof(why)), -1);
+	print_message("refused: %s\n", why);
+	assert_non_null(strstr(why, "below 12 dB"));
+	assert_non_null(strstr(why, "--gain-margin"));
 }
 
 /* Margins of given gains, e.g. the card's defaults on their plant. */
@@ -198,6 +226,7 @@ int main(void)
 		cmocka_unit_test(test_default_plant),
 		cmocka_unit_test(test_bandwidth_and_delay),
 		cmocka_unit_test(test_refusals),
+		cmocka_unit_test(test_gain_margin_floor),
 		cmocka_unit_test(test_margins_of_defaults),
 	};
 

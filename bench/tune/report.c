@@ -108,7 +108,7 @@ static void verdict(const char *what, const struct plant_case *cases,
 			    !w->init.unstable;
 
 		ok &= sound && r <= WITHIN;
-		printf("%s%s %.2f", i ? ", " : "", cases[i].name, r);
+		printf("%s%s %.3f", i ? ", " : "", cases[i].name, r);
 	}
 	printf(" -> %s\n    on the %u held-out runs:               ",
 	       ok ? "MET" : "NOT MET", CIRCLE_HELD_OUT);
@@ -119,7 +119,7 @@ static void verdict(const char *what, const struct plant_case *cases,
 			    !w->init.unstable && !w->held[0].unstable;
 
 		ok_held &= sound && r <= WITHIN;
-		printf("%s%s %.2f", i ? ", " : "", cases[i].name, r);
+		printf("%s%s %.3f", i ? ", " : "", cases[i].name, r);
 	}
 	printf(" -> %s\n", ok_held ? "MET" : "NOT MET");
 }

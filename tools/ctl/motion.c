@@ -258,9 +258,16 @@ static int check_axes(struct ctl *c, const struct motion_setup *m,
 	for (unsigned int a = 0; a < SH2000_AXES; a++) {
 		if (!(mask & (1u << a)) || (m->enabled & (1u << a)))
 			continue;
-		sh2000_tool_msg("%s: axis %c is not enabled (sh2000ctl enable %c): nothing moved",
-				sh2000_device(c->h), sh2000_tool_axis_name(a),
-				sh2000_tool_axis_name(a));
+		char an = sh2000_tool_axis_name(a);
+
+		/* the in-process card is new in every program: a separate
+		 * `sh2000ctl enable` enables another card */
+		if (sh2000_backend(c->h) == SH2000_BACKEND_SIM)
+			sh2000_tool_msg("%s: axis %c is not enabled (the in-process card is new in every program: sh2000ctl -d sim enable %c + ...): nothing moved",
+					sh2000_device(c->h), an, an);
+		else
+			sh2000_tool_msg("%s: axis %c is not enabled (sh2000ctl enable %c): nothing moved",
+					sh2000_device(c->h), an, an);
 		return SH2000_EXIT_CARD;
 	}
 	/* the runner's rule, before anything moves */

@@ -62,7 +62,8 @@ static void usage(FILE *f)
 "                       where the amplitude would need more, it falls as\n"
 "                       1/f^2 (default: what takes half the DAC bound\n"
 "                       through the axis' kaff; without kaff its amax)\n"
-"  --enable             enable the axis for the test (disabled after)\n"
+"  --enable             enable the axis for the test (disabled after);\n"
+"                       implied on the in-process `sim` card\n"
 "  --csv FILE           the gathered response (chirp: the frequency\n"
 "                       response) as CSV\n"
 "  --plot FILE          the response (chirp: the Bode plot) as PNG, or SVG\n"
@@ -244,6 +245,11 @@ int main(int argc, char **argv)
 		return r < 0 ? SH2000_EXIT_OK : r;
 	if ((r = sh2000_tool_open(&h, o.device_arg)))
 		return r;
+	/* The in-process card is this program's alone and starts with every
+	 * axis disabled: no other program can have enabled it, so the test
+	 * does (as --enable: disabled again after). */
+	if (sh2000_backend(h) == SH2000_BACKEND_SIM)
+		o.enable = 1;
 	/* ramp and chirp tests */
 	if (o.test != TUNE_TEST_STEP) {
 		r = o.test == TUNE_TEST_RAMP ? tune_run_ramp(h, &o) : tune_run_chirp(h, &o, NULL);

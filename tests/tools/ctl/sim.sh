@@ -35,7 +35,8 @@ expect 0 "$CTL" "${S[@]}" enable x y + move x=10 y=-5 --feed 50 + status --json 
 		/axes/0/pos_mm '~' 10,0.01 /axes/1/pos_mm '~' -5,0.01 /state = idle
 expect 0 "$CTL" "${S[@]}" enable x + move x=20 && out_has "^x 20\.0[0-9]+ mm$"
 # a disabled axis, a target outside the soft limits: nothing moves
-expect 1 "$CTL" "${S[@]}" move x=1 && err_has "^sh2000ctl: sim: axis x is not enabled"
+expect 1 "$CTL" "${S[@]}" move x=1 && err_has "^sh2000ctl: sim: axis x is not enabled" &&
+	err_has "new in every program: sh2000ctl -d sim enable x \+ \.\.\."
 expect 1 "$CTL" "${S[@]}" enable x + params x soft_max=5 + move x=6 &&
 	err_has "^sh2000ctl: sim: target: X 6.0000 mm is beyond the soft limit 5.0000 mm"
 # into the hard limit (the model's switch is 305 mm from the start): a

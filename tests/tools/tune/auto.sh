@@ -77,7 +77,9 @@ stop_sim
 expect 0 "$TUNE" -d sim x --auto --enable --dry-run &&
 	out_has '^plant gain g +30517[0-9.]* counts/s\^2 per DAC code$' &&
 	out_has '^friction pole b/m +10 1/s$'
-expect 1 "$TUNE" -d sim x --auto --dry-run && err_has 'axis x is not enabled .*nothing moved'
+# the issue's own command: no --enable on the in-process card
+expect 0 "$TUNE" -d sim x --auto --plot "$T/issue.png" &&
+	out_has '^chirp with the new gains:$' && out_has '^the old gains are back on the card$'
 
 # --plot: the step with the new gains, then a chirp with them, its Bode
 # plot beside the step's picture and its measured margins beside the

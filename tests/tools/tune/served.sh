@@ -2,7 +2,8 @@
 # sh2000-tune on a card served by sh2000-sim: after a step test, one
 # aborted on the following-error limit, a ramp and a chirp, sh2000ctl (a
 # second program) finds the limits and the card's timing as they were,
-# nothing latched, the axis still enabled and its set-point at the start.
+# nothing latched, the axis still enabled and its set-point at the start;
+# with the axis disabled, every test refuses and nothing moves.
 . "$(dirname "$0")/../ctl/testlib.sh"
 : "${TUNE:?TUNE must name sh2000-tune}"
 name=tune$$
@@ -41,5 +42,14 @@ checks=$((checks + 1))
 [ "$out" = "$timing" ] || fail "timing after the chirp: $out, before: $timing"
 expect 0 "$CTL" "${S[@]}" status --json &&
 	json_check /state = idle /faults = '[]' /axes/0/enabled = true /axes/0/cmd_mm '~' 1,1e-9
+# an axis another program left disabled: every test refuses before
+# anything moves (only --enable enables it), and the axis stays disabled
+expect 0 "$CTL" "${S[@]}" disable x
+expect 1 "$TUNE" "${S[@]}" x --step 0.01 && err_has 'axis x is not enabled .*--enable.*nothing moved'
+expect 1 "$TUNE" "${S[@]}" x --chirp 5:100 && err_has 'axis x is not enabled .*nothing moved'
+expect 1 "$TUNE" "${S[@]}" x --ramp 50 && err_has 'axis x is not enabled .*nothing moved'
+expect 1 "$TUNE" "${S[@]}" x --auto --dry-run && err_has 'axis x is not enabled .*nothing moved'
+expect 0 "$CTL" "${S[@]}" status --json &&
+	json_check /state = idle /faults = '[]' /axes/0/enabled = false /axes/0/cmd_mm '~' 1,1e-9
 stop_sim
 finish

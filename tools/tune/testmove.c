@@ -10,6 +10,7 @@
  * started.
  */
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,6 +30,37 @@
  * auto-tuning's excitation runs on the old ones, its check on the new). */
 #define RECOVER_SLOWER	0.1
 
+/* What tune_move_push() returns when a signal asked to stop (not a
+ * library code). */
+#define STOP_ASKED	(-4)
+
+static volatile sig_atomic_t stop_flag;
+
+static void on_stop(int sig)
+{
+	(void)sig;
+	stop_flag = 1;
+}
+
+void tune_signals(void)
+{
+	struct sigaction sa;
+
+	memset(&sa, 0, sizeof(sa));
+	sa.sa_handler = on_stop;
+	/* one-shot: a second signal, while the tool puts things back, has
+	 * the default action */
+	sa.sa_flags = SA_RESETHAND;
+	sigemptyset(&sa.sa_mask);
+	sigaction(SIGINT, &sa, NULL);
+	sigaction(SIGTERM, &sa, NULL);
+}
+
+int tune_stop_asked(void)
+{
+	return stop_flag != 0;
+}
+
 int tune_move_fail(struct tune_move *s, int r, const char *what)
 {
 	return sh2000_tool_fail(s->h, r, what);
@@ -43,6 +75,8 @@ int tune_move_push(struct tune_move *s, const int32_t *v, unsigned int n,
 	while (n) {
 		unsigned int k = n < PUSH_BATCH ? n : PUSH_BATCH;
 
+		if (stop_flag)
+			return STOP_ASKED;
 		for (unsigned int i = 0; i < k; i++) {
 			memcpy(pts[i], s->p, sizeof(pts[i]));
 			pts[i][s->a] = v[i];
@@ -229,6 +263,30 @@ static int put_back(struct tune_move *s)
 	return u ? u : r;
 }
 
+/* After a signal: the card stops the motion on its way (STOP: a
+ * controlled stop, nothing latched), then what the test changed goes
+ * back; the axis stays where it stopped. */
+static int stopped(struct tune_move *s)
+{
+	struct sh2000_status st;
+	int r = sh2000_stop(s->h), p;
+
+	if (r >= 0)
+		r = sh2000_wait_idle(s->h, 5000);
+	sh2000_gather_stop(s->h);
+	p = put_back(s);
+	if (r < 0)
+		return tune_move_fail(s, r, "stopping");
+	if (p)
+		return p;
+	if (sh2000_poll(s->h, &st) >= 0)
+		sh2000_tool_msg("%s: %s test stopped by a signal: the limits and timing are as they were, axis %c at %.6f mm (%.6f mm from its start)",
+				sh2000_device(s->h), s->name, sh2000_tool_axis_name(s->a),
+				st.axis[s->a].cmd_counts / s->pc.counts_per_mm[s->a],
+				(st.axis[s->a].cmd_counts - s->start) / s->pc.counts_per_mm[s->a]);
+	return TUNE_EXIT_STOPPED;
+}
+
 int tune_move_run(struct tune_move *s, unsigned int signals, double span_s,
 		  unsigned int *rec, int (*move)(struct tune_move *s))
 {
@@ -239,6 +297,8 @@ int tune_move_run(struct tune_move *s, unsigned int signals, double span_s,
 		return r;
 	}
 	r = move(s);
+	if (r == STOP_ASKED || (r >= 0 && stop_flag))
+		return stopped(s);
 	if (r == -SH2000_EFERR) {
 		/* the bound the user set: back to the start */
 		sh2000_gather_stop(s->h);

@@ -19,6 +19,9 @@
 #define TUNE_EXIT_ABORTED 5
 /* gnuplot missing or failed (the figures were printed) */
 #define TUNE_EXIT_HELPER 6
+/* SIGINT or SIGTERM: the motion stopped on its way, the parameters as they
+ * were, nothing written (as sh2000-upload's 7) */
+#define TUNE_EXIT_STOPPED 7
 
 /* The settling band of the report, counts. */
 #define TUNE_SETTLE_COUNTS 10.0
@@ -144,6 +147,11 @@ struct tune_move {
 };
 
 int tune_move_fail(struct tune_move *s, int r, const char *what);
+/* SIGINT and SIGTERM set a flag the test moves look at between batches
+ * and after each move (a second signal ends the program at once). */
+void tune_signals(void);
+/* A stop was asked (by a signal): stop now, put everything back. */
+int tune_stop_asked(void);
 /* The card idle and unfaulted, the axis enabled (by --enable), the path
  * configuration and the start read: an exit code, nothing moved. */
 int tune_move_prepare(struct tune_move *s);

@@ -120,4 +120,13 @@ expect 2 "$TUNE" -d sim x --auto --margin 95 && err_has '--margin: 95 is not a p
 expect 2 "$TUNE" -d sim x --auto --bandwidth -5 && err_has "--bandwidth: '-5' is not a number above 0"
 expect 2 "$TUNE" -d sim x --auto --travel 0 && err_has "--travel: '0'"
 expect 2 "$TUNE" -d sim --auto && err_has 'which AXIS'
+# found before anything moves: an output folder that cannot be written,
+# a bandwidth beyond a quarter of the servo rate
+expect 2 "$TUNE" -d sim x --auto --apply --save /nonexistent/x.par &&
+	err_has 'save /nonexistent/x\.par: cannot write in /nonexistent: .*nothing moved'
+expect 2 "$TUNE" -d sim x --auto --plot /nonexistent/t.png && err_has 'cannot write in /nonexistent'
+expect 1 "$TUNE" -d sim x --auto --bandwidth 5000 &&
+	err_has 'a bandwidth of 5000 Hz is beyond a quarter of the servo rate \(2500 Hz\): nothing moved'
+checks=$((checks + 1))
+[ -z "$out" ] || fail "--bandwidth 5000 identified before refusing: $out"
 finish

@@ -230,6 +230,12 @@ int tune_move_arm(struct tune_move *s, unsigned int signals, double span_s,
 	gc.trigger = SH2000_GATHER_ON_MOTION;
 	gc.pretrigger = PRETRIGGER;
 	r = sh2000_gather_start(s->h, &gc);
+	if (r == -SH2000_ECMD_BUSY) {
+		/* the card records one thing at a time */
+		sh2000_tool_msg("%s: another gather record is armed or recording on the card (another program's, or one a killed program left; it ends when its samples are taken): nothing moved",
+				sh2000_device(s->h));
+		return SH2000_EXIT_CARD;
+	}
 	if (r < 0)
 		return tune_move_fail(s, r, "gather");
 	*rec = (unsigned int)r;

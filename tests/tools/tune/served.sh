@@ -78,5 +78,13 @@ expect 1 "$TUNE" "${S[@]}" x --ramp 50 && err_has 'axis x is not enabled .*nothi
 expect 1 "$TUNE" "${S[@]}" x --auto --dry-run && err_has 'axis x is not enabled .*nothing moved'
 expect 0 "$CTL" "${S[@]}" status --json &&
 	json_check /state = idle /faults = '[]' /axes/0/enabled = false /axes/0/cmd_mm '~' 1,1e-9
+# another program's record armed on the card: refused, nothing moved,
+# the limits as they were
+expect 0 "$CTL" "${S[@]}" enable x + gather --samples 100 --trigger motion --no-wait
+expect 1 "$TUNE" "${S[@]}" x --step 0.01 &&
+	err_has 'another gather record is armed or recording on the card .*nothing moved$'
+expect 0 "$CTL" "${S[@]}" params x ferr_limit dac_limit
+checks=$((checks + 1))
+[ "$out" = "$before" ] || fail "limits after the refusal: $out, before: $before"
 stop_sim
 finish

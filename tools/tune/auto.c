@@ -80,7 +80,7 @@ static void bode_name(char *out, size_t len, const char *plot)
 
 /* The new gains' predicted margins beside those a chirp measured. */
 static void print_measured(const struct tune_design_margins *pred,
-			   const struct tune_margins *meas)
+			   const struct tune_margins *meas, double f1_hz)
 {
 	printf("margins, new gains      predicted   measured (chirp)\n");
 	printf("%-24s%-12.2f%.2f Hz\n", "crossover", pred->wc_hz, meas->wc_hz);
@@ -91,7 +91,7 @@ static void print_measured(const struct tune_design_margins *pred,
 	else
 		printf("%-12.1f", pred->gm_db);
 	if (isnan(meas->gm_db))
-		printf("none measured (the phase stays above -180 deg)\n");
+		printf("none measured (the sweep, to %g Hz, does not reach it)\n", f1_hz);
 	else
 		printf("%.1f dB\n", meas->gm_db);
 }
@@ -123,7 +123,7 @@ static int check_chirp(struct sh2000 *h, const struct tune_opts *o,
 	printf("chirp with the new gains:\n");
 	r = tune_run_chirp(h, &co, &meas);
 	if (!r)
-		print_measured(pred, &meas);
+		print_measured(pred, &meas, co.f1_hz);
 	return r;
 }
 

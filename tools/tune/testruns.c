@@ -269,13 +269,13 @@ static void chirp_report(const struct tune_opts *o, const struct tune_fr *fr,
 		printf("crossover               %.2f Hz\nphase margin            %.1f deg\n",
 		       m->wc_hz, m->pm_deg);
 	if (isnan(m->gm_db))
-		printf("gain margin             none measured up to %g Hz (the phase stays above -180 deg)\n",
+		printf("gain margin             none measured (the sweep, to %g Hz, does not reach a phase of -180 deg)\n",
 		       o->f1_hz);
 	else
 		printf("gain margin             %.1f dB at %.2f Hz\n", m->gm_db, m->w180_hz);
 	if (!isnan(m->gm_low_db))
-		printf("gain reduction margin   %.1f dB at %.2f Hz (phase -180 deg below the crossover)\n",
-		       m->gm_low_db, m->w180_low_hz);
+		printf("gain reduction margin   %.1f dB at %.2f Hz (the loop gain may fall that much: phase -180 deg below the crossover)\n",
+		       -m->gm_low_db, m->w180_low_hz);
 	if (isnan(m->bw_hz))
 		printf("bandwidth (-3 dB)       beyond %g Hz\n", o->f1_hz);
 	else

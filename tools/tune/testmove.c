@@ -116,8 +116,14 @@ int tune_move_prepare(struct tune_move *s)
 	struct sh2000_status st;
 	int r;
 
-	if ((r = sh2000_poll(s->h, &st)) < 0 || (r = sh2000_status_error(s->h, &st)) < 0)
+	if ((r = sh2000_poll(s->h, &st)) < 0)
 		return tune_move_fail(s, r, "cannot test");
+	if ((r = sh2000_status_error(s->h, &st)) < 0) {
+		/* from an earlier program or test: the operator's to clear */
+		sh2000_tool_msg("%s: a fault is latched (%s): nothing moved; sh2000ctl reset clears it",
+				sh2000_device(s->h), sh2000_strerror(r));
+		return sh2000_tool_exit_code(r);
+	}
 	if (st.card_state != SH2000_STATE_IDLE) {
 		sh2000_tool_msg("%s: card is %s, not idle: nothing moved",
 				sh2000_device(s->h), sh2000_state_name(st.card_state));
@@ -316,6 +322,9 @@ int tune_move_run(struct tune_move *s, unsigned int signals, double span_s,
 		char what[32];
 
 		snprintf(what, sizeof(what), "%s test", s->name);
+		if (r == -SH2000_EUNDERRUN)
+			sh2000_tool_msg("%s: %s test: the card ran out of records: this program was held off the CPU longer than the card's queue lasts (docs/tools.md, chirp timing); the fault stays latched (sh2000ctl reset)",
+					sh2000_device(s->h), s->name);
 		r = tune_move_fail(s, r, what);
 		sh2000_gather_stop(s->h);
 		put_back(s);

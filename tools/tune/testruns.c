@@ -301,6 +301,10 @@ int tune_run_chirp(struct sh2000 *h, const struct tune_opts *o,
 		chirp_report(o, &fr, &m);
 		if (measured)
 			*measured = m;
+		if (fr.weak)
+			sh2000_tool_msg("%s: %zu of %zu frequencies (%.4g-%.4g Hz) left out: the gains and feed-forward follow the set-point there with less DAC than the PID gives for %g counts of error, so the encoder's quantisation drowns the plant (a larger --amplitude, or a higher F0)",
+					sh2000_device(h), fr.weak, fr.weak + fr.n,
+					fr.weak_lo_hz, fr.weak_hi_hz, TUNE_FR_MIN_ERR);
 		if (fr.dac_saturated)
 			sh2000_tool_msg("%s: the DAC reached its bound during the sweep: the response is not linear there (a smaller --amplitude or --accel)",
 					sh2000_device(h));

@@ -55,6 +55,16 @@ checks=$((checks + 1))
 [ "$(gains)" = "$after" ] || fail "params load of --save: $(gains), tuned: $after"
 checks=$((checks + 1))
 grep -q '^\[x\]$' "$T/g.par" || fail "--save: no [x] section"
+# a chirp from 5 Hz with the tuned gains (feed-forward, a high integral
+# gain): below some 30 Hz the DAC the set-point drives is less than the
+# PID's answer to the encoder's quantisation, and those frequencies are
+# left out (said), not drawn as a plant
+expect 0 "$TUNE" "${S[@]}" x --chirp 5:150 --csv "$T/weak.csv" &&
+	err_has 'frequencies \(5-[0-9.]* Hz\) left out: .*quantisation drowns the plant'
+low=$(awk -F, 'NR == 2 { print $1 }' "$T/weak.csv")
+checks=$((checks + 1))
+awk -v f="$low" 'BEGIN { exit !(f > 15 && f < 60) }' ||
+	fail "the chirp's lowest frequency kept is $low Hz"
 
 # a phase margin the delay does not leave at that bandwidth: refused
 before=$(gains)

@@ -78,6 +78,11 @@ expect 1 "$TUNE" "${S[@]}" x --ramp 50 && err_has 'axis x is not enabled .*nothi
 expect 1 "$TUNE" "${S[@]}" x --auto --dry-run && err_has 'axis x is not enabled .*nothing moved'
 expect 0 "$CTL" "${S[@]}" status --json &&
 	json_check /state = idle /faults = '[]' /axes/0/enabled = false /axes/0/cmd_mm '~' 1,1e-9
+# a fault another program latched: refused, named, nothing moved
+expect 0 "$CTL" "${S[@]}" estop
+expect 4 "$TUNE" "${S[@]}" x --step 0.01 &&
+	err_has 'a fault is latched \(emergency stop latched\): nothing moved; sh2000ctl reset clears it$'
+expect 0 "$CTL" "${S[@]}" reset
 # another program's record armed on the card: refused, nothing moved,
 # the limits as they were
 expect 0 "$CTL" "${S[@]}" enable x + gather --samples 100 --trigger motion --no-wait

@@ -253,7 +253,7 @@ static void chirp_report(const struct tune_opts *o, const struct tune_fr *fr,
 {
 	const struct tune_gains *g = &fr->gains;
 
-	printf("axis %c: chirp %g-%g Hz, amplitude %g mm (%.0f counts), %g s\n",
+	printf("axis %c: chirp %.4g-%.4g Hz, amplitude %g mm (%.0f counts), %g s\n",
 	       sh2000_tool_axis_name(o->axis), o->f0_hz, o->f1_hz, o->amplitude_mm,
 	       o->amplitude_mm * fr->counts_per_mm, o->duration_s);
 	printf("card's gains            kp %g codes/count, ti %g s, td %g s\n",
@@ -313,7 +313,7 @@ int tune_run_chirp(struct sh2000 *h, const struct tune_opts *o,
 	if (!r && o->csv)
 		r = tune_write_csv(o->csv, chirp_csv, &fr);
 	if (!r && o->plot) {
-		snprintf(title, sizeof(title), "%s axis %c: chirp %g-%g Hz, %g mm",
+		snprintf(title, sizeof(title), "%s axis %c: chirp %.4g-%.4g Hz, %g mm",
 			 sh2000_device(h), sh2000_tool_axis_name(o->axis), o->f0_hz,
 			 o->f1_hz, o->amplitude_mm);
 		r = tune_plot_bode(&fr, &m, o->plot, title);

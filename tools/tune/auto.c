@@ -80,7 +80,7 @@ static void bode_name(char *out, size_t len, const char *plot)
 
 /* The new gains' predicted margins beside those a chirp measured. */
 static void print_measured(const struct tune_design_margins *pred,
-			   const struct tune_margins *meas)
+			   const struct tune_margins *meas, double f1_hz)
 {
 	printf("margins, new gains      predicted   measured (chirp)\n");
 	printf("%-24s%-12.2f%.2f Hz\n", "crossover", pred->wc_hz, meas->wc_hz);
@@ -91,7 +91,7 @@ static void print_measured(const struct tune_design_margins *pred,
 	else
 		printf("%-12.1f", pred->gm_db);
 	if (isnan(meas->gm_db))
-		printf("none measured (the phase stays above -180 deg)\n");
+		printf("none measured (the sweep, to %g Hz, does not reach it)\n", f1_hz);
 	else
 		printf("%.1f dB\n", meas->gm_db);
 }
@@ -123,7 +123,7 @@ static int check_chirp(struct sh2000 *h, const struct tune_opts *o,
 	printf("chirp with the new gains:\n");
 	r = tune_run_chirp(h, &co, &meas);
 	if (!r)
-		print_measured(pred, &meas);
+		print_measured(pred, &meas, co.f1_hz);
 	return r;
 }
 
@@ -190,6 +190,11 @@ static int identify_and_design(struct sh2000 *h, const struct tune_opts *o)
 	r = tune_ident(h, o, &id);
 	if (r)
 		return r;
+	if (tune_stop_asked()) {
+		sh2000_tool_msg("%s: axis %c: stopped by a signal after the identification: nothing written",
+				sh2000_device(h), an);
+		return TUNE_EXIT_STOPPED;
+	}
 	print_plant(&id, an);
 	if (tune_design(&id.plant, &req, &gn, &mn, why, sizeof(why)) < 0) {
 		sh2000_tool_msg("%s: axis %c: %s; nothing written", sh2000_device(h),
@@ -223,7 +228,16 @@ int tune_auto(struct sh2000 *h, const struct tune_opts *o)
 	 * test would start elsewhere */
 	struct tune_move m = { .h = h, .o = o, .a = o->axis, .name = "auto-tuning" };
 	int r = tune_move_prepare(&m);
+	double servo_hz = m.pc.fine_steps / m.pc.period_s;
 
+	/* a bandwidth the servo rate cannot carry: refused before anything
+	 * moves (the design says the same after the identification) */
+	if (!r && o->bandwidth_hz >= 0.25 * servo_hz) {
+		sh2000_tool_msg("%s: axis %c: a bandwidth of %g Hz is beyond a quarter of the servo rate (%g Hz): nothing moved",
+				sh2000_device(h), sh2000_tool_axis_name(o->axis),
+				o->bandwidth_hz, 0.25 * servo_hz);
+		r = SH2000_EXIT_CARD;
+	}
 	if (!r)
 		r = identify_and_design(h, o);
 	tune_move_end(&m);

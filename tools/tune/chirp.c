@@ -162,6 +162,60 @@ static int move(struct tune_move *m)
 }
 
 /* The record as the responses at fr->hz. */
+/* The DAC amplitude the set-point drives at each frequency, codes: the
+ * measured response to it times the set-point's amplitude there
+ * (make_points' law), from the top down and never more than the next
+ * higher frequency's scaled by f (a mass wants the force to fall as f^2,
+ * friction as f: no plant's falls slower), so that the PID's answer to
+ * the encoder's quantisation, which correlates with the set-point by
+ * chance at low frequencies, cannot pass for excitation. */
+static void dac_amplitudes(const struct chirp_ctx *c, const struct tune_fr *fr,
+			   const double complex *td, double *dac)
+{
+	double amp = c->m.o->amplitude_mm * c->m.pc.counts_per_mm[c->m.a];
+	double fa = sqrt(c->accel / amp) / (2 * M_PI);
+
+	for (size_t i = fr->n; i-- > 0;) {
+		double f = fr->hz[i], a = f > fa ? amp * (fa / f) * (fa / f) : amp;
+
+		dac[i] = cabs(td[i]) * a;
+		if (i + 1 < fr->n)
+			dac[i] = fmin(dac[i], dac[i + 1] * f / fr->hz[i + 1]);
+	}
+}
+
+/* The responses at the frequencies where that DAC amplitude is at least
+ * what the PID gives for TUNE_FR_MIN_ERR counts of error. The others are
+ * left out and counted: their plant would be the PID's answer to the
+ * encoder's quantisation. */
+static void keep_excited(const struct chirp_ctx *c, struct tune_fr *fr,
+			 const double complex *te, const double complex *td)
+{
+	double dac[TUNE_FR_MAX];
+	size_t k = 0;
+
+	dac_amplitudes(c, fr, td, dac);
+	fr->weak = 0;
+	for (size_t i = 0; i < fr->n; i++) {
+		double f = fr->hz[i];
+		double complex C = tune_pid_response(&fr->gains, fr->servo_s, f);
+
+		if (dac[i] < TUNE_FR_MIN_ERR * cabs(C)) {
+			if (!fr->weak++)
+				fr->weak_lo_hz = f;
+			fr->weak_hi_hz = f;
+			continue;
+		}
+		fr->hz[k] = f;
+		fr->closed[k] = te[i];
+		fr->plant[k] = te[i] / td[i];
+		fr->ctrl[k] = C;
+		fr->loop[k] = fr->ctrl[k] * fr->plant[k];
+		k++;
+	}
+	fr->n = k;
+}
+
 static int analyse(struct chirp_ctx *c, unsigned int rec, struct tune_fr *fr)
 {
 	struct sh2000_gather_info gi;
@@ -192,12 +246,7 @@ static int analyse(struct chirp_ctx *c, unsigned int rec, struct tune_fr *fr)
 	fr->sample_s = gi.sample_s;
 	tune_fr_ratio(sig, sig + n, n, gi.sample_s, fr->hz, fr->n, te);
 	tune_fr_ratio(sig, sig + 2 * n, n, gi.sample_s, fr->hz, fr->n, td);
-	for (size_t i = 0; i < fr->n; i++) {
-		fr->closed[i] = te[i];
-		fr->plant[i] = te[i] / td[i];
-		fr->ctrl[i] = tune_pid_response(&fr->gains, fr->servo_s, fr->hz[i]);
-		fr->loop[i] = fr->ctrl[i] * fr->plant[i];
-	}
+	keep_excited(c, fr, te, td);
 	free(sig);
 	free(v);
 	return 0;

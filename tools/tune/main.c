@@ -8,11 +8,13 @@
  * Auto-tuning (--auto, auto.c): identify the plant, design PID +
  * feed-forward, print, write as asked.
  */
+#include <errno.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "autotune.h"
 #include "tune.h"
@@ -44,7 +46,8 @@ static void usage(FILE *f)
 "  -d, --device DEVICE  /dev/sh2000-N, io:0xNNN, sim or sim:NAME\n"
 "  --step MM            the step (signed); in one coarse period, so within\n"
 "                       the velocity limit times the period\n"
-"  --vmax MM/S          velocity bound of the step (default: the axis' vmax)\n"
+"  --vmax MM/S          velocity bound of every test (default: the axis'\n"
+"                       vmax)\n"
 "  --dac-max CODES      |DAC code| bound during the test (default: the\n"
 "                       axis' dac_limit)\n"
 "  --ferr-max MM        following-error limit during the test (default\n"
@@ -96,8 +99,9 @@ static void usage(FILE *f)
 "Exit status: 0 done, 1 the card or the library failed (or a bound\n"
 "refused the step: nothing moved), 2 usage error, 3 device, 4 fault\n"
 "latched, 5 aborted on the following-error limit (axis back at its\n"
-"start), 6 gnuplot missing or failed; --auto: 1 also when the design is\n"
-"refused (nothing written).\n");
+"start), 6 gnuplot missing or failed, 7 stopped by SIGINT or SIGTERM (the\n"
+"motion stopped on its way, the card's limits and timing put back);\n"
+"--auto: 1 also when the design is refused (nothing written).\n");
 }
 
 static int number(const char *opt, const char *v, double lo, double *out)
@@ -233,6 +237,45 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 	return tune_check_options(o);
 }
 
+/* The folder of an output file, checked before anything moves (else a
+ * typo in --save would be found after the test). */
+static int writable(const char *opt, const char *path)
+{
+	char dir[4096];
+	const char *slash;
+
+	if (!path)
+		return 0;
+	slash = strrchr(path, '/');
+	if (!slash) {
+		strcpy(dir, ".");
+	} else if (slash == path) {
+		strcpy(dir, "/");
+	} else {
+		size_t n = (size_t)(slash - path);
+
+		if (n >= sizeof(dir))
+			return sh2000_tool_usage(NULL, "%s: the path is too long", opt);
+		memcpy(dir, path, n);
+		dir[n] = 0;
+	}
+	if (access(dir, W_OK) < 0)
+		return sh2000_tool_usage(NULL, "%s %s: cannot write in %s: %s (nothing moved)",
+					 opt, path, dir, strerror(errno));
+	return 0;
+}
+
+static int outputs_writable(const struct tune_opts *o)
+{
+	int r = writable("--save", o->save);
+
+	if (!r)
+		r = writable("--csv", o->csv);
+	if (!r)
+		r = writable("--plot", o->plot);
+	return r;
+}
+
 int main(int argc, char **argv)
 {
 	struct tune_opts o;
@@ -243,6 +286,9 @@ int main(int argc, char **argv)
 	r = parse(argc, argv, &o);
 	if (r)
 		return r < 0 ? SH2000_EXIT_OK : r;
+	if ((r = outputs_writable(&o)))
+		return r;
+	tune_signals();
 	if ((r = sh2000_tool_open(&h, o.device_arg)))
 		return r;
 	/* The in-process card is this program's alone and starts with every

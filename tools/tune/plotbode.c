@@ -60,6 +60,23 @@ static int bode_data(const void *ctx, const char *path)
 	return fclose(f) ? -errno : 0;
 }
 
+/* Frequency ticks at 1, 2 and 5 of every decade in lo..hi: gnuplot's own
+ * log ticks mark only the decades, one or two over a typical sweep. */
+static void ticks_125(FILE *f, double lo, double hi)
+{
+	static const double m[] = { 1, 2, 5 };
+	const char *sep = "";
+
+	fputs("set xtics (", f);
+	for (double d = pow(10, floor(log10(lo))); d <= hi; d *= 10)
+		for (unsigned int i = 0; i < 3; i++)
+			if (m[i] * d >= lo * (1 - 1e-9) && m[i] * d <= hi * (1 + 1e-9)) {
+				fprintf(f, "%s%g", sep, m[i] * d);
+				sep = ", ";
+			}
+	fputs(")\n", f);
+}
+
 /* A dashed vertical line at hz with a label at height y (a share of the
  * graph, each mark its own so they never overlap), if hz is known; the
  * label left of the line in the last third of the axis (lo..hi Hz), so it
@@ -94,6 +111,7 @@ static int bode_script(FILE *f, const void *ctx, const char *out, int svg,
 	tune_plot_terminal(f, out, bp->title, svg, cairo);
 	fprintf(f, "set logscale x\nset xrange [%g:%g]\nset format x '%%g'\n"
 		"set key outside right top\nset lmargin 10\nset rmargin 36\n", lo, hi);
+	ticks_125(f, lo, hi);
 	fprintf(f, "set origin 0,0.48\nset size 1,0.47\n"
 		"set title 'magnitude (plant: counts per DAC code)'\nset ylabel 'dB'\n");
 	mark(f, m->wc_hz, "#b03060", pm, 0.93, lo, hi);

@@ -10,6 +10,7 @@
  * started.
  */
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,6 +30,37 @@
  * auto-tuning's excitation runs on the old ones, its check on the new). */
 #define RECOVER_SLOWER	0.1
 
+/* What tune_move_push() returns when a signal asked to stop (not a
+ * library code). */
+#define STOP_ASKED	(-4)
+
+static volatile sig_atomic_t stop_flag;
+
+static void on_stop(int sig)
+{
+	(void)sig;
+	stop_flag = 1;
+}
+
+void tune_signals(void)
+{
+	struct sigaction sa;
+
+	memset(&sa, 0, sizeof(sa));
+	sa.sa_handler = on_stop;
+	/* one-shot: a second signal, while the tool puts things back, has
+	 * the default action */
+	sa.sa_flags = SA_RESETHAND;
+	sigemptyset(&sa.sa_mask);
+	sigaction(SIGINT, &sa, NULL);
+	sigaction(SIGTERM, &sa, NULL);
+}
+
+int tune_stop_asked(void)
+{
+	return stop_flag != 0;
+}
+
 int tune_move_fail(struct tune_move *s, int r, const char *what)
 {
 	return sh2000_tool_fail(s->h, r, what);
@@ -43,6 +75,8 @@ int tune_move_push(struct tune_move *s, const int32_t *v, unsigned int n,
 	while (n) {
 		unsigned int k = n < PUSH_BATCH ? n : PUSH_BATCH;
 
+		if (stop_flag)
+			return STOP_ASKED;
 		for (unsigned int i = 0; i < k; i++) {
 			memcpy(pts[i], s->p, sizeof(pts[i]));
 			pts[i][s->a] = v[i];
@@ -82,8 +116,14 @@ int tune_move_prepare(struct tune_move *s)
 	struct sh2000_status st;
 	int r;
 
-	if ((r = sh2000_poll(s->h, &st)) < 0 || (r = sh2000_status_error(s->h, &st)) < 0)
+	if ((r = sh2000_poll(s->h, &st)) < 0)
 		return tune_move_fail(s, r, "cannot test");
+	if ((r = sh2000_status_error(s->h, &st)) < 0) {
+		/* from an earlier program or test: the operator's to clear */
+		sh2000_tool_msg("%s: a fault is latched (%s): nothing moved; sh2000ctl reset clears it",
+				sh2000_device(s->h), sh2000_strerror(r));
+		return sh2000_tool_exit_code(r);
+	}
 	if (st.card_state != SH2000_STATE_IDLE) {
 		sh2000_tool_msg("%s: card is %s, not idle: nothing moved",
 				sh2000_device(s->h), sh2000_state_name(st.card_state));
@@ -196,6 +236,12 @@ int tune_move_arm(struct tune_move *s, unsigned int signals, double span_s,
 	gc.trigger = SH2000_GATHER_ON_MOTION;
 	gc.pretrigger = PRETRIGGER;
 	r = sh2000_gather_start(s->h, &gc);
+	if (r == -SH2000_ECMD_BUSY) {
+		/* the card records one thing at a time */
+		sh2000_tool_msg("%s: another gather record is armed or recording on the card (another program's, or one a killed program left; it ends when its samples are taken): nothing moved",
+				sh2000_device(s->h));
+		return SH2000_EXIT_CARD;
+	}
 	if (r < 0)
 		return tune_move_fail(s, r, "gather");
 	*rec = (unsigned int)r;
@@ -229,6 +275,30 @@ static int put_back(struct tune_move *s)
 	return u ? u : r;
 }
 
+/* After a signal: the card stops the motion on its way (STOP: a
+ * controlled stop, nothing latched), then what the test changed goes
+ * back; the axis stays where it stopped. */
+static int stopped(struct tune_move *s)
+{
+	struct sh2000_status st;
+	int r = sh2000_stop(s->h), p;
+
+	if (r >= 0)
+		r = sh2000_wait_idle(s->h, 5000);
+	sh2000_gather_stop(s->h);
+	p = put_back(s);
+	if (r < 0)
+		return tune_move_fail(s, r, "stopping");
+	if (p)
+		return p;
+	if (sh2000_poll(s->h, &st) >= 0)
+		sh2000_tool_msg("%s: %s test stopped by a signal: the limits and timing are as they were, axis %c at %.6f mm (%.6f mm from its start)",
+				sh2000_device(s->h), s->name, sh2000_tool_axis_name(s->a),
+				st.axis[s->a].cmd_counts / s->pc.counts_per_mm[s->a],
+				(st.axis[s->a].cmd_counts - s->start) / s->pc.counts_per_mm[s->a]);
+	return TUNE_EXIT_STOPPED;
+}
+
 int tune_move_run(struct tune_move *s, unsigned int signals, double span_s,
 		  unsigned int *rec, int (*move)(struct tune_move *s))
 {
@@ -239,6 +309,8 @@ int tune_move_run(struct tune_move *s, unsigned int signals, double span_s,
 		return r;
 	}
 	r = move(s);
+	if (r == STOP_ASKED || (r >= 0 && stop_flag))
+		return stopped(s);
 	if (r == -SH2000_EFERR) {
 		/* the bound the user set: back to the start */
 		sh2000_gather_stop(s->h);
@@ -250,6 +322,9 @@ int tune_move_run(struct tune_move *s, unsigned int signals, double span_s,
 		char what[32];
 
 		snprintf(what, sizeof(what), "%s test", s->name);
+		if (r == -SH2000_EUNDERRUN)
+			sh2000_tool_msg("%s: %s test: the card ran out of records: this program was held off the CPU longer than the card's queue lasts (docs/tools.md, chirp timing); the fault stays latched (sh2000ctl reset)",
+					sh2000_device(s->h), s->name);
 		r = tune_move_fail(s, r, what);
 		sh2000_gather_stop(s->h);
 		put_back(s);

@@ -253,7 +253,7 @@ static void chirp_report(const struct tune_opts *o, const struct tune_fr *fr,
 {
 	const struct tune_gains *g = &fr->gains;
 
-	printf("axis %c: chirp %g-%g Hz, amplitude %g mm (%.0f counts), %g s\n",
+	printf("axis %c: chirp %.4g-%.4g Hz, amplitude %g mm (%.0f counts), %g s\n",
 	       sh2000_tool_axis_name(o->axis), o->f0_hz, o->f1_hz, o->amplitude_mm,
 	       o->amplitude_mm * fr->counts_per_mm, o->duration_s);
 	printf("card's gains            kp %g codes/count, ti %g s, td %g s\n",
@@ -269,13 +269,13 @@ static void chirp_report(const struct tune_opts *o, const struct tune_fr *fr,
 		printf("crossover               %.2f Hz\nphase margin            %.1f deg\n",
 		       m->wc_hz, m->pm_deg);
 	if (isnan(m->gm_db))
-		printf("gain margin             none measured up to %g Hz (the phase stays above -180 deg)\n",
+		printf("gain margin             none measured (the sweep, to %g Hz, does not reach a phase of -180 deg)\n",
 		       o->f1_hz);
 	else
 		printf("gain margin             %.1f dB at %.2f Hz\n", m->gm_db, m->w180_hz);
 	if (!isnan(m->gm_low_db))
-		printf("gain reduction margin   %.1f dB at %.2f Hz (phase -180 deg below the crossover)\n",
-		       m->gm_low_db, m->w180_low_hz);
+		printf("gain reduction margin   %.1f dB at %.2f Hz (the loop gain may fall that much: phase -180 deg below the crossover)\n",
+		       -m->gm_low_db, m->w180_low_hz);
 	if (isnan(m->bw_hz))
 		printf("bandwidth (-3 dB)       beyond %g Hz\n", o->f1_hz);
 	else
@@ -301,6 +301,10 @@ int tune_run_chirp(struct sh2000 *h, const struct tune_opts *o,
 		chirp_report(o, &fr, &m);
 		if (measured)
 			*measured = m;
+		if (fr.weak)
+			sh2000_tool_msg("%s: %zu of %zu frequencies (%.4g-%.4g Hz) left out: the gains and feed-forward follow the set-point there with less DAC than the PID gives for %g counts of error, so the encoder's quantisation drowns the plant (a larger --amplitude, or a higher F0)",
+					sh2000_device(h), fr.weak, fr.weak + fr.n,
+					fr.weak_lo_hz, fr.weak_hi_hz, TUNE_FR_MIN_ERR);
 		if (fr.dac_saturated)
 			sh2000_tool_msg("%s: the DAC reached its bound during the sweep: the response is not linear there (a smaller --amplitude or --accel)",
 					sh2000_device(h));
@@ -309,7 +313,7 @@ int tune_run_chirp(struct sh2000 *h, const struct tune_opts *o,
 	if (!r && o->csv)
 		r = tune_write_csv(o->csv, chirp_csv, &fr);
 	if (!r && o->plot) {
-		snprintf(title, sizeof(title), "%s axis %c: chirp %g-%g Hz, %g mm",
+		snprintf(title, sizeof(title), "%s axis %c: chirp %.4g-%.4g Hz, %g mm",
 			 sh2000_device(h), sh2000_tool_axis_name(o->axis), o->f0_hz,
 			 o->f1_hz, o->amplitude_mm);
 		r = tune_plot_bode(&fr, &m, o->plot, title);

@@ -19,6 +19,9 @@
 #define TUNE_EXIT_ABORTED 5
 /* gnuplot missing or failed (the figures were printed) */
 #define TUNE_EXIT_HELPER 6
+/* SIGINT or SIGTERM: the motion stopped on its way, the parameters as they
+ * were, nothing written (as sh2000-upload's 7) */
+#define TUNE_EXIT_STOPPED 7
 
 /* The settling band of the report, counts. */
 #define TUNE_SETTLE_COUNTS 10.0
@@ -144,6 +147,11 @@ struct tune_move {
 };
 
 int tune_move_fail(struct tune_move *s, int r, const char *what);
+/* SIGINT and SIGTERM set a flag the test moves look at between batches
+ * and after each move (a second signal ends the program at once). */
+void tune_signals(void);
+/* A stop was asked (by a signal): stop now, put everything back. */
+int tune_stop_asked(void);
 /* The card idle and unfaulted, the axis enabled (by --enable), the path
  * configuration and the start read: an exit code, nothing moved. */
 int tune_move_prepare(struct tune_move *s);
@@ -240,7 +248,21 @@ struct tune_fr {
 	double counts_per_mm;
 	double peak_dac;	/* max |DAC - its rest| in the record */
 	int dac_saturated;	/* the DAC reached the test's bound */
+	/* frequencies left out of the response (TUNE_FR_MIN_ERR) */
+	size_t weak;
+	double weak_lo_hz, weak_hi_hz;
 };
+
+/*
+ * A frequency's plant counts as measured when the DAC's response to the
+ * set-point there is at least what the PID gives for this much following
+ * error, counts: below it the PID's answer to the encoder's quantisation
+ * (a count) drowns it. On the card model's default plant, the tuned gains
+ * (feed-forward, a high integral gain) put 5..25 Hz of a 5..3000 Hz chirp
+ * at 0.002..0.03 with the plant 2..31 dB off, and everything at 0.05 or
+ * more within 0.15 dB; the default gains are at 0.77 or more everywhere.
+ */
+#define TUNE_FR_MIN_ERR 0.05
 
 struct tune_margins {
 	double gm_db;		/* gain margin: how much the loop gain may

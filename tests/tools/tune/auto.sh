@@ -55,6 +55,16 @@ checks=$((checks + 1))
 [ "$(gains)" = "$after" ] || fail "params load of --save: $(gains), tuned: $after"
 checks=$((checks + 1))
 grep -q '^\[x\]$' "$T/g.par" || fail "--save: no [x] section"
+# a chirp from 5 Hz with the tuned gains (feed-forward, a high integral
+# gain): below some 30 Hz the DAC the set-point drives is less than the
+# PID's answer to the encoder's quantisation, and those frequencies are
+# left out (said), not drawn as a plant
+expect 0 "$TUNE" "${S[@]}" x --chirp 5:150 --csv "$T/weak.csv" &&
+	err_has 'frequencies \(5-[0-9.]* Hz\) left out: .*quantisation drowns the plant'
+low=$(awk -F, 'NR == 2 { print $1 }' "$T/weak.csv")
+checks=$((checks + 1))
+awk -v f="$low" 'BEGIN { exit !(f > 15 && f < 60) }' ||
+	fail "the chirp's lowest frequency kept is $low Hz"
 
 # a phase margin the delay does not leave at that bandwidth: refused
 before=$(gains)
@@ -120,4 +130,13 @@ expect 2 "$TUNE" -d sim x --auto --margin 95 && err_has '--margin: 95 is not a p
 expect 2 "$TUNE" -d sim x --auto --bandwidth -5 && err_has "--bandwidth: '-5' is not a number above 0"
 expect 2 "$TUNE" -d sim x --auto --travel 0 && err_has "--travel: '0'"
 expect 2 "$TUNE" -d sim --auto && err_has 'which AXIS'
+# found before anything moves: an output folder that cannot be written,
+# a bandwidth beyond a quarter of the servo rate
+expect 2 "$TUNE" -d sim x --auto --apply --save /nonexistent/x.par &&
+	err_has 'save /nonexistent/x\.par: cannot write in /nonexistent: .*nothing moved'
+expect 2 "$TUNE" -d sim x --auto --plot /nonexistent/t.png && err_has 'cannot write in /nonexistent'
+expect 1 "$TUNE" -d sim x --auto --bandwidth 5000 &&
+	err_has 'a bandwidth of 5000 Hz is beyond a quarter of the servo rate \(2500 Hz\): nothing moved'
+checks=$((checks + 1))
+[ -z "$out" ] || fail "--bandwidth 5000 identified before refusing: $out"
 finish

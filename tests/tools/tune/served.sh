@@ -3,7 +3,8 @@
 # aborted on the following-error limit, a ramp and a chirp, sh2000ctl (a
 # second program) finds the limits and the card's timing as they were,
 # nothing latched, the axis still enabled and its set-point at the start;
-# with the axis disabled, every test refuses and nothing moves.
+# a chirp stopped by SIGTERM puts them back too (exit 7); with the axis
+# disabled, every test refuses and nothing moves.
 . "$(dirname "$0")/../ctl/testlib.sh"
 : "${TUNE:?TUNE must name sh2000-tune}"
 name=tune$$
@@ -42,6 +43,32 @@ checks=$((checks + 1))
 [ "$out" = "$timing" ] || fail "timing after the chirp: $out, before: $timing"
 expect 0 "$CTL" "${S[@]}" status --json &&
 	json_check /state = idle /faults = '[]' /axes/0/enabled = true /axes/0/cmd_mm '~' 1,1e-9
+# SIGTERM while a chirp moves the axis (its coarse period shortened, its
+# limits lowered): the motion stops on its way, exit 7, the limits and
+# the card's timing as they were, nothing latched
+"$TUNE" "${S[@]}" x --chirp 10:250 --duration 4 >"$T/sig.out" 2>"$T/sig.err" &
+tpid=$!
+for _ in $(seq 100); do
+	"$CTL" "${S[@]}" status --json 2>/dev/null | grep -q '"state": *"running"' && break
+	sleep 0.05
+done
+kill -TERM $tpid
+wait $tpid
+st=$?
+checks=$((checks + 1))
+[ $st -eq 7 ] || fail "chirp stopped by SIGTERM: exit $st: $(cat "$T/sig.err")"
+checks=$((checks + 1))
+grep -q 'chirp test stopped by a signal: the limits and timing are as they were' "$T/sig.err" ||
+	fail "chirp stopped by SIGTERM said: $(cat "$T/sig.err")"
+expect 0 "$CTL" "${S[@]}" params x ferr_limit dac_limit
+checks=$((checks + 1))
+[ "$out" = "$before" ] || fail "limits after SIGTERM: $out, before: $before"
+expect 0 "$CTL" "${S[@]}" params global coarse_period_us fine_steps
+checks=$((checks + 1))
+[ "$out" = "$timing" ] || fail "timing after SIGTERM: $out, before: $timing"
+expect 0 "$CTL" "${S[@]}" status --json &&
+	json_check /state = idle /faults = '[]' /axes/0/enabled = true
+expect 0 "$CTL" "${S[@]}" move x=1
 # an axis another program left disabled: every test refuses before
 # anything moves (only --enable enables it), and the axis stays disabled
 expect 0 "$CTL" "${S[@]}" disable x
@@ -51,5 +78,18 @@ expect 1 "$TUNE" "${S[@]}" x --ramp 50 && err_has 'axis x is not enabled .*nothi
 expect 1 "$TUNE" "${S[@]}" x --auto --dry-run && err_has 'axis x is not enabled .*nothing moved'
 expect 0 "$CTL" "${S[@]}" status --json &&
 	json_check /state = idle /faults = '[]' /axes/0/enabled = false /axes/0/cmd_mm '~' 1,1e-9
+# a fault another program latched: refused, named, nothing moved
+expect 0 "$CTL" "${S[@]}" estop
+expect 4 "$TUNE" "${S[@]}" x --step 0.01 &&
+	err_has 'a fault is latched \(emergency stop latched\): nothing moved; sh2000ctl reset clears it$'
+expect 0 "$CTL" "${S[@]}" reset
+# another program's record armed on the card: refused, nothing moved,
+# the limits as they were
+expect 0 "$CTL" "${S[@]}" enable x + gather --samples 100 --trigger motion --no-wait
+expect 1 "$TUNE" "${S[@]}" x --step 0.01 &&
+	err_has 'another gather record is armed or recording on the card .*nothing moved$'
+expect 0 "$CTL" "${S[@]}" params x ferr_limit dac_limit
+checks=$((checks + 1))
+[ "$out" = "$before" ] || fail "limits after the refusal: $out, before: $before"
 stop_sim
 finish

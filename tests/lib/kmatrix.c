@@ -41,6 +41,7 @@
 #include "sh2000/sim.h"
 #include "sh2000/run.h"
 #include "sh2000_hw.h"
+#include "host_halt.h"
 
 #define FEED		100.0	/* mm/s along X */
 #define AT_POINT	150u	/* records streamed before the fault */
@@ -183,20 +184,6 @@ static int run_line(struct sh2000 *h, double dx, struct cell *c, char *msg,
 	snprintf(msg, len, "%s", e ? sh2000_run_error(r) : "");
 	sh2000_run_destroy(r);
 	return e;
-}
-
-/* The host's answer to an error at idle, as the runner's: a card whose
- * state it cannot read gets an emergency stop, a running one a STOP. */
-static void host_halt(struct sh2000 *h)
-{
-	struct sh2000_status st;
-
-	if (sh2000_poll(h, &st) < 0) {
-		sh2000_estop(h, 10);
-		return;
-	}
-	if (st.card_state == SH2000_STATE_RUNNING)
-		sh2000_stop(h);
 }
 
 /* Idle: inject, then poll every 1 ms until the host sees an error (or,

@@ -77,7 +77,7 @@ static const struct fault faults[] = {
 	{ "RAM word flip", SH2000_INJECT_RAM_FLIP,
 	  { -SH2000_EMAGIC, -SH2000_EREJECTED }, NULL },
 	{ "segment drop", SH2000_INJECT_DROP_SEGMENT,
-	  { 0, -SH2000_EREJECTED }, "rejected" },
+	  { 0, -SH2000_EREJECTED }, "record dropped" },
 };
 
 #define NFAULTS (sizeof(faults) / sizeof(faults[0]))
@@ -115,7 +115,7 @@ static void sleep_ms(unsigned int ms)
 static const char *named(const struct fault *f, enum activity a)
 {
 	if (f->what == SH2000_INJECT_RAM_FLIP)
-		return a == ACT_IDLE ? "magic word" : "rejected";
+		return a == ACT_IDLE ? "magic word" : "bad record checksum";
 	return f->named;
 }
 

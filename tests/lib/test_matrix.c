@@ -15,6 +15,7 @@
 
 #include "simtest.h"
 #include "sh2000/run.h"
+#include "host_halt.h"
 
 #define FEED		100.0	/* mm/s along X */
 #define AT_POINT	150u	/* records streamed before the fault */
@@ -156,20 +157,6 @@ static void on_progress(void *ctx, const struct sh2000_run_progress *p)
 
 	if (!t->injected && p->points >= AT_POINT)
 		inject(t, 1);
-}
-
-/* The host's answer to an error, as the runner's: a card whose state it
- * cannot read gets an emergency stop, a running one a STOP. */
-static void host_halt(struct sh2000 *h)
-{
-	struct sh2000_status st;
-
-	if (sh2000_poll(h, &st) < 0) {
-		sh2000_estop(h, 10);
-		return;
-	}
-	if (st.card_state == SH2000_STATE_RUNNING)
-		sh2000_stop(h);
 }
 
 /* Poll and check, the way every host call ends up: the error or 0. */

@@ -126,21 +126,19 @@ int sh2000_tool_fail(struct sh2000 *h, int code, const char *what)
 
 int sh2000_tool_axis(const char *s)
 {
-	static const char names[] = "xyza";
-
 	if (!s || !s[0] || s[1])
 		return -1;
-	if (s[0] >= '0' && s[0] <= '3')
+	if (s[0] >= '0' && s[0] < '0' + (int)SH2000_AXES)
 		return s[0] - '0';
-	for (int i = 0; i < 4; i++)
-		if (tolower((unsigned char)s[0]) == names[i])
-			return i;
+	for (unsigned int i = 0; i < SH2000_AXES; i++)
+		if (toupper((unsigned char)s[0]) == SH2000_AXIS_LETTERS[i])
+			return (int)i;
 	return -1;
 }
 
 char sh2000_tool_axis_name(unsigned int axis)
 {
-	return axis < 4 ? "xyza"[axis] : '?';
+	return axis < SH2000_AXES ? (char)tolower(SH2000_AXIS_LETTERS[axis]) : '?';
 }
 
 int sh2000_tool_axes(const char *s)

@@ -171,14 +171,13 @@ int upl_run_fail(const struct upl_runctx *rc, const char *file, int e)
 
 void upl_axes_text(unsigned int mask, char *buf)
 {
-	static const char name[] = "xyza";
 	char *p = buf;
 
 	for (unsigned int a = 0; a < SH2000_AXES; a++)
 		if (mask & (1u << a)) {
 			if (p != buf)
 				*p++ = ' ';
-			*p++ = name[a];
+			*p++ = sh2000_tool_axis_name(a);
 		}
 	*p = 0;
 }

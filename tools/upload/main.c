@@ -142,7 +142,7 @@ static int same_start(struct sh2000 *h, const struct upl_opts *o,
 		}
 		if (v > 0.001) {
 			sh2000_tool_msg("%s: axis %c moved by %.4f mm while the program was checked; nothing moved",
-					sh2000_device(h), "xyza"[a], v);
+					sh2000_device(h), sh2000_tool_axis_name(a), v);
 			return SH2000_EXIT_CARD;
 		}
 	}
@@ -160,7 +160,7 @@ static void summary(const struct upl_opts *o, struct sh2000 *h,
 	printf("  points               %llu coarse points in %llu batches\n",
 	       (unsigned long long)s->points, (unsigned long long)s->batches);
 	printf("  max following error  %.4f mm (axis %c, %s)\n",
-	       s->max_ferr_mm, "xyza"[s->max_ferr_axis % 4],
+	       s->max_ferr_mm, sh2000_tool_axis_name(s->max_ferr_axis),
 	       sh2000_backend(h) == SH2000_BACKEND_SIM ? "every servo cycle" :
 	       "at status polls");
 	if (s->min_fill < sh2000_queue_size(h))

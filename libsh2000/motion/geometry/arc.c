@@ -96,7 +96,7 @@ int sh2000_arc_resolve(struct sh2000_arc *a, enum sh2000_plane plane,
 		       double same_mm, char *msg, size_t len)
 {
 	double s[2], e[2], abs_err, rel_err;
-	const char *n = "XYZA";
+	const char *n = SH2000_AXIS_LETTERS;
 
 	memset(a, 0, sizeof(*a));
 	if (sh2000_plane_axes(plane, &a->first, &a->second, &a->normal))

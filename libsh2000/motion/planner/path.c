@@ -13,7 +13,7 @@
 
 #include "planner.h"
 
-static const char axis_name[SH2000_AXES] = { 'X', 'Y', 'Z', 'A' };
+static const char axis_name[] = SH2000_AXIS_LETTERS;
 
 void sh2000_path_config_default(struct sh2000_path_config *cfg)
 {

@@ -12,7 +12,7 @@
 
 #include "planner.h"
 
-static const char axis_name[SH2000_AXES] = { 'X', 'Y', 'Z', 'A' };
+static const char axis_name[] = SH2000_AXIS_LETTERS;
 
 /* NURBS start points: what "the same point" means, mm. */
 #define GEOM_TOL 0.001

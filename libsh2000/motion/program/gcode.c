@@ -607,7 +607,7 @@ static int do_arc(struct prog_ctx *c, struct gstate *st, const struct gline *l,
 		c1 = st->arc_absolute ? o1 : c->pos[a1] + o1;
 		c2 = st->arc_absolute ? o2 : c->pos[a2] + o2;
 	} else {
-		const char *axes = "XYZA";
+		const char *axes = SH2000_AXIS_LETTERS;
 
 		if (!HAS(l, axes[a1]) && !HAS(l, axes[a2]))
 			return prog_err(c, SH2000_PD_MISSING, l->line, bcol,
@@ -855,7 +855,7 @@ static int move_target(struct prog_ctx *c, const struct gstate *st,
 		       const struct gline *l, double unit,
 		       double target[SH2000_AXES])
 {
-	static const char axes[] = "XYZA";
+	static const char axes[] = SH2000_AXIS_LETTERS;
 
 	for (unsigned int a = 0; a < SH2000_AXES; a++) {
 		target[a] = c->pos[a];

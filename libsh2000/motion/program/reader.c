@@ -110,7 +110,7 @@ static int reader_new(struct sh2000_prog_reader **out,
 		if (!isfinite(r->c.opt.start[i]))
 			prog_err(&r->c, SH2000_PD_RANGE, 0, 0,
 				 "start position of axis %c is not finite",
-				 "XYZA"[i]);
+				 SH2000_AXIS_LETTERS[i]);
 	if (r->c.errors)
 		return -SH2000_PROG_EINVALID;
 	restart(r);

@@ -37,7 +37,7 @@ int sh2000_limits_get(struct sh2000 *h, struct sh2000_limits *l)
 int sh2000_limits_apply(const struct sh2000_limits *l,
 			double mm[SH2000_AXES], char *msg, size_t len)
 {
-	static const char name[] = "XYZA";
+	static const char name[] = SH2000_AXIS_LETTERS;
 	unsigned int a;
 	int clamped = 0;
 

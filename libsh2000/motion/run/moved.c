@@ -30,7 +30,7 @@ void sh2000_moved_note(const struct sh2000_moved *m,
 		       const struct sh2000_status *st,
 		       const double scale[SH2000_AXES], char *msg, size_t len)
 {
-	static const char name[] = "XYZA";
+	static const char name[] = SH2000_AXIS_LETTERS;
 	size_t n = strlen(msg);
 	unsigned int a;
 

@@ -88,7 +88,7 @@ static int check_span(const struct sh2000_setpoints *c, const double *a,
 		      const double *b, const double *cc, const double *d,
 		      uint64_t first, char *msg, size_t len)
 {
-	static const char name[] = "XYZA";
+	static const char name[] = SH2000_AXIS_LETTERS;
 	unsigned int ax;
 
 	for (ax = 0; ax < SH2000_AXES; ax++) {

@@ -29,8 +29,10 @@ extern "C" {
 #define SH2000_PROTO_MINOR_MAILBOX	3u	/* POSTED and the point mailbox */
 #define SH2000_PROTO_MINOR_FIRST_FAULT	4u	/* the first-fault record (FF_*) */
 
-/* The one definition of the axis count. */
+/* The one definition of the axis count, and of the axes' names (index:
+ * axis; the G-code words that move them; tools print them lower case). */
 #define SH2000_AXES			4u
+#define SH2000_AXIS_LETTERS		"XYZA"
 
 /* ---------------------------------------------------------------------------
  * Card state and faults.

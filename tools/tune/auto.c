@@ -228,14 +228,15 @@ int tune_auto(struct sh2000 *h, const struct tune_opts *o)
 	 * test would start elsewhere */
 	struct tune_move m = { .h = h, .o = o, .a = o->axis, .name = "auto-tuning" };
 	int r = tune_move_prepare(&m);
-	double servo_hz = m.pc.fine_steps / m.pc.period_s;
+	char why[256];
 
 	/* a bandwidth the servo rate cannot carry: refused before anything
-	 * moves (the design says the same after the identification) */
-	if (!r && o->bandwidth_hz >= 0.25 * servo_hz) {
-		sh2000_tool_msg("%s: axis %c: a bandwidth of %g Hz is beyond a quarter of the servo rate (%g Hz): nothing moved",
-				sh2000_device(h), sh2000_tool_axis_name(o->axis),
-				o->bandwidth_hz, 0.25 * servo_hz);
+	 * moves, by the design's rule */
+	if (!r && tune_bandwidth_check(o->bandwidth_hz,
+				       m.pc.period_s / m.pc.fine_steps,
+				       why, sizeof(why)) < 0) {
+		sh2000_tool_msg("%s: axis %c: %s: nothing moved", sh2000_device(h),
+				sh2000_tool_axis_name(o->axis), why);
 		r = SH2000_EXIT_CARD;
 	}
 	if (!r)

@@ -104,6 +104,11 @@ int tune_design(const struct tune_plant *pl, const struct tune_design_req *req,
 		struct tune_gains *gn, struct tune_design_margins *m, char *why,
 		size_t whylen);
 
+/* A crossover of hz Hz at servo period T is one the design may give (0),
+ * or -1 with the reason in why: the design's own rule, which --auto also
+ * checks before anything moves. */
+int tune_bandwidth_check(double hz, double T, char *why, size_t whylen);
+
 /* The predicted margins of gains gn on plant pl (the card's discrete PID
  * in its exact form, the plant with its delay). */
 void tune_margins_of(const struct tune_plant *pl, const struct tune_gains *gn,

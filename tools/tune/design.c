@@ -267,6 +267,15 @@ static struct candidate optimise(const struct tune_plant *pl, double fixed_th,
 	return best;
 }
 
+int tune_bandwidth_check(double hz, double T, char *why, size_t whylen)
+{
+	if (2 * M_PI * hz * T < TUNE_TH_MAX)
+		return 0;
+	snprintf(why, whylen, "a bandwidth of %g Hz is beyond a quarter of the servo rate (%g Hz)",
+		 hz, TUNE_TH_MAX / (2 * M_PI * T));
+	return -1;
+}
+
 /* req with its defaults filled in */
 static struct tune_design_req resolved(const struct tune_design_req *req)
 {
@@ -301,11 +310,8 @@ int tune_design(const struct tune_plant *pl, const struct tune_design_req *req,
 			 pl->g, pl->p);
 		return -1;
 	}
-	if (th >= TUNE_TH_MAX) {
-		snprintf(why, whylen, "a bandwidth of %g Hz is beyond a quarter of the servo rate (%g Hz)",
-			 req->bandwidth_hz, 0.25 / pl->T);
+	if (tune_bandwidth_check(req->bandwidth_hz, pl->T, why, whylen) < 0)
 		return -1;
-	}
 	c = optimise(pl, th, &r);
 	if (!(c.ki > 0)) {
 		/* which limit refuses: the same search without the gain

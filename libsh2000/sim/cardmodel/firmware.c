@@ -660,7 +660,7 @@ static void motion(struct sh2000_dsp *fw, double T)
 		for (a = 0; a < SH2000_AXES; a++)
 			fw->ax[a].have_rec_hold = 0;
 		fw->fine_t = 0.0;
-	fw->need_point = 1;
+		fw->need_point = 1;
 		fw->host_hb_cycles = 0;
 		run_step(fw, T);
 		break;

@@ -37,6 +37,12 @@ static const struct sh2000_sim_provider *load_provider(char *msg, size_t len)
 
 #else
 
+/* How a user gets the simulator: built from source beside libsh2000, or
+ * its package. */
+#define SH2000_SIM_HOWTO \
+	"from source: cmake --build BUILD_DIR --target sh2000_sim; " \
+	"from packages: apt install libsh2000-sim"
+
 /* The directory libsh2000.so itself was loaded from: the simulator is
  * installed beside it, and a sanitizer's dlopen does not honour our
  * RUNPATH. */
@@ -75,8 +81,8 @@ static const struct sh2000_sim_provider *load_provider(char *msg, size_t len)
 		dl = open_beside_us();
 	if (!dl) {
 		sh2000_msg(msg, len, -ENOENT,
-			   "sim: cannot load the simulated card %s: %s (install libsh2000-sim)",
-			   what, dlerror());
+			   "sim: cannot load the simulated card %s: %s (%s)",
+			   what, dlerror(), SH2000_SIM_HOWTO);
 		goto out;
 	}
 	/* kept loaded for the life of the process: handles point into it */

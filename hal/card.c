@@ -24,9 +24,7 @@
 
 int hsc_moving(unsigned int state)
 {
-	return state == SH2000_STATE_RUNNING ||
-	       state == SH2000_STATE_STOPPING ||
-	       state == SH2000_STATE_HOMING;
+	return sh2000_state_moving(state);
 }
 
 int hsc_faulted(const struct sh2000_status *st)

@@ -9,53 +9,57 @@
  */
 #include <math.h>
 #include <stddef.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "sh2000/sh2000_protocol.h"
 
 #define I32_MIN (-2147483648.0)
 #define I32_MAX 2147483647.0
+/* the last column: taken while the card moves, or refused (BUSY) */
+#define LIVE 1
+#define FIXED 0
 
 static const struct sh2000_param_info axis_params[SH2000_AXIS_PARAMS] = {
-	{ SH2000_P_SCALE, "scale", SH2000_PT_F32, 0.0, 1e8, 1, 100000.0 },
-	{ SH2000_P_KP, "kp", SH2000_PT_F32, 0.0, 1000.0, 0, 0.5 },
-	{ SH2000_P_TI, "ti", SH2000_PT_F32, 0.0, 100.0, 0, 0.02 },
-	{ SH2000_P_TD, "td", SH2000_PT_F32, 0.0, 10.0, 0, 0.004 },
-	{ SH2000_P_KVFF, "kvff", SH2000_PT_F32, 0.0, 1.0, 0, 3.2768e-5 },
-	{ SH2000_P_KAFF, "kaff", SH2000_PT_F32, 0.0, 1.0, 0, 3.2768e-6 },
+	{ SH2000_P_SCALE, "scale", SH2000_PT_F32, 0.0, 1e8, 1, 100000.0, FIXED },
+	{ SH2000_P_KP, "kp", SH2000_PT_F32, 0.0, 1000.0, 0, 0.5, LIVE },
+	{ SH2000_P_TI, "ti", SH2000_PT_F32, 0.0, 100.0, 0, 0.02, LIVE },
+	{ SH2000_P_TD, "td", SH2000_PT_F32, 0.0, 10.0, 0, 0.004, LIVE },
+	{ SH2000_P_KVFF, "kvff", SH2000_PT_F32, 0.0, 1.0, 0, 3.2768e-5, LIVE },
+	{ SH2000_P_KAFF, "kaff", SH2000_PT_F32, 0.0, 1.0, 0, 3.2768e-6, LIVE },
 	{ SH2000_P_DAC_RANGE, "dac_range", SH2000_PT_I32, 0.0, 3.0, 0,
-	  SH2000_DAC_PM10V },
+	  SH2000_DAC_PM10V, FIXED },
 	{ SH2000_P_DAC_LIMIT, "dac_limit", SH2000_PT_I32, 1.0, 32767.0, 0,
-	  32767.0 },
+	  32767.0, FIXED },
 	{ SH2000_P_FERR_LIMIT, "ferr_limit", SH2000_PT_I32, 0.0, 134217727.0,
-	  1, 20000.0 },
+	  1, 20000.0, LIVE },
 	{ SH2000_P_SOFT_MIN, "soft_min", SH2000_PT_I32, I32_MIN, I32_MAX, 0,
-	  I32_MIN },
+	  I32_MIN, FIXED },
 	{ SH2000_P_SOFT_MAX, "soft_max", SH2000_PT_I32, I32_MIN, I32_MAX, 0,
-	  I32_MAX },
-	{ SH2000_P_VMAX, "vmax", SH2000_PT_F32, 0.0, 1e9, 1, 4e7 },
-	{ SH2000_P_AMAX, "amax", SH2000_PT_F32, 0.0, 1e11, 1, 5e8 },
-	{ SH2000_P_HOME_VEL, "home_vel", SH2000_PT_F32, -1e9, 1e9, 0, -2e6 },
+	  I32_MAX, FIXED },
+	{ SH2000_P_VMAX, "vmax", SH2000_PT_F32, 0.0, 1e9, 1, 4e7, FIXED },
+	{ SH2000_P_AMAX, "amax", SH2000_PT_F32, 0.0, 1e11, 1, 5e8, FIXED },
+	{ SH2000_P_HOME_VEL, "home_vel", SH2000_PT_F32, -1e9, 1e9, 0, -2e6, FIXED },
 	{ SH2000_P_HOME_DEBOUNCE, "home_debounce", SH2000_PT_I32, 1.0, 1000.0,
-	  0, 10.0 },
+	  0, 10.0, FIXED },
 	{ SH2000_P_HOME_OFFSET, "home_offset", SH2000_PT_I32, I32_MIN, I32_MAX,
-	  0, 0.0 },
+	  0, 0.0, FIXED },
 };
 
 static const struct sh2000_param_info global_params[SH2000_GP_END -
 						     SH2000_GP_FIRST] = {
 	{ SH2000_GP_COARSE_PERIOD_US, "coarse_period_us", SH2000_PT_I32, 100.0,
-	  100000.0, 0, 2000.0 },
+	  100000.0, 0, 2000.0, FIXED },
 	{ SH2000_GP_FINE_STEPS, "fine_steps", SH2000_PT_I32, 1.0, 1000.0, 0,
-	  20.0 },
+	  20.0, FIXED },
 	{ SH2000_GP_HOST_TIMEOUT_MS, "host_timeout_ms", SH2000_PT_I32, 0.0,
-	  60000.0, 0, 100.0 },
+	  60000.0, 0, 100.0, LIVE },
 	{ SH2000_GP_STATUS_PERIOD, "status_period", SH2000_PT_I32, 1.0,
-	  1000.0, 0, 10.0 },
+	  1000.0, 0, 10.0, LIVE },
 	{ SH2000_GP_TIME_SCALE, "time_scale", SH2000_PT_I32, 0.0,
-	  SH2000_TIME_SCALE_FULL, 0, SH2000_TIME_SCALE_FULL },
+	  SH2000_TIME_SCALE_FULL, 0, SH2000_TIME_SCALE_FULL, LIVE },
 	{ SH2000_GP_TIME_RAMP_MS, "time_ramp_ms", SH2000_PT_I32, 1.0,
-	  60000.0, 0, 100.0 },
+	  60000.0, 0, 100.0, LIVE },
 };
 
 const struct sh2000_param_info *sh2000_param_lookup(unsigned int id)
@@ -80,6 +84,43 @@ const struct sh2000_param_info *sh2000_param_by_name(const char *name)
 		if (!strcmp(global_params[i].name, name))
 			return &global_params[i];
 	return NULL;
+}
+
+const char *sh2000_param_live_names(char *buf, size_t len)
+{
+	size_t n = 0;
+	unsigned int id;
+
+	if (!len)
+		return buf;
+	buf[0] = 0;
+	for (id = 0; id < SH2000_GP_END; id++) {
+		const struct sh2000_param_info *p = sh2000_param_lookup(id);
+		int w;
+
+		if (!p || !p->live)
+			continue;
+		w = snprintf(buf + n, len - n, "%s%s", n ? " " : "", p->name);
+		if (w < 0 || (size_t)w >= len - n)
+			break;
+		n += (size_t)w;
+	}
+	return buf;
+}
+
+int sh2000_timing_ok(long long coarse_us, long long fine_steps)
+{
+	long long ns = coarse_us * 1000;
+
+	return coarse_us > 0 && fine_steps > 0 && ns % fine_steps == 0 &&
+	       ns / fine_steps >= (long long)SH2000_FW_MIN_SERVO_NS;
+}
+
+int sh2000_state_moving(unsigned int state)
+{
+	return state == SH2000_STATE_RUNNING ||
+	       state == SH2000_STATE_STOPPING ||
+	       state == SH2000_STATE_HOMING;
 }
 
 int sh2000_param_in_range(const struct sh2000_param_info *p, double v)

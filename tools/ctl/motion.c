@@ -88,9 +88,7 @@ static int wait_rest(struct ctl *c, double seconds)
 		r = sh2000_poll(c->h, &st);
 		if (r < 0)
 			return sh2000_tool_fail(c->h, r, "status");
-		if (st.card_state != SH2000_STATE_RUNNING &&
-		    st.card_state != SH2000_STATE_STOPPING &&
-		    st.card_state != SH2000_STATE_HOMING)
+		if (!sh2000_state_moving(st.card_state))
 			return 0;
 		if (sh2000_now_ns(c->h) > end) {
 			sh2000_tool_msg("%s: still %s after %.1f s",

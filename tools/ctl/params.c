@@ -143,11 +143,10 @@ static int plan_check(struct ctl *c, struct ctl_plan *p,
 		    (p->set[s][SH2000_GP_COARSE_PERIOD_US] || p->set[s][SH2000_GP_FINE_STEPS])) {
 			double cp = card[SH2000_GP_COARSE_PERIOD_US];
 			double fs = card[SH2000_GP_FINE_STEPS];
-			long long ns = (long long)cp * 1000;
 			int l = p->line[s][SH2000_GP_COARSE_PERIOD_US] > p->line[s][SH2000_GP_FINE_STEPS] ?
 				p->line[s][SH2000_GP_COARSE_PERIOD_US] : p->line[s][SH2000_GP_FINE_STEPS];
 
-			if (ns % (long long)fs || ns / (long long)fs < SH2000_FW_MIN_SERVO_NS)
+			if (!sh2000_timing_ok((long long)cp, (long long)fs))
 				ctl_plan_error(p, l,
 					   "coarse_period_us %g with fine_steps %g: the servo period must be a whole number of ns >= %u ns",
 					   cp, fs, SH2000_FW_MIN_SERVO_NS);
@@ -174,32 +173,27 @@ static int plan_apply(struct ctl *c, struct ctl_plan *p,
 	r = sh2000_poll(c->h, &st);
 	if (r < 0)
 		return sh2000_tool_fail(c->h, r, "status");
-	if (st.card_state == SH2000_STATE_RUNNING ||
-	    st.card_state == SH2000_STATE_STOPPING ||
-	    st.card_state == SH2000_STATE_HOMING) {
-		int live_only = 1;
+	if (sh2000_state_moving(st.card_state)) {
+		const struct sh2000_param_info *fixed = NULL;
+		char live[256];
 
 		for (unsigned int s = 0; s <= CTL_SECT_GLOBAL; s++)
 			for (unsigned int id = 0; id < SH2000_GP_END; id++)
-				if (p->set[s][id] &&
-				    !(id == SH2000_P_KP || id == SH2000_P_TI ||
-				      id == SH2000_P_TD || id == SH2000_P_KVFF ||
-				      id == SH2000_P_KAFF || id == SH2000_P_FERR_LIMIT ||
-				      id == SH2000_GP_HOST_TIMEOUT_MS ||
-				      id == SH2000_GP_STATUS_PERIOD))
-					live_only = 0;
-		if (!live_only) {
-			sh2000_tool_msg("%s: card is %s: only live parameters (kp ti td kvff kaff ferr_limit host_timeout_ms status_period) may change now; nothing set",
-					sh2000_device(c->h), sh2000_state_name(st.card_state));
+				if (p->set[s][id] && !sh2000_param_lookup(id)->live)
+					fixed = sh2000_param_lookup(id);
+		if (fixed) {
+			sh2000_tool_msg("%s: card is %s: %s cannot change while the card moves; only live parameters (%s) may change now; nothing set",
+					sh2000_device(c->h), sh2000_state_name(st.card_state),
+					fixed->name, sh2000_param_live_names(live, sizeof(live)));
 			return SH2000_EXIT_CARD;
 		}
 	}
 	if (p->set[CTL_SECT_GLOBAL][SH2000_GP_COARSE_PERIOD_US] &&
 	    p->set[CTL_SECT_GLOBAL][SH2000_GP_FINE_STEPS]) {
 		/* the card checks each against the other's current value */
-		long long ns = (long long)p->v[CTL_SECT_GLOBAL][SH2000_GP_COARSE_PERIOD_US] * 1000;
-		long long fs = (long long)cur[CTL_SECT_GLOBAL][SH2000_GP_FINE_STEPS];
-		int coarse_first = !(ns % fs) && ns / fs >= SH2000_FW_MIN_SERVO_NS;
+		int coarse_first = sh2000_timing_ok(
+			(long long)p->v[CTL_SECT_GLOBAL][SH2000_GP_COARSE_PERIOD_US],
+			(long long)cur[CTL_SECT_GLOBAL][SH2000_GP_FINE_STEPS]);
 		unsigned int a = coarse_first ? SH2000_GP_COARSE_PERIOD_US : SH2000_GP_FINE_STEPS;
 		unsigned int b = coarse_first ? SH2000_GP_FINE_STEPS : SH2000_GP_COARSE_PERIOD_US;
 

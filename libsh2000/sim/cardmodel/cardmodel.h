@@ -191,12 +191,10 @@ static inline int32_t sh2000_fw_cmd_counts(const struct sh2000_fw_axis *ax)
 	return (int32_t)c;
 }
 
-/* RUNNING, STOPPING or HOMING: what "while moving" means everywhere. */
+/* The firmware is moving: the protocol's one definition of it. */
 static inline int sh2000_fw_in_motion(const struct sh2000_dsp *fw)
 {
-	return fw->state == SH2000_STATE_RUNNING ||
-	       fw->state == SH2000_STATE_STOPPING ||
-	       fw->state == SH2000_STATE_HOMING;
+	return sh2000_state_moving(fw->state);
 }
 
 /* queue.c: how record n reached the card */

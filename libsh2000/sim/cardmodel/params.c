@@ -51,28 +51,6 @@ static int32_t *global_i(struct sh2000_dsp *fw, unsigned int id)
 	}
 }
 
-/* Parameters that may change while the card moves: the loop gains and
- * limits that do not change the meaning of queued records. */
-static int live_param(unsigned int id)
-{
-	switch (id) {
-	case SH2000_P_KP: case SH2000_P_TI: case SH2000_P_TD:
-	case SH2000_P_KVFF: case SH2000_P_KAFF: case SH2000_P_FERR_LIMIT:
-	case SH2000_GP_HOST_TIMEOUT_MS: case SH2000_GP_STATUS_PERIOD:
-	case SH2000_GP_TIME_SCALE: case SH2000_GP_TIME_RAMP_MS:
-		return 1;
-	default:
-		return 0;
-	}
-}
-
-static int timing_ok(int64_t coarse_us, int64_t fine)
-{
-	int64_t ns = coarse_us * 1000;
-
-	return ns % fine == 0 && ns / fine >= (int64_t)SH2000_FW_MIN_SERVO_NS;
-}
-
 uint16_t sh2000_fw_get_param(struct sh2000_dsp *fw, unsigned int axis,
 			    unsigned int id, uint32_t *out)
 {
@@ -110,14 +88,14 @@ uint16_t sh2000_fw_set_param(struct sh2000_dsp *fw, unsigned int axis,
 					(double)(int32_t)bits;
 	if (sh2000_param_in_range(pi, v))
 		return SH2000_RES_BAD_VALUE;
-	if (sh2000_fw_in_motion(fw) && !live_param(id))
+	if (sh2000_fw_in_motion(fw) && !pi->live)
 		return SH2000_RES_BUSY;
 	if (id >= SH2000_GP_FIRST) {
 		if (id == SH2000_GP_COARSE_PERIOD_US &&
-		    !timing_ok((int64_t)v, fw->fine_steps))
+		    !sh2000_timing_ok((long long)v, fw->fine_steps))
 			return SH2000_RES_BAD_VALUE;
 		if (id == SH2000_GP_FINE_STEPS &&
-		    !timing_ok(fw->coarse_us, (int64_t)v))
+		    !sh2000_timing_ok(fw->coarse_us, (long long)v))
 			return SH2000_RES_BAD_VALUE;
 		*global_i(fw, id) = (int32_t)v;
 		return SH2000_RES_OK;

@@ -12,6 +12,7 @@
 #ifndef SH2000_CARD_H
 #define SH2000_CARD_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #ifdef __cplusplus
@@ -184,8 +185,9 @@ enum sh2000_dac_range {
 enum sh2000_param_type { SH2000_PT_F32 = 0, SH2000_PT_I32 = 1 };
 
 /* What both sides know about a parameter: its name (as users see it), type,
- * valid range and default. Ranges are inclusive; min_exclusive marks a
- * strict lower bound (e.g. scale > 0). */
+ * valid range, default, and whether the card takes it while moving. Ranges
+ * are inclusive; min_exclusive marks a strict lower bound (e.g. scale > 0).
+ * Every front end asks this table; none keeps its own list. */
 struct sh2000_param_info {
 	uint16_t id;
 	const char *name;
@@ -193,6 +195,11 @@ struct sh2000_param_info {
 	double min, max;
 	int min_exclusive;
 	double def;
+	/* 1: the card takes a new value while it moves (sh2000_state_moving):
+	 * loop gains and limits that do not change the meaning of queued
+	 * records, the heartbeat, the status period and the feed override
+	 * (time_scale, time_ramp_ms). 0: refused with BUSY while moving. */
+	int live;
 };
 
 /* The table (libsh2000/protocol/sh2000_protocol.c); NULL for unknown ids. */
@@ -205,6 +212,17 @@ const struct sh2000_param_info *sh2000_param_lookup(unsigned int id);
 int sh2000_param_in_range(const struct sh2000_param_info *p, double v);
 /* Lookup by the user-visible name; NULL when unknown. */
 const struct sh2000_param_info *sh2000_param_by_name(const char *name);
+/* The names of the live parameters, space separated, in table order, for
+ * messages ("only live parameters (...) may change now"). Returns buf. */
+const char *sh2000_param_live_names(char *buf, size_t len);
+/* The timing rule between coarse_period_us and fine_steps: the coarse period
+ * in ns divides exactly by the fine steps, and the servo period it gives is
+ * at least SH2000_FW_MIN_SERVO_NS. 1 when the pair is legal, else 0. */
+int sh2000_timing_ok(long long coarse_us, long long fine_steps);
+/* What "the card is moving" means everywhere: RUNNING, STOPPING or HOMING
+ * (a state of enum sh2000_card_state). Non-live parameters and timing are
+ * refused then. */
+int sh2000_state_moving(unsigned int state);
 
 /* ---------------------------------------------------------------------------
  * Firmware constants the host can rely on (docs/protocol.md "Faults").

@@ -157,6 +157,12 @@ PyObject *sh2k_program_run(PyProgram *p, PyObject *args)
 		return NULL;
 	}
 	rc.h = p->card->h;
+	/* the plan starts where the card stood at check(): a card moved
+	 * since is refused, naming the axis, before anything moves */
+	SH2K_CALL(p->card, e = sh2000_run_check_start(rc.h, &p->pc, msg,
+						      sizeof(msg)));
+	if (e < 0)
+		return sh2k_raise(e, NULL, msg, NULL);
 	sh2000_run_config_default(&cfg);
 	cfg.progress = on_progress;
 	cfg.ctx = &rc;

@@ -53,7 +53,8 @@ class Program:
         optional) at M0 (and M1 with optional_stop) with the card at rest.
         An exception raised in a callback stops the run on the path and is
         raised here. The axes the program moves must be enabled (Plan.moved).
-        Returns the RunStats."""
+        A card that moved since check() is refused before anything moves
+        (sh2000.Error EMOVED, naming the axis). Returns the RunStats."""
         if self._checked_with != (float(override), bool(optional_stop)):
             self.check(override, optional_stop)
         total = self.plan.points

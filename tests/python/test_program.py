@@ -170,3 +170,20 @@ def test_close_refused_while_running(card, part):
     with pytest.raises(StopIteration):
         prog.run(progress=progress)
     assert len(seen) == 2
+
+
+def test_run_refuses_a_card_moved_since_check(card, ngc):
+    prog = card.program(ngc("G21 G90\nG1 X2 Y1 F600\nM2\n"))
+    prog.check()
+    card.enable("xy")
+    card.push([[0, 0.5, 0, 0]], end=True)      # y moves after the check
+    card.wait_idle(timeout=10)
+    before = card.status()
+    with pytest.raises(sh2000.Error) as e:
+        prog.run()
+    assert e.value.code == sh2000.EMOVED
+    assert "axis y moved by 0.5000 mm since the program was checked" in str(e.value)
+    after = card.status()               # no set-point moved
+    assert after.axis("x").cmd_mm == before.axis("x").cmd_mm == 0
+    assert after.axis("y").cmd_mm == before.axis("y").cmd_mm == 0.5
+    assert after.card_state == sh2000.STATE_IDLE and after.queue_fill == 0

@@ -112,41 +112,18 @@ static void dry_run_report(const struct upl_opts *o,
 	printf("  axes moved           %s\n", plan->moved ? names : "none");
 }
 
-/*
- * The plan starts where the card holds now (enabling keeps the position;
- * a card that moved meanwhile is refused). A disabled axis is held where
- * the first pass read it: the card does not drive it and takes records
- * that hold it anywhere (docs/protocol.md 7.4), while its carriage, let
- * go of by a fault just before, may still coast.
- */
-static int same_start(struct sh2000 *h, const struct upl_opts *o,
-		      struct sh2000_path_config *pc)
+/* The plan starts where the card holds now (enabling keeps the position);
+ * a card that moved since the check is refused: the library's guard. */
+static int same_start(struct sh2000 *h, struct sh2000_path_config *pc)
 {
-	double start[SH2000_AXES];
-	struct sh2000_status st;
-	int x, e;
+	char msg[200];
+	int e = sh2000_run_check_start(h, pc, msg, sizeof(msg));
 
-	memcpy(start, pc->start, sizeof(start));
-	x = path_config(h, o, pc);
-	if (x)
-		return x;
-	e = sh2000_poll(h, &st);
-	if (e < 0)
-		return sh2000_tool_fail(h, e, "status");
-	for (unsigned int a = 0; a < SH2000_AXES; a++) {
-		double v = fabs(start[a] - pc->start[a]);
-
-		if (!(st.axis[a].state & SH2000_AXIS_ENABLED)) {
-			pc->start[a] = start[a];
-			continue;
-		}
-		if (v > 0.001) {
-			sh2000_tool_msg("%s: axis %c moved by %.4f mm while the program was checked; nothing moved",
-					sh2000_device(h), sh2000_tool_axis_name(a), v);
-			return SH2000_EXIT_CARD;
-		}
+	if (e == -SH2000_EMOVED) {
+		sh2000_tool_msg("%s: %s; nothing moved", sh2000_device(h), msg);
+		return SH2000_EXIT_CARD;
 	}
-	return SH2000_EXIT_OK;
+	return e < 0 ? sh2000_tool_fail(h, e, "status") : SH2000_EXIT_OK;
 }
 
 static void summary(const struct upl_opts *o, struct sh2000 *h,
@@ -273,7 +250,7 @@ static int upload(struct sh2000 *h, const struct upl_opts *o,
 	}
 	x = upl_enable_axes(h, o, plan.moved);
 	if (!x)
-		x = same_start(h, o, &pc);
+		x = same_start(h, &pc);
 	if (x)
 		return x;
 	upl_signals();

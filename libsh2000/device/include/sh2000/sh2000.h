@@ -78,6 +78,9 @@ enum sh2000_error {
 	SH2000_EFORMAT = 1041,		/* not a program format the reader
 					   knows */
 	SH2000_ELIMIT = 1042,		/* a planned point beyond a soft limit */
+	SH2000_EMOVED = 1043,		/* the card moved since the program
+					   was checked (the message names the
+					   axis) */
 	/* data gathering (protocol 1.2) */
 	SH2000_EGATHER_CHECK = 1050,	/* a chunk of the record kept failing
 					   its check (the bus corrupts it) */

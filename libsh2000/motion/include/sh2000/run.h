@@ -226,6 +226,25 @@ int sh2000_program_plan(struct sh2000_prog_reader *r,
 			const struct sh2000_program_opts *o,
 			struct sh2000_program_plan *plan);
 
+/* How far an enabled axis may stand from the plan's start when the second
+ * pass begins: a thousandth of a millimetre (rounding of counts to mm). */
+#define SH2000_MOVED_TOL_MM	0.001
+
+/*
+ * The guard between the two passes: the card still stands where the plan
+ * starts. Reads the card's position as sh2000_run_path_config() does and
+ * compares every enabled axis with pc->start: one that moved more than
+ * SH2000_MOVED_TOL_MM since the check is -SH2000_EMOVED, with "axis X moved
+ * by D mm since the program was checked" in msg, and pc is left as it
+ * was. Otherwise the enabled axes' starts become where they stand now and
+ * 0 is returned. A disabled axis keeps the start the check read: the card
+ * does not drive it and takes records that hold it anywhere (a carriage let
+ * go of by a fault may still coast). Every front end that runs a checked
+ * program calls this before the second pass.
+ */
+int sh2000_run_check_start(struct sh2000 *h, struct sh2000_path_config *pc,
+			   char *msg, size_t len);
+
 /* At an M0 (or M1 with optional_stop) the card is at rest: return 0 to go
  * on, or a negative error to end the run with it. */
 typedef int (*sh2000_program_pause_fn)(void *ctx,

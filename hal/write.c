@@ -51,14 +51,17 @@ int hsc_fine_steps(long period_ns)
  */
 static void configure(struct hsc_card *c)
 {
+	const struct sh2000_param_info *cp =
+		sh2000_param_lookup(SH2000_GP_COARSE_PERIOD_US);
 	int n = hsc_fine_steps(c->period_ns);
 
-	if (c->period_ns % 1000 || c->period_ns / 1000 < 100 ||
-	    c->period_ns / 1000 > 100000) {
+	if (c->period_ns % 1000 ||
+	    sh2000_param_in_range(cp, (double)(c->period_ns / 1000))) {
 		if (c->sfault == HSC_SF_NONE)
 			snprintf(c->err, sizeof(c->err),
-				 "%s: servo period %ld ns: the card needs a whole number of us in 100..100000",
-				 c->device, c->period_ns);
+				 "%s: servo period %ld ns: the card's %s is a whole number of us in %.0f..%.0f",
+				 c->device, c->period_ns, cp->name, cp->min,
+				 cp->max);
 		c->sfault = HSC_SF_CONFIG;
 		return;
 	}

@@ -50,6 +50,29 @@ int prog_warn_once(struct prog_ctx *c, unsigned int kind,
 		   unsigned int col, const char *fmt, ...)
 	__attribute__((format(printf, 6, 7)));
 
+/* The tool state of a program being read (toolstate.c): the tool its
+ * last T word selected, the one its last tool change put in the spindle
+ * (0: none, as LinuxCNC starts) and the tool length offset in force, mm
+ * for X Y Z A: a position the program names for the tool's tip is the
+ * machine's position minus it. */
+struct prog_tool_state {
+	int selected, loaded;
+	double offset[SH2000_AXES];
+};
+
+/* T n (or SELECT_TOOL): n an integer >= 0 and, with a tool
+ * table, in it; reported once. 0 or an error. */
+int prog_tool_select(struct prog_ctx *c, struct prog_tool_state *t,
+		     double n, unsigned int line, unsigned int col);
+/* A tool change to the selected tool (what: "M6" or the command): a PAUSE
+ * block when the options ask for one, else reported once. */
+int prog_tool_change(struct prog_ctx *c, struct prog_tool_state *t,
+		     const char *what, unsigned int line, unsigned int col);
+/* The offsets of tool n in the table (tool 0: none) into out, or an
+ * error naming what asked ("G43 H2"). */
+int prog_tool_offsets(struct prog_ctx *c, int n, double out[SH2000_AXES],
+		      const char *what, unsigned int line, unsigned int col);
+
 /* Free the blocks' curves and empty the list (its memory stays). */
 void prog_clear_blocks(struct sh2000_program *p);
 /* Every block of reader r into prog (reader.c). */

@@ -43,6 +43,7 @@ struct gstate {
 	double (*pts)[SH2000_AXES];
 	double *w;
 	struct prog_tool_state tools;	/* T, M6, the tool length offset */
+	bool tlo_inch;			/* the offset was set under G20 */
 };
 
 struct gline {
@@ -839,6 +840,14 @@ static int do_tool_length(struct prog_ctx *c, struct gstate *st,
 	bool axis = HAS(l, 'X') || HAS(l, 'Y') || HAS(l, 'Z') || HAS(l, 'A');
 	char what[64];
 
+	for (unsigned int a = 0; a < SH2000_AXES; a++)
+		if (off[a] != 0 && st->tlo_inch != st->inch)
+			prog_warn_once(c, PW_TLO_UNITS, SH2000_PD_ORDER, l->line,
+				       l->gcol[GRP_TOOLLEN],
+				       "a tool length offset set under %s is changed under %s: here offsets stay in mm, but LinuxCNC 2.9's interpreter (as Debian's rs274 shows) keeps the old offset's number in the new units and moves the tool by the difference; put G20/G21 before the first G43 (later cases are not reported)",
+				       st->tlo_inch ? "G20" : "G21",
+				       st->inch ? "G20" : "G21");
+	st->tlo_inch = st->inch;
 	if (code == 490 || code == 431) {
 		for (unsigned int a = 0; a < SH2000_AXES; a++)
 			off[a] = code == 431 && HAS(l, axes[a]) ?

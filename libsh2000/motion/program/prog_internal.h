@@ -21,6 +21,7 @@ enum prog_warn_kind {
 	PW_AFTER_END = 1u << 7,	/* text after M2/M30 or % */
 	PW_UNITS_F = 1u << 8,	/* F next to a units change */
 	PW_A_INCH = 1u << 9,	/* A under G20 */
+	PW_TLO_UNITS = 1u << 10,/* an offset changed in other units */
 };
 
 struct prog_ctx {

@@ -153,6 +153,7 @@ static void test_table_bad_lines(void **state)
 	bad_table("T1.5 P1\n", SH2000_PD_RANGE, 1, 1);
 	bad_table("T1 P-1\n", SH2000_PD_RANGE, 1, 4);
 	bad_table("T1 P1 Q1.5\n", SH2000_PD_RANGE, 1, 7);
+	bad_table("T1 P1 Z1e300\n", SH2000_PD_RANGE, 1, 7);
 	bad_table("T1 P1 B1\n", SH2000_PD_NO_AXIS, 1, 7);
 	bad_table("T1 P1 W-2\n", SH2000_PD_NO_AXIS, 1, 7);
 	bad_table("T1 P1\n; two of one tool\nT1 P2 Z3\n", SH2000_PD_CONFLICT, 3, 1);
@@ -278,6 +279,7 @@ static void test_tool_errors(void **state)
 	expect_tools_error("G49 H1\nM2\n", SH2000_PD_CONFLICT, 1, 5);
 	expect_tools_error("G43.1 Z1 H1\nM2\n", SH2000_PD_CONFLICT, 1, 10);
 	expect_tools_error("G43.1 K1\nM2\n", SH2000_PD_CONFLICT, 1, 7);
+	expect_tools_error("G43.1 X1 Z9999999999\nM2\n", SH2000_PD_RANGE, 1, 10);
 	expect_tools_error("G0 X0\nG43.2 Z1\nM2\n", SH2000_PD_UNSUPPORTED, 2, 1);
 	expect_tools_error("G0 X0\nG43.2 H1 Z1\nM2\n", SH2000_PD_UNSUPPORTED, 2, 1);
 	expect_tools_error("G43 G49\nM2\n", SH2000_PD_CONFLICT, 1, 5);
@@ -364,6 +366,10 @@ static void test_canon_offsets(void **state)
 			 -SH2000_PROG_EINVALID);
 	assert_int_equal(first_error()->code, SH2000_PD_TOOL);
 	assert_int_equal(rd_tools(CANON, "    1 N..... CHANGE_TOOL(1.5)\n"
+				  "    2 N..... PROGRAM_END()\n", false),
+			 -SH2000_PROG_EINVALID);
+	assert_int_equal(first_error()->code, SH2000_PD_RANGE);
+	assert_int_equal(rd_tools(CANON, "    1 N..... USE_TOOL_LENGTH_OFFSET(0 0 1e300, 0 0 0, 0 0 0)\n"
 				  "    2 N..... PROGRAM_END()\n", false),
 			 -SH2000_PROG_EINVALID);
 	assert_int_equal(first_error()->code, SH2000_PD_RANGE);

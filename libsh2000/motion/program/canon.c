@@ -543,6 +543,15 @@ static int cmd_tool_offset(struct prog_ctx *c, struct cstate *st,
 			return prog_err(c, SH2000_PD_NO_AXIS, l->line, l->col,
 					"USE_TOOL_LENGTH_OFFSET: a %c offset, but the SH-2000TH has only X, Y, Z and the linear A",
 					"BCUVW"[i - 4]);
+	for (unsigned int a = 0; a < SH2000_AXES; a++) {
+		double mm = v[a] * (a == SH2000_PROG_A ? 1 : st->unit);
+
+		/* a position plus it must stay a number */
+		if (!(fabs(mm) <= 1e9))
+			return prog_err(c, SH2000_PD_RANGE, l->line, l->col,
+					"USE_TOOL_LENGTH_OFFSET: %c offset %g mm out of range",
+					SH2000_AXIS_LETTERS[a], mm);
+	}
 	for (unsigned int a = 0; a < SH2000_AXES; a++)
 		st->tools.offset[a] = v[a] * (a == SH2000_PROG_A ? 1 : st->unit);
 	return 0;

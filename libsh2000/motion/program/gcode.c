@@ -849,9 +849,16 @@ static int do_tool_length(struct prog_ctx *c, struct gstate *st,
 				       st->inch ? "G20" : "G21");
 	st->tlo_inch = st->inch;
 	if (code == 490 || code == 431) {
-		for (unsigned int a = 0; a < SH2000_AXES; a++)
+		for (unsigned int a = 0; a < SH2000_AXES; a++) {
 			off[a] = code == 431 && HAS(l, axes[a]) ?
 				 VAL(l, axes[a]) * (a == SH2000_PROG_A ? 1 : unit) : 0;
+			/* a position plus it must stay a number */
+			if (fabs(off[a]) > 1e9)
+				return prog_err(c, SH2000_PD_RANGE, l->line,
+						COL(l, axes[a]),
+						"G43.1 %c offset out of range",
+						axes[a]);
+		}
 		return 0;
 	}
 	if (code == 432 && (!HAS(l, 'H') || axis))

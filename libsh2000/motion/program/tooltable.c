@@ -80,6 +80,10 @@ static int read_word(struct prog_ctx *c, const char *s, size_t n,
 	if (*end || !isfinite(slot->v))
 		return prog_err(c, SH2000_PD_SYNTAX, line, col,
 				"%c: '%s' is not a finite number", L, buf);
+	/* a position plus an offset must stay a number */
+	if (fabs(slot->v) > 1e9)
+		return prog_err(c, SH2000_PD_RANGE, line, col,
+				"%c%s: out of range (at most 1e9)", L, buf);
 	if (strchr("TPQ", L) && (slot->v != floor(slot->v) ||
 				 fabs(slot->v) > INT_MAX))
 		return prog_err(c, SH2000_PD_RANGE, line, col,

@@ -129,8 +129,9 @@ static void test_warnings(void **state)
 		  "   12 N..... ON_RESET()\n"
 		  "   13 N..... STRAIGHT_TRAVERSE(1.0000, 0.0000, 0.0000)\n");
 	assert_int_equal(D.errors, 0);
-	assert_int_equal(count_warnings(SH2000_PD_NOT_ACTED), 4);
+	assert_int_equal(count_warnings(SH2000_PD_NOT_ACTED), 5);
 	assert_int_equal(count_warnings(SH2000_PD_IGNORED), 2);
+	assert_true(has_message("CHANGE_TOOL (tool change) not paused at"));
 	assert_true(has_message("SET_SPINDLE_SPEED(1000)"));
 	assert_true(has_message("START_SPINDLE_CLOCKWISE (spindle)"));
 	assert_true(has_message("FLOOD_ON (coolant)"));
@@ -147,8 +148,13 @@ static void test_errors(void **state)
 	expect_error(CANON, "    1 N..... RIGID_TAP(1.0000, 0.0000, 0.0000)\n", SH2000_PD_UNSUPPORTED, 1, 14);
 	expect_error(CANON, "    1 N..... FROBNICATE()\n", SH2000_PD_UNKNOWN, 1, 14);
 	expect_error(CANON, "    1 N..... SET_XY_ROTATION(30.0000)\n", SH2000_PD_UNSUPPORTED, 1, 14);
-	expect_error(CANON, "    1 N..... USE_TOOL_LENGTH_OFFSET(0.0000 0.0000 1.0000, 0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000)\n",
-		     SH2000_PD_UNSUPPORTED, 1, 14);
+	/* an offset on an axis the card does not have */
+	expect_error(CANON, "    1 N..... USE_TOOL_LENGTH_OFFSET(0.0000 0.0000 1.0000, 0.0000 2.0000 0.0000, 0.0000 0.0000 0.0000)\n",
+		     SH2000_PD_NO_AXIS, 1, 14);
+	expect_error(CANON, "    1 N..... USE_TOOL_LENGTH_OFFSET(0.0000 0.0000 1.0000, 0.0000 0.0000 0.0000)\n",
+		     SH2000_PD_SYNTAX, 1, 14);
+	expect_error(CANON, "    1 N..... USE_TOOL_LENGTH_OFFSET(0.0000 x)\n",
+		     SH2000_PD_SYNTAX, 1, 44);
 	expect_ok(CANON, "    1 N..... USE_TOOL_LENGTH_OFFSET(0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000)\n" "  999 N..... PROGRAM_END()\n");
 	expect_error(CANON, "    1 N..... SET_FEED_MODE(0, 1)\n", SH2000_PD_UNSUPPORTED, 1, 14);
 	expect_error(CANON, "    1 N..... SELECT_PLANE(CANON_PLANE_UV)\n", SH2000_PD_UNSUPPORTED, 1, 14);
@@ -238,8 +244,12 @@ static void test_older_format(void **state)
 	assert_pos4(nth(SH2000_PROG_LINE, 0)->end, 1, 3.915, 1.6875, 0);
 	assert_int_equal(nth(SH2000_PROG_END, 0)->u.end_code, 30);
 	assert_int_equal(count_warnings(SH2000_PD_NOT_ACTED), 2);
-	expect_error(CANON, "12 N0090  USE_TOOL_LENGTH_OFFSET(1.0000)\n",
-		     SH2000_PD_UNSUPPORTED, 1, 11);
+	/* the older form's one number is the Z offset */
+	expect_ok(CANON, "1 N..... USE_LENGTH_UNITS(CANON_UNITS_INCHES)\n"
+			 "12 N0090  USE_TOOL_LENGTH_OFFSET(1.0000)\n"
+			 "13 N0110  STRAIGHT_TRAVERSE(0.0000, 0.0000, 3.0000)\n"
+			 "14 N..... PROGRAM_END()\n");
+	assert_pos4(nth(SH2000_PROG_RAPID, 0)->end, 0, 0, 4 * 25.4, 0);
 	expect_error(CANON, "    1 N..... DWELL(1.0\n", SH2000_PD_SYNTAX, 1, 19);
 }
 

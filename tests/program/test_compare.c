@@ -9,13 +9,18 @@
  * data/nurbs_*.points are the points LinuxCNC's own NURBS evaluation
  * gives for G5.2 blocks (its Python gcode module, as its preview draws
  * them: "line x y" in inches at u = k * umax / (15 * points)); the
- * built-in parser's NURBS must go through them.
+ * built-in parser's NURBS must go through them. data/tools.ngc changes
+ * tools and tool length offsets with data/tools.tbl (mm); tools.canon is
+ * rs274's output for it with that table as sh2000-upload gives it to
+ * rs274 (in inches, the standalone interpreter's units).
  */
 #include <stdlib.h>
 
 #include "progtest.h"
 
 static struct sh2000_program Q;
+/* the options both readers get (NULL: defaults) */
+static const struct sh2000_prog_options *O;
 
 static int rdf(struct sh2000_program *p, enum sh2000_prog_format fmt,
 	       const char *name)
@@ -23,7 +28,7 @@ static int rdf(struct sh2000_program *p, enum sh2000_prog_format fmt,
 	char path[512];
 
 	snprintf(path, sizeof(path), "%s/%s", PROGRAM_TEST_DATA, name);
-	return sh2000_program_read_file(p, fmt, path, NULL, &D);
+	return sh2000_program_read_file(p, fmt, path, O, &D);
 }
 
 /* rs274 prints a move for G0 or G1 without axis words; this reader
@@ -87,6 +92,8 @@ static size_t same_motion(const char *ngc, const char *canon)
 			break;
 		case SH2000_PROG_PAUSE:
 			assert_int_equal(a->u.optional, b->u.optional);
+			assert_int_equal(a->tool_change, b->tool_change);
+			assert_int_equal(a->tool, b->tool);
 			break;
 		case SH2000_PROG_END:
 			assert_int_equal(a->u.end_code, b->u.end_code);
@@ -130,6 +137,32 @@ static void test_random_programs(void **state)
 		snprintf(canon, sizeof(canon), "random%s.canon", seeds[k]);
 		assert_true(same_motion(ngc, canon) > 10);
 	}
+}
+
+/* Tool changes (paused at) and tool length offsets: G43 H, G43, G43.1
+ * in inches, G43.2, G49, with X and A offsets and an absolute arc
+ * centre. */
+static void test_tools(void **state)
+{
+	struct sh2000_tool_table t;
+	struct sh2000_prog_options o;
+	char path[512];
+
+	(void)state;
+	sh2000_tool_table_init(&t);
+	snprintf(path, sizeof(path), "%s/tools.tbl", PROGRAM_TEST_DATA);
+	assert_int_equal(sh2000_tool_table_read_file(&t, path, &D), 0);
+	sh2000_prog_options_default(&o);
+	o.tools = &t;
+	o.pause_at_tool_change = true;
+	O = &o;
+	/* 16 motions, 3 tool changes, the path mode and the end */
+	assert_int_equal(same_motion("tools.ngc", "tools.canon"), 21);
+	assert_int_equal(count_kind(SH2000_PROG_PAUSE), 3);
+	/* T1's Z+10: G1 Z-1 is at machine Z 9 */
+	assert_pos4(nth(SH2000_PROG_LINE, 0)->end, 0, 0, 9, 0);
+	O = NULL;
+	sh2000_tool_table_free(&t);
 }
 
 static void test_nurbs_example(void **state)
@@ -186,6 +219,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test_setup_teardown(test_same_motion, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_random_programs, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_tools, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_nurbs_example, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_nurbs_like_linuxcnc, setup, teardown),
 	};

@@ -423,7 +423,7 @@ static void test_warnings_once_per_kind(void **state)
 	assert_true(has_message("S1000 (spindle speed) not acted on"));
 	assert_true(has_message("M3 (spindle clockwise) not acted on"));
 	assert_true(has_message("T1 (tool select) not acted on"));
-	assert_true(has_message("M6 (tool change) not acted on"));
+	assert_true(has_message("M6 (tool change) not paused at"));
 	assert_true(has_message("M8 (coolant flood) not acted on"));
 	/* positions of the first of each kind */
 	for (size_t i = 0; i < D.count; i++) {
@@ -433,9 +433,9 @@ static void test_warnings_once_per_kind(void **state)
 			assert_true(g->pos.line == 1 && g->pos.column == 1);
 		if (strstr(g->message, "M3 "))
 			assert_true(g->pos.line == 1 && g->pos.column == 7);
-		if (strstr(g->message, "T1"))
+		if (strstr(g->message, "T1 (tool select)"))
 			assert_true(g->pos.line == 5 && g->pos.column == 1);
-		if (strstr(g->message, "M6"))
+		if (strstr(g->message, "M6 (tool change)"))
 			assert_true(g->pos.line == 5 && g->pos.column == 4);
 		if (strstr(g->message, "M8"))
 			assert_true(g->pos.line == 7 && g->pos.column == 1);
@@ -495,7 +495,7 @@ static void test_unknown_and_unsupported(void **state)
 	expect_error(G, "G0 X1 C1\n", SH2000_PD_NO_AXIS, 1, 7);
 	expect_error(G, "G0 U1\n", SH2000_PD_NO_AXIS, 1, 4);
 	expect_error(G, "G41 D1\n", SH2000_PD_UNSUPPORTED, 1, 1);
-	expect_error(G, "G0 X1 H1\n", SH2000_PD_UNSUPPORTED, 1, 7);
+	expect_error(G, "G0 X1 H1\n", SH2000_PD_CONFLICT, 1, 7);
 	expect_error(G, "#1=5\n", SH2000_PD_UNSUPPORTED, 1, 1);
 	expect_error(G, "G0 X#1\n", SH2000_PD_UNSUPPORTED, 1, 5);
 	expect_error(G, "G0 X[1+2]\n", SH2000_PD_UNSUPPORTED, 1, 5);

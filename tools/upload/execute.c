@@ -111,6 +111,29 @@ static int operator_input(int *stdin_eof)
 	return 0;
 }
 
+/* What the operator is asked at a tool change (a terminal is there:
+ * --pause-on-tool-change needs one). */
+static void tool_change_prompt(const struct upl_runctx *rc, const char *where,
+			       const struct sh2000_prog_block *b)
+{
+	const struct sh2000_tool *t = rc->tools ?
+		sh2000_tool_table_find(rc->tools, b->tool) : NULL;
+
+	if (b->tool == 0) {
+		sh2000_tool_msg("%s: tool change: take the tool out of the spindle (T0); press Enter when done (Ctrl-C stops)",
+				where);
+		return;
+	}
+	if (t)
+		sh2000_tool_msg("%s: tool change: put tool %d in the spindle (pocket %d, Z offset %.4f mm, diameter %.4f mm%s%s); press Enter when it is in (Ctrl-C stops)",
+				where, b->tool, t->pocket, t->offset[2],
+				t->diameter, t->comment ? ": " : "",
+				t->comment ? t->comment : "");
+	else
+		sh2000_tool_msg("%s: tool change: put tool %d in the spindle; press Enter when it is in (Ctrl-C stops)",
+				where, b->tool);
+}
+
 int upl_pause(void *ctx, const struct sh2000_prog_block *b)
 {
 	struct upl_runctx *rc = ctx;
@@ -118,7 +141,9 @@ int upl_pause(void *ctx, const struct sh2000_prog_block *b)
 
 	upl_report_end(&rc->rep);
 	sh2000_prog_block_where(b, where, sizeof(where));
-	if (isatty(STDIN_FILENO))
+	if (b->tool_change)
+		tool_change_prompt(rc, where, b);
+	else if (isatty(STDIN_FILENO))
 		sh2000_tool_msg("%s: %s: paused; press Enter to resume (Ctrl-C stops)",
 				where, b->u.optional ? "M1" : "M0");
 	else

@@ -190,6 +190,7 @@ static int second_pass(struct sh2000 *h, const struct upl_opts *o,
 
 	rc->h = h;
 	rc->seq = -1;
+	rc->tools = o->tool_table ? &src->tools : NULL;
 	rc->rep.bar = isatty(STDERR_FILENO);
 	rc->rep.quiet = o->quiet;
 	rc->rep.total_points = plan->points;

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <unistd.h>
 
 #include "upload.h"
 
@@ -27,6 +28,14 @@ static void usage(FILE *f)
 		"                          .csv .json)\n"
 		"      --rs274             read G-code through LinuxCNC's rs274 interpreter\n"
 		"                          (full RS274NGC; Debian package linuxcnc-uspace)\n"
+		"      --tool-table FILE   LinuxCNC tool table (T1 P1 Z+10 D6 ;text, lengths\n"
+		"                          in mm) for T words and G43 offsets, in both readers\n"
+		"      --parameter-file FILE\n"
+		"                          rs274's parameter (.var) file for --rs274 (read,\n"
+		"                          not changed; default: an empty one)\n"
+		"      --pause-on-tool-change\n"
+		"                          wait for the operator at each tool change (M6):\n"
+		"                          Enter on the terminal (standard input must be one)\n"
 		"  -F, --feed MM_PER_MIN   feed for CSV and JSON files that carry none\n"
 		"  -o, --feed-override PCT feed override, 1..200 %% (default 100)\n"
 		"      --tolerance MM      path tolerance until the program sets one with\n"
@@ -120,6 +129,9 @@ static int parse_one(int c, const char *arg, struct upl_opts *o)
 	case 'd': o->device = arg; return 0;
 	case 'f': return parse_format(arg, o);
 	case 'R': o->rs274 = 1; return 0;
+	case 'K': o->tool_table = arg; return 0;
+	case 'P': o->parameter_file = arg; return 0;
+	case 'C': o->pause_tool_change = 1; return 0;
 	case 'F': case 'o': case 'L': case 'e': return parse_value(c, arg, o);
 	case 'r': o->raw = 1; return 0;
 	case 'T': o->trapezoid = 1; return 0;
@@ -159,6 +171,14 @@ static int parse_check(int argc, char **argv, struct upl_opts *o)
 	}
 	if (o->rs274 && o->format && o->format != SH2000_PROG_GCODE)
 		return sh2000_tool_usage(NULL, "--rs274 reads G-code only");
+	if (o->parameter_file && !o->rs274)
+		return sh2000_tool_usage(NULL,
+			"--parameter-file %s is rs274's: it needs --rs274 (the built-in parser has no parameters)",
+			o->parameter_file);
+	/* a tool change needs a person who says the tool is in */
+	if (o->pause_tool_change && !o->dry_run && !isatty(STDIN_FILENO))
+		return sh2000_tool_usage(NULL,
+			"--pause-on-tool-change: standard input is not a terminal, so no one could confirm a tool change; run from a terminal (or without the option: tool changes are then reported once)");
 	return SH2000_EXIT_OK;
 }
 
@@ -168,6 +188,9 @@ int upl_parse(int argc, char **argv, struct upl_opts *o)
 		{ "device", required_argument, NULL, 'd' },
 		{ "format", required_argument, NULL, 'f' },
 		{ "rs274", no_argument, NULL, 'R' },
+		{ "tool-table", required_argument, NULL, 'K' },
+		{ "parameter-file", required_argument, NULL, 'P' },
+		{ "pause-on-tool-change", no_argument, NULL, 'C' },
 		{ "feed", required_argument, NULL, 'F' },
 		{ "feed-override", required_argument, NULL, 'o' },
 		{ "tolerance", required_argument, NULL, 'L' },
@@ -197,7 +220,7 @@ int upl_parse(int argc, char **argv, struct upl_opts *o)
 			return r;
 		if (r == 0)
 			continue;
-		if (optopt && strchr("dfFotpeL", optopt))
+		if (optopt && strchr("dfFotpeLKP", optopt))
 			return sh2000_tool_usage(NULL, "option -%c needs a value",
 						 optopt);
 		return sh2000_tool_usage(NULL, "unknown option '%s'",

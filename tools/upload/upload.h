@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * sh2000-upload's parts: the command line (options.c), the program and
- * its diagnostics (source.c), the run's callbacks, pauses and failures
+ * its diagnostics and tool table (source.c), LinuxCNC's rs274 run on it
+ * (rs274.c), the run's callbacks, pauses and failures
  * (execute.c), the trace and the plot (trace.c), progress (report.c).
  * main.c is the order of things; sh2000-upload(1) the manual. The work
  * itself -- reading, checking, planning and streaming the program -- is
@@ -34,6 +35,9 @@ struct upl_opts {
 	const char *file;
 	enum sh2000_prog_format format;
 	int rs274;
+	const char *tool_table;		/* --tool-table (NULL: none) */
+	const char *parameter_file;	/* --parameter-file, for rs274 */
+	int pause_tool_change;
 	const char *trace;
 	unsigned int trace_every;
 	const char *plot;
@@ -51,14 +55,22 @@ int upl_parse(int argc, char **argv, struct upl_opts *o);
 struct upl_source {
 	struct sh2000_prog_reader *reader;
 	struct sh2000_prog_diags diags;
+	struct sh2000_tool_table tools;	/* --tool-table's (empty: none) */
 	char dir[64];		/* --rs274's temporary directory */
 	char canon[128];	/* and its output in it */
 };
 
-/* Open the program (running rs274 first with --rs274): 0 or an exit
- * code, the reason printed. upl_source_close() in any case. */
+/* Open the program (reading the tool table, and running rs274 first with
+ * --rs274): 0 or an exit code, the reason printed. upl_source_close() in
+ * any case. */
 int upl_source_open(struct upl_source *s, const struct upl_opts *o,
 		    const double start[SH2000_AXES]);
+/* rs274.c: rs274 -g -t DIR/tool.tbl -v DIR/params.var FILE >
+ * DIR/rs274.canon in a new temporary DIR (s->dir, s->canon); 0 or an exit
+ * code, the reason printed. */
+int upl_rs274_run(const struct upl_opts *o, struct upl_source *s);
+/* Remove that directory (unless s->dir was emptied to keep it). */
+void upl_rs274_clean(struct upl_source *s);
 /* Print the program's errors: UPLOAD_EXIT_PROGRAM. */
 int upl_source_errors(struct upl_source *s, const struct upl_opts *o);
 void upl_source_close(struct upl_source *s);
@@ -87,6 +99,7 @@ struct upl_runctx {
 	int holding;		/* a feed hold is on */
 	int stdin_eof;
 	int pause_error;	/* the card failed while paused */
+	const struct sh2000_tool_table *tools;	/* for tool change prompts */
 	int64_t seq;		/* the line the card was at, last poll */
 };
 

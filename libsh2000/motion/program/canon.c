@@ -8,11 +8,13 @@
  * (output counter, the source's N word or "N.....", the call). This reads
  * that text into the same representation as the built-in G-code reader.
  * Values are in the program's units (USE_LENGTH_UNITS; A always in mm)
- * relative to the
- * active G5x and G92 origins, which are added back.
+ * relative to the active G5x and G92 origins, which are added back, and
+ * name the tool's tip: the tool length offset (USE_TOOL_LENGTH_OFFSET) is
+ * added too, as LinuxCNC's motion does.
  */
 #include <ctype.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -36,6 +38,7 @@ struct cstate {
 	unsigned int reset_seen;
 	double naive_mm;	/* SET_NAIVECAM_TOLERANCE, mm */
 	double res_mm;		/* rounding of the position as last printed */
+	struct prog_tool_state tools;	/* the tool and its offset, mm */
 };
 
 struct carg {
@@ -244,7 +247,7 @@ static double mpos(const struct cstate *st, int axis, double v)
 {
 	/* rs274 prints A as written: LinuxCNC never scales A by G20 */
 	return v * (axis == SH2000_PROG_A ? 1 : st->unit) + st->g5x[axis] +
-	       st->g92[axis];
+	       st->g92[axis] + st->tools.offset[axis];
 }
 
 static int need_feed(struct prog_ctx *c, const struct cstate *st,
@@ -498,32 +501,80 @@ static int cmd_rotation(struct prog_ctx *c, struct cstate *st,
 	return 0;
 }
 
+/* USE_TOOL_LENGTH_OFFSET(x y z, a b c, u v w) in the program's units (A
+ * unscaled), or the older USE_TOOL_LENGTH_OFFSET(z): from here on the
+ * machine is that far from the positions printed. */
 static int cmd_tool_offset(struct prog_ctx *c, struct cstate *st,
 			   const struct cline *l)
 {
-	/* "x y z, a b c, u v w": every number must be zero */
 	const char *p = l->raw, *e = l->raw + l->nraw;
+	unsigned int col0 = l->col + (unsigned)strlen(l->name) + 1;
+	double v[9] = { 0 };
+	int n = 0;
 
-	(void)st;
 	while (p < e) {
 		char *q;
-		double x;
 
 		if (isspace((unsigned char)*p) || *p == ',') {
 			p++;
 			continue;
 		}
-		x = strtod(p, &q);
-		if (q == p || q > e)
+		if (n < 9)
+			v[n] = strtod(p, &q);
+		if (n >= 9 || q == p || q > e || !isfinite(v[n]))
 			return prog_err(c, SH2000_PD_SYNTAX, l->line,
-					(unsigned)(p - l->raw) + l->col + (unsigned)strlen(l->name) + 1,
-					"USE_TOOL_LENGTH_OFFSET: not a number");
-		if (x != 0)
-			return prog_err(c, SH2000_PD_UNSUPPORTED, l->line, l->col,
-					"tool length offsets are not supported (the card has no tool)");
+					(unsigned)(p - l->raw) + col0,
+					"USE_TOOL_LENGTH_OFFSET: %s",
+					n >= 9 ? "more than 9 numbers" :
+					"not a finite number");
+		n++;
 		p = q;
 	}
+	if (n != 1 && n != 9)
+		return prog_err(c, SH2000_PD_SYNTAX, l->line, l->col,
+				"USE_TOOL_LENGTH_OFFSET: %d numbers, expected 9 (x y z, a b c, u v w) or 1 (z)",
+				n);
+	if (n == 1) {
+		v[2] = v[0];
+		v[0] = 0;
+	}
+	for (int i = 4; i < 9; i++)
+		if (v[i] != 0)
+			return prog_err(c, SH2000_PD_NO_AXIS, l->line, l->col,
+					"USE_TOOL_LENGTH_OFFSET: a %c offset, but the SH-2000TH has only X, Y, Z and the linear A",
+					"BCUVW"[i - 4]);
+	for (unsigned int a = 0; a < SH2000_AXES; a++) {
+		double mm = v[a] * (a == SH2000_PROG_A ? 1 : st->unit);
+
+		/* a position plus it must stay a number */
+		if (!(fabs(mm) <= 1e9))
+			return prog_err(c, SH2000_PD_RANGE, l->line, l->col,
+					"USE_TOOL_LENGTH_OFFSET: %c offset %g mm out of range",
+					SH2000_AXIS_LETTERS[a], mm);
+	}
+	for (unsigned int a = 0; a < SH2000_AXES; a++)
+		st->tools.offset[a] = v[a] * (a == SH2000_PROG_A ? 1 : st->unit);
 	return 0;
+}
+
+/* SELECT_TOOL(n) and CHANGE_TOOL(n): T and M6. */
+static int cmd_tool(struct prog_ctx *c, struct cstate *st,
+		    const struct cline *l)
+{
+	double v[MAX_ARGS];
+	int ret;
+
+	if ((ret = nums(c, l, 1, 1, v)))
+		return ret;
+	if (name_is(l, "SELECT_TOOL"))
+		return prog_tool_select(c, &st->tools, v[0], l->line, l->col);
+	/* rs274 prints the tool it selected (and checked) before */
+	if (v[0] != floor(v[0]) || v[0] < 0 || v[0] > INT_MAX)
+		return prog_err(c, SH2000_PD_RANGE, l->line, l->arg[0].col,
+				"CHANGE_TOOL(%g): a tool number is an integer >= 0",
+				v[0]);
+	st->tools.selected = (int)v[0];
+	return prog_tool_change(c, &st->tools, "CHANGE_TOOL", l->line, l->col);
 }
 
 static int cmd_nurbs_feed(struct prog_ctx *c, struct cstate *st,
@@ -641,6 +692,8 @@ static const struct {
 	{ "SET_ORIGIN_OFFSETS", cmd_offsets },
 	{ "SET_XY_ROTATION", cmd_rotation },
 	{ "USE_TOOL_LENGTH_OFFSET", cmd_tool_offset },
+	{ "SELECT_TOOL", cmd_tool },
+	{ "CHANGE_TOOL", cmd_tool },
 	{ "NURBS_FEED", cmd_nurbs_feed },
 	{ "SET_SPINDLE_SPEED", cmd_spindle_speed },
 	{ "SET_MOTION_CONTROL_MODE", cmd_motion_mode },
@@ -667,8 +720,6 @@ static const struct {
 	{ "ORIENT_SPINDLE", PW_SPINDLE, "spindle" },
 	{ "FLOOD_ON", PW_COOLANT, "coolant" },
 	{ "MIST_ON", PW_COOLANT, "coolant" },
-	{ "CHANGE_TOOL", PW_TOOL, "tool" },
-	{ "SELECT_TOOL", PW_TOOL, "tool" },
 	{ "SELECT_POCKET", PW_TOOL, "tool" },
 };
 

@@ -42,6 +42,8 @@ struct gstate {
 	size_t npts, cap;
 	double (*pts)[SH2000_AXES];
 	double *w;
+	struct prog_tool_state tools;	/* T, M6, the tool length offset */
+	bool tlo_inch;			/* the offset was set under G20 */
 };
 
 struct gline {
@@ -73,15 +75,14 @@ static int g_group(int code)
 	case 901: case 911: return GRP_ARCDIST;
 	case 940: return GRP_FEEDMODE;
 	case 400: return GRP_CUTTER;
-	case 490: return GRP_TOOLLEN;
+	case 430: case 431: case 432: case 490: return GRP_TOOLLEN;
 	case 540: return GRP_COORD;
 	case 610: case 611: case 640: return GRP_PATH;
 	}
 	/* the rest of LinuxCNC's G codes */
 	static const int known[] = {
 		50, 51, 70, 80, 100, 171, 181, 191, 280, 281, 300, 301, 330,
-		331, 382, 383, 384, 385, 410, 411, 420, 421, 430, 431, 432,
-		520, 530, 550, 560, 570, 580, 590, 591, 592, 593, 700, 710,
+		331, 382, 383, 384, 385, 410, 411, 420, 421, 520, 530, 550, 560, 570, 580, 590, 591, 592, 593, 700, 710,
 		711, 712, 720, 721, 722, 730, 740, 760, 810, 820, 830, 840,
 		850, 860, 870, 880, 890, 920, 921, 922, 923, 930, 950, 960,
 		970, 980, 990,
@@ -326,7 +327,7 @@ static int lex_word(struct prog_ctx *c, struct gline *l, char L, double v,
 		return prog_err(c, SH2000_PD_NO_AXIS, l->line, col,
 				"the SH-2000TH has no %c axis (its axes are X, Y, Z and the linear A)",
 				L);
-	case 'D': case 'E': case 'H':
+	case 'D': case 'E':
 		return prog_err(c, SH2000_PD_UNSUPPORTED, l->line, col,
 				"%c word is not in the built-in parser's subset", L);
 	default:
@@ -500,7 +501,9 @@ static int do_nurbs_point(struct prog_ctx *c, struct gstate *st,
 	}
 	if (HAS(l, 'L'))
 		st->nurbs_order = (unsigned int)VAL(l, 'L');
-	if (xy && !nurbs_push(c, st, VAL(l, 'X') * unit, VAL(l, 'Y') * unit,
+	if (xy && !nurbs_push(c, st,
+			      VAL(l, 'X') * unit + st->tools.offset[SH2000_PROG_X],
+			      VAL(l, 'Y') * unit + st->tools.offset[SH2000_PROG_Y],
 			      VAL(l, 'P')))
 		return -ENOMEM;
 	st->motion = MOT_G52;
@@ -604,8 +607,9 @@ static int do_arc(struct prog_ctx *c, struct gstate *st, const struct gline *l,
 					HAS(l, L1) ? L2 : L1, L1, L2);
 		o1 = HAS(l, L1) ? VAL(l, L1) * unit : 0;
 		o2 = HAS(l, L2) ? VAL(l, L2) * unit : 0;
-		c1 = st->arc_absolute ? o1 : c->pos[a1] + o1;
-		c2 = st->arc_absolute ? o2 : c->pos[a2] + o2;
+		/* an absolute centre is where the tip's path turns */
+		c1 = st->arc_absolute ? o1 + st->tools.offset[a1] : c->pos[a1] + o1;
+		c2 = st->arc_absolute ? o2 + st->tools.offset[a2] : c->pos[a2] + o2;
 	} else {
 		const char *axes = SH2000_AXIS_LETTERS;
 
@@ -642,15 +646,6 @@ static void warn_not_acted(struct prog_ctx *c, const struct gline *l)
 			       COL(l, 'S'),
 			       "S%g (spindle speed) not acted on: the SH-2000TH has no spindle output; later S words are not reported",
 			       VAL(l, 'S'));
-	if (HAS(l, 'T'))
-		prog_warn_once(c, PW_TOOL, SH2000_PD_NOT_ACTED, l->line,
-			       COL(l, 'T'),
-			       "T%g (tool select) not acted on: the SH-2000TH has no tool changer; later T words are not reported",
-			       VAL(l, 'T'));
-	if (l->m[MGRP_TOOL] == 6)
-		prog_warn_once(c, PW_TOOLCHANGE, SH2000_PD_NOT_ACTED, l->line,
-			       l->mcol[MGRP_TOOL],
-			       "M6 (tool change) not acted on: the SH-2000TH has no tool changer and the program does not pause; later M6 are not reported");
 	if (l->m[MGRP_SPINDLE] >= 0)
 		prog_warn_once(c, PW_SPINDLE, SH2000_PD_NOT_ACTED, l->line,
 			       l->mcol[MGRP_SPINDLE],
@@ -685,6 +680,12 @@ static int check_users(struct prog_ctx *c, const struct gline *l, int motion)
 	if (HAS(l, 'L') && motion != MOT_G52)
 		return prog_err(c, SH2000_PD_CONFLICT, l->line, COL(l, 'L'),
 				"L word with no G5.2 to use it");
+	if (HAS(l, 'H') && l->g[GRP_TOOLLEN] != 430 && l->g[GRP_TOOLLEN] != 432)
+		return prog_err(c, SH2000_PD_CONFLICT, l->line, COL(l, 'H'),
+				"H word with no G43 or G43.2 to use it");
+	if (HAS(l, 'K') && !arc && l->g[GRP_TOOLLEN] == 431)
+		return prog_err(c, SH2000_PD_CONFLICT, l->line, COL(l, 'K'),
+				"K word with G43.1: LinuxCNC 2.9 takes the dynamic offset from axis words (G43.1 Z-), not from K");
 	for (const char *w = "IJKR"; *w; w++)
 		if (HAS(l, *w) && !arc)
 			return prog_err(c, SH2000_PD_CONFLICT, l->line,
@@ -720,12 +721,21 @@ static int nurbs_line_check(struct prog_ctx *c, const struct gstate *st,
 	return 0;
 }
 
+/* Axis words that make a move: not those of a G43.1 line without a
+ * motion word (they are its offset; LinuxCNC moves too only when the line
+ * has G0/G1... as well). */
+static bool axis_words_move(const struct gline *l)
+{
+	return (HAS(l, 'X') || HAS(l, 'Y') || HAS(l, 'Z') || HAS(l, 'A')) &&
+	       (l->g[GRP_TOOLLEN] != 431 || l->g[GRP_MOTION] >= 0);
+}
+
 /* The motion this line runs: its own, or the modal one when it has axis
  * words (LinuxCNC's motion_to_be); *bcol where the block starts. */
 static int line_motion(struct prog_ctx *c, const struct gstate *st,
 		       const struct gline *l, int *motion, unsigned int *bcol)
 {
-	bool axis = HAS(l, 'X') || HAS(l, 'Y') || HAS(l, 'Z') || HAS(l, 'A');
+	bool axis = axis_words_move(l);
 	int mword = l->g[GRP_MOTION];
 
 	*motion = mword >= 0 ? mword : axis ? st->motion : MOT_NONE;
@@ -819,6 +829,79 @@ static int do_path_mode(struct prog_ctx *c, const struct gstate *st,
 	return 0;
 }
 
+/* G43 <H->, G43.1 axis words, G43.2 H-, G49: the tool length offset in
+ * mm, in force from this line's motion on (the machine does not move). */
+static int do_tool_length(struct prog_ctx *c, struct gstate *st,
+			  const struct gline *l, double unit)
+{
+	static const char axes[] = SH2000_AXIS_LETTERS;
+	double *off = st->tools.offset, add[SH2000_AXES], h = VAL(l, 'H');
+	int code = l->g[GRP_TOOLLEN];
+	bool axis = HAS(l, 'X') || HAS(l, 'Y') || HAS(l, 'Z') || HAS(l, 'A');
+	char what[64];
+
+	for (unsigned int a = 0; a < SH2000_AXES; a++)
+		if (off[a] != 0 && st->tlo_inch != st->inch)
+			prog_warn_once(c, PW_TLO_UNITS, SH2000_PD_ORDER, l->line,
+				       l->gcol[GRP_TOOLLEN],
+				       "a tool length offset set under %s is changed under %s: here offsets stay in mm, but LinuxCNC 2.9's interpreter (as Debian's rs274 shows) keeps the old offset's number in the new units and moves the tool by the difference; put G20/G21 before the first G43 (later cases are not reported)",
+				       st->tlo_inch ? "G20" : "G21",
+				       st->inch ? "G20" : "G21");
+	st->tlo_inch = st->inch;
+	if (code == 490 || code == 431) {
+		for (unsigned int a = 0; a < SH2000_AXES; a++) {
+			off[a] = code == 431 && HAS(l, axes[a]) ?
+				 VAL(l, axes[a]) * (a == SH2000_PROG_A ? 1 : unit) : 0;
+			/* a position plus it must stay a number */
+			if (fabs(off[a]) > 1e9)
+				return prog_err(c, SH2000_PD_RANGE, l->line,
+						COL(l, axes[a]),
+						"G43.1 %c offset out of range",
+						axes[a]);
+		}
+		return 0;
+	}
+	if (code == 432 && (!HAS(l, 'H') || axis))
+		return prog_err(c, SH2000_PD_UNSUPPORTED, l->line,
+				l->gcol[GRP_TOOLLEN],
+				"G43.2 adds the offsets of the tool its H word names; with axis words (or without H) it is not supported");
+	if (HAS(l, 'H') && (h != floor(h) || h < 0 || h > 1e9))
+		return prog_err(c, SH2000_PD_RANGE, l->line, COL(l, 'H'),
+				"H%g: a tool number is an integer >= 0", h);
+	if (HAS(l, 'H'))
+		snprintf(what, sizeof(what), "%s H%d",
+			 code == 430 ? "G43" : "G43.2", (int)h);
+	else
+		snprintf(what, sizeof(what), "G43 (T%d in the spindle)",
+			 st->tools.loaded);
+	if (prog_tool_offsets(c, HAS(l, 'H') ? (int)h : st->tools.loaded, add,
+			      what, l->line,
+			      HAS(l, 'H') ? COL(l, 'H') : l->gcol[GRP_TOOLLEN]))
+		return -SH2000_PROG_EINVALID;
+	for (unsigned int a = 0; a < SH2000_AXES; a++)
+		off[a] = (code == 432 ? off[a] : 0) + add[a];
+	return 0;
+}
+
+/* T, M6 and the tool length offset, in LinuxCNC's order (select, change,
+ * then, after the units, the offset). */
+static int do_tools(struct prog_ctx *c, struct gstate *st,
+		    const struct gline *l)
+{
+	int ret;
+
+	if (HAS(l, 'T') && (ret = prog_tool_select(c, &st->tools, VAL(l, 'T'),
+						    l->line, COL(l, 'T'))))
+		return ret;
+	if (l->m[MGRP_TOOL] == 6 &&
+	    (ret = prog_tool_change(c, &st->tools, "M6", l->line,
+				    l->mcol[MGRP_TOOL])))
+		return ret;
+	if (l->g[GRP_TOOLLEN] < 0)
+		return 0;
+	return do_tool_length(c, st, l, st->inch ? PROG_MM_PER_INCH : 1.0);
+}
+
 /* The modal settings of a line, in LinuxCNC's order after F. */
 static int do_modes(struct prog_ctx *c, struct gstate *st,
 		    const struct gline *l)
@@ -828,6 +911,8 @@ static int do_modes(struct prog_ctx *c, struct gstate *st,
 	if (l->g[GRP_UNITS] >= 0)
 		st->inch = l->g[GRP_UNITS] == 200;
 	warn_not_acted(c, l);
+	if ((ret = do_tools(c, st, l)))
+		return ret;
 	if (HAS(l, 'A') && st->inch)
 		prog_warn_once(c, PW_A_INCH, SH2000_PD_ORDER, l->line, COL(l, 'A'),
 			       "A%g is read in mm although the program is in inches: G20 does not scale A, as in LinuxCNC (later cases are not reported)",
@@ -845,12 +930,14 @@ static int do_modes(struct prog_ctx *c, struct gstate *st,
 		st->incremental = l->g[GRP_DIST] == 910;
 	if (l->g[GRP_ARCDIST] >= 0)
 		st->arc_absolute = l->g[GRP_ARCDIST] == 901;
-	/* G40 G49 G54 G94 select the only state this reader has */
+	/* G40 G54 G94 select the only state this reader has */
 	return 0;
 }
 
 /* The end point of a move: the axis words in the line's units and
- * distance mode (A is mm even under G20: LinuxCNC never scales A). */
+ * distance mode (A is mm even under G20: LinuxCNC never scales A). An
+ * absolute word names the tool's tip: the machine goes to it plus the
+ * tool length offset; a distance is the same for both. */
 static int move_target(struct prog_ctx *c, const struct gstate *st,
 		       const struct gline *l, double unit,
 		       double target[SH2000_AXES])
@@ -862,7 +949,8 @@ static int move_target(struct prog_ctx *c, const struct gstate *st,
 		if (HAS(l, axes[a]))
 			target[a] = VAL(l, axes[a]) *
 				    (a == SH2000_PROG_A ? 1 : unit) +
-				    (st->incremental ? c->pos[a] : 0);
+				    (st->incremental ? c->pos[a] :
+				     st->tools.offset[a]);
 		if (!isfinite(target[a]))
 			return prog_err(c, SH2000_PD_RANGE, l->line,
 					COL(l, axes[a]), "%c target out of range",
@@ -950,7 +1038,7 @@ static int do_stop_m(struct prog_ctx *c, struct gstate *st,
 
 static int exec_line(struct prog_ctx *c, struct gstate *st, struct gline *l)
 {
-	bool axis = HAS(l, 'X') || HAS(l, 'Y') || HAS(l, 'Z') || HAS(l, 'A');
+	bool axis = axis_words_move(l);
 	int mword = l->g[GRP_MOTION], motion, ret;
 	unsigned int bcol;
 	double unit;

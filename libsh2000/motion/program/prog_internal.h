@@ -21,6 +21,7 @@ enum prog_warn_kind {
 	PW_AFTER_END = 1u << 7,	/* text after M2/M30 or % */
 	PW_UNITS_F = 1u << 8,	/* F next to a units change */
 	PW_A_INCH = 1u << 9,	/* A under G20 */
+	PW_TLO_UNITS = 1u << 10,/* an offset changed in other units */
 };
 
 struct prog_ctx {
@@ -49,6 +50,29 @@ int prog_warn_once(struct prog_ctx *c, unsigned int kind,
 		   enum sh2000_prog_diag_code code, unsigned int line,
 		   unsigned int col, const char *fmt, ...)
 	__attribute__((format(printf, 6, 7)));
+
+/* The tool state of a program being read (toolstate.c): the tool its
+ * last T word selected, the one its last tool change put in the spindle
+ * (0: none, as LinuxCNC starts) and the tool length offset in force, mm
+ * for X Y Z A: a position the program names for the tool's tip is the
+ * machine's position minus it. */
+struct prog_tool_state {
+	int selected, loaded;
+	double offset[SH2000_AXES];
+};
+
+/* T n (or SELECT_TOOL): n an integer >= 0 and, with a tool
+ * table, in it; reported once. 0 or an error. */
+int prog_tool_select(struct prog_ctx *c, struct prog_tool_state *t,
+		     double n, unsigned int line, unsigned int col);
+/* A tool change to the selected tool (what: "M6" or the command): a PAUSE
+ * block when the options ask for one, else reported once. */
+int prog_tool_change(struct prog_ctx *c, struct prog_tool_state *t,
+		     const char *what, unsigned int line, unsigned int col);
+/* The offsets of tool n in the table (tool 0: none) into out, or an
+ * error naming what asked ("G43 H2"). */
+int prog_tool_offsets(struct prog_ctx *c, int n, double out[SH2000_AXES],
+		      const char *what, unsigned int line, unsigned int col);
 
 /* Free the blocks' curves and empty the list (its memory stays). */
 void prog_clear_blocks(struct sh2000_program *p);

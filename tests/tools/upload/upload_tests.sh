@@ -455,8 +455,78 @@ t_shm_other_stop() {
 	stop_sim
 }
 
+# a program as CAM output starts it: T1 M6 G43 H1. T1's Z+10 mm puts the
+# machine 10 mm above the tip's path: G1 X20 Y10 Z-1 ends at Z 9
+t_tool_table() {
+	expect 0 "T1 M6 G43 H1 with --tool-table" -- "$UPLOAD" -q -d sim --tool-table "$DATA/tools.tbl" --trace tr.csv "$DATA/tool_start.ngc" || return
+	"$CHECK" tr.csv end >e
+	[ "$(value cmd e)" = "20.000000,10.000000,9.000000,0.000000" ] || fail "end $(value cmd e), expected 20,10,9,0 (Z-1 + T1's 10 mm)"
+	local n
+	n=$(grep -c "warning: M6 (tool change) not paused at" err)
+	[ "$n" = 1 ] || fail "the tool change reported $n times, expected once"
+	# without the table G43 H1 is refused, at its H word
+	expect 5 "G43 H1 without --tool-table" -- "$UPLOAD" -q -d sim --trace no.csv "$DATA/tool_start.ngc"
+	has "tool_start.ngc:3:11: error: G43 H1: tool 1 is not in the tool table: no tool table was given" err
+	no_motion no.csv
+	# a table with a bad line: its FILE:LINE:COLUMN, nothing moved
+	printf 'T1 P1 Z10 ;ok\nT2 P2 Zx\nT3 Z1\n' >bad.tbl
+	expect 5 "a bad tool table" -- "$UPLOAD" -q -d sim --tool-table bad.tbl --trace b.csv "$DATA/tool_start.ngc"
+	has "^bad.tbl:2:7: error: Z: 'x' is not a finite number" err
+	has "^bad.tbl:3:1: error: T3 has no P word" err
+	has "tool-table bad.tbl: 2 errors; nothing moved" err
+	no_motion b.csv
+	expect 1 "an unreadable tool table" -- "$UPLOAD" -q -d sim --tool-table nosuch.tbl "$DATA/tool_start.ngc"
+	has "nosuch.tbl: error: cannot read the tool table" err
+	expect 2 "--parameter-file without --rs274" -- "$UPLOAD" -q -d sim --parameter-file x.var "$DATA/tool_start.ngc"
+}
+
+# the same table through LinuxCNC's own rs274 (real, not a stand-in)
+t_tool_rs274() {
+	command -v rs274 >/dev/null || { echo "SKIP: LinuxCNC's rs274 is not installed (Debian package linuxcnc-uspace)"; exit 77; }
+	expect 0 "--rs274 --tool-table" -- "$UPLOAD" -q -d sim --rs274 --tool-table "$DATA/tools.tbl" --trace r.csv "$DATA/tool_start.ngc" || return
+	"$CHECK" r.csv end >e
+	# rs274 reads a table in its own inches: given in mm, it is converted
+	[ "$(value cmd e)" = "20.000000,10.000000,9.000000,0.000000" ] || fail "rs274 end $(value cmd e), expected 20,10,9,0 as the built-in parser"
+	# without a table rs274 stops at T1, as the issue's cds.ngc did
+	expect 5 "--rs274 without a table" -- "$UPLOAD" -q -d sim --rs274 --trace n.csv "$DATA/tool_start.ngc"
+	has "Requested tool 1 not found in the tool table" err
+	no_motion n.csv
+	rm -rf "$(sed -n "s/.*kept in \(.*\)\/rs274.canon/\1/p" err)"
+	# the parameter file (mm, as a LinuxCNC machine in mm keeps it): its
+	# G54 X offset of 10 mm moves everything 10 mm; the file stays as it was
+	printf '5220\t1.000000\n5221\t10.000000\n' >p.var
+	cp p.var p.orig
+	expect 0 "--parameter-file" -- "$UPLOAD" -q -d sim --rs274 --tool-table "$DATA/tools.tbl" --parameter-file p.var --trace p.csv "$DATA/tool_start.ngc" || return
+	"$CHECK" p.csv end >e
+	[ "$(value cmd e)" = "30.000000,10.000000,9.000000,0.000000" ] || fail "--parameter-file end $(value cmd e), expected 30,10,9,0"
+	cmp -s p.var p.orig || fail "rs274 changed the user's parameter file"
+	local cds=/usr/share/linuxcnc/ncfiles/cds.ngc
+	if [ -f "$cds" ]; then
+		expect 0 "LinuxCNC's cds.ngc (G43 H1 in inches)" -- "$UPLOAD" -q -d sim -n --rs274 --tool-table "$DATA/tools.tbl" "$cds"
+		has "blocks checked and planned" out
+	fi
+}
+
+t_tool_pause() {
+	expect 2 "--pause-on-tool-change without a terminal" -- "$UPLOAD" -d sim --pause-on-tool-change --tool-table "$DATA/tools.tbl" "$DATA/tool_start.ngc" </dev/null
+	has "standard input is not a terminal" err
+	expect 0 "--pause-on-tool-change --dry-run needs none" -- "$UPLOAD" -q -d sim -n --pause-on-tool-change --tool-table "$DATA/tools.tbl" "$DATA/tool_start.ngc" </dev/null
+	command -v script >/dev/null || { echo "SKIP: script(1) (util-linux) gives the terminal"; exit 77; }
+	# on a terminal: the run stops at M6, names the tool, Enter resumes
+	printf '\n' | script -qec "'$UPLOAD' -d sim --pause-on-tool-change --tool-table '$DATA/tools.tbl' --trace tr.csv '$DATA/tool_start.ngc'" /dev/null >tty.out 2>&1
+	local rc=$?
+	tr -d '\r' <tty.out >tty.txt
+	[ "$rc" = 0 ] || { fail "paused run: exit $rc"; tail -n 5 tty.txt; return; }
+	has "tool_start.ngc:3:4: tool change: put tool 1 in the spindle \(pocket 1, Z offset 10.0000 mm, diameter 6.0000 mm: 6 mm end mill\); press Enter" tty.txt
+	has "resuming" tty.txt
+	has ": done" tty.txt
+	grep -q "not paused at" tty.txt && fail "a paused tool change was also reported as not paused"
+	"$CHECK" tr.csv end >e
+	[ "$(value cmd e)" = "20.000000,10.000000,9.000000,0.000000" ] || fail "end $(value cmd e)"
+}
+
 case ${1:-} in
-geometry|raw|override|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop|shm_hold|shm_other_stop|moved_axes)
+geometry|raw|override|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop|shm_hold|shm_other_stop|moved_axes|tool_table|tool_rs274|tool_pause)
 	"t_$1" ;;
 *) echo "usage: upload_tests.sh TEST"; exit 2 ;;
 esac

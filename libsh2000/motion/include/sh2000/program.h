@@ -86,6 +86,7 @@ enum sh2000_prog_diag_code {
 	SH2000_PD_LIMIT,	/* too many errors: reading stopped */
 	SH2000_PD_ORDER,	/* warning: read as LinuxCNC does, which may
 				 * not be what the line seems to say */
+	SH2000_PD_TOOL,		/* a tool not in the tool table (or none) */
 };
 
 struct sh2000_prog_diag {
@@ -120,7 +121,8 @@ enum sh2000_prog_kind {
 	SH2000_PROG_NURBS,	/* G5.2/G5.3, JSON NURBS: at feed */
 	SH2000_PROG_FEED,	/* the feed rate changes (F) */
 	SH2000_PROG_DWELL,	/* G4 P: wait */
-	SH2000_PROG_PAUSE,	/* M0/M1: stop until the operator resumes */
+	SH2000_PROG_PAUSE,	/* M0/M1 (or a tool change, when asked):
+				 * stop until the operator resumes */
 	SH2000_PROG_END,	/* M2/M30 */
 	SH2000_PROG_PATH_MODE,	/* G61, G61.1, G64 [P [Q]] */
 };
@@ -154,6 +156,11 @@ struct sh2000_prog_block {
 			double naive_tolerance;	/* Q in mm (P without Q) */
 		} path;
 	} u;
+	/* PAUSE made by a tool change (M6, rs274's CHANGE_TOOL) when the
+	 * reader's options ask to pause there: tool_change set and tool the
+	 * tool to put in the spindle (0: none). Otherwise both 0. */
+	bool tool_change;
+	int tool;
 };
 
 struct sh2000_program {
@@ -164,6 +171,55 @@ struct sh2000_program {
 
 void sh2000_program_init(struct sh2000_program *p);
 void sh2000_program_free(struct sh2000_program *p);
+
+/* ---- tool tables ------------------------------------------------------- */
+
+/*
+ * A tool table in LinuxCNC's format, one tool a line:
+ *
+ *     T1 P1 Z+10.0 D6.0 ;comment
+ *
+ * T the tool number (>= 1), P the pocket (required), X Y Z A the tool's
+ * offsets, D its diameter, I J its front and back angles and Q its
+ * orientation (lathe tools; kept, not used); ';' starts a comment. Lengths
+ * are in machine units, as LinuxCNC reads its table: mm on an SH-2000
+ * machine, whatever G20/G21 the program selects (docs/programs.md).
+ */
+struct sh2000_tool {
+	int number;			/* T */
+	int pocket;			/* P */
+	double offset[SH2000_AXES];	/* X Y Z A, mm */
+	double diameter;		/* D, mm */
+	double front_angle, back_angle;	/* I J, degrees */
+	int orientation;		/* Q */
+	unsigned int line;		/* in the table's file */
+	char *comment;			/* after ';', blanks trimmed; NULL: none */
+};
+
+struct sh2000_tool_table {
+	char *file;			/* the name messages use */
+	struct sh2000_tool *tools;	/* in the file's order */
+	size_t count, cap;
+};
+
+void sh2000_tool_table_init(struct sh2000_tool_table *t);
+void sh2000_tool_table_free(struct sh2000_tool_table *t);
+/*
+ * Read a table (text of len bytes named name) into t, which must be
+ * initialised and is replaced. Every bad line is an error in diags with
+ * name:line:column (a table line LinuxCNC would skip is refused here: a
+ * tool left out would run with no offset). Returns 0,
+ * -SH2000_PROG_EINVALID (errors in diags, t empty) or -ENOMEM.
+ */
+int sh2000_tool_table_read(struct sh2000_tool_table *t, const char *name,
+			   const char *text, size_t len,
+			   struct sh2000_prog_diags *diags);
+/* The same from a file: -errno and an error naming it if unreadable. */
+int sh2000_tool_table_read_file(struct sh2000_tool_table *t, const char *path,
+				struct sh2000_prog_diags *diags);
+/* Tool number n, or NULL. */
+const struct sh2000_tool *
+sh2000_tool_table_find(const struct sh2000_tool_table *t, int n);
 
 /* ---- reading ------------------------------------------------------------ */
 
@@ -187,6 +243,14 @@ struct sh2000_prog_options {
 	double arc_tolerance_mm;
 	/* Stop reading after this many errors; 0: 20. */
 	unsigned int max_errors;
+	/* The tool table G-code's T words are checked against and G43 and
+	 * G43.2 take offsets from; NULL: none (T and M6 are then only
+	 * reported, and an offset of a tool other than 0 is an error). Not
+	 * copied: it must outlive the reader. */
+	const struct sh2000_tool_table *tools;
+	/* A tool change (M6, CHANGE_TOOL) becomes a PAUSE block with
+	 * tool_change set; otherwise it is reported once. */
+	bool pause_at_tool_change;
 };
 
 void sh2000_prog_options_default(struct sh2000_prog_options *o);

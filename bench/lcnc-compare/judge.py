@@ -31,6 +31,7 @@ import warnings
 
 import numpy as np
 
+sys.dont_write_bytecode = True    # no __pycache__ beside the sources
 import canon
 
 T = 1e-3

@@ -20,6 +20,7 @@ import sys
 
 import numpy as np
 
+sys.dont_write_bytecode = True    # no __pycache__ beside the sources
 import canon
 import judge
 

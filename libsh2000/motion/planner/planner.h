@@ -36,6 +36,10 @@ struct pl_nurbs {
 /* Moves merged into one line at most (G64 Q). */
 #define PL_MERGE_MAX 32u
 
+/* Free blocks a primitive wants in the window: its own and the blend
+ * blocks that may replace the corner before it (pl_room()). */
+#define PL_ROOM 3u
+
 /* Sub-blocks per non-empty knot span. */
 #define PL_NURBS_SUBDIV 16u
 
@@ -213,7 +217,8 @@ void pl_free(struct sh2000_path *p, void *ptr, size_t n);
 void pl_push_block(struct sh2000_path *p, struct pl_block *b);
 /* Empty the window (a stop or a reset), releasing the curves. */
 void pl_drop_blocks(struct sh2000_path *p);
-/* Make room for one block: runs the controller. 0 or negative errno. */
+/* Make room for a block and its blend (PL_ROOM; only for the block while
+ * paused): runs the controller. 0 or negative errno. */
 int pl_make_room(struct sh2000_path *p);
 /* One coarse period. Returns 1 if the motion is at rest with nothing
  * (more) to do, 0 otherwise, negative on a sink error. */
@@ -266,6 +271,13 @@ static inline double pl_dot(const double a[SH2000_AXES],
 	for (unsigned int ax = 0; ax < SH2000_AXES; ax++)
 		s += a[ax] * b[ax];
 	return s;
+}
+
+/* Free blocks a primitive waits for: PL_ROOM, or only its own in a window
+ * too small to give the blends room without running it dry. */
+static inline unsigned int pl_room(const struct sh2000_path *p)
+{
+	return p->cap > 2 * PL_ROOM ? PL_ROOM : 1;
 }
 
 /* Block i of the window (0: the head). */

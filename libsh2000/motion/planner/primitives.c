@@ -67,7 +67,7 @@ static int ready(struct sh2000_path *p)
 		if (r)
 			return r;
 	}
-	if (p->count == p->cap)
+	if (p->count + pl_room(p) > p->cap)
 		return pl_make_room(p);
 	return 0;
 }

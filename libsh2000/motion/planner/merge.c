@@ -11,24 +11,6 @@
 
 #include "planner.h"
 
-/* Distance of x from the segment a..b (4 axes). */
-static double seg_dist(const double *x, const double *a, const double *b)
-{
-	double d[SH2000_AXES], w[SH2000_AXES], dd = 0.0, t = 0.0, e = 0.0;
-	unsigned int k;
-
-	for (k = 0; k < SH2000_AXES; k++) {
-		d[k] = b[k] - a[k];
-		w[k] = x[k] - a[k];
-		dd += d[k] * d[k];
-		t += w[k] * d[k];
-	}
-	t = dd > 0.0 ? pl_min(pl_max(t / dd, 0.0), 1.0) : 0.0;
-	for (k = 0; k < SH2000_AXES; k++)
-		e += (w[k] - t * d[k]) * (w[k] - t * d[k]);
-	return sqrt(e);
-}
-
 /* The tail as a line from its start to end, every merged point within
  * tol of it. */
 static int fits(const struct sh2000_path *p, const struct pl_block *t,
@@ -36,10 +18,10 @@ static int fits(const struct sh2000_path *p, const struct pl_block *t,
 {
 	unsigned int i;
 
-	if (seg_dist(t->p1, t->p0, end) > tol)
+	if (pl_seg_dist(t->p1, t->p0, end) > tol)
 		return 0;
 	for (i = 0; i < p->merged_n; i++)
-		if (seg_dist(p->merged[i], t->p0, end) > tol)
+		if (pl_seg_dist(p->merged[i], t->p0, end) > tol)
 			return 0;
 	return 1;
 }

@@ -6,6 +6,7 @@
 #ifndef SH2000_PLANNER_H
 #define SH2000_PLANNER_H
 
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -228,11 +229,28 @@ void pl_stopped(struct sh2000_path *p);
 /* merge.c: take line b (not yet queued) into the last line queued when
  * the naive CAM tolerance allows; 1 if it was (nothing to queue). */
 int pl_merge_line(struct sh2000_path *p, const struct pl_block *b);
-/* blend.c: cut the corner between the last line queued and line b (not
- * yet queued) with a tangent arc within the tolerance: 1 and the arc in
- * *arc (the tail and b shortened), or 0. */
-int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
-		    struct pl_block *arc);
+/* blend.c: cut the corner between the last block queued and b (not yet
+ * queued), lines or arcs, with a tangent curve within the tolerance: the
+ * number of its blocks in k[] (the tail and b cut short), or 0. */
+unsigned int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
+			     struct pl_block k[2]);
+/* biarc.c: the circular arc from a along unit tangent ta to b (a line when
+ * straight) into *k: 0, or -1 when it would turn 180 degrees or more. */
+int pl_arc_to(const struct sh2000_path *p, const double a[SH2000_AXES],
+	      const double ta[SH2000_AXES], const double b[SH2000_AXES],
+	      double feed, struct pl_block *k);
+/* Two arcs meeting tangentially from a along ta to b along tb: 2 blocks in
+ * k[], or 0 when there is no such pair. */
+unsigned int pl_biarc(const struct sh2000_path *p,
+		      const double a[SH2000_AXES], const double ta[SH2000_AXES],
+		      const double b[SH2000_AXES], const double tb[SH2000_AXES],
+		      double feed, struct pl_block k[2]);
+/* cut.c: an arc block's length and end tangents from its arc and ends. */
+void pl_arc_frame(struct pl_block *b);
+/* The piece of line or arc b from s0 to s1 along it into *out (out may be
+ * b). */
+void pl_block_cut(const struct pl_block *b, double s0, double s1,
+		  struct pl_block *out);
 /* nurbs_step.c: the point of NURBS block b after the controller moved ds
  * along it (p->s is corrected to the arc the step took). */
 void pl_nurbs_sample(struct sh2000_path *p, struct pl_block *b, double ds,
@@ -278,6 +296,26 @@ static inline double pl_dot(const double a[SH2000_AXES],
 static inline unsigned int pl_room(const struct sh2000_path *p)
 {
 	return p->cap > 2 * PL_ROOM ? PL_ROOM : 1;
+}
+
+/* Distance of x from the segment a..b (4 axes). */
+static inline double pl_seg_dist(const double x[SH2000_AXES],
+				 const double a[SH2000_AXES],
+				 const double b[SH2000_AXES])
+{
+	double d[SH2000_AXES], w[SH2000_AXES], dd = 0.0, t = 0.0, e = 0.0;
+	unsigned int k;
+
+	for (k = 0; k < SH2000_AXES; k++) {
+		d[k] = b[k] - a[k];
+		w[k] = x[k] - a[k];
+		dd += d[k] * d[k];
+		t += w[k] * d[k];
+	}
+	t = dd > 0.0 ? pl_min(pl_max(t / dd, 0.0), 1.0) : 0.0;
+	for (k = 0; k < SH2000_AXES; k++)
+		e += (w[k] - t * d[k]) * (w[k] - t * d[k]);
+	return sqrt(e);
 }
 
 /* Block i of the window (0: the head). */

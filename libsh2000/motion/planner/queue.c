@@ -16,12 +16,14 @@ static void push_one(struct sh2000_path *p, struct pl_block *b);
 
 void pl_push_block(struct sh2000_path *p, struct pl_block *b)
 {
-	struct pl_block arc;
+	struct pl_block k[2];
+	unsigned int n, i;
 
 	if (pl_merge_line(p, b))
 		return;
-	if (pl_blend_corner(p, b, &arc))
-		push_one(p, &arc);
+	n = pl_blend_corner(p, b, k);
+	for (i = 0; i < n; i++)
+		push_one(p, &k[i]);
 	p->merged_n = 0;	/* a new last block */
 	push_one(p, b);
 }

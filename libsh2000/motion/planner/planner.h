@@ -79,6 +79,10 @@ struct pl_block {
 	int corner;		/* the junction into it is a corner */
 	double t0[SH2000_AXES], t1[SH2000_AXES];	/* unit tangents at start and end */
 	double p0[SH2000_AXES], p1[SH2000_AXES];	/* exact start and end points */
+	/* a line's programmed start, before a blend cut it; the blend blocks
+	 * queued right before it (0..2) */
+	double c0[SH2000_AXES];
+	unsigned int nblend;
 	union {
 		struct {
 			double d[SH2000_AXES];	/* unit direction */
@@ -216,6 +220,11 @@ void pl_free(struct sh2000_path *p, void *ptr, size_t n);
 
 /* queue.c: queue a validated block (the ring has room). */
 void pl_push_block(struct sh2000_path *p, struct pl_block *b);
+/* Queue b after the blend of the corner into it, if any. */
+void pl_push_blended(struct sh2000_path *p, struct pl_block *b);
+/* Take the last block and the blend before it out of the window (the block
+ * before them stays, as cut); the caller queues them again. */
+void pl_unqueue_tail(struct sh2000_path *p);
 /* Empty the window (a stop or a reset), releasing the curves. */
 void pl_drop_blocks(struct sh2000_path *p);
 /* Make room for a block and its blend (PL_ROOM; only for the block while

@@ -96,6 +96,7 @@ static int line_block(struct sh2000_path *p, const double end[SH2000_AXES],
 	b.L = len;
 	b.feed = feed;
 	memcpy(b.p0, p->qend, sizeof(b.p0));
+	memcpy(b.c0, p->qend, sizeof(b.c0));
 	memcpy(b.p1, end, sizeof(b.p1));
 	for (a = 0; a < SH2000_AXES; a++)
 		b.g.line.d[a] = b.t0[a] = b.t1[a] = (end[a] - p->qend[a]) / len;

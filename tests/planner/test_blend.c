@@ -25,7 +25,7 @@
 #define FEED 200.0		/* mm/s: F12000 */
 #define VMAX 400.0
 #define AMAX 5000.0
-#define MAXEL 64
+#define MAXEL 1024
 #define ARC_STEP 0.002		/* rad between the reference's samples */
 
 /* One programmed move: a line, or an arc around centre (plane
@@ -166,7 +166,7 @@ static void send(struct sh2000_path *p, const struct el *e, const double o[4])
 
 /* Run program pg under the mode through the card model. */
 static void run(const struct prog *pg, enum sh2000_path_mode mode, double tol,
-		struct meas *m)
+		double q, struct meas *m)
 {
 	static struct plcard pc;
 	struct sh2000_path_config c;
@@ -192,7 +192,7 @@ static void run(const struct prog *pg, enum sh2000_path_mode mode, double tol,
 	pc.fn = on_fine;
 	pc.ctx = m;
 	assert_int_equal(sh2000_path_create(&p, &c, plcard_sink, &pc, NULL, 0), 0);
-	assert_int_equal(sh2000_path_set_mode(p, mode, tol, 0), 0);
+	assert_int_equal(sh2000_path_set_mode(p, mode, tol, q), 0);
 	pc.record = 1;
 	for (i = 0; i < pg->n; i++)
 		send(p, &pg->el[i], m->o);
@@ -302,7 +302,7 @@ static void check(const struct prog *pg, double tol)
 	struct meas m;
 	unsigned int i;
 
-	run(pg, SH2000_PATH_BLEND, tol, &m);
+	run(pg, SH2000_PATH_BLEND, tol, 0, &m);
 	print_message("%-12s G64 P%-5g max deviation %.4f mm, %llu servo cycles, axes at %.3f of vmax, %.3f of amax\n",
 		      pg->name, tol, m.max, (unsigned long long)m.cycles,
 		      m.v_ratio, m.a_ratio);
@@ -317,7 +317,7 @@ static void check(const struct prog *pg, double tol)
 
 static void test_line_arc(void **s)
 {
-	struct prog pg;
+	static struct prog pg;
 
 	(void)s;
 	prog_line_arc(&pg);
@@ -327,7 +327,7 @@ static void test_line_arc(void **s)
 
 static void test_arc_arc(void **s)
 {
-	struct prog pg;
+	static struct prog pg;
 
 	(void)s;
 	prog_arcs(&pg, SH2000_PLANE_XY, "arc-arc XY");
@@ -340,7 +340,7 @@ static void test_arc_arc(void **s)
 
 static void test_helix(void **s)
 {
-	struct prog pg;
+	static struct prog pg;
 
 	(void)s;
 	prog_helix(&pg);
@@ -393,15 +393,63 @@ static void prog_pocket(struct prog *pg)
 
 static void test_pocket(void **s)
 {
-	struct prog pg;
+	static struct prog pg;
 	struct meas exact;
 
 	(void)s;
 	prog_pocket(&pg);
 	check(&pg, 0.01);
-	run(&pg, SH2000_PATH_EXACT_PATH, 0, &exact);
+	run(&pg, SH2000_PATH_EXACT_PATH, 0, 0, &exact);
 	print_message("%-12s G61          max deviation %.4f mm, %llu servo cycles\n",
 		      pg.name, exact.max, (unsigned long long)exact.cycles);
+}
+
+/* CAM surfacing: rows of 0.5 mm moves over a wavy surface with +-3 um of
+ * noise, G64 P0.01 with Q0.01 (LinuxCNC's naive CAM detector merges the
+ * moves that stay within Q of a line) and without. Within P + Q of the
+ * programmed moves either way, within the axes' limits. */
+static void prog_surface(struct prog *pg)
+{
+	unsigned int r, i, k = 0;
+
+	memset(pg, 0, sizeof(*pg));
+	pg->name = "surface";
+	for (r = 0; r < 8; r++) {
+		double y = 1.0 * r;
+
+		for (i = 0; i <= 120; i++) {
+			double x = r % 2 ? 60.0 - 0.5 * i : 0.5 * i;
+			double z = 0.5 * sin(x / 6.0) * cos(y / 4.0);
+
+			/* noise from a fixed sequence: +-3 um */
+			k = k * 1103515245u + 12345u;
+			z += 0.003 * ((double)(k >> 16 & 0x7fff) / 16383.5 - 1.0);
+			if (r || i)
+				line(pg, x, y, z);
+		}
+	}
+}
+
+static void test_surface(void **s)
+{
+	static struct prog pg;
+	struct meas m[2];
+	unsigned int i;
+
+	(void)s;
+	prog_surface(&pg);
+	for (i = 0; i < 2; i++) {
+		double q = i ? 0.0 : 0.01;
+
+		run(&pg, SH2000_PATH_BLEND, 0.01, q, &m[i]);
+		print_message("%-12s G64 P0.01 Q%-4g max deviation %.4f mm, %llu servo cycles, axes at %.3f of vmax, %.3f of amax\n",
+			      pg.name, q, m[i].max,
+			      (unsigned long long)m[i].cycles, m[i].v_ratio,
+			      m[i].a_ratio);
+		assert_true(m[i].max <= 0.01 + q + 0.0005);
+		assert_true(m[i].v_ratio <= 1.0);
+		assert_true(m[i].a_ratio <= 1.0);
+	}
 }
 
 int main(void)
@@ -411,6 +459,7 @@ int main(void)
 		cmocka_unit_test(test_arc_arc),
 		cmocka_unit_test(test_helix),
 		cmocka_unit_test(test_pocket),
+		cmocka_unit_test(test_surface),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

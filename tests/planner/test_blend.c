@@ -244,14 +244,14 @@ static void corner_at(struct prog *pg, unsigned int i)
 }
 
 /* Line-arc and arc-line in XY: 45 degree corners into and out of an arc
- * of radius 7.07. */
-static void prog_line_arc(struct prog *pg)
+ * of radius 7.07 whose Z rises by rise (a helix when not 0). */
+static void prog_line_arc(struct prog *pg, double rise)
 {
 	memset(pg, 0, sizeof(*pg));
 	pg->name = "line-arc XY";
 	line(pg, 10, 0, 0);
-	arc(pg, SH2000_PLANE_XY, 1, 10, 10, 0, 5, 5);
-	line(pg, 0, 10, 0);
+	arc(pg, SH2000_PLANE_XY, 1, 10, 10, rise, 5, 5);
+	line(pg, 0, 10, rise);
 	corner_at(pg, 1);
 	corner_at(pg, 2);
 }
@@ -282,18 +282,13 @@ static void prog_arcs(struct prog *pg, enum sh2000_plane pl, const char *name)
 	corner_at(pg, 2);
 }
 
-/* A helix (XY arc, Z rising 2 mm) between lines, corners of 45 degrees
- * and more. */
+/* A helix (XY arc, Z rising 2 mm) between lines, and one back down to
+ * the start: corners of 45 degrees and more. */
 static void prog_helix(struct prog *pg)
 {
-	memset(pg, 0, sizeof(*pg));
+	prog_line_arc(pg, 2.0);
 	pg->name = "helix";
-	line(pg, 10, 0, 0);
-	arc(pg, SH2000_PLANE_XY, 1, 10, 10, 2, 5, 5);
-	line(pg, 0, 10, 2);
 	arc(pg, SH2000_PLANE_XY, 0, 0, 0, 0, 5, 5);
-	corner_at(pg, 1);
-	corner_at(pg, 2);
 	corner_at(pg, 3);
 }
 
@@ -315,14 +310,20 @@ static void check(const struct prog *pg, double tol)
 	assert_true(m.a_ratio <= 1.0);
 }
 
+/* A program at G64 P0.1 and P0.01. */
+static void check_both(const struct prog *pg)
+{
+	check(pg, 0.1);
+	check(pg, 0.01);
+}
+
 static void test_line_arc(void **s)
 {
 	static struct prog pg;
 
 	(void)s;
-	prog_line_arc(&pg);
-	check(&pg, 0.1);
-	check(&pg, 0.01);
+	prog_line_arc(&pg, 0.0);
+	check_both(&pg);
 }
 
 static void test_arc_arc(void **s)
@@ -331,11 +332,9 @@ static void test_arc_arc(void **s)
 
 	(void)s;
 	prog_arcs(&pg, SH2000_PLANE_XY, "arc-arc XY");
-	check(&pg, 0.1);
-	check(&pg, 0.01);
+	check_both(&pg);
 	prog_arcs(&pg, SH2000_PLANE_XZ, "arc-arc XZ");
-	check(&pg, 0.1);
-	check(&pg, 0.01);
+	check_both(&pg);
 }
 
 static void test_helix(void **s)
@@ -344,12 +343,11 @@ static void test_helix(void **s)
 
 	(void)s;
 	prog_helix(&pg);
-	check(&pg, 0.1);
-	check(&pg, 0.01);
+	check_both(&pg);
 }
 
 /* A pocket: three nested rings, each side a line, an arc bulging out with
- * corners of about 37 degrees at both ends, and a line. */
+ * corners of 27 degrees at both ends, and a line. */
 static void prog_pocket(struct prog *pg)
 {
 	static const double dir[4][2] = { { 1, 0 }, { 0, 1 }, { -1, 0 }, { 0, -1 } };

@@ -27,6 +27,7 @@
 #define AMAX 5000.0
 #define MAXEL 1024
 #define ARC_STEP 0.002		/* rad between the reference's samples */
+#define WINDOW 400		/* chords searched either side of the last */
 
 /* One programmed move: a line, or an arc around centre (plane
  * coordinates, relative to the program's origin). */
@@ -51,6 +52,7 @@ struct prog {
 struct meas {
 	double (*poly)[4];
 	size_t npoly, cap;
+	size_t at;			/* the chord nearest the last set-point */
 	double o[4];
 	double max;			/* largest distance to the path */
 	double near[MAXEL];		/* closest approach to each corner */
@@ -111,13 +113,24 @@ static void on_fine(void *ctx, const double x[4], const double act[4])
 	struct meas *m = ctx;
 	double p[4], d = INFINITY;
 	unsigned int a, i;
-	size_t k;
+	size_t k, best = m->at;
 
 	(void)act;
 	for (a = 0; a < 4; a++)
 		p[a] = x[a] - m->o[a];
-	for (k = 0; k + 1 < m->npoly; k++)
-		d = fmin(d, pl_seg_dist(p, m->poly[k], m->poly[k + 1]));
+	/* near where the last one was: the set-point moves a few of the
+	 * reference's chords a cycle, and a window too narrow could only
+	 * overstate the distance */
+	for (k = m->at > WINDOW ? m->at - WINDOW : 0;
+	     k + 1 < m->npoly && k < m->at + WINDOW; k++) {
+		double e = pl_seg_dist(p, m->poly[k], m->poly[k + 1]);
+
+		if (e < d) {
+			d = e;
+			best = k;
+		}
+	}
+	m->at = best;
 	m->max = fmax(m->max, d);
 	for (i = 0; i < m->pg->ncorner; i++) {
 		double e = 0;

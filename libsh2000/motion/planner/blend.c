@@ -1,14 +1,23 @@
 // SPDX-License-Identifier: MIT
 /*
- * Corner blending within the path tolerance (G64 P): where two straight
- * moves meet at a corner, the corner is cut by a circular arc tangent to
- * both, as deep as the tolerance allows (its middle is the tolerance from
- * the corner; without a tolerance, G64 alone, as deep as the moves allow)
- * and no longer than half of either move, in the plane of the two moves
- * whatever their axes. The path stays within the tolerance and
- * the corner is taken at the arc's speed instead of the speed at which
- * the axes can turn in one period. LinuxCNC's trajectory planner blends
- * the same way.
+ * Corner blending within the path tolerance (G64 P): where two moves meet
+ * at a corner, the ends of both are cut away and replaced by a curve
+ * tangent to both, as deep as the tolerance allows (without a tolerance,
+ * G64 alone, as deep as the moves allow) and no longer than half of either
+ * move. The path stays within the tolerance and the corner is taken at the
+ * blend's speed instead of the speed at which the axes can turn in one
+ * period.
+ *
+ * Two straight moves: one circular arc in the plane of the two moves
+ * (LinuxCNC's trajectory planner blends the same way); its depth is exact.
+ * A corner next to an arc or a helix (line-arc, arc-line, arc-arc, any
+ * planes): a biarc, two circular arcs meeting tangentially, from the point
+ * and tangent where the first move is cut to those where the second one
+ * is (biarc.c). No single circle is tangent to a helix and a line in
+ * general, while a biarc exists for any two points and tangents, in any
+ * number of axes, and is made of the blend arcs the controller already
+ * knows. Its depth has no closed form: it is measured against the pieces
+ * cut away and the cut is shortened until it fits.
  */
 #include <math.h>
 #include <string.h>
@@ -17,23 +26,34 @@
 
 /* Blends narrower than this are not worth a block. */
 #define BLEND_MIN_MM 1e-6
-/* What the arc itself may take of the tolerance: the rest is for the
+/* What the blend itself may take of the tolerance: the rest is for the
  * card's spline, which passes the curvature steps at the arc's ends within
  * about half a micrometre when compensated (a micrometre is kept; at most
  * half the tolerance), and cuts the arc inwards by (vT)^2 / 6R when raw
  * (half the tolerance; the arc's speed keeps the cut within it). */
 #define BLEND_SPLINE_MM 0.001
 #define BLEND_SHARE_RAW 0.5
+/* An arc is cut by at most this angle (rad): over it the arc stays close
+ * to its tangent, so the corner's tolerance rule gives a first cut the
+ * measurement rarely has to shorten. */
+#define BLEND_ARC_TURN 0.5
+/* Chords of a piece of an arc when measuring a biarc against it. */
+#define PIECE_CHORDS 16u
+/* Samples of each biarc arc, ends included. */
+#define BIARC_SAMPLES 9u
+/* Tries at shortening the cut of a biarc. */
+#define BIARC_TRIES 12u
 
-/* The last block queued, if it is a line that can still be shortened. */
-static struct pl_block *tail_line(struct sh2000_path *p)
+/* The last block queued, if it is a line or an arc that can still be cut
+ * short. */
+static struct pl_block *tail_block(struct sh2000_path *p)
 {
 	struct pl_block *t;
 
-	if (!p->count || p->count + 2 > p->cap)
+	if (!p->count || p->count + PL_ROOM > p->cap)
 		return NULL;
 	t = (struct pl_block *)pl_block_at(p, p->count - 1);
-	if (t->type != BLK_LINE || t->stop_after)
+	if ((t->type != BLK_LINE && t->type != BLK_ARC) || t->stop_after)
 		return NULL;
 	/* the controller may be in it: leave what it is about to reach */
 	if (p->count == 1 && p->moving)
@@ -41,80 +61,170 @@ static struct pl_block *tail_line(struct sh2000_path *p)
 	return t;
 }
 
-/* The arc block from the tangent point on the tail to the one on b. */
-static void arc_block(struct sh2000_path *p, const struct pl_block *t,
-		      const struct pl_block *b, double R, double phi,
-		      struct pl_block *k)
+/* The longest cut of block b at a corner: half of it, and on an arc no
+ * more than BLEND_ARC_TURN of its sweep. */
+static double max_cut(const struct pl_block *b)
 {
-	const double *t1 = t->g.line.d, *t2 = b->g.line.d;
-	double c = pl_dot(t1, t2), n, w[SH2000_AXES], tt[SH2000_AXES];
-	unsigned int a;
+	double d = 0.5 * b->L;
 
-	memset(k, 0, sizeof(*k));
-	k->type = BLK_BLEND;
-	k->feed = fmin(t->feed, b->feed);
-	/* w: the direction towards the centre, in the plane of t1 and t2 */
-	for (a = 0; a < SH2000_AXES; a++)
-		w[a] = t2[a] - c * t1[a];
-	n = sqrt(pl_dot(w, w));
-	for (a = 0; a < SH2000_AXES; a++) {
-		w[a] /= n;
-		k->p0[a] = t->p1[a];
-		k->g.blend.c[a] = t->p1[a] + R * w[a];
-		k->g.blend.u[a] = -w[a];	/* centre to start */
-		k->g.blend.w[a] = t1[a];	/* start's tangent */
-		k->t0[a] = t1[a];
-		k->t1[a] = t2[a];
-		/* the most of axis a's share the turning tangent reaches */
-		tt[a] = sqrt(w[a] * w[a] + t1[a] * t1[a]);
-	}
-	k->g.blend.R = R;
-	k->g.blend.phi = phi;
-	k->L = R * phi;
-	k->vlim = pl_curve_vlim(p, tt, 1.0 / R);
+	if (b->type == BLK_ARC)
+		d = pl_min(d, BLEND_ARC_TURN * b->L / fabs(b->g.arc.sweep));
+	return d;
 }
 
-int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
-		    struct pl_block *arc)
+/* The speed limit of a blend when the output is raw: the card's spline
+ * cuts an arc of radius R by (vT)^2 / 6R, kept within the tolerance's
+ * other share. */
+static void raw_limit(const struct sh2000_path *p, double share,
+		      struct pl_block *k)
 {
-	int raw = p->cfg.output == SH2000_OUTPUT_RAW;
-	double tol = p->cfg.corner_tol, c, phi, R, d, share;
-	struct pl_block *t;
-	unsigned int a;
+	double tol = p->cfg.corner_tol;
 
-	if (b->type != BLK_LINE || p->cfg.mode != SH2000_PATH_BLEND ||
-	    !(tol > 0.0) || p->stop_next)
-		return 0;
-	t = tail_line(p);
-	if (!t || memcmp(t->p1, b->p0, sizeof(t->p1)))
-		return 0;
-	c = fmax(-1.0, fmin(1.0, pl_dot(t->g.line.d, b->g.line.d)));
-	phi = acos(c);		/* the turn */
-	if (phi < 1e-6 || phi > M_PI - 1e-3)
-		return 0;	/* straight on, or back along itself */
-	/* deviation at the arc's middle R (1 / cos(phi/2) - 1) = tol; no
-	 * tolerance (G64 alone): as wide as the moves allow */
-	share = raw ? BLEND_SHARE_RAW :
-		pl_max(0.5, pl_min(0.95, 1.0 - BLEND_SPLINE_MM / tol));
-	R = isinf(tol) ? INFINITY :
-	    share * tol * cos(phi / 2) / (1.0 - cos(phi / 2));
-	d = R * tan(phi / 2);
-	if (d > 0.5 * fmin(t->L, b->L)) {
-		d = 0.5 * fmin(t->L, b->L);
-		R = d / tan(phi / 2);
+	if (p->cfg.output == SH2000_OUTPUT_RAW && !isinf(tol) &&
+	    k->type == BLK_BLEND)
+		k->vlim = pl_min(k->vlim, sqrt(6.0 * k->g.blend.R *
+						  (1.0 - share) * 0.9 * tol) /
+				 p->cfg.period_s);
+}
+
+/* Largest distance of a point from the polyline through n points. */
+static double poly_dist(const double x[SH2000_AXES],
+			const double (*pts)[SH2000_AXES], unsigned int n)
+{
+	double m = INFINITY;
+	unsigned int i;
+
+	for (i = 0; i + 1 < n; i++)
+		m = pl_min(m, pl_seg_dist(x, pts[i], pts[i + 1]));
+	return m;
+}
+
+/* The piece b of a line or an arc as a polyline; returns its points and
+ * in *sag how far the chords may fall inside the arc. */
+static unsigned int piece_poly(const struct pl_block *b,
+			       double (*pts)[SH2000_AXES], double *sag)
+{
+	unsigned int i, n = b->type == BLK_LINE ? 1 : PIECE_CHORDS;
+
+	*sag = 0.0;
+	if (b->type == BLK_ARC) {
+		double h = b->L / n;
+
+		*sag = h * h / (8.0 * pl_min(b->g.arc.r0, b->g.arc.r1));
 	}
+	for (i = 0; i <= n; i++)
+		pl_block_pos(b, b->L * i / n, pts[i]);
+	return n + 1;
+}
+
+/* How far the blend blocks k[0..n) stray from the two pieces they
+ * replace (a bound: their sampled points against the pieces' chords plus
+ * the chords' sagitta). */
+static double deviation(const struct pl_block *ca, const struct pl_block *cb,
+			const struct pl_block *k, unsigned int n)
+{
+	double pa[PIECE_CHORDS + 1][SH2000_AXES];
+	double pb[PIECE_CHORDS + 1][SH2000_AXES];
+	double sa, sb, dev = 0.0, x[SH2000_AXES];
+	unsigned int na = piece_poly(ca, pa, &sa), nb = piece_poly(cb, pb, &sb);
+	unsigned int i, j;
+
+	for (i = 0; i < n; i++)
+		for (j = 0; j < BIARC_SAMPLES; j++) {
+			pl_block_pos(&k[i], k[i].L * j / (BIARC_SAMPLES - 1), x);
+			dev = pl_max(dev, pl_min(poly_dist(x, pa, na) + sa,
+						 poly_dist(x, pb, nb) + sb));
+		}
+	return dev;
+}
+
+/* Two lines: the arc whose middle lies share * tol from the corner, its
+ * cut d along both. */
+static unsigned int blend_lines(struct sh2000_path *p, struct pl_block *t,
+				struct pl_block *b, double phi, double tol,
+				struct pl_block *k)
+{
+	double d, R;
+
+	R = isinf(tol) ? INFINITY : tol * cos(phi / 2) / (1.0 - cos(phi / 2));
+	d = R * tan(phi / 2);
+	d = pl_min(d, pl_min(max_cut(t), max_cut(b)));
 	if (d < BLEND_MIN_MM)
 		return 0;
-	t->L -= d;
-	for (a = 0; a < SH2000_AXES; a++) {
-		t->p1[a] -= d * t->g.line.d[a];
-		b->p0[a] += d * b->g.line.d[a];
-	}
-	b->L -= d;
-	arc_block(p, t, b, R, phi, arc);
-	memcpy(arc->p1, b->p0, sizeof(arc->p1));
-	if (raw && !isinf(tol))
-		arc->vlim = fmin(arc->vlim, sqrt(6.0 * R * (1.0 - share) * 0.9 *
-						 tol) / p->cfg.period_s);
+	pl_block_cut(t, 0.0, t->L - d, t);
+	pl_block_cut(b, d, b->L, b);
+	if (pl_arc_to(p, t->p1, t->t1, b->p0, pl_min(t->feed, b->feed), k))
+		return 0;
+	memcpy(k->t1, b->t0, sizeof(k->t1));	/* tangent to b exactly */
 	return 1;
+}
+
+/* Next to an arc: a biarc, its cuts shortened until it stays within tol
+ * of the corner's pieces (and no slower than the corner itself). */
+static unsigned int blend_curves(struct sh2000_path *p, struct pl_block *t,
+				 struct pl_block *b, double phi, double tol,
+				 struct pl_block *k)
+{
+	double d, dt, db, vcorner = pl_junction(p, t->t1, b->t0);
+	struct pl_block ta, tb, ca, cb;
+	unsigned int n, i, tries;
+
+	d = isinf(tol) ? INFINITY : tol / tan(phi / 4);	/* R tan(phi/2) */
+	dt = pl_min(d, max_cut(t));
+	db = pl_min(d, max_cut(b));
+	for (tries = 0; tries < BIARC_TRIES; tries++) {
+		double dev, vmin = INFINITY, scale = 0.5;
+
+		if (pl_max(dt, db) < BLEND_MIN_MM)
+			return 0;
+		pl_block_cut(t, 0.0, t->L - dt, &ta);
+		pl_block_cut(t, t->L - dt, t->L, &ca);
+		pl_block_cut(b, db, b->L, &tb);
+		pl_block_cut(b, 0.0, db, &cb);
+		n = pl_biarc(p, ta.p1, ta.t1, tb.p0, tb.t0,
+			     pl_min(t->feed, b->feed), k);
+		if (n) {
+			dev = deviation(&ca, &cb, k, n);
+			for (i = 0; i < n; i++)
+				vmin = pl_min(vmin, k[i].vlim);
+			if (dev <= tol) {
+				if (vmin <= vcorner)
+					return 0;
+				*t = ta;
+				*b = tb;
+				return n;
+			}
+			scale = pl_max(0.3, 0.95 * tol / dev);
+		}
+		dt *= scale;
+		db *= scale;
+	}
+	return 0;
+}
+
+unsigned int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
+			     struct pl_block k[2])
+{
+	double tol = p->cfg.corner_tol, phi, share;
+	struct pl_block *t;
+	unsigned int n, i;
+
+	if ((b->type != BLK_LINE && b->type != BLK_ARC) ||
+	    p->cfg.mode != SH2000_PATH_BLEND || !(tol > 0.0) || p->stop_next)
+		return 0;
+	t = tail_block(p);
+	if (!t || memcmp(t->p1, b->p0, sizeof(t->p1)))
+		return 0;
+	phi = acos(pl_max(-1.0, pl_min(1.0, pl_dot(t->t1, b->t0))));
+	if (phi < 1e-6 || phi > M_PI - 1e-3)
+		return 0;	/* straight on, or back along itself */
+	share = p->cfg.output == SH2000_OUTPUT_RAW ? BLEND_SHARE_RAW :
+		pl_max(0.5, pl_min(0.95, 1.0 - BLEND_SPLINE_MM / tol));
+	if (t->type == BLK_LINE && b->type == BLK_LINE)
+		n = blend_lines(p, t, b, phi, share * tol, k);
+	else
+		n = blend_curves(p, t, b, phi, share * tol, k);
+	for (i = 0; i < n; i++)
+		raw_limit(p, share, &k[i]);
+	return n;
 }

@@ -574,12 +574,18 @@ int pl_period(struct sh2000_path *p)
 
 int pl_make_room(struct sh2000_path *p)
 {
-	while (p->count == p->cap) {
+	unsigned int need = pl_room(p);
+
+	while (p->count + need > p->cap) {
 		int r = pl_period(p);
 
 		if (r < 0)
 			return r;
-		if (r == 1 && p->count == p->cap)
+		/* at rest (paused): room for the block itself will do, its
+		 * corner is then taken at the junction speed */
+		if (r == 1 && p->count < p->cap)
+			return 0;
+		if (r == 1)
 			return pl_err(p, -EAGAIN,
 				      "the look-ahead window is full and the planner is paused");
 	}

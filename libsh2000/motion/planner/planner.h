@@ -6,6 +6,7 @@
 #ifndef SH2000_PLANNER_H
 #define SH2000_PLANNER_H
 
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -35,6 +36,10 @@ struct pl_nurbs {
 
 /* Moves merged into one line at most (G64 Q). */
 #define PL_MERGE_MAX 32u
+
+/* Free blocks a primitive wants in the window: its own and the blend
+ * blocks that may replace the corner before it (pl_room()). */
+#define PL_ROOM 3u
 
 /* Sub-blocks per non-empty knot span. */
 #define PL_NURBS_SUBDIV 16u
@@ -74,6 +79,10 @@ struct pl_block {
 	int corner;		/* the junction into it is a corner */
 	double t0[SH2000_AXES], t1[SH2000_AXES];	/* unit tangents at start and end */
 	double p0[SH2000_AXES], p1[SH2000_AXES];	/* exact start and end points */
+	/* a line's programmed start, before a blend cut it; the blend blocks
+	 * queued right before it (0..2) */
+	double c0[SH2000_AXES];
+	unsigned int nblend;
 	union {
 		struct {
 			double d[SH2000_AXES];	/* unit direction */
@@ -211,9 +220,15 @@ void pl_free(struct sh2000_path *p, void *ptr, size_t n);
 
 /* queue.c: queue a validated block (the ring has room). */
 void pl_push_block(struct sh2000_path *p, struct pl_block *b);
+/* Queue b after the blend of the corner into it, if any. */
+void pl_push_blended(struct sh2000_path *p, struct pl_block *b);
+/* Take the last block and the blend before it out of the window (the block
+ * before them stays, as cut); the caller queues them again. */
+void pl_unqueue_tail(struct sh2000_path *p);
 /* Empty the window (a stop or a reset), releasing the curves. */
 void pl_drop_blocks(struct sh2000_path *p);
-/* Make room for one block: runs the controller. 0 or negative errno. */
+/* Make room for a block and its blend (PL_ROOM; only for the block while
+ * paused): runs the controller. 0 or negative errno. */
 int pl_make_room(struct sh2000_path *p);
 /* One coarse period. Returns 1 if the motion is at rest with nothing
  * (more) to do, 0 otherwise, negative on a sink error. */
@@ -223,11 +238,28 @@ void pl_stopped(struct sh2000_path *p);
 /* merge.c: take line b (not yet queued) into the last line queued when
  * the naive CAM tolerance allows; 1 if it was (nothing to queue). */
 int pl_merge_line(struct sh2000_path *p, const struct pl_block *b);
-/* blend.c: cut the corner between the last line queued and line b (not
- * yet queued) with a tangent arc within the tolerance: 1 and the arc in
- * *arc (the tail and b shortened), or 0. */
-int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
-		    struct pl_block *arc);
+/* blend.c: cut the corner between the last block queued and b (not yet
+ * queued), lines or arcs, with a tangent curve within the tolerance: the
+ * number of its blocks in k[] (the tail and b cut short), or 0. */
+unsigned int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
+			     struct pl_block k[2]);
+/* biarc.c: the circular arc from a along unit tangent ta to b (a line when
+ * straight) into *k: 0, or -1 when it would turn 180 degrees or more. */
+int pl_arc_to(const struct sh2000_path *p, const double a[SH2000_AXES],
+	      const double ta[SH2000_AXES], const double b[SH2000_AXES],
+	      double feed, struct pl_block *k);
+/* Two arcs meeting tangentially from a along ta to b along tb: 2 blocks in
+ * k[], or 0 when there is no such pair. */
+unsigned int pl_biarc(const struct sh2000_path *p,
+		      const double a[SH2000_AXES], const double ta[SH2000_AXES],
+		      const double b[SH2000_AXES], const double tb[SH2000_AXES],
+		      double feed, struct pl_block k[2]);
+/* cut.c: an arc block's length and end tangents from its arc and ends. */
+void pl_arc_frame(struct pl_block *b);
+/* The piece of line or arc b from s0 to s1 along it into *out (out may be
+ * b). */
+void pl_block_cut(const struct pl_block *b, double s0, double s1,
+		  struct pl_block *out);
 /* nurbs_step.c: the point of NURBS block b after the controller moved ds
  * along it (p->s is corrected to the arc the step took). */
 void pl_nurbs_sample(struct sh2000_path *p, struct pl_block *b, double ds,
@@ -266,6 +298,33 @@ static inline double pl_dot(const double a[SH2000_AXES],
 	for (unsigned int ax = 0; ax < SH2000_AXES; ax++)
 		s += a[ax] * b[ax];
 	return s;
+}
+
+/* Free blocks a primitive waits for: PL_ROOM, or only its own in a window
+ * too small to give the blends room without running it dry. */
+static inline unsigned int pl_room(const struct sh2000_path *p)
+{
+	return p->cap > 2 * PL_ROOM ? PL_ROOM : 1;
+}
+
+/* Distance of x from the segment a..b (4 axes). */
+static inline double pl_seg_dist(const double x[SH2000_AXES],
+				 const double a[SH2000_AXES],
+				 const double b[SH2000_AXES])
+{
+	double d[SH2000_AXES], w[SH2000_AXES], dd = 0.0, t = 0.0, e = 0.0;
+	unsigned int k;
+
+	for (k = 0; k < SH2000_AXES; k++) {
+		d[k] = b[k] - a[k];
+		w[k] = x[k] - a[k];
+		dd += d[k] * d[k];
+		t += w[k] * d[k];
+	}
+	t = dd > 0.0 ? pl_min(pl_max(t / dd, 0.0), 1.0) : 0.0;
+	for (k = 0; k < SH2000_AXES; k++)
+		e += (w[k] - t * d[k]) * (w[k] - t * d[k]);
+	return sqrt(e);
 }
 
 /* Block i of the window (0: the head). */

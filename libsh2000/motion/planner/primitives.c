@@ -67,7 +67,7 @@ static int ready(struct sh2000_path *p)
 		if (r)
 			return r;
 	}
-	if (p->count == p->cap)
+	if (p->count + pl_room(p) > p->cap)
 		return pl_make_room(p);
 	return 0;
 }
@@ -96,6 +96,7 @@ static int line_block(struct sh2000_path *p, const double end[SH2000_AXES],
 	b.L = len;
 	b.feed = feed;
 	memcpy(b.p0, p->qend, sizeof(b.p0));
+	memcpy(b.c0, p->qend, sizeof(b.c0));
 	memcpy(b.p1, end, sizeof(b.p1));
 	for (a = 0; a < SH2000_AXES; a++)
 		b.g.line.d[a] = b.t0[a] = b.t1[a] = (end[a] - p->qend[a]) / len;
@@ -210,8 +211,7 @@ static void arc_block(struct sh2000_path *p, const struct sh2000_arc *g,
 		      const double end[SH2000_AXES], double feed,
 		      struct pl_block *b)
 {
-	double lin2 = 0.0, planar, f, sgn = g->sweep > 0.0 ? 1.0 : -1.0;
-	double th1 = g->th0 + g->sweep, tt[SH2000_AXES];
+	double tt[SH2000_AXES], f;
 	unsigned int i = g->first, j = g->second, a;
 
 	memset(b, 0, sizeof(*b));
@@ -220,24 +220,12 @@ static void arc_block(struct sh2000_path *p, const struct sh2000_arc *g,
 	b->g.arc = *g;
 	memcpy(b->p0, p->qend, sizeof(b->p0));
 	memcpy(b->p1, end, sizeof(b->p1));
+	pl_arc_frame(b);
+	/* the speed limit from the worst direction of the plane axes (each
+	 * reaches |t| = planar / L somewhere on a long arc) */
+	f = hypot(b->t0[i], b->t0[j]);
 	for (a = 0; a < SH2000_AXES; a++)
-		if (a != i && a != j)
-			lin2 += (end[a] - p->qend[a]) * (end[a] - p->qend[a]);
-	planar = fabs(g->sweep) * 0.5 * (g->r0 + g->r1);
-	b->L = sqrt(planar * planar + lin2);
-	/* tangents; the speed limit from the worst direction of the plane
-	 * axes (each reaches |t| = planar / L somewhere on a long arc) */
-	f = planar / b->L;
-	for (a = 0; a < SH2000_AXES; a++) {
-		double l = (a != i && a != j) ? (end[a] - p->qend[a]) / b->L : 0.0;
-
-		b->t0[a] = b->t1[a] = tt[a] = l;
-	}
-	b->t0[i] = -sgn * f * sin(g->th0);
-	b->t0[j] = sgn * f * cos(g->th0);
-	b->t1[i] = -sgn * f * sin(th1);
-	b->t1[j] = sgn * f * cos(th1);
-	tt[i] = tt[j] = f;
+		tt[a] = (a != i && a != j) ? b->t0[a] : f;
 	/* helix curvature: (planar share)^2 / r */
 	b->vlim = pl_curve_vlim(p, tt, f * f / fmin(g->r0, g->r1));
 }

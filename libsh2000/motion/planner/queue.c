@@ -16,14 +16,37 @@ static void push_one(struct sh2000_path *p, struct pl_block *b);
 
 void pl_push_block(struct sh2000_path *p, struct pl_block *b)
 {
-	struct pl_block arc;
-
 	if (pl_merge_line(p, b))
 		return;
-	if (pl_blend_corner(p, b, &arc))
-		push_one(p, &arc);
 	p->merged_n = 0;	/* a new last block */
+	pl_push_blended(p, b);
+}
+
+void pl_push_blended(struct sh2000_path *p, struct pl_block *b)
+{
+	struct pl_block k[2];
+	unsigned int n, i;
+
+	n = pl_blend_corner(p, b, k);
+	for (i = 0; i < n; i++)
+		push_one(p, &k[i]);
+	b->nblend = n;
 	push_one(p, b);
+}
+
+void pl_unqueue_tail(struct sh2000_path *p)
+{
+	const struct pl_block *t = pl_block_at(p, p->count - 1);
+	const struct pl_block *prev;
+
+	p->count -= 1 + t->nblend;
+	p->blocks -= 1 + t->nblend;
+	prev = pl_block_at(p, p->count - 1);
+	p->tail_feed = prev->feed;
+	p->tail_vlim = prev->vlim;
+	p->stop_next = prev->stop_after;
+	memcpy(p->tend, prev->t1, sizeof(p->tend));
+	memcpy(p->qend, prev->p1, sizeof(p->qend));
 }
 
 static void push_one(struct sh2000_path *p, struct pl_block *b)

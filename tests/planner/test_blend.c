@@ -1,0 +1,477 @@
+// SPDX-License-Identifier: MIT
+/*
+ * Blends at corners next to arcs (G64 P), checked where it matters: the
+ * card model's fine set-points against the exact programmed path of lines
+ * and arcs with corners that are not tangent: line-arc and arc-line in XY,
+ * arc-arc in XY and in XZ, a helix between lines. Every set-point stays
+ * within P of the path, the corners next to arcs are rounded (not
+ * visited), and no axis passes its vmax or amax on the card's servo
+ * cycles, at the card model's limits (400 mm/s, 5000 mm/s^2). A pocket of
+ * such corners prints its time at G64 P0.01 and under G61.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "plcard.h"
+#include "planner.h"
+
+#define FEED 200.0		/* mm/s: F12000 */
+#define VMAX 400.0
+#define AMAX 5000.0
+#define MAXEL 1024
+#define ARC_STEP 0.002		/* rad between the reference's samples */
+#define WINDOW 400		/* chords searched either side of the last */
+
+/* One programmed move: a line, or an arc around centre (plane
+ * coordinates, relative to the program's origin). */
+struct el {
+	int arc, ccw;
+	enum sh2000_plane plane;
+	double e[4];
+	double c[2];
+};
+
+struct prog {
+	const char *name;
+	struct el el[MAXEL];
+	unsigned int n;
+	double corner[MAXEL][4];	/* corners next to arcs */
+	unsigned int ncorner;
+};
+
+/* The exact path as a polyline (arcs sampled every ARC_STEP: the chords
+ * fall inside by R ARC_STEP^2 / 8, 0.005 um at R 10) and what the card
+ * did. */
+struct meas {
+	double (*poly)[4];
+	size_t npoly, cap;
+	size_t at;			/* the chord nearest the last set-point */
+	double o[4];
+	double max;			/* largest distance to the path */
+	double near[MAXEL];		/* closest approach to each corner */
+	const struct prog *pg;
+	double prev[2][4];
+	uint64_t n, cycles;
+	double v_ratio, a_ratio;
+	double tau;
+};
+
+static void poly_add(struct meas *m, const double x[4])
+{
+	if (m->npoly == m->cap) {
+		m->cap = m->cap ? 2 * m->cap : 1024;
+		m->poly = realloc(m->poly, m->cap * sizeof(*m->poly));
+		assert_non_null(m->poly);
+	}
+	memcpy(m->poly[m->npoly++], x, sizeof(m->poly[0]));
+}
+
+/* The reference polyline, from the same arc geometry the planner is
+ * given (geometry.h resolves it; the blends are what is tested). */
+static void reference(struct meas *m, const struct prog *pg)
+{
+	double at[4] = { 0 };
+	unsigned int i, k, steps;
+
+	m->npoly = 0;
+	poly_add(m, at);
+	for (i = 0; i < pg->n; i++) {
+		const struct el *e = &pg->el[i];
+		struct sh2000_arc g;
+		char msg[200];
+
+		if (!e->arc) {
+			poly_add(m, e->e);
+			memcpy(at, e->e, sizeof(at));
+			continue;
+		}
+		assert_int_equal(sh2000_plane_axes(e->plane, &g.first,
+						   &g.second, &g.normal), 0);
+		assert_int_equal(sh2000_arc_resolve(&g, e->plane, at, e->e, e->c,
+						    e->ccw, 1, 0, 0, msg,
+						    sizeof(msg)), 0);
+		steps = (unsigned int)ceil(fabs(g.sweep) / ARC_STEP);
+		for (k = 1; k <= steps; k++) {
+			double x[4];
+
+			sh2000_arc_point(&g, at, e->e, (double)k / steps, x);
+			poly_add(m, x);
+		}
+		memcpy(at, e->e, sizeof(at));
+	}
+}
+
+static void on_fine(void *ctx, const double x[4], const double act[4])
+{
+	struct meas *m = ctx;
+	double p[4], d = INFINITY;
+	unsigned int a, i;
+	size_t k, best = m->at;
+
+	(void)act;
+	for (a = 0; a < 4; a++)
+		p[a] = x[a] - m->o[a];
+	/* near where the last one was: the set-point moves a few of the
+	 * reference's chords a cycle, and a window too narrow could only
+	 * overstate the distance */
+	for (k = m->at > WINDOW ? m->at - WINDOW : 0;
+	     k + 1 < m->npoly && k < m->at + WINDOW; k++) {
+		double e = pl_seg_dist(p, m->poly[k], m->poly[k + 1]);
+
+		if (e < d) {
+			d = e;
+			best = k;
+		}
+	}
+	m->at = best;
+	m->max = fmax(m->max, d);
+	for (i = 0; i < m->pg->ncorner; i++) {
+		double e = 0;
+
+		for (a = 0; a < 4; a++)
+			e += (p[a] - m->pg->corner[i][a]) *
+			     (p[a] - m->pg->corner[i][a]);
+		m->near[i] = fmin(m->near[i], sqrt(e));
+	}
+	for (a = 0; m->n >= 1 && a < 4; a++)
+		m->v_ratio = fmax(m->v_ratio, fabs(x[a] - m->prev[1][a]) /
+				  m->tau / VMAX);
+	for (a = 0; m->n >= 2 && a < 4; a++)
+		m->a_ratio = fmax(m->a_ratio,
+				  fabs(x[a] - 2 * m->prev[1][a] + m->prev[0][a]) /
+				  (m->tau * m->tau) / AMAX);
+	if (m->n && memcmp(x, m->prev[1], sizeof(m->prev[1])))
+		m->cycles = m->n;	/* the last cycle that moved */
+	memcpy(m->prev[0], m->prev[1], sizeof(m->prev[0]));
+	memcpy(m->prev[1], x, sizeof(m->prev[1]));
+	m->n++;
+}
+
+static void send(struct sh2000_path *p, const struct el *e, const double o[4])
+{
+	double end[4];
+	unsigned int a, f, s, nrm;
+
+	for (a = 0; a < 4; a++)
+		end[a] = o[a] + e->e[a];
+	if (!e->arc) {
+		assert_int_equal(sh2000_path_line(p, end, FEED), 0);
+	} else {
+		struct sh2000_path_arc arc;
+
+		memset(&arc, 0, sizeof(arc));
+		assert_int_equal(sh2000_plane_axes(e->plane, &f, &s, &nrm), 0);
+		arc.plane = e->plane;
+		memcpy(arc.end, end, sizeof(end));
+		arc.ccw = e->ccw;
+		arc.centre[0] = o[f] + e->c[0];
+		arc.centre[1] = o[s] + e->c[1];
+		assert_int_equal(sh2000_path_arc(p, &arc, FEED), 0);
+	}
+}
+
+/* Run program pg under the mode through the card model. */
+static void run(const struct prog *pg, enum sh2000_path_mode mode, double tol,
+		double q, struct meas *m)
+{
+	static struct plcard pc;
+	struct sh2000_path_config c;
+	struct sh2000_path *p;
+	unsigned int i, a;
+
+	memset(m, 0, sizeof(*m));
+	reference(m, pg);
+	m->pg = pg;
+	for (i = 0; i < MAXEL; i++)
+		m->near[i] = INFINITY;
+	sh2000_path_config_default(&c);
+	for (a = 0; a < 4; a++) {
+		c.vmax[a] = VMAX;
+		c.amax[a] = AMAX;
+	}
+	m->tau = c.period_s / c.fine_steps;
+	assert_int_equal(plcard_open(&pc, c.vmax, c.amax, 1, m->o), 0);
+	memcpy(c.start, m->o, sizeof(c.start));
+	memcpy(m->prev[1], m->o, sizeof(m->prev[1]));
+	memcpy(m->prev[0], m->o, sizeof(m->prev[0]));
+	m->n = 2;
+	pc.fn = on_fine;
+	pc.ctx = m;
+	assert_int_equal(sh2000_path_create(&p, &c, plcard_sink, &pc, NULL, 0), 0);
+	assert_int_equal(sh2000_path_set_mode(p, mode, tol, q), 0);
+	pc.record = 1;
+	for (i = 0; i < pg->n; i++)
+		send(p, &pg->el[i], m->o);
+	assert_int_equal(sh2000_path_finish(p), 0);
+	assert_int_equal(plcard_idle(&pc), 0);
+	sh2000_path_destroy(p);
+	plcard_close(&pc);
+	free(m->poly);
+	m->cycles -= 2;
+}
+
+/* ---- the programs ---------------------------------------------------------- */
+
+static void line(struct prog *pg, double x, double y, double z)
+{
+	struct el *e = &pg->el[pg->n++];
+
+	memset(e, 0, sizeof(*e));
+	e->e[0] = x;
+	e->e[1] = y;
+	e->e[2] = z;
+}
+
+static void arc(struct prog *pg, enum sh2000_plane pl, int ccw, double x,
+		double y, double z, double c0, double c1)
+{
+	struct el *e = &pg->el[pg->n++];
+
+	memset(e, 0, sizeof(*e));
+	e->arc = 1;
+	e->plane = pl;
+	e->ccw = ccw;
+	e->e[0] = x;
+	e->e[1] = y;
+	e->e[2] = z;
+	e->c[0] = c0;
+	e->c[1] = c1;
+}
+
+/* Mark the start of element i as a corner next to an arc. */
+static void corner_at(struct prog *pg, unsigned int i)
+{
+	double *c = pg->corner[pg->ncorner++];
+
+	if (i == 0)
+		memset(c, 0, 4 * sizeof(*c));
+	else
+		memcpy(c, pg->el[i - 1].e, 4 * sizeof(*c));
+}
+
+/* Line-arc and arc-line in XY: 45 degree corners into and out of an arc
+ * of radius 7.07 whose Z rises by rise (a helix when not 0). */
+static void prog_line_arc(struct prog *pg, double rise)
+{
+	memset(pg, 0, sizeof(*pg));
+	pg->name = "line-arc XY";
+	line(pg, 10, 0, 0);
+	arc(pg, SH2000_PLANE_XY, 1, 10, 10, rise, 5, 5);
+	line(pg, 0, 10, rise);
+	corner_at(pg, 1);
+	corner_at(pg, 2);
+}
+
+/* Arc-arc: two arcs of radius 8 over chords of 10 (a corner of 77
+ * degrees), then one of radius 5.8 turning the other way (20 degrees), in
+ * plane pl (coordinates (first, second) of the plane). */
+static void prog_arcs(struct prog *pg, enum sh2000_plane pl, const char *name)
+{
+	unsigned int f, s, n, k;
+	double h = sqrt(64.0 - 25.0);
+
+	memset(pg, 0, sizeof(*pg));
+	pg->name = name;
+	assert_int_equal(sh2000_plane_axes(pl, &f, &s, &n), 0);
+	for (k = 0; k < 3; k++) {
+		struct el *e = &pg->el[pg->n++];
+
+		memset(e, 0, sizeof(*e));
+		e->arc = 1;
+		e->plane = pl;
+		e->ccw = k == 2;
+		e->e[f] = 10.0 * (k + 1);
+		e->c[0] = 10.0 * k + 5.0;
+		e->c[1] = k == 2 ? 3.0 : -h;
+	}
+	corner_at(pg, 1);
+	corner_at(pg, 2);
+}
+
+/* A helix (XY arc, Z rising 2 mm) between lines, and one back down to
+ * the start: corners of 45 degrees and more. */
+static void prog_helix(struct prog *pg)
+{
+	prog_line_arc(pg, 2.0);
+	pg->name = "helix";
+	arc(pg, SH2000_PLANE_XY, 0, 0, 0, 0, 5, 5);
+	corner_at(pg, 3);
+}
+
+static void check(const struct prog *pg, double tol)
+{
+	struct meas m;
+	unsigned int i;
+
+	run(pg, SH2000_PATH_BLEND, tol, 0, &m);
+	print_message("%-12s G64 P%-5g max deviation %.4f mm, %llu servo cycles, axes at %.3f of vmax, %.3f of amax\n",
+		      pg->name, tol, m.max, (unsigned long long)m.cycles,
+		      m.v_ratio, m.a_ratio);
+	/* within the tolerance on the card's own set-points */
+	assert_true(m.max <= tol + 0.0005);
+	/* every corner next to an arc is rounded, not visited */
+	for (i = 0; i < pg->ncorner; i++)
+		assert_true(m.near[i] > tol / 10);
+	assert_true(m.v_ratio <= 1.0);
+	assert_true(m.a_ratio <= 1.0);
+}
+
+/* A program at G64 P0.1 and P0.01. */
+static void check_both(const struct prog *pg)
+{
+	check(pg, 0.1);
+	check(pg, 0.01);
+}
+
+static void test_line_arc(void **s)
+{
+	static struct prog pg;
+
+	(void)s;
+	prog_line_arc(&pg, 0.0);
+	check_both(&pg);
+}
+
+static void test_arc_arc(void **s)
+{
+	static struct prog pg;
+
+	(void)s;
+	prog_arcs(&pg, SH2000_PLANE_XY, "arc-arc XY");
+	check_both(&pg);
+	prog_arcs(&pg, SH2000_PLANE_XZ, "arc-arc XZ");
+	check_both(&pg);
+}
+
+static void test_helix(void **s)
+{
+	static struct prog pg;
+
+	(void)s;
+	prog_helix(&pg);
+	check_both(&pg);
+}
+
+/* A pocket: three nested rings, each side a line, an arc bulging out with
+ * corners of 27 degrees at both ends, and a line. */
+static void prog_pocket(struct prog *pg)
+{
+	static const double dir[4][2] = { { 1, 0 }, { 0, 1 }, { -1, 0 }, { 0, -1 } };
+	double x = 0, y = 0;
+	unsigned int r, k;
+
+	memset(pg, 0, sizeof(*pg));
+	pg->name = "pocket";
+	for (r = 0; r < 3; r++) {
+		double side = 30.0 - 8.0 * r, q = side / 3.0;
+
+		if (r) {
+			x += 4.0;
+			y += 4.0;
+			line(pg, x, y, 0);
+		}
+		for (k = 0; k < 4; k++) {
+			const double *d = dir[k];
+			/* outward normal of a counter-clockwise ring */
+			double nx = d[1], ny = -d[0], mx, my;
+
+			x += q * d[0];
+			y += q * d[1];
+			line(pg, x, y, 0);
+			corner_at(pg, pg->n);
+			mx = x + 0.5 * q * d[0];
+			my = y + 0.5 * q * d[1];
+			/* centre inside: the arc bulges out by a third of
+			 * its chord's half */
+			arc(pg, SH2000_PLANE_XY, 1, x + q * d[0], y + q * d[1],
+			    0, mx - nx * q, my - ny * q);
+			x += q * d[0];
+			y += q * d[1];
+			corner_at(pg, pg->n);
+			x += q * d[0];
+			y += q * d[1];
+			line(pg, x, y, 0);
+		}
+	}
+}
+
+static void test_pocket(void **s)
+{
+	static struct prog pg;
+	struct meas exact;
+
+	(void)s;
+	prog_pocket(&pg);
+	check(&pg, 0.01);
+	run(&pg, SH2000_PATH_EXACT_PATH, 0, 0, &exact);
+	print_message("%-12s G61          max deviation %.4f mm, %llu servo cycles\n",
+		      pg.name, exact.max, (unsigned long long)exact.cycles);
+}
+
+/* CAM surfacing: rows of 0.5 mm moves over a wavy surface with +-3 um of
+ * noise, G64 P0.01 with Q0.01 (LinuxCNC's naive CAM detector merges the
+ * moves that stay within Q of a line) and without. Within P + Q of the
+ * programmed moves either way, within the axes' limits. */
+static void prog_surface(struct prog *pg)
+{
+	unsigned int r, i, k = 0;
+
+	memset(pg, 0, sizeof(*pg));
+	pg->name = "surface";
+	for (r = 0; r < 8; r++) {
+		double y = 1.0 * r;
+
+		for (i = 0; i <= 120; i++) {
+			double x = r % 2 ? 60.0 - 0.5 * i : 0.5 * i;
+			double z = 0.5 * sin(x / 6.0) * cos(y / 4.0);
+
+			/* noise from a fixed sequence: +-3 um */
+			k = k * 1103515245u + 12345u;
+			z += 0.003 * ((double)(k >> 16 & 0x7fff) / 16383.5 - 1.0);
+			if (r || i)
+				line(pg, x, y, z);
+		}
+	}
+}
+
+static void test_surface(void **s)
+{
+	static struct prog pg;
+	struct meas m[2];
+	unsigned int i;
+
+	(void)s;
+	prog_surface(&pg);
+	for (i = 0; i < 2; i++) {
+		double q = i ? 0.0 : 0.01;
+
+		run(&pg, SH2000_PATH_BLEND, 0.01, q, &m[i]);
+		print_message("%-12s G64 P0.01 Q%-4g max deviation %.4f mm, %llu servo cycles, axes at %.3f of vmax, %.3f of amax\n",
+			      pg.name, q, m[i].max,
+			      (unsigned long long)m[i].cycles, m[i].v_ratio,
+			      m[i].a_ratio);
+		assert_true(m[i].max <= 0.01 + q + 0.0005);
+		assert_true(m[i].v_ratio <= 1.0);
+		assert_true(m[i].a_ratio <= 1.0);
+	}
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_line_arc),
+		cmocka_unit_test(test_arc_arc),
+		cmocka_unit_test(test_helix),
+		cmocka_unit_test(test_pocket),
+		cmocka_unit_test(test_surface),
+	};
+
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -225,7 +225,7 @@ static inline double sp_path_dist(struct sp_path *g,
 		return 0.0;
 	if (g->n == 1)
 		return sp_dist_seg(x, g->v[0], g->v[0]);
-	for (k = 0; k < g->n; k++) {
+	for (k = 0; k <= 2 * g->n; k++) {
 		/* cur, cur + 1, cur - 1, cur + 2, ... */
 		size_t off = (k + 1) / 2;
 

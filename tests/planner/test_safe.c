@@ -30,6 +30,7 @@ struct run {
 	struct sp_path path;
 	double lo[SH2000_AXES], hi[SH2000_AXES];	/* fine set-points' range */
 	double back[SH2000_AXES];	/* largest step back of a fine point */
+	double rec_lo, rec_hi;	/* range of the records on X */
 	double first_step;	/* largest axis step of the first record, mm */
 	double start[SH2000_AXES];
 	size_t points;
@@ -62,6 +63,8 @@ static int run_sink(void *ctx, const struct sh2000_path_point *pt)
 		for (k = 0; k < SH2000_AXES; k++)
 			r->first_step = fmax(r->first_step,
 					     fabs(pt->mm[k] - r->start[k]));
+	r->rec_lo = fmin(r->rec_lo, pt->mm[0]);
+	r->rec_hi = fmax(r->rec_hi, pt->mm[0]);
 	sp_point(&r->sp, pt);
 	return 0;
 }
@@ -234,8 +237,9 @@ static void short_moves(enum sh2000_path_profile prof, const char *name)
 
 		snprintf(text, sizeof(text), "G0 X%.3f\nM2\n", d);
 		assert_int_equal(plan_gcode(text, &cfg, 1e-9, &r), 0);
-		worst_over = fmax(worst_over, r.hi[0] - d);
-		worst_back = fmax(worst_back, -r.lo[0]);
+		/* the records too: the card checks its soft limits on them */
+		worst_over = fmax(worst_over, fmax(r.hi[0], r.rec_hi) - d);
+		worst_back = fmax(worst_back, -fmin(r.lo[0], r.rec_lo));
 		a = fmax(a, r.sp.a_ratio);
 		worst_turn = fmax(worst_turn, r.back[0]);
 		sp_path_free(&r.path);

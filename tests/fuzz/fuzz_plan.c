@@ -220,17 +220,53 @@ static double geo_tol(const struct sh2000_program *prog,
 	return tol + q + GEO_SLACK_MM;
 }
 
-/* Whether the program moves along straight lines only: its jerk is then
- * bounded (corners blended by arcs whose ends the planner allows for, or
- * stopped at). Junctions into and out of arcs and NURBS step the
- * curvature or the direction at speed, which no limit of the planner
- * bounds in jerk yet (docs/planner.md "Known limits"). */
-static int straight_only(const struct sh2000_program *prog)
+/* Whether a line turns from the one before by more than the planner
+ * treats as straight on (1e-6 rad). */
+static int turns(const struct sh2000_prog_block *a,
+		 const struct sh2000_prog_block *b)
 {
-	for (size_t i = 0; i < prog->count; i++)
-		if (prog->blocks[i].kind == SH2000_PROG_ARC ||
-		    prog->blocks[i].kind == SH2000_PROG_NURBS)
+	double da = dist(a->start, a->end), db = dist(b->start, b->end), d = 0;
+
+	for (unsigned int k = 0; k < SH2000_AXES; k++)
+		d += (a->end[k] - a->start[k]) * (b->end[k] - b->start[k]);
+	return da > 0 && db > 0 && d / (da * db) < cos(1e-6);
+}
+
+/*
+ * Whether the plan's jerk is bounded: only then the card's set-points are
+ * held to the jerk limit. Curvature that steps at speed is not bounded in
+ * jerk by any rule of the planner yet (docs/planner.md "Known limits"):
+ * junctions into and out of arcs and NURBS, and the ends of the arcs that
+ * blend a corner between two lines. So: straight moves only, and every
+ * corner between two feed lines taken at rest (G61, G61.1).
+ */
+static int jerk_bounded(const struct sh2000_program *prog,
+			const struct sh2000_path_config *c)
+{
+	const struct sh2000_prog_block *prev = NULL;
+	int blend = c->mode == SH2000_PATH_BLEND;
+
+	for (size_t i = 0; i < prog->count; i++) {
+		const struct sh2000_prog_block *b = &prog->blocks[i];
+
+		switch (b->kind) {
+		case SH2000_PROG_ARC:
+		case SH2000_PROG_NURBS:
 			return 0;
+		case SH2000_PROG_PATH_MODE:
+			blend = b->u.path.mode == SH2000_PATH_BLEND;
+			break;
+		case SH2000_PROG_LINE:
+			if (prev && blend && turns(prev, b))
+				return 0;
+			prev = b;
+			break;
+		case SH2000_PROG_FEED:
+			break;
+		default:	/* rapids, dwells, pauses: from rest */
+			prev = NULL;
+		}
+	}
 	return 1;
 }
 
@@ -240,7 +276,7 @@ static void check_setpoints(const struct plan_check *pc,
 {
 	const struct sp_check *sp = &pc->sp;
 	int jerk = pc->cfg.profile == SH2000_PROFILE_SCURVE &&
-		   straight_only(prog);
+		   jerk_bounded(prog, &pc->cfg);
 	double jmax = pc->cfg.margin *
 		      (pc->cfg.output == SH2000_OUTPUT_COMPENSATED ?
 		       COMP_JERK_OVERSHOOT : 1.0);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 /* The checks the program harnesses share (fuzz.h). */
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -29,6 +30,32 @@ static int finite_point(const double x[SH2000_AXES])
 	return 1;
 }
 
+/* An arc the geometry resolves: within SH2000_ARC_MAX_MM, and its sweep
+ * leads from its start to its end (to the rounding of its angles: a sweep
+ * that rounded to nothing once made a whole circle). */
+static void check_arc_resolved(size_t i, const struct sh2000_prog_block *b)
+{
+	const struct sh2000_arc *a = &b->u.arc;
+	double m = fmax(fmax(fabs(a->centre[0]), fabs(a->centre[1])),
+			fmax(a->r0, a->r1)), x[SH2000_AXES], d = 0, allow;
+
+	if (m > SH2000_ARC_MAX_MM)
+		fz_fail("block %zu: arc radius or centre %g mm beyond %g mm", i,
+			m, SH2000_ARC_MAX_MM);
+	sh2000_arc_point(a, b->start, b->end, 1.0, x);
+	for (unsigned int k = 0; k < SH2000_AXES; k++)
+		d += (x[k] - b->end[k]) * (x[k] - b->end[k]);
+	allow = 1e-6 + 16 * DBL_EPSILON * 2 * m * (M_PI + fabs(a->sweep));
+	/* a full circle ends where it starts: rs274's canonical output may
+	 * print its end up to both prints' rounding (4 decimals of inches)
+	 * away from its start (docs/programs.md) */
+	if (fabs(fabs(a->sweep) - 2 * M_PI * a->turns) < 1e-9)
+		allow += M_SQRT2 * 2 * 0.5e-4 * 25.4;
+	if (sqrt(d) > allow)
+		fz_fail("block %zu: the arc's sweep %g ends %g mm from its end (allowed %g)",
+			i, a->sweep, sqrt(d), allow);
+}
+
 static void check_arc(size_t i, const struct sh2000_prog_block *b)
 {
 	const struct sh2000_arc *a = &b->u.arc;
@@ -44,6 +71,7 @@ static void check_arc(size_t i, const struct sh2000_prog_block *b)
 	for (unsigned int k = 0; k < 2; k++)
 		if (!isfinite(a->centre[k]) || !isfinite(a->fit_centre[k]))
 			fz_fail("block %zu: arc centre not finite", i);
+	check_arc_resolved(i, b);
 }
 
 /* The reader must hand out only curves the geometry module accepts. */

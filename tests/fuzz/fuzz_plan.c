@@ -8,15 +8,19 @@
  * it away.
  *
  * Promises checked: a rejected block says why (sh2000_path_error), every
- * point is finite, no axis moves faster than twice its vmax between two
- * points, and the plan has no more points than the program's own duration
- * allows: the time at the slowest speed the geometry and the limits can
- * ask for, plus a start and a stop per block, with a factor 8 of room.
- * Weird but valid geometry that needs more is an explosion the planner
- * must refuse with an error. Programs whose own duration is beyond what a
- * fuzzer can run (a slow feed over a long way) are read, not planned.
- * SH2000_FUZZ_VERBOSE=1 prints the reader's diagnostics and the count of
- * points (to look at one input).
+ * point is finite, and the plan has no more points than the program's own
+ * duration allows: the time at the slowest speed the geometry and the
+ * limits can ask for, plus a start and a stop per block, with a factor 8
+ * of room. Weird but valid geometry that needs more is an explosion the
+ * planner must refuse with an error. Every program is planned, but only
+ * its first POINTS_CAP points (a long program is cut there, not failed).
+ *
+ * The points are also checked where the card uses them: the card's fine
+ * set-points (its four-point window through sh2000_bspline, spcheck.h)
+ * keep every axis within its velocity, acceleration and jerk limits, and
+ * stay within the program's tolerance of its own path (geo_tol()).
+ * SH2000_FUZZ_VERBOSE=1 prints the reader's diagnostics, the count of
+ * points and what the checks measured (to look at one input).
  */
 #include <math.h>
 #include <stdio.h>
@@ -24,21 +28,40 @@
 #include <string.h>
 
 #include "fuzz.h"
+#include "spcheck.h"
 
-/* Points a program may last at most to be planned here (0.5 s): enough
- * for every kind of geometry, short enough for thousands of runs a second
- * (the planner's points are most of a run's time). */
-#define PLAN_POINTS_MAX		250.0
+/* Points planned at most (4 s at 2 ms): every kind of geometry fits, and
+ * thousands of runs a second (the planner's points and their fine
+ * set-points are most of a run's time). A program that lasts longer is
+ * planned up to here. */
+#define POINTS_CAP		2000
 /* Headroom of the point budget over the program's duration. */
 #define BUDGET_FACTOR		8.0
 /* A start and a stop: (v/A + A/J) twice, at most, with the defaults. */
 #define BLOCK_OVERHEAD_S	0.05
+/* What the sink returns to stop a plan at POINTS_CAP. */
+#define CAPPED			(-1000001)
+/*
+ * mm a fine set-point may be off the path besides the program's own
+ * tolerances: a compensated stop rings about J T^3 / 70 = 0.6 um along
+ * its path (docs/planner.md "Known limits"); the rest is rounding.
+ */
+#define GEO_SLACK_MM		0.001
+/*
+ * The jerk the card's compensated spline may reach, over the planner's
+ * path jerk (margin * jerk): the compensation filter overshoots a step of
+ * the S-curve's jerk by 1 + 2r/(1 + r) = 1.42 (r = 2 - sqrt 3), as it
+ * overshoots the trapezoid's acceleration steps (docs/planner.md "Known
+ * limits"). So 1.35 times the configured jerk at the default margin.
+ */
+#define COMP_JERK_OVERSHOOT	1.4226497308103743
 
 struct plan_check {
 	struct sh2000_path_config cfg;
 	double budget;		/* points allowed */
-	double last[SH2000_AXES];
 	uint64_t points;
+	struct sp_check sp;
+	struct sp_path path;
 };
 
 static enum sh2000_prog_format format_of(uint8_t b)
@@ -156,22 +179,121 @@ static int sink(void *ctx, const struct sh2000_path_point *pt)
 {
 	struct plan_check *pc = ctx;
 
-	for (unsigned int a = 0; a < SH2000_AXES; a++) {
-		double step = fabs(pt->mm[a] - pc->last[a]);
-
+	for (unsigned int a = 0; a < SH2000_AXES; a++)
 		if (!isfinite(pt->mm[a]))
 			fz_fail("point %llu: axis %u is %g",
 				(unsigned long long)pc->points, a, pt->mm[a]);
-		if (step > 2.0 * pc->cfg.vmax[a] * pc->cfg.period_s)
-			fz_fail("point %llu: axis %u steps %g mm in one period (vmax %g mm/s)",
-				(unsigned long long)pc->points, a, step,
-				pc->cfg.vmax[a]);
-	}
-	memcpy(pc->last, pt->mm, sizeof(pc->last));
+	sp_point(&pc->sp, pt);
 	if (++pc->points > pc->budget)
 		fz_fail("the plan exploded: more than %.0f points for a program of at most %.0f",
 			pc->budget, pc->budget / BUDGET_FACTOR);
-	return 0;
+	return pc->points >= POINTS_CAP ? CAPPED : 0;
+}
+
+/* How far the program lets its path be cut, mm: the largest G64 P (or the
+ * planner's corner and chord tolerances, 0.01 mm), G64 Q on top; G64
+ * without P bounds a blend only by its moves (a blend arc takes at most
+ * half of either move, and its middle is no further from the corner than
+ * that), so then half the longest straight move. */
+static double geo_tol(const struct sh2000_program *prog,
+		      const struct sh2000_path_config *c)
+{
+	double tol = fmax(c->corner_tol, c->chord_tol), q = 0, longest = 0;
+	int unbounded = 0;
+
+	for (size_t i = 0; i < prog->count; i++) {
+		const struct sh2000_prog_block *b = &prog->blocks[i];
+
+		if (b->kind == SH2000_PROG_LINE)
+			longest = fmax(longest, dist(b->start, b->end));
+		if (b->kind != SH2000_PROG_PATH_MODE ||
+		    b->u.path.mode != SH2000_PATH_BLEND)
+			continue;
+		if (b->u.path.tolerance > 0)
+			tol = fmax(tol, b->u.path.tolerance);
+		else
+			unbounded = 1;
+		q = fmax(q, b->u.path.naive_tolerance);
+	}
+	if (unbounded)
+		tol = fmax(tol, longest / 2);
+	return tol + q + GEO_SLACK_MM;
+}
+
+/* Whether a line turns from the one before by more than the planner
+ * treats as straight on (1e-6 rad). */
+static int turns(const struct sh2000_prog_block *a,
+		 const struct sh2000_prog_block *b)
+{
+	double da = dist(a->start, a->end), db = dist(b->start, b->end), d = 0;
+
+	for (unsigned int k = 0; k < SH2000_AXES; k++)
+		d += (a->end[k] - a->start[k]) * (b->end[k] - b->start[k]);
+	return da > 0 && db > 0 && d / (da * db) < cos(1e-6);
+}
+
+/*
+ * Whether the plan's jerk is bounded: only then the card's set-points are
+ * held to the jerk limit. Curvature that steps at speed is not bounded in
+ * jerk by any rule of the planner yet (docs/planner.md "Known limits"):
+ * junctions into and out of arcs and NURBS, and the ends of the arcs that
+ * blend a corner between two lines. So: straight moves only, and every
+ * corner between two feed lines taken at rest (G61, G61.1).
+ */
+static int jerk_bounded(const struct sh2000_program *prog,
+			const struct sh2000_path_config *c)
+{
+	const struct sh2000_prog_block *prev = NULL;
+	int blend = c->mode == SH2000_PATH_BLEND;
+
+	for (size_t i = 0; i < prog->count; i++) {
+		const struct sh2000_prog_block *b = &prog->blocks[i];
+
+		switch (b->kind) {
+		case SH2000_PROG_ARC:
+		case SH2000_PROG_NURBS:
+			return 0;
+		case SH2000_PROG_PATH_MODE:
+			blend = b->u.path.mode == SH2000_PATH_BLEND;
+			break;
+		case SH2000_PROG_LINE:
+			if (prev && blend && turns(prev, b))
+				return 0;
+			prev = b;
+			break;
+		case SH2000_PROG_FEED:
+			break;
+		default:	/* rapids, dwells, pauses: from rest */
+			prev = NULL;
+		}
+	}
+	return 1;
+}
+
+/* The card's fine set-points within the limits and on the path. */
+static void check_setpoints(const struct plan_check *pc,
+			    const struct sh2000_program *prog)
+{
+	const struct sp_check *sp = &pc->sp;
+	int jerk = pc->cfg.profile == SH2000_PROFILE_SCURVE &&
+		   jerk_bounded(prog, &pc->cfg);
+	double jmax = pc->cfg.margin *
+		      (pc->cfg.output == SH2000_OUTPUT_COMPENSATED ?
+		       COMP_JERK_OVERSHOOT : 1.0);
+
+	if (sp->v_ratio > 1.0)
+		fz_fail("fine set-point %llu: an axis at %.4f of its vmax",
+			sp->v_at, sp->v_ratio);
+	if (sp->a_ratio > 1.0)
+		fz_fail("fine set-point %llu: an axis at %.4f of its amax",
+			sp->a_at, sp->a_ratio);
+	if (jerk && sp->j_ratio > jmax)
+		fz_fail("fine set-point %llu: an axis at %.4f of the jerk limit (allowed %.4f)",
+			sp->j_at, sp->j_ratio, jmax);
+	if (sp->dev > sp->tol)
+		fz_fail("fine set-point %llu (%g, %g, %g, %g): %.6f mm from the path (allowed %.6f)",
+			sp->dev_at, sp->dev_point[0], sp->dev_point[1],
+			sp->dev_point[2], sp->dev_point[3], sp->dev, sp->tol);
 }
 
 static void plan(const struct sh2000_program *prog, struct plan_check *pc)
@@ -196,7 +318,7 @@ static void plan(const struct sh2000_program *prog, struct plan_check *pc)
 	}
 	if (!r)
 		r = sh2000_path_finish(p);
-	if (r && !sh2000_path_error(p)[0])
+	if (r && r != CAPPED && !sh2000_path_error(p)[0])
 		fz_fail("the planner failed (%d) without saying why", r);
 	sh2000_path_destroy(p);
 }
@@ -233,8 +355,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	for (size_t i = 0; r == 0 && i < prog.count; i++)
 		seconds += block_seconds(&pc.cfg, &prog.blocks[i]);
 	pc.budget = BUDGET_FACTOR * seconds / pc.cfg.period_s + 1000.0;
-	if (r == 0 && seconds / pc.cfg.period_s <= PLAN_POINTS_MAX)
+	if (r == 0 && sp_path_build(&pc.path, &prog) == 0) {
+		sp_init(&pc.sp, &pc.cfg, pc.cfg.start, &pc.path,
+			geo_tol(&prog, &pc.cfg) + pc.path.flat);
 		plan(&prog, &pc);
+		if (verbose)
+			fprintf(stderr, "fine set-points: v %.4f a %.4f j %.4f of the limits, %.6f mm from the path (allowed %.6f)\n",
+				pc.sp.v_ratio, pc.sp.a_ratio, pc.sp.j_ratio,
+				pc.sp.dev, pc.sp.tol);
+		check_setpoints(&pc, &prog);
+	}
+	sp_path_free(&pc.path);
 	if (verbose)
 		fprintf(stderr, "read %d, %zu blocks, at most %.3f s: %llu points\n",
 			r, prog.count, seconds, (unsigned long long)pc.points);

@@ -6,6 +6,7 @@
  * accepted here and draws the same circle.
  */
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -23,6 +24,10 @@ int sh2000_arc_centre_from_radius(const double s[2], const double e[2],
 
 	if (!isfinite(r) || abs_r < SH2000_ARC_RADIUS_TOL_MM)
 		return MSG(-EINVAL, "arc radius %g mm is not a usable radius", r);
+	if (abs_r > SH2000_ARC_MAX_MM)
+		return MSG(-ERANGE,
+			   "arc radius %g mm is beyond %g mm: its points would round to more than a nanometre",
+			   r, SH2000_ARC_MAX_MM);
 	if (e[0] == s[0] && e[1] == s[1])
 		return MSG(-EINVAL,
 			   "R-format arc ends where it starts: the centre is undefined (use I/J/K for a full circle)");
@@ -89,6 +94,39 @@ static double sweep_of(double th0, double th1, bool ccw, unsigned int turns,
 	return d - 2 * M_PI * (turns - 1);
 }
 
+/* The radii and centre within SH2000_ARC_MAX_MM, and an arc that is not a
+ * full circle turning from start to end by more than the rounding of the
+ * two angles (each point's coordinates round by DBL_EPSILON times the
+ * largest of them, an angle by that over the radius): otherwise the sweep
+ * is noise, and a sweep that rounds to zero becomes a whole turn. */
+static int check_resolvable(const struct sh2000_arc *a, const double s[2],
+			    const double e[2], bool full, char *msg,
+			    size_t len)
+{
+	const char *n = SH2000_AXIS_LETTERS;
+	double m = fmax(fmax(fabs(s[0]), fabs(s[1])),
+			fmax(fabs(e[0]), fabs(e[1])));
+	double c = fmax(fabs(a->centre[0]), fabs(a->centre[1]));
+	double rmin = fmin(a->r0, a->r1), d, res;
+
+	if (fmax(a->r0, a->r1) > SH2000_ARC_MAX_MM || c > SH2000_ARC_MAX_MM)
+		return MSG(-ERANGE,
+			   "arc radius %g mm or centre (%c%g,%c%g) is beyond %g mm: its points would round to more than a nanometre",
+			   fmax(a->r0, a->r1), n[a->first], a->centre[0],
+			   n[a->second], a->centre[1], SH2000_ARC_MAX_MM);
+	if (full)
+		return 0;
+	d = remainder(atan2(e[1] - a->centre[1], e[0] - a->centre[0]) -
+		      atan2(s[1] - a->centre[1], s[0] - a->centre[0]),
+		      2 * M_PI);
+	res = 8 * DBL_EPSILON * (fmax(m, c) / rmin + M_PI);
+	if (fabs(d) <= res)
+		return MSG(-EINVAL,
+			   "arc sweep cannot be resolved: the end is %.3g mm from the start on a radius of %g mm, within the rounding of the angles (a whole turn or nothing)",
+			   hypot(e[0] - s[0], e[1] - s[1]), rmin);
+	return 0;
+}
+
 int sh2000_arc_resolve(struct sh2000_arc *a, enum sh2000_plane plane,
 		       const double start[SH2000_AXES],
 		       const double end[SH2000_AXES], const double centre[2],
@@ -97,6 +135,8 @@ int sh2000_arc_resolve(struct sh2000_arc *a, enum sh2000_plane plane,
 {
 	double s[2], e[2], abs_err, rel_err;
 	const char *n = SH2000_AXIS_LETTERS;
+	bool full;
+	int r;
 
 	memset(a, 0, sizeof(*a));
 	if (sh2000_plane_axes(plane, &a->first, &a->second, &a->normal))
@@ -128,13 +168,16 @@ int sh2000_arc_resolve(struct sh2000_arc *a, enum sh2000_plane plane,
 			   n[a->first], centre[0], n[a->second], centre[1],
 			   n[a->first], e[0], n[a->second], e[1], a->r0, a->r1,
 			   tol_mm, SH2000_ARC_SPIRAL_REL_TOL * 100, 100 * tol_mm);
+	full = hypot(e[0] - s[0], e[1] - s[1]) < fmax(same_mm, 1e-9);
+	r = check_resolvable(a, s, e, full, msg, len);
+	if (r)
+		return r;
 	a->ccw = ccw;
 	a->turns = turns;
 	fit_circle(a, s, e, same_mm);
 	a->th0 = atan2(s[1] - centre[1], s[0] - centre[0]);
 	a->sweep = sweep_of(a->th0, atan2(e[1] - centre[1], e[0] - centre[0]),
-			    ccw, turns,
-			    hypot(e[0] - s[0], e[1] - s[1]) < fmax(same_mm, 1e-9));
+			    ccw, turns, full);
 	return 0;
 }
 

@@ -206,6 +206,35 @@ static int arc_centre(struct sh2000_path *p, const struct sh2000_path_arc *arc,
 	return r ? pl_err(p, r, "arc: %s", m) : 0;
 }
 
+/* The arc's extremes in its plane (where its angle passes a multiple of
+ * 90 degrees, at the larger radius) within the count range: only its end
+ * points are checked otherwise, and a long arc of a large radius can pass
+ * far beyond them. */
+static int arc_range(struct sh2000_path *p, const struct sh2000_arc *g)
+{
+	double sgn = g->sweep < 0.0 ? -1.0 : 1.0, rmax = fmax(g->r0, g->r1);
+	double x[SH2000_AXES];
+	unsigned int k;
+	int r;
+
+	memcpy(x, p->qend, sizeof(x));
+	for (k = 0; k < 4; k++) {
+		double phi = k * M_PI_2;
+		double t = fmod(sgn * (phi - g->th0), 2.0 * M_PI);
+
+		if (t < 0.0)
+			t += 2.0 * M_PI;
+		if (t > fabs(g->sweep))
+			continue;
+		x[g->first] = g->centre[0] + rmax * cos(phi);
+		x[g->second] = g->centre[1] + rmax * sin(phi);
+		r = check_point(p, "arc: passes", x);
+		if (r)
+			return r;
+	}
+	return 0;
+}
+
 /* A block for a resolved arc from the current end to `end`. */
 static void arc_block(struct sh2000_path *p, const struct sh2000_arc *g,
 		      const double end[SH2000_AXES], double feed,
@@ -260,6 +289,9 @@ int sh2000_path_arc(struct sh2000_path *p, const struct sh2000_path_arc *arc,
 			       m, sizeof(m));
 	if (r)
 		return pl_err(p, r, "arc: %s", m);
+	r = arc_range(p, &g);
+	if (r)
+		return r;
 	r = ready(p);
 	if (r)
 		return r;

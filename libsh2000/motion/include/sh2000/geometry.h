@@ -56,6 +56,17 @@ const char *sh2000_plane_name(enum sh2000_plane plane);
 #define SH2000_ARC_SPIRAL_REL_TOL	0.001
 
 /*
+ * The largest radius and centre coordinate, in mm, of an arc the geometry
+ * resolves: a point of an arc is computed as centre + r (cos, sin), which
+ * rounds by a few units of the last place of |centre| + r; below 1e8 mm
+ * that is under 0.4 nm (8 DBL_EPSILON (|centre| + r)), a small part of any
+ * card's count, and far beyond any machine's travel. Beyond it the sweep
+ * and the points round to millimetres (R1e18 between two points 10 mm
+ * apart rounds its sweep to nothing), so such an arc is refused.
+ */
+#define SH2000_ARC_MAX_MM		1e8
+
+/*
  * An arc (or a helix) in a plane, resolved: everything a reader checks and
  * a planner needs. Plane coordinates are (first, second) of the plane.
  */
@@ -82,7 +93,7 @@ struct sh2000_arc {
  * The centre of a radius-form arc (RS274NGC's R word) from start s and end
  * e in plane coordinates: r > 0 the arc of at most 180 degrees, r < 0 the
  * longer one. 0, or -EINVAL with the reason in msg (end == start, radius
- * too small to reach the end).
+ * too small to reach the end, radius beyond SH2000_ARC_MAX_MM).
  */
 int sh2000_arc_centre_from_radius(const double s[2], const double e[2],
 				  double r, bool ccw, double centre[2],
@@ -93,8 +104,12 @@ int sh2000_arc_centre_from_radius(const double s[2], const double e[2],
  * coordinates). turns >= 1; an end within same_mm of the start in the
  * plane is a full circle. The radii must agree by LinuxCNC's rule with
  * tol_mm (0: SH2000_ARC_CENTRE_TOL_MM): an error above 100 * tol_mm, or
- * above tol_mm and SH2000_ARC_SPIRAL_REL_TOL of the radius at once. 0, or
- * -EINVAL/-ERANGE with the reason in msg.
+ * above tol_mm and SH2000_ARC_SPIRAL_REL_TOL of the radius at once. An arc
+ * that cannot be resolved is refused: a radius or centre beyond
+ * SH2000_ARC_MAX_MM, or an end that is not the start (beyond same_mm) but
+ * whose angle from the start is within the rounding of the two angles
+ * (then the sweep could be nothing or a whole turn). 0, or -EINVAL/-ERANGE
+ * with the reason in msg.
  */
 int sh2000_arc_resolve(struct sh2000_arc *arc, enum sh2000_plane plane,
 		       const double start[SH2000_AXES],

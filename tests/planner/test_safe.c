@@ -1,0 +1,272 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Inputs that once made wrong motion, planned as sh2000-upload plans a
+ * program, with the card's fine set-points checked against the axes'
+ * limits and the program's geometry (spcheck.h):
+ *  - arcs whose radius or sweep the geometry cannot resolve (R1e18 became
+ *    a whole circle of that radius, R1e17 ran 9 mm past the arc's end)
+ *    are refused by the planner's own API too;
+ *  - a NURBS whose start point is repeated and whose last weight is tiny:
+ *    the arc length on entering the curve was inverted by unbracketed
+ *    Newton steps, and the first period from rest jumped 0.356 mm;
+ *  - short rest-to-rest moves in compensated output: the interpolating
+ *    spline overshot the end point (2.4 um for G0 X0.06 with the
+ *    trapezoid) and started backwards.
+ * `build/x/tests/planner/test_safe` prints what it measured.
+ */
+#include <errno.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+
+#include <cmocka.h>
+
+#include "spcheck.h"
+
+/* What a planned program did on the card. */
+struct run {
+	struct sp_check sp;
+	struct sp_path path;
+	double lo[SH2000_AXES], hi[SH2000_AXES];	/* fine set-points' range */
+	double back[SH2000_AXES];	/* largest step back of a fine point */
+	double rec_lo, rec_hi;	/* range of the records on X */
+	double first_step;	/* largest axis step of the first record, mm */
+	double start[SH2000_AXES];
+	size_t points;
+};
+
+/* Every fine set-point: the range, and how far one steps back from the
+ * one before (in the direction the axis has gone so far). */
+static void run_fine(void *ctx, const double y[SH2000_AXES])
+{
+	struct run *r = ctx;
+	unsigned int k;
+
+	for (k = 0; k < SH2000_AXES; k++) {
+		double last = r->sp.x[2][k], sgn = last - r->start[k];
+
+		if (sgn != 0)
+			r->back[k] = fmax(r->back[k],
+					  sgn > 0 ? last - y[k] : y[k] - last);
+		r->lo[k] = fmin(r->lo[k], y[k]);
+		r->hi[k] = fmax(r->hi[k], y[k]);
+	}
+}
+
+static int run_sink(void *ctx, const struct sh2000_path_point *pt)
+{
+	struct run *r = ctx;
+	unsigned int k;
+
+	if (r->points++ == 0)
+		for (k = 0; k < SH2000_AXES; k++)
+			r->first_step = fmax(r->first_step,
+					     fabs(pt->mm[k] - r->start[k]));
+	r->rec_lo = fmin(r->rec_lo, pt->mm[0]);
+	r->rec_hi = fmax(r->rec_hi, pt->mm[0]);
+	sp_point(&r->sp, pt);
+	return 0;
+}
+
+/* Read G-code and plan it with cfg; the set-points checked within tol of
+ * the program's path. 0 or the planner's error. */
+static int plan_gcode(const char *text, const struct sh2000_path_config *cfg,
+		      double tol, struct run *r)
+{
+	struct sh2000_program prog;
+	struct sh2000_prog_diags d;
+	struct sh2000_path *p;
+	int ret;
+
+	memset(r, 0, sizeof(*r));
+	sh2000_program_init(&prog);
+	sh2000_prog_diags_init(&d);
+	ret = sh2000_program_read(&prog, SH2000_PROG_GCODE, "t.ngc", text,
+				  strlen(text), NULL, &d);
+	if (ret)
+		sh2000_prog_diags_print(&d, stderr);
+	assert_int_equal(ret, 0);
+	assert_int_equal(sp_path_build(&r->path, &prog), 0);
+	memcpy(r->start, cfg->start, sizeof(r->start));
+	memcpy(r->lo, cfg->start, sizeof(r->lo));
+	memcpy(r->hi, cfg->start, sizeof(r->hi));
+	sp_init(&r->sp, cfg, cfg->start, &r->path, tol);
+	r->sp.each = run_fine;
+	r->sp.each_ctx = r;
+	assert_int_equal(sh2000_path_create(&p, cfg, run_sink, r, NULL, 0), 0);
+	for (size_t i = 0; i < prog.count && !ret; i++)
+		ret = sh2000_path_add_block(p, &prog.blocks[i]);
+	if (!ret)
+		ret = sh2000_path_finish(p);
+	if (ret)
+		fprintf(stderr, "planner: %s\n", sh2000_path_error(p));
+	sh2000_path_destroy(p);
+	sh2000_program_free(&prog);
+	sh2000_prog_diags_free(&d);
+	return ret;
+}
+
+/* ---- arcs the geometry cannot resolve --------------------------------- */
+
+static size_t emitted;
+
+static int count_sink(void *ctx, const struct sh2000_path_point *pt)
+{
+	(void)ctx;
+	(void)pt;
+	emitted++;
+	return 0;
+}
+
+/* The arc is refused with code want and nothing moves. */
+static void expect_arc_refused(const struct sh2000_path_config *cfg,
+			       const struct sh2000_path_arc *a, int want)
+{
+	struct sh2000_path *p;
+
+	emitted = 0;
+	assert_int_equal(sh2000_path_create(&p, cfg, count_sink, NULL, NULL, 0),
+			 0);
+	assert_int_equal(sh2000_path_arc(p, a, 10), want);
+	printf("refused: %s\n", sh2000_path_error(p));
+	assert_true(strlen(sh2000_path_error(p)) > 0);
+	assert_int_equal(sh2000_path_finish(p), 0);
+	assert_int_equal(emitted, 0);
+	sh2000_path_destroy(p);
+}
+
+static void test_arc_unresolvable(void **state)
+{
+	struct sh2000_path_config cfg;
+	struct sh2000_path_arc a;
+
+	(void)state;
+	sh2000_path_config_default(&cfg);
+	cfg.start[0] = 10;
+	memset(&a, 0, sizeof(a));
+	a.plane = SH2000_PLANE_XY;
+	a.end[0] = 20;
+	a.radius_form = 1;
+	a.radius = 1e18;
+	expect_arc_refused(&cfg, &a, -ERANGE);
+	a.radius = 1e17;
+	expect_arc_refused(&cfg, &a, -ERANGE);
+	/* a helix, in another plane */
+	a.plane = SH2000_PLANE_YZ;
+	a.end[0] = 10;
+	a.end[1] = 10;
+	expect_arc_refused(&cfg, &a, -ERANGE);
+	/* the centre form, 1e18 mm away */
+	a.plane = SH2000_PLANE_XY;
+	a.end[0] = 20;
+	a.end[1] = 0;
+	a.end[2] = 3;
+	a.radius_form = 0;
+	a.centre[0] = 15;
+	a.centre[1] = -1e18;
+	expect_arc_refused(&cfg, &a, -ERANGE);
+	/* within the geometry's limit, but the long way round a radius of
+	 * 5e7 mm leaves the count range of 1000 counts/mm */
+	for (unsigned int k = 0; k < SH2000_AXES; k++)
+		cfg.counts_per_mm[k] = 1000;
+	a.end[2] = 0;
+	a.radius_form = 1;
+	a.radius = -5e7;
+	expect_arc_refused(&cfg, &a, -ERANGE);
+}
+
+/* ---- a NURBS with a repeated start and a tiny last weight -------------- */
+
+static void test_nurbs_tiny_weight(void **state)
+{
+	static const char *const prog[] = {
+		/* as found: order 3, the start repeated, weight 1e-4 */
+		"G0 X0 Y0\nF600\nG5.2 X0 Y0 P1\nX2 Y2 P0.0001\nG5.3\nM2\n",
+		/* the same, cubic, and at a higher feed */
+		"G0 X0 Y0\nF6000\nG5.2 X0 Y0 P1 L4\nX1 Y1 P1\nX2 Y2 P0.0001\nG5.3\nM2\n",
+		/* a heavy last weight instead */
+		"G0 X0 Y0\nF6000\nG5.2 X0 Y0 P1\nX2 Y2 P10000\nG5.3\nM2\n",
+	};
+	struct sh2000_path_config cfg;
+	struct run r;
+
+	(void)state;
+	sh2000_path_config_default(&cfg);
+	for (size_t i = 0; i < 2 * sizeof(prog) / sizeof(prog[0]); i++) {
+		int raw = i % 2;
+
+		cfg.output = raw ? SH2000_OUTPUT_RAW : SH2000_OUTPUT_COMPENSATED;
+		assert_int_equal(plan_gcode(prog[i / 2], &cfg, 1e-3, &r), 0);
+		printf("nurbs %zu %s: first step %.4f mm, v %.3f a %.3f j %.3f of the limits, %.2e mm off the curve\n",
+		       i / 2, raw ? "raw" : "compensated", r.first_step,
+		       r.sp.v_ratio, r.sp.a_ratio, r.sp.j_ratio, r.sp.dev);
+		/* raw, the first record is the first planned point: from rest
+		 * one period cannot go further than the jerk allows, J T^3 / 6
+		 * (0.0067 mm; it was 0.356) */
+		if (raw)
+			assert_true(r.first_step <=
+				    cfg.jerk * pow(cfg.period_s, 3) / 6);
+		assert_true(r.sp.v_ratio <= 1.0);
+		assert_true(r.sp.a_ratio <= 1.0);
+		assert_true(r.sp.j_ratio <= 1.0);
+		/* the curve is a straight segment: on it */
+		assert_true(r.sp.dev <= 1e-6);
+		/* it ends where the curve does */
+		assert_true(fabs(r.sp.x[2][0] - 2) < 1e-9 &&
+			    fabs(r.sp.x[2][1] - 2) < 1e-9);
+		sp_path_free(&r.path);
+	}
+}
+
+/* ---- short rest-to-rest moves in compensated output -------------------- */
+
+/* Every rest-to-rest move along X from 0: the fine set-points stay in
+ * [0, d] and never turn back. */
+static void short_moves(enum sh2000_path_profile prof, const char *name)
+{
+	struct sh2000_path_config cfg;
+	double worst_over = 0, worst_back = 0, worst_turn = 0, a = 0;
+	char text[64];
+	struct run r;
+
+	sh2000_path_config_default(&cfg);
+	cfg.profile = prof;
+	for (int i = 1; i <= 60; i++) {
+		double d = 0.005 * i;
+
+		snprintf(text, sizeof(text), "G0 X%.3f\nM2\n", d);
+		assert_int_equal(plan_gcode(text, &cfg, 1e-9, &r), 0);
+		/* the records too: the card checks its soft limits on them */
+		worst_over = fmax(worst_over, fmax(r.hi[0], r.rec_hi) - d);
+		worst_back = fmax(worst_back, -fmin(r.lo[0], r.rec_lo));
+		a = fmax(a, r.sp.a_ratio);
+		worst_turn = fmax(worst_turn, r.back[0]);
+		sp_path_free(&r.path);
+	}
+	printf("%s: G0 X0.005..0.3 over the end %.3g um, behind the start %.3g um, steps back %.3g um, a %.3f of the limit\n",
+	       name, worst_over * 1e3, worst_back * 1e3, worst_turn * 1e3, a);
+	/* to the rounding of the spline's sums */
+	assert_true(worst_over <= 1e-12);
+	assert_true(worst_back <= 1e-12);
+	assert_true(worst_turn <= 1e-12);
+	assert_true(a <= 1.0);
+}
+
+static void test_short_moves(void **state)
+{
+	(void)state;
+	short_moves(SH2000_PROFILE_TRAPEZOID, "trapezoid");
+	short_moves(SH2000_PROFILE_SCURVE, "S-curve");
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_arc_unresolvable),
+		cmocka_unit_test(test_nurbs_tiny_weight),
+		cmocka_unit_test(test_short_moves),
+	};
+
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -7,82 +7,98 @@ NAME=ctlname-$$
 start_sim "$NAME" || finish
 D=(-d "sim:$NAME")
 
-expect 0 "$CTL" "${D[@]}" info && out_has "^device +sim:$NAME$" && out_has "real time"
-expect 0 "$CTL" "${D[@]}" status --json && json_check /state = idle
+# moving_past MM: the card runs a motion and x's set-point is past MM (a
+# move another process streams is under way)
+moving_past() {
+	local v
+	v=$("${CTL_RT[@]}" "${D[@]}" status --json 2>/dev/null | "$JSONQ" /state /axes/0/cmd_mm) ||
+		return 1
+	awk -v v="$v" -v mm="$1" 'BEGIN { split(v, f, "\t"); exit !(f[1] == "running" && f[2] > mm) }'
+}
+# heartbeat_past H: the card's heartbeat (word 3) is no longer H
+heartbeat_past() {
+	run "${CTL_RT[@]}" "${D[@]}" dump 3 && h2=$(printf '%s\n' "$out" | awk '{print $2}') &&
+		[ -n "$h2" ] && [ "$h2" != "$1" ]
+}
+
+expect 0 "${CTL_RT[@]}" "${D[@]}" info && out_has "^device +sim:$NAME$" && out_has "real time"
+expect 0 "${CTL_RT[@]}" "${D[@]}" status --json && json_check /state = idle
 # state persists: enable in one process, see it in the next
-expect 0 "$CTL" "${D[@]}" enable x y
-expect 0 "$CTL" "${D[@]}" status --json &&
+expect 0 "${CTL_RT[@]}" "${D[@]}" enable x y
+expect 0 "${CTL_RT[@]}" "${D[@]}" status --json &&
 	json_check /axes/0/enabled = true /axes/1/enabled = true /axes/2/enabled = false /axes/3/enabled = false
-expect 0 "$CTL" "${D[@]}" move x=12.5 y=-3 --feed 200 && out_has "^x 12\.[0-9]+ mm$"
-expect 0 "$CTL" "${D[@]}" jog y 1.5
-expect 0 "$CTL" "${D[@]}" jog x --velocity -50 --time 0.1
-expect 0 "$CTL" "${D[@]}" status --json &&
+expect 0 "${CTL_RT[@]}" "${D[@]}" move x=12.5 y=-3 --feed 200 && out_has "^x 12\.[0-9]+ mm$"
+expect 0 "${CTL_RT[@]}" "${D[@]}" jog y 1.5
+expect 0 "${CTL_RT[@]}" "${D[@]}" jog x --velocity -50 --time 0.1
+expect 0 "${CTL_RT[@]}" "${D[@]}" status --json &&
 	json_check /axes/0/cmd_mm '~' 7.5,1e-3 /axes/1/cmd_mm '~' -1.5,1e-3
-expect 0 "$CTL" "${D[@]}" status && out_has "^x +7\.[0-9]+ +7\.500000 "
-expect 0 "$CTL" "${D[@]}" disable y
-expect 1 "$CTL" "${D[@]}" move y=0 && err_has "^sh2000ctl: sim:$NAME: axis y is not enabled"
+expect 0 "${CTL_RT[@]}" "${D[@]}" status && out_has "^x +7\.[0-9]+ +7\.500000 "
+expect 0 "${CTL_RT[@]}" "${D[@]}" disable y
+expect 1 "${CTL_RT[@]}" "${D[@]}" move y=0 && err_has "^sh2000ctl: sim:$NAME: axis y is not enabled"
 # parameters persist
-expect 0 "$CTL" "${D[@]}" params x ferr_limit=0.5
-expect 0 "$CTL" "${D[@]}" params x ferr_limit && out_has "^ferr_limit = 0.5$"
+expect 0 "${CTL_RT[@]}" "${D[@]}" params x ferr_limit=0.5
+expect 0 "${CTL_RT[@]}" "${D[@]}" params x ferr_limit && out_has "^ferr_limit = 0.5$"
 # dump shows the card's words, the heartbeat (word 3) advancing
-expect 0 "$CTL" "${D[@]}" dump 1-3 && h1=$(printf '%s\n' "$out" | awk '{print $4}') &&
+expect 0 "${CTL_RT[@]}" "${D[@]}" dump 1-3 && h1=$(printf '%s\n' "$out" | awk '{print $4}') &&
 	out_has "^0x001: 5348 $(printf %04x $((PROTO_VERSION))) [0-9a-f]{4}$"
-sleep 0.05
-expect 0 "$CTL" "${D[@]}" dump 3 && h2=$(printf '%s\n' "$out" | awk '{print $2}')
 checks=$((checks + 1))
-[ -n "${h1:-}" ] && [ "${h1:-}" != "${h2:-}" ] || fail "heartbeat did not advance: ${h1:-} ${h2:-}"
+if [ -z "${h1:-}" ]; then
+	fail "dump 1-3 showed no heartbeat"
+else
+	wait_for "the heartbeat (word 3) to advance from $h1" heartbeat_past "$h1"
+fi
 # watch: reports at the interval, each with a later card cycle
-expect 0 "$CTL" "${D[@]}" status --json --watch 0.05 --count 3
+expect 0 "${CTL_RT[@]}" "${D[@]}" status --json --watch 0.05 --count 3
 checks=$((checks + 1))
 json_column /card_cycle | awk 'NR == 1 { first = $1 } NR > 1 && $1 <= prev { bad = 1 }
 	{ prev = $1; n++ } END { exit bad || n != 3 || prev - first < 500 }' || fail "watch: $out"
 # home (quick: move near the switch first)
-expect 0 "$CTL" "${D[@]}" move x=-295
-expect 0 "$CTL" "${D[@]}" home x --timeout 20 && out_has "^x homed at"
-expect 0 "$CTL" "${D[@]}" status --json && json_check /axes/0/homed = true
+expect 0 "${CTL_RT[@]}" "${D[@]}" move x=-295
+expect 0 "${CTL_RT[@]}" "${D[@]}" home x --timeout 20 && out_has "^x homed at"
+expect 0 "${CTL_RT[@]}" "${D[@]}" status --json && json_check /axes/0/homed = true
 # stop at rest
-expect 0 "$CTL" "${D[@]}" stop
+expect 0 "${CTL_RT[@]}" "${D[@]}" stop
 # emergency stop from a second process while a move streams: the move ends
 # with exit 4, the state stays latched across invocations until reset
-"$CTL" "${D[@]}" move x=40 --feed 20 >"$T/move.out" 2>"$T/move.err" &
+"${CTL_RT[@]}" "${D[@]}" move x=40 --feed 20 >"$T/move.out" 2>"$T/move.err" &
 MP=$!
-sleep 0.5
-expect 0 "$CTL" "${D[@]}" estop
+wait_for "the move to x=40 to run" moving_past -1000
+expect 0 "${CTL_RT[@]}" "${D[@]}" estop
 wait $MP
 mrc=$?
 checks=$((checks + 1))
 [ $mrc = 4 ] && grep -q "^sh2000ctl: sim:$NAME: emergency stop latched" "$T/move.err" ||
 	fail "move during estop: exit $mrc, $(cat "$T/move.err")"
-expect 4 "$CTL" "${D[@]}" status && out_has "^state +estop"
-expect 4 "$CTL" "${D[@]}" status --json && json_check /state = estop /error != null
-expect 4 "$CTL" "${D[@]}" move x=1 && err_has "emergency stop"
-expect 0 "$CTL" "${D[@]}" reset
-expect 0 "$CTL" "${D[@]}" status --json &&
+expect 4 "${CTL_RT[@]}" "${D[@]}" status && out_has "^state +estop"
+expect 4 "${CTL_RT[@]}" "${D[@]}" status --json && json_check /state = estop /error != null
+expect 4 "${CTL_RT[@]}" "${D[@]}" move x=1 && err_has "emergency stop"
+expect 0 "${CTL_RT[@]}" "${D[@]}" reset
+expect 0 "${CTL_RT[@]}" "${D[@]}" status --json &&
 	json_check /state = idle /axes/0/enabled = true
 # a stop from a second process while a long move streams: the move ends as
 # sh2000-upload's run does (the runner sees the card discard the ring): exit
 # 7, "stopped by another program", nothing latched, the next move works
-"$CTL" "${D[@]}" move x=200 --feed 20 >"$T/move.out" 2>"$T/move.err" &
+"${CTL_RT[@]}" "${D[@]}" move x=200 --feed 20 >"$T/move.out" 2>"$T/move.err" &
 MP=$!
-sleep 0.5
-expect 0 "$CTL" "${D[@]}" stop
+wait_for "the move to x=200 to run" moving_past -1000
+expect 0 "${CTL_RT[@]}" "${D[@]}" stop
 wait $MP
 mrc=$?
 checks=$((checks + 1))
 [ $mrc = 7 ] && grep -q "^sh2000ctl: sim:$NAME: stopped by another program" "$T/move.err" ||
 	fail "move during a foreign stop: exit $mrc, $(cat "$T/move.err")"
-expect 0 "$CTL" "${D[@]}" status --json && json_check /state = idle /error = null
-expect 0 "$CTL" "${D[@]}" move x=1 && out_has "^x (0\.99|1\.00)"
+expect 0 "${CTL_RT[@]}" "${D[@]}" status --json && json_check /state = idle /error = null
+expect 0 "${CTL_RT[@]}" "${D[@]}" move x=1 && out_has "^x (0\.99|1\.00)"
 # SIGINT to a moving sh2000ctl stops the card (no fault left behind)
-"$CTL" "${D[@]}" move x=40 --feed 20 >"$T/move.out" 2>"$T/move.err" &
+"${CTL_RT[@]}" "${D[@]}" move x=40 --feed 20 >"$T/move.out" 2>"$T/move.err" &
 MP=$!
-sleep 0.5
+wait_for "the move to x=40 to run past x=3" moving_past 3
 kill -INT $MP
 wait $MP
 mrc=$?
 checks=$((checks + 1))
 [ $mrc = 1 ] && grep -q "interrupted: card stopped" "$T/move.err" || fail "SIGINT move: exit $mrc, $(cat "$T/move.err")"
-expect 0 "$CTL" "${D[@]}" status --json &&
+expect 0 "${CTL_RT[@]}" "${D[@]}" status --json &&
 	json_check /state = idle /faults = '[]' /axes/0/cmd_mm in 2,39
 # the server goes: no card any more, the shared memory is gone
 stop_sim TERM
@@ -90,5 +106,5 @@ checks=$((checks + 1))
 [ "$sim_rc" = 0 ] || fail "sh2000-sim exit $sim_rc after SIGTERM"
 checks=$((checks + 1))
 [ ! -e "/dev/shm/sh2000-$NAME" ] || fail "/dev/shm/sh2000-$NAME left behind"
-expect 3 "$CTL" "${D[@]}" status && err_has "^sh2000ctl: sim:$NAME: "
+expect 3 "${CTL_RT[@]}" "${D[@]}" status && err_has "^sh2000ctl: sim:$NAME: "
 finish

@@ -4,6 +4,9 @@ set -u
 : "${CTL:?CTL must name sh2000ctl}" "${SIM:?SIM must name sh2000-sim}"
 : "${JSONQ:?JSONQ must name the tests JSON reader jsonq}"
 unset SH2000_DEVICE
+. "$(dirname "${BASH_SOURCE[0]}")/../realtime.sh"
+# sh2000ctl as a host of a served card runs it (realtime.sh)
+CTL_RT=("${RT_HOST[@]}" "$CTL")
 T=$(mktemp -d /tmp/sh2000-tooltest.XXXXXX)
 fails=0
 checks=0
@@ -95,19 +98,21 @@ json_column() {
 	printf '%s\n' "$out" | "$JSONQ" "$1" || fail "stdout lines not JSON: $out"
 }
 
-# start_sim NAME [OPTIONS...]: start sh2000-sim, wait for its ready line on
-# --ready-fd; sets $SIM_PID
+# start_sim NAME [OPTIONS...]: start sh2000-sim at the card's priority
+# (realtime.sh; not with --free-run, which never sleeps), wait for its ready
+# line on --ready-fd; sets $SIM_PID
 start_sim() {
-	local name=$1 line=""
+	local name=$1 line="" rt=("${RT_CARD[@]}")
 	shift
+	case " $* " in *" --free-run "* | *" -F "*) rt=() ;; esac
 	rm -f "$T/ready"
 	mkfifo "$T/ready"
-	"$SIM" -q --ready-fd 3 "$@" "$name" 3>"$T/ready" >"$T/sim.out" 2>"$T/sim.err" &
+	"${rt[@]}" "$SIM" -q --ready-fd 3 "$@" "$name" 3>"$T/ready" >"$T/sim.out" 2>"$T/sim.err" &
 	SIM_PID=$!
 	SIM_PIDS="$SIM_PIDS $SIM_PID"
-	read -r -t 10 line <"$T/ready"
+	read -r -t "$WAIT_BOUND" line <"$T/ready"
 	if [ "$line" != "ready" ]; then
-		fail "sh2000-sim $name did not get ready: $(cat "$T/sim.err")"
+		fail "sh2000-sim $name did not get ready within $WAIT_BOUND s: $(cat "$T/sim.err")"
 		return 1
 	fi
 }

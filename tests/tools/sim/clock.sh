@@ -3,9 +3,11 @@
 # at +100000 ppm (a period of 110 us) never runs more cycles in 4 s than
 # its oscillator allows, which at the nominal 100 us it would exceed by
 # 10 %; one at -50000 ppm runs more than the slow one.
-# Cycles are read from the shared memory's cycle word. (A loaded machine
-# may cost a served card cycles, never add any: cardmodel_clock measures
-# the rates themselves, in-process.)
+# Cycles are read from the shared memory's cycle word. The cards run at
+# SCHED_FIFO when permitted (../realtime.sh), so a busy machine does not
+# hold one off the CPU more than the other; without it a loaded machine
+# may still cost a served card cycles, never add any (cardmodel_clock
+# measures the rates themselves, in-process).
 . "$(dirname "$0")/../ctl/testlib.sh"
 A=simclk-a-$$
 B=simclk-b-$$
@@ -15,10 +17,10 @@ cycles() {
 	od -An -t u8 -j 24 -N 8 "/dev/shm/sh2000-$1" | tr -d ' '
 }
 
-"$SIM" -c 250 "$A" >"$T/out" 2>"$T/err" &
+"${RT_CARD[@]}" "$SIM" -c 250 "$A" >"$T/out" 2>"$T/err" &
 P=$!
 SIM_PIDS="$SIM_PIDS $P"
-for _ in $(seq 100); do grep -q '^ready$' "$T/out" && break; sleep 0.05; done
+wait_for "the ready line of sh2000-sim -c 250" file_has '^ready$' "$T/out"
 checks=$((checks + 1))
 grep -q "^sh2000-sim: serving sim:$A at /sh2000-$A (pid $P, real time, clock +250 ppm)$" "$T/out" ||
 	fail "stdout: $(cat "$T/out") $(cat "$T/err")"
@@ -28,14 +30,15 @@ SIM_PIDS=""
 
 start_sim "$A" --clock-ppm 100000 || finish
 start_sim "$B" --clock-ppm -50000 || finish
-sleep 0.2
-t0=$(date +%s%N)	# before the first counts are read
-a0=$(cycles "$A")
-b0=$(cycles "$B")
+# sample: the time before, both counts, the time after, read by one
+# process at the hosts' priority so that the two cards are read together
+sample() {
+	"${RT_HOST[@]}" bash -c "date +%s%N; $(declare -f cycles); cycles $A; cycles $B; date +%s%N" |
+		tr '\n' ' '
+}
+read -r t0 a0 b0 _ <<<"$(sample)"	# t0 before the first counts are read
 sleep 4
-a1=$(cycles "$A")
-b1=$(cycles "$B")
-t1=$(date +%s%N)	# after the last
+read -r _ a1 b1 t1 <<<"$(sample)"	# t1 after the last
 a=$((a1 - a0))
 b=$((b1 - b0))
 # between the two readings a server runs at most one cycle per period,

@@ -10,10 +10,10 @@ stop_sim KILL
 checks=$((checks + 1))
 [ -e "/dev/shm/sh2000-$NAME" ] || fail "SIGKILL left no object (test cannot show recovery)"
 expect 3 "$CTL" -d "sim:$NAME" status && err_has "^sh2000ctl: sim:$NAME: "
-"$SIM" "$NAME" >"$T/out" 2>"$T/err" &
+"${RT_CARD[@]}" "$SIM" "$NAME" >"$T/out" 2>"$T/err" &
 P=$!
 SIM_PIDS="$SIM_PIDS $P"
-for _ in $(seq 100); do grep -q '^ready$' "$T/out" && break; sleep 0.05; done
+wait_for "the ready line of the replacing sh2000-sim" file_has '^ready$' "$T/out"
 checks=$((checks + 1))
 grep -q "^sh2000-sim: sim:$NAME: replaced /sh2000-$NAME left by a server that is gone$" "$T/err" ||
 	fail "no replacement message: $(cat "$T/err")"

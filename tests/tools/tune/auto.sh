@@ -10,21 +10,23 @@
 # (exit 2).
 . "$(dirname "$0")/../ctl/testlib.sh"
 : "${TUNE:?TUNE must name sh2000-tune}"
+# sh2000-tune streams to a served card: at the hosts' priority (realtime.sh)
+TUNE_RT=("${RT_HOST[@]}" "$TUNE")
 name=tuneauto$$
 S=(-d "sim:$name")
 start_sim "$name" --mass 20 || finish
 
 gains() {
-	"$CTL" "${S[@]}" params x kp ti td kvff kaff
+	"${CTL_RT[@]}" "${S[@]}" params x kp ti td kvff kaff
 }
 # printed NAME: the new value of gain NAME in the last stdout
 printed() {
 	printf '%s\n' "$out" | awk -v n="$1" '$1 == n { print $3 }'
 }
 
-expect 0 "$CTL" "${S[@]}" enable x
+expect 0 "${CTL_RT[@]}" "${S[@]}" enable x
 before=$(gains)
-expect 0 "$TUNE" "${S[@]}" x --auto --dry-run &&
+expect 0 "${TUNE_RT[@]}" "${S[@]}" x --auto --dry-run &&
 	out_has '^plant gain g +3051[0-9.]* counts/s\^2 per DAC code$' &&
 	out_has '^friction pole b/m +1 1/s$' &&
 	out_has '^dead time +0 servo cycles' &&
@@ -34,7 +36,7 @@ expect 0 "$TUNE" "${S[@]}" x --auto --dry-run &&
 checks=$((checks + 1))
 [ "$(gains)" = "$before" ] || fail "--dry-run changed the gains: $(gains), before: $before"
 
-expect 0 "$TUNE" "${S[@]}" x --auto --apply --save "$T/g.par" &&
+expect 0 "${TUNE_RT[@]}" "${S[@]}" x --auto --apply --save "$T/g.par" &&
 	out_has '^the new gains are on the card$' &&
 	out_has '^step test with the new gains:$' &&
 	out_has '^back at the start +0\.000000 mm$'
@@ -49,8 +51,8 @@ done
 checks=$((checks + 1))
 [ "$after" != "$before" ] || fail "--apply left the gains as they were"
 # the saved file puts the tuned gains back after they were changed
-expect 0 "$CTL" "${S[@]}" params x kp=1 ti=0 td=0 kvff=0 kaff=0
-expect 0 "$CTL" "${S[@]}" params load "$T/g.par"
+expect 0 "${CTL_RT[@]}" "${S[@]}" params x kp=1 ti=0 td=0 kvff=0 kaff=0
+expect 0 "${CTL_RT[@]}" "${S[@]}" params load "$T/g.par"
 checks=$((checks + 1))
 [ "$(gains)" = "$after" ] || fail "params load of --save: $(gains), tuned: $after"
 checks=$((checks + 1))
@@ -59,7 +61,7 @@ grep -q '^\[x\]$' "$T/g.par" || fail "--save: no [x] section"
 # gain): below some 30 Hz the DAC the set-point drives is less than the
 # PID's answer to the encoder's quantisation, and those frequencies are
 # left out (said), not drawn as a plant
-expect 0 "$TUNE" "${S[@]}" x --chirp 5:150 --csv "$T/weak.csv" &&
+expect 0 "${TUNE_RT[@]}" "${S[@]}" x --chirp 5:150 --csv "$T/weak.csv" &&
 	err_has 'frequencies \(5-[0-9.]* Hz\) left out: .*quantisation drowns the plant'
 low=$(awk -F, 'NR == 2 { print $1 }' "$T/weak.csv")
 checks=$((checks + 1))
@@ -68,18 +70,18 @@ awk -v f="$low" 'BEGIN { exit !(f > 15 && f < 60) }' ||
 
 # a phase margin the delay does not leave at that bandwidth: refused
 before=$(gains)
-expect 1 "$TUNE" "${S[@]}" x --auto --apply --bandwidth 1500 --margin 60 &&
+expect 1 "${TUNE_RT[@]}" "${S[@]}" x --auto --apply --bandwidth 1500 --margin 60 &&
 	err_has 'no PID reaches a phase margin of 60 deg at 1500 Hz.*nothing written'
 checks=$((checks + 1))
 [ "$(gains)" = "$before" ] || fail "a refused design changed the gains"
 # a gain margin floor the default crossover's phase margin does not
 # leave at that bandwidth: refused the same way
-expect 1 "$TUNE" "${S[@]}" x --auto --apply --bandwidth 1000 --gain-margin 12 &&
+expect 1 "${TUNE_RT[@]}" "${S[@]}" x --auto --apply --bandwidth 1000 --gain-margin 12 &&
 	err_has 'gain margin of [0-9.]* dB, below 12 dB.*nothing written'
 checks=$((checks + 1))
 [ "$(gains)" = "$before" ] || fail "a refused design changed the gains"
 # the same floor with the crossover left to the design: a lower one
-expect 0 "$TUNE" "${S[@]}" x --auto --dry-run --gain-margin 12 &&
+expect 0 "${TUNE_RT[@]}" "${S[@]}" x --auto --dry-run --gain-margin 12 &&
 	out_has '^predicted, new gains +phase 45\.5 deg at [0-9.]* Hz, gain 1[2-9]\.[0-9] dB'
 stop_sim
 

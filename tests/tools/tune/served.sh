@@ -7,21 +7,23 @@
 # disabled, every test refuses and nothing moves.
 . "$(dirname "$0")/../ctl/testlib.sh"
 : "${TUNE:?TUNE must name sh2000-tune}"
+# sh2000-tune streams to a served card: at the hosts' priority (realtime.sh)
+TUNE_RT=("${RT_HOST[@]}" "$TUNE")
 name=tune$$
 S=(-d "sim:$name")
 start_sim "$name" || finish
 
-expect 0 "$CTL" "${S[@]}" enable x + move x=1
-expect 0 "$CTL" "${S[@]}" params x ferr_limit dac_limit
+expect 0 "${CTL_RT[@]}" "${S[@]}" enable x + move x=1
+expect 0 "${CTL_RT[@]}" "${S[@]}" params x ferr_limit dac_limit
 before=$out
-expect 0 "$TUNE" "${S[@]}" x --step 0.02 --dac-max 500 --ferr-max 0.05 &&
+expect 0 "${TUNE_RT[@]}" "${S[@]}" x --step 0.02 --dac-max 500 --ferr-max 0.05 &&
 	out_has '^back at the start +1\.000000 mm$'
-expect 0 "$CTL" "${S[@]}" params x ferr_limit dac_limit
+expect 0 "${CTL_RT[@]}" "${S[@]}" params x ferr_limit dac_limit
 checks=$((checks + 1))
 [ "$out" = "$before" ] || fail "limits after the step: $out, before: $before"
-expect 5 "$TUNE" "${S[@]}" x --step -0.5 --ferr-max 0.0002 &&
+expect 5 "${TUNE_RT[@]}" "${S[@]}" x --step -0.5 --ferr-max 0.0002 &&
 	out_has '^back at the start +1\.000000 mm$'
-expect 0 "$CTL" "${S[@]}" params x ferr_limit dac_limit
+expect 0 "${CTL_RT[@]}" "${S[@]}" params x ferr_limit dac_limit
 checks=$((checks + 1))
 [ "$out" = "$before" ] || fail "limits after the abort: $out, before: $before"
 # the ramp and a chirp that shortens the coarse period (for 250 Hz, above
@@ -29,29 +31,29 @@ checks=$((checks + 1))
 # card runs in real time and its 64 records must cover the host's worst
 # descheduling, which at 0.5 ms (32 ms) a CI run once did not):
 # the limits and the card's timing as they were, the axis at its start
-expect 0 "$CTL" "${S[@]}" params global coarse_period_us fine_steps
+expect 0 "${CTL_RT[@]}" "${S[@]}" params global coarse_period_us fine_steps
 timing=$out
-expect 0 "$TUNE" "${S[@]}" x --ramp 50 --travel 2 &&
+expect 0 "${TUNE_RT[@]}" "${S[@]}" x --ramp 50 --travel 2 &&
 	out_has '^back at the start +1\.000000 mm$'
-expect 0 "$TUNE" "${S[@]}" x --chirp 10:250 --duration 0.5 &&
+expect 0 "${TUNE_RT[@]}" "${S[@]}" x --chirp 10:250 --duration 0.5 &&
 	out_has '^crossover' && out_has '^back at the start +1\.000000 mm$'
-expect 0 "$CTL" "${S[@]}" params x ferr_limit dac_limit
+expect 0 "${CTL_RT[@]}" "${S[@]}" params x ferr_limit dac_limit
 checks=$((checks + 1))
 [ "$out" = "$before" ] || fail "limits after the ramp and chirp: $out, before: $before"
-expect 0 "$CTL" "${S[@]}" params global coarse_period_us fine_steps
+expect 0 "${CTL_RT[@]}" "${S[@]}" params global coarse_period_us fine_steps
 checks=$((checks + 1))
 [ "$out" = "$timing" ] || fail "timing after the chirp: $out, before: $timing"
-expect 0 "$CTL" "${S[@]}" status --json &&
+expect 0 "${CTL_RT[@]}" "${S[@]}" status --json &&
 	json_check /state = idle /faults = '[]' /axes/0/enabled = true /axes/0/cmd_mm '~' 1,1e-9
 # SIGTERM while a chirp moves the axis (its coarse period shortened, its
 # limits lowered): the motion stops on its way, exit 7, the limits and
 # the card's timing as they were, nothing latched
-"$TUNE" "${S[@]}" x --chirp 10:250 --duration 4 >"$T/sig.out" 2>"$T/sig.err" &
+"${TUNE_RT[@]}" "${S[@]}" x --chirp 10:250 --duration 4 >"$T/sig.out" 2>"$T/sig.err" &
 tpid=$!
-for _ in $(seq 100); do
-	"$CTL" "${S[@]}" status --json 2>/dev/null | grep -q '"state": *"running"' && break
-	sleep 0.05
-done
+chirp_runs() {
+	"${CTL_RT[@]}" "${S[@]}" status --json 2>/dev/null | grep -q '"state": *"running"'
+}
+wait_for "the chirp to run on the card" chirp_runs
 kill -TERM $tpid
 wait $tpid
 st=$?
@@ -60,41 +62,41 @@ checks=$((checks + 1))
 checks=$((checks + 1))
 grep -q 'chirp test stopped by a signal: the limits and timing are as they were' "$T/sig.err" ||
 	fail "chirp stopped by SIGTERM said: $(cat "$T/sig.err")"
-expect 0 "$CTL" "${S[@]}" params x ferr_limit dac_limit
+expect 0 "${CTL_RT[@]}" "${S[@]}" params x ferr_limit dac_limit
 checks=$((checks + 1))
 [ "$out" = "$before" ] || fail "limits after SIGTERM: $out, before: $before"
-expect 0 "$CTL" "${S[@]}" params global coarse_period_us fine_steps
+expect 0 "${CTL_RT[@]}" "${S[@]}" params global coarse_period_us fine_steps
 checks=$((checks + 1))
 [ "$out" = "$timing" ] || fail "timing after SIGTERM: $out, before: $timing"
-expect 0 "$CTL" "${S[@]}" status --json &&
+expect 0 "${CTL_RT[@]}" "${S[@]}" status --json &&
 	json_check /state = idle /faults = '[]' /axes/0/enabled = true
-expect 0 "$CTL" "${S[@]}" move x=1
+expect 0 "${CTL_RT[@]}" "${S[@]}" move x=1
 # an axis another program left disabled: every test refuses before
 # anything moves (only --enable enables it), and the axis stays disabled
 # (disabled, the card's set-point follows the carriage, which may still
 # creep a few counts from where the last move left it: what is checked is
 # that no test moved it, less than a micrometre against the step's 10)
-expect 0 "$CTL" "${S[@]}" disable x
-expect 0 "$CTL" "${S[@]}" status --json &&
+expect 0 "${CTL_RT[@]}" "${S[@]}" disable x
+expect 0 "${CTL_RT[@]}" "${S[@]}" status --json &&
 	json_check /axes/0/enabled = false /axes/0/cmd_mm '~' 1,1e-3
 held=$(json_column /axes/0/cmd_mm)
-expect 1 "$TUNE" "${S[@]}" x --step 0.01 && err_has 'axis x is not enabled .*--enable.*nothing moved'
-expect 1 "$TUNE" "${S[@]}" x --chirp 5:100 && err_has 'axis x is not enabled .*nothing moved'
-expect 1 "$TUNE" "${S[@]}" x --ramp 50 && err_has 'axis x is not enabled .*nothing moved'
-expect 1 "$TUNE" "${S[@]}" x --auto --dry-run && err_has 'axis x is not enabled .*nothing moved'
-expect 0 "$CTL" "${S[@]}" status --json &&
+expect 1 "${TUNE_RT[@]}" "${S[@]}" x --step 0.01 && err_has 'axis x is not enabled .*--enable.*nothing moved'
+expect 1 "${TUNE_RT[@]}" "${S[@]}" x --chirp 5:100 && err_has 'axis x is not enabled .*nothing moved'
+expect 1 "${TUNE_RT[@]}" "${S[@]}" x --ramp 50 && err_has 'axis x is not enabled .*nothing moved'
+expect 1 "${TUNE_RT[@]}" "${S[@]}" x --auto --dry-run && err_has 'axis x is not enabled .*nothing moved'
+expect 0 "${CTL_RT[@]}" "${S[@]}" status --json &&
 	json_check /state = idle /faults = '[]' /axes/0/enabled = false /axes/0/cmd_mm '~' "$held",1e-3
 # a fault another program latched: refused, named, nothing moved
-expect 0 "$CTL" "${S[@]}" estop
-expect 4 "$TUNE" "${S[@]}" x --step 0.01 &&
+expect 0 "${CTL_RT[@]}" "${S[@]}" estop
+expect 4 "${TUNE_RT[@]}" "${S[@]}" x --step 0.01 &&
 	err_has 'a fault is latched \(emergency stop latched\): nothing moved; sh2000ctl reset clears it$'
-expect 0 "$CTL" "${S[@]}" reset
+expect 0 "${CTL_RT[@]}" "${S[@]}" reset
 # another program's record armed on the card: refused, nothing moved,
 # the limits as they were
-expect 0 "$CTL" "${S[@]}" enable x + gather --samples 100 --trigger motion --no-wait
-expect 1 "$TUNE" "${S[@]}" x --step 0.01 &&
+expect 0 "${CTL_RT[@]}" "${S[@]}" enable x + gather --samples 100 --trigger motion --no-wait
+expect 1 "${TUNE_RT[@]}" "${S[@]}" x --step 0.01 &&
 	err_has 'another gather record is armed or recording on the card .*nothing moved$'
-expect 0 "$CTL" "${S[@]}" params x ferr_limit dac_limit
+expect 0 "${CTL_RT[@]}" "${S[@]}" params x ferr_limit dac_limit
 checks=$((checks + 1))
 [ "$out" = "$before" ] || fail "limits after the refusal: $out, before: $before"
 stop_sim

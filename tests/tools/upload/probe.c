@@ -4,9 +4,13 @@
  * enabled=MASK cmd=x,y,z,a pos=x,y,z,a" (mm, 4 decimals). Only polls,
  * unless asked to set one axis parameter first:
  *   probe DEVICE [AXIS NAME VALUE]
+ * or prints only the servo cycle of the card's snapshot (the card's own
+ * time, which the tests wait on instead of the wall clock's):
+ *   probe DEVICE cycle
  */
 #include <stdlib.h>
 #include <stdio.h>
+#include <string.h>
 
 #include <sh2000/sh2000.h>
 
@@ -17,8 +21,9 @@ int main(int argc, char **argv)
 	char msg[256];
 	unsigned int a, en = 0;
 
-	if (argc != 2 && argc != 5) {
-		fprintf(stderr, "usage: probe DEVICE [AXIS NAME VALUE]\n");
+	if ((argc != 2 && argc != 3 && argc != 5) ||
+	    (argc == 3 && strcmp(argv[2], "cycle"))) {
+		fprintf(stderr, "usage: probe DEVICE [AXIS NAME VALUE | cycle]\n");
 		return 2;
 	}
 	if (sh2000_open(&h, argv[1], msg, sizeof(msg)) < 0) {
@@ -36,6 +41,11 @@ int main(int argc, char **argv)
 		fprintf(stderr, "%s\n", sh2000_last_error(h));
 		sh2000_close(h);
 		return 1;
+	}
+	if (argc == 3) {
+		printf("%llu\n", (unsigned long long)st.card_cycle);
+		sh2000_close(h);
+		return 0;
 	}
 	for (a = 0; a < SH2000_AXES; a++)
 		if (st.axis[a].state & SH2000_AXIS_ENABLED)

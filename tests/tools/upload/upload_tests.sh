@@ -39,6 +39,10 @@ near() {
 no_motion() { # the trace file must not exist: nothing was streamed
 	[ ! -e "$1" ] || fail "$1 exists: the run started"
 }
+# the served cards' tests: priorities and bounded waits
+. "$(dirname "$0")/../realtime.sh"
+# sh2000-upload streams to a served card at the hosts' priority
+UPLOAD_RT=("${RT_HOST[@]}" "$UPLOAD")
 
 t_geometry() {
 	expect 0 "square + circle on sim" -- "$UPLOAD" -q -d sim --trace tr.csv "$DATA/square_circle.ngc" || return
@@ -264,7 +268,7 @@ t_pause() {
 	rm -f usr1.err
 	"$UPLOAD" -d sim "$DATA/pause.ngc" >out 2>usr1.err </dev/null &
 	local pid=$! i
-	for i in $(seq 100); do grep -q "paused" usr1.err 2>/dev/null && break; sleep 0.05; done
+	wait_for "the pause at M0" file_has "paused" usr1.err
 	kill -USR1 $pid
 	wait $pid
 	rc=$?
@@ -289,11 +293,10 @@ t_fault() {
 
 start_sim() { # start_sim NAME: sh2000-sim in the background, ready
 	[ -n "$SIM" ] && [ -x "$SIM" ] || { echo "sh2000-sim not built: skipped"; exit 77; }
-	"$SIM" --quiet --ready-fd 3 "$1" 3>ready 2>sim.err &
+	"${RT_CARD[@]}" "$SIM" --quiet --ready-fd 3 "$1" 3>ready 2>sim.err &
 	simpid=$!
-	local i
-	for i in $(seq 100); do grep -q ready ready 2>/dev/null && return 0; sleep 0.05; done
-	fail "sh2000-sim did not get ready"; cat sim.err
+	wait_for "sh2000-sim $1 to get ready" file_has ready ready && return 0
+	cat sim.err
 	kill $simpid
 	exit 1
 }
@@ -306,36 +309,46 @@ t_shm() {
 	local name=upload-test-$$
 	start_sim $name
 	"$PROBE" sim:$name >p0 || fail "probe"
-	expect 0 "run on sim:$name" -- "$UPLOAD" -q -d sim:$name --trace tr.csv "$DATA/arc.ngc"
+	expect 0 "run on sim:$name" -- "${UPLOAD_RT[@]}" -q -d sim:$name --trace tr.csv "$DATA/arc.ngc"
 	"$CHECK" tr.csv end >e
 	near "$(value cmd e)" 20,10,0,0 0.0001 || fail "end $(value cmd e)"
 	ge "$(value rows e)" 50 || fail "only $(value rows e) rows (one per status poll)"
 	"$PROBE" sim:$name >p1
 	has "state=1 fill=0 enabled=7 cmd=20.0000,10.0000,0.0000,0.0000" p1
 	# a bad program leaves the served card as it was
-	expect 5 "bad program on sim:$name" -- "$UPLOAD" -q -d sim:$name "$DATA/bad_unknown.ngc"
+	expect 5 "bad program on sim:$name" -- "${UPLOAD_RT[@]}" -q -d sim:$name "$DATA/bad_unknown.ngc"
 	"$PROBE" sim:$name >p2
 	cmp -s p1 p2 || { fail "the card changed after a bad program"; cat p1 p2; }
-	expect 5 "plan error on sim:$name" -- "$UPLOAD" -q -d sim:$name "$DATA/bad_plan.ngc"
+	expect 5 "plan error on sim:$name" -- "${UPLOAD_RT[@]}" -q -d sim:$name "$DATA/bad_plan.ngc"
 	"$PROBE" sim:$name >p3
 	cmp -s p1 p3 || { fail "the card changed after a plan error"; cat p1 p3; }
 	# the planning pass holds the program to the card's soft limits: the
 	# arc of arc.ngc's line 5 runs from X10 to X0
 	"$PROBE" sim:$name 0 soft_min 5 >/dev/null || fail "setting soft_min"
-	expect 5 "beyond a soft limit on sim:$name" -- "$UPLOAD" -q -d sim:$name "$DATA/arc.ngc"
+	expect 5 "beyond a soft limit on sim:$name" -- "${UPLOAD_RT[@]}" -q -d sim:$name "$DATA/arc.ngc"
 	has "arc.ngc:5: error: X 4\.9[0-9]* mm is beyond the soft limit 5.0000 mm" err
 	"$PROBE" sim:$name >p4
 	cmp -s p1 p4 || { fail "the card changed after a soft-limit error"; cat p1 p4; }
 	stop_sim
 }
 
+enabled_shown() { # enabled_shown NAME MASK: sim:NAME shows MASK enabled
+	"$PROBE" sim:$1 | grep -q "enabled=$2 "
+}
 enabled_is() { # enabled_is NAME MASK: wait until sim:NAME shows MASK enabled
-	local i
-	for i in $(seq 200); do
-		"$PROBE" sim:$1 | grep -q "enabled=$2 " && return 0
-		sleep 0.01
-	done
-	return 1
+	wait_for "sim:$1 to show the axes $2 enabled" enabled_shown "$1" "$2"
+}
+running_with_records() { # the served card NAME runs with records queued
+	"$PROBE" sim:$1 | grep -Eq "^state=2 fill=[1-9]"
+}
+card_cycle_past() { # card_cycle_past NAME CYCLE: sim:NAME has run past CYCLE
+	local c
+	c=$("$PROBE" sim:$1 cycle) && [ "$c" -gt "$2" ]
+}
+card_time_passes() { # card_time_passes NAME CYCLES: wait for the card's own time
+	local c0
+	c0=$("$PROBE" sim:$1 cycle) || { fail "probe sim:$1 cycle"; return 1; }
+	wait_for "$2 servo cycles of sim:$1" card_cycle_past "$1" $((c0 + $2))
 }
 
 # A program that moves Y alone, with X disabled at rest off the binary
@@ -347,14 +360,14 @@ t_moved_axes() {
 	start_sim $name
 	# each step once the card shows the last (a served card acknowledges a
 	# command a moment before its state word shows it)
-	"$CTL" -d sim:$name enable x >ctl.out 2>&1 && enabled_is $name 1 &&
-		"$CTL" -d sim:$name move x=123.4568 --feed 100 >>ctl.out 2>&1 &&
-		"$CTL" -d sim:$name disable x >>ctl.out 2>&1 && enabled_is $name 0 ||
+	"${RT_HOST[@]}" "$CTL" -d sim:$name enable x >ctl.out 2>&1 && enabled_is $name 1 &&
+		"${RT_HOST[@]}" "$CTL" -d sim:$name move x=123.4568 --feed 100 >>ctl.out 2>&1 &&
+		"${RT_HOST[@]}" "$CTL" -d sim:$name disable x >>ctl.out 2>&1 && enabled_is $name 0 ||
 		{ fail "sh2000ctl: X to 123.4568 mm, disabled"; cat ctl.out; }
 	printf 'G21 G90 G17 F3000\nG1 Y5\nM2\n' >y.ngc
-	expect 0 "--dry-run of a move on Y" -- "$UPLOAD" -d sim:$name --dry-run y.ngc &&
+	expect 0 "--dry-run of a move on Y" -- "${UPLOAD_RT[@]}" -d sim:$name --dry-run y.ngc &&
 		has "axes moved +y$" out
-	expect 0 "a move on Y" -- "$UPLOAD" -d sim:$name y.ngc
+	expect 0 "a move on Y" -- "${UPLOAD_RT[@]}" -d sim:$name y.ngc
 	grep -q "enabling axes y$" err || { fail "enabled more than y:"; cat err; }
 	"$PROBE" sim:$name >p
 	has "state=1 fill=0 enabled=2 cmd=123\.45[67][0-9],5\.0000,0\.0000,0\.0000" p
@@ -363,21 +376,21 @@ t_moved_axes() {
 
 # Starts sh2000-upload on long.ngc on sim:NAME in the background with its
 # stderr in FILE; UPLOAD_PID is its pid. Returns once the first progress
-# line is there (the signal handlers are in by then).
+# line is there (the signal handlers are in by then) and the card runs the
+# program with records queued.
 start_long_upload() {
-	local i
 	rm -f "$2"
-	"$UPLOAD" -d sim:$1 "$DATA/long.ngc" >out 2>"$2" &
+	"${UPLOAD_RT[@]}" -d sim:$1 "$DATA/long.ngc" >out 2>"$2" &
 	UPLOAD_PID=$!
-	for i in $(seq 200); do grep -q "progress" "$2" 2>/dev/null && break; sleep 0.05; done
+	wait_for "the first progress line of the upload" file_has "progress" "$2" &&
+		wait_for "sim:$1 to run long.ngc with records queued" running_with_records "$1"
 }
 
 t_shm_stop() {
-	local name=upload-stop-$$ i
+	local name=upload-stop-$$
 	start_sim $name
 	start_long_upload $name stop.err
 	local pid=$UPLOAD_PID
-	sleep 0.5
 	kill -INT $pid
 	wait $pid
 	local rc=$?
@@ -385,15 +398,20 @@ t_shm_stop() {
 	has "long.ngc:[0-9]+: stopped by the operator" stop.err
 	"$PROBE" sim:$name >p
 	has "state=1 fill=0" p
-	# a second signal is an emergency stop
-	rm -f stop2.err
-	"$UPLOAD" -d sim:$name "$DATA/long.ngc" >out 2>stop2.err &
-	pid=$!
-	for i in $(seq 200); do grep -q "progress" stop2.err 2>/dev/null && break; sleep 0.05; done
-	sleep 0.5
-	kill -INT $pid
-	sleep 0.02
-	kill -INT $pid
+	# a second signal is an emergency stop: sent once the upload has taken
+	# the first (its line is there), while the stop plays out the records
+	# already queued (about 100 ms of the card's time), by a step at the
+	# operator's priority so that a busy machine does not hold it back
+	# until the stop is over (two signals sent at once would be one)
+	start_long_upload $name stop2.err
+	pid=$UPLOAD_PID
+	"${RT_OPERATOR[@]}" bash -c '
+		kill -INT "$1"
+		for _ in $(seq 20000); do
+			grep -q "stopping on the path" "$2" && exec kill -INT "$1"
+			sleep 0.002
+		done
+		echo "FAIL: the upload did not take the first SIGINT" >&2' _ "$pid" stop2.err
 	wait $pid
 	rc=$?
 	[ "$rc" = 4 ] || { fail "two SIGINTs: exit $rc, expected 4"; cat stop2.err; }
@@ -405,19 +423,19 @@ t_shm_stop() {
 
 # A feed hold (SIGUSR2) on a served card: the card comes to rest on the
 # path with the motion still queued and stays there, SIGUSR1 resumes, the
-# program ends where it should.
+# program ends where it should. Measured in the card's time: 0.5 s to come
+# to rest from 10 mm/s, then 0.3 s in which it must not move.
 t_shm_hold() {
-	local name=upload-hold-$$ i a b
+	local name=upload-hold-$$ a b
 	start_sim $name
 	start_long_upload $name hold.err
 	local pid=$UPLOAD_PID
-	sleep 0.3
 	kill -USR2 $pid
-	sleep 0.6
+	wait_for "the upload to take the feed hold" file_has "feed hold \(SIGUSR2\)" hold.err
+	card_time_passes $name 5000
 	"$PROBE" sim:$name >p1
-	sleep 0.3
+	card_time_passes $name 3000
 	"$PROBE" sim:$name >p2
-	has "feed hold \(SIGUSR2\)" hold.err
 	has "state=2 " p1
 	grep -q "fill=0 " p1 && fail "held with nothing queued: $(cat p1)"
 	a=$(sed 's/.*cmd=\([^ ]*\).*/\1/' p1)
@@ -438,14 +456,12 @@ t_shm_hold() {
 # latched (pushing on would have had the next record rejected).
 t_shm_other_stop() {
 	[ -n "${CTL:-}" ] && [ -x "$CTL" ] || { echo "sh2000ctl not built: skipped"; exit 77; }
-	local name=upload-ostop-$$ i
+	local name=upload-ostop-$$
 	start_sim $name
-	rm -f ostop.err
-	"$UPLOAD" -d sim:$name "$DATA/long.ngc" >out 2>ostop.err &
-	local pid=$!
-	for i in $(seq 200); do grep -q "progress" ostop.err 2>/dev/null && break; sleep 0.05; done
-	sleep 0.5
-	"$CTL" -d sim:$name stop >ctl.out 2>ctl.err || { fail "sh2000ctl stop: exit $?"; cat ctl.err; }
+	start_long_upload $name ostop.err
+	local pid=$UPLOAD_PID
+	"${RT_HOST[@]}" "$CTL" -d sim:$name stop >ctl.out 2>ctl.err ||
+		{ fail "sh2000ctl stop: exit $?"; cat ctl.err; }
 	wait $pid
 	local rc=$?
 	[ "$rc" = 7 ] || { fail "STOP from sh2000ctl: exit $rc, expected 7"; cat ostop.err; }

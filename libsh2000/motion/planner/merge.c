@@ -55,6 +55,7 @@ static void line_to(const struct sh2000_path *p, struct pl_block *k,
 		k->g.line.d[a] = k->t0[a] = k->t1[a] =
 			(k->p1[a] - k->p0[a]) / len;
 	k->vlim = pl_curve_vlim(p, k->t0, 0.0);
+	k->A = pl_block_accel(p, k);
 }
 
 int pl_merge_line(struct sh2000_path *p, const struct pl_block *b)

@@ -55,6 +55,7 @@ static void push_one(struct sh2000_path *p, struct pl_block *b)
 	double nt = 0.0;
 
 	b->seq = p->seq;
+	b->A = pl_block_accel(p, b);
 	if (p->cfg.mode == SH2000_PATH_EXACT_STOP)
 		b->stop_after = 1;
 	for (i = 0; i < SH2000_AXES; i++)

@@ -78,6 +78,7 @@ struct pl_block {
 	double A;		/* path acceleration allowed in it, mm/s^2
 				 * (pl_block_accel()) */
 	int stop_after;		/* exact stop at the end (point-to-point) */
+	int rapid;		/* a rapid (G0) or the blend between two */
 	int corner;		/* the junction into it is a corner */
 	double t0[SH2000_AXES], t1[SH2000_AXES];	/* unit tangents at start and end */
 	double p0[SH2000_AXES], p1[SH2000_AXES];	/* exact start and end points */
@@ -192,6 +193,7 @@ struct sh2000_path {
 	unsigned int merged_n;
 	double tend[SH2000_AXES];	/* tangent there (0: none / after a stop) */
 	int stop_next;		/* next block starts from rest */
+	int tail_rapid;		/* the last block queued is a rapid */
 	uint32_t seq;
 	uint64_t nurbs_ids;
 

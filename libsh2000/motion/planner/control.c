@@ -305,8 +305,9 @@ static struct pl_block *head(struct sh2000_path *p)
  * list.
  *
  * The acceleration differs from block to block (pl_block_accel()): each
- * limit is checked at the smallest acceleration of the blocks up to it
- * (A0: the head's), so the braking curve to it holds wherever it runs,
+ * limit is checked at the smallest acceleration of the blocks before it
+ * (A0: the head's), where the braking curve to it runs (it ends at a = 0
+ * where the limit starts), so it holds wherever it runs,
  * and where that smallest acceleration drops, the drop goes into
  * p->drops (distance, acceleration), a staircase too: the controller
  * brings its acceleration down before it gets there. Next to a corner
@@ -334,25 +335,27 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 		double V = halt ? 0.0 : pl_entry_limit(p, i);
 		/* the card's spline spans two periods either side of a
 		 * corner: the corner speed holds over them */
-		double t = k->corner ? zone : 0.0, Ak = k->A;
+		double t = k->corner ? zone : 0.0, Ak = k->A, ab = amin;
 
 		if (k->corner && k->vj > 0.0)
-			Ak = fmin(Ak, lim->A);
-		if (Ak < amin) {
-			amin = Ak;
-			p->drops[2 * m] = d - t * V;
-			p->drops[2 * m + 1] = Ak;
-			m++;
-		}
+			ab = Ak = fmin(Ak, lim->A);
 		if (V < level) {
-			/* a lower feed holds from feed_zone before */
+			/* a lower feed holds from feed_zone before; the
+			 * braking to it runs in the blocks before (a corner's
+			 * zone at lim.A), ending at a = 0 */
 			if (k->feed < k->prev_feed)
 				t = fmax(t, p->feed_zone);
 			p->cons[3 * n] = d - t * V;
 			p->cons[3 * n + 1] = V;
-			p->cons[3 * n + 2] = amin;
+			p->cons[3 * n + 2] = fmin(amin, ab);
 			n++;
 			level = V;
+		}
+		if (Ak < amin) {
+			amin = Ak;
+			p->drops[2 * m] = d - (k->corner ? zone : 0.0) * V;
+			p->drops[2 * m + 1] = Ak;
+			m++;
 		}
 		d += k->L;
 	}

@@ -493,8 +493,9 @@ static void test_line_accel(void **s)
 	assert_true(m.v_ratio <= 1.0);
 	assert_true(m.a_ratio <= 1.0);
 	/* the path acceleration of before (0.475 amax whatever the
-	 * direction) gave an axis 0.34 of amax on the diagonal, 0.57 at
-	 * most along one axis with the spline's ringing */
+	 * direction) gave an axis 0.34 of amax on the diagonal and at most
+	 * 0.67 anywhere with the spline's ringing (the blend table of
+	 * docs/planner.md) */
 	assert_true(m.a_ratio >= 0.75);
 }
 

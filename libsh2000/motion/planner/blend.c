@@ -66,8 +66,10 @@ static struct pl_block *tail_block(struct sh2000_path *p)
 }
 
 /* The longest cut of block b at a corner: half of it (the rest is for the
- * corner after it), but of the move before the corner (tail) nearly all
- * that is left once the blend at its start has taken its half; on an arc
+ * corner after it), but of the move before the corner (tail: under a
+ * finite tolerance; G64 alone would round a whole run of near-tangent
+ * moves away) nearly all that is left once the blend at its start has
+ * taken its half; on an arc
  * no more than BLEND_ARC_TURN of its sweep. */
 static double max_cut(const struct pl_block *b, int tail)
 {
@@ -154,7 +156,7 @@ static unsigned int blend_lines(struct sh2000_path *p, struct pl_block *t,
 
 	R = isinf(tol) ? INFINITY : tol * cos(phi / 2) / (1.0 - cos(phi / 2));
 	d = R * tan(phi / 2);
-	d = pl_min(d, pl_min(max_cut(t, 1), max_cut(b, 0)));
+	d = pl_min(d, pl_min(max_cut(t, !isinf(tol)), max_cut(b, 0)));
 	if (d < BLEND_MIN_MM)
 		return 0;
 	pl_block_cut(t, 0.0, t->L - d, t);
@@ -176,7 +178,7 @@ static unsigned int blend_curves(struct sh2000_path *p, struct pl_block *t,
 	unsigned int n, i, tries;
 
 	d = isinf(tol) ? INFINITY : tol / tan(phi / 4);	/* R tan(phi/2) */
-	dt = pl_min(d, max_cut(t, 1));
+	dt = pl_min(d, max_cut(t, !isinf(tol)));
 	db = pl_min(d, max_cut(b, 0));
 	for (tries = 0; tries < BIARC_TRIES; tries++) {
 		double dev, vmin = INFINITY, scale = 0.5;

@@ -5,11 +5,11 @@ both planners run them (the same file on both sides).
 
 LinuxCNC's own examples (ncfiles of Debian's linuxcnc-uspace) are copied
 with the changes the benchmark needs, each said in the copy's first
-comment: feeds set as the comparison measures them, the tool change and
-the tool length offset taken out (sh2000-upload refuses them: there is no
-tool table to give rs274, and the card has no tool; both planners then run
-the same path), and a G64 P where the program has no path mode of its own
-(so that both blend within the same tolerance). The others are generated.
+comment: feeds set as the comparison measures them and a G64 P where the
+program has no path mode of its own (so that both blend within the same
+tolerance). Their tool words (T1 M6, G43 H1) stay: both sides read the
+tool table TOOL_TABLE, which programs.py writes beside the programs (tool
+1, no length, so the path is the program's). The others are generated.
 
     programs.py OUTDIR [NAME...]        (default: every program but "tiny")
 
@@ -53,18 +53,16 @@ def arcspiral():
 
 def chips():
     # 4681 short moves under the program's G64 P0.1, its feeds far above
-    # the axes' limits (fscale 10000); the T1 M6 line taken out
-    text = code_sub(ncfile("3D_Chips.ngc"), r"T\s*#<toolno>\s*M6", "")
-    return "(bench copy of ncfiles/3D_Chips.ngc: the tool change taken out)\n" + text
+    # the axes' limits (fscale 10000); as written
+    return "(bench copy of ncfiles/3D_Chips.ngc, as written)\n" + ncfile("3D_Chips.ngc")
 
 
 def cds():
     # a pocket of lines and arcs; no path mode of its own: G64 P0.01 mm
     # set before the program's G20 so that both blend within 0.01 mm
     text = code_sub(ncfile("cds.ngc"), r"F\s*[-+]?[0-9.]+", "F600")
-    text = code_sub(text, r"G43\s*H\s*[0-9]+", "")
-    return ("(bench copy of ncfiles/cds.ngc: every F set to 600 in/min, the G43 H1 "
-            "taken out, G64 P0.01 mm set first)\nG21 G64 P0.01\n" + text)
+    return ("(bench copy of ncfiles/cds.ngc: every F set to 600 in/min, "
+            "G64 P0.01 mm set first)\nG21 G64 P0.01\n" + text)
 
 
 def surface():
@@ -107,6 +105,12 @@ def tiny():
             "G1 X10\nG1 Y5\nG2 X15 Y10 R5\nG1 X0 Y0\nM2\n")
 
 
+# The tool table both sides read (LinuxCNC's format; lengths in machine
+# units, mm): the tool the ncfiles programs call, with no length.
+TOOL_TABLE = "tools.tbl"
+TOOLS = "T1 P1 Z0 D3.175 ;bench tool: 1/8 in, no length\n"
+
+
 PROGRAMS = [
     ("arcspiral", arcspiral, "ncfiles arcspiral.ngc, F480 in/min, G64"),
     ("3D_Chips", chips, "ncfiles 3D_Chips.ngc, G64 P0.1"),
@@ -122,6 +126,8 @@ def main():
     outdir = sys.argv[1]
     names = sys.argv[2:] or [p[0] for p in PROGRAMS if p[0] != "tiny"]
     table = {p[0]: p for p in PROGRAMS}
+    with open(os.path.join(outdir, TOOL_TABLE), "w") as f:
+        f.write(TOOLS)
     for name in names:
         if name not in table:
             sys.exit("programs.py: unknown program %s (known: %s)" %

@@ -33,6 +33,8 @@
  * coordinates, relative to the program's origin). */
 struct el {
 	int arc, ccw;
+	int rapid;		/* a line as G0 */
+	double feed;		/* mm/s; 0: FEED */
 	enum sh2000_plane plane;
 	double e[4];
 	double c[2];
@@ -161,8 +163,10 @@ static void send(struct sh2000_path *p, const struct el *e, const double o[4])
 
 	for (a = 0; a < 4; a++)
 		end[a] = o[a] + e->e[a];
-	if (!e->arc) {
-		assert_int_equal(sh2000_path_line(p, end, FEED), 0);
+	if (e->rapid) {
+		assert_int_equal(sh2000_path_rapid(p, end), 0);
+	} else if (!e->arc) {
+		assert_int_equal(sh2000_path_line(p, end, e->feed > 0 ? e->feed : FEED), 0);
 	} else {
 		struct sh2000_path_arc arc;
 
@@ -463,6 +467,76 @@ static void test_surface(void **s)
 	}
 }
 
+/* Lines accelerate each axis up to its own amax (LinuxCNC's rule): a
+ * diagonal line in XY, whose axes each see 1/sqrt(2) of the path's
+ * acceleration, uses most of every axis' amax on the card's servo cycles,
+ * and none passes it; then along X alone, and in three axes. */
+static void test_line_accel(void **s)
+{
+	static struct prog pg;
+	struct meas m;
+
+	(void)s;
+	memset(&pg, 0, sizeof(pg));
+	pg.name = "lines";
+	line(&pg, 60, 60, 0);
+	line(&pg, 0, 60, 0);
+	line(&pg, 40, 20, 30);
+	for (unsigned int i = 0; i < pg.n; i++)
+		pg.el[i].feed = 380.0;
+	run(&pg, SH2000_PATH_EXACT_STOP, 0, 0, &m);
+	print_message("%-12s G61.1      max deviation %.4f mm, %llu servo cycles, axes at %.3f of vmax, %.3f of amax\n",
+		      pg.name, m.max, (unsigned long long)m.cycles, m.v_ratio,
+		      m.a_ratio);
+	/* a stop rings by about J T^3 / 70 (docs/planner.md) */
+	assert_true(m.max <= 0.001);
+	assert_true(m.v_ratio <= 1.0);
+	assert_true(m.a_ratio <= 1.0);
+	/* the path acceleration of before (0.475 amax whatever the
+	 * direction) gave an axis 0.34 of amax on the diagonal and at most
+	 * 0.67 anywhere with the spline's ringing (the blend table of
+	 * docs/planner.md) */
+	assert_true(m.a_ratio >= 0.75);
+}
+
+/* Rapids (G0) under G64 P0.5: the corners between rapids are blended
+ * within P like feed moves (rounded, faster than G61), where a rapid meets
+ * a feed move the carriage stops on the corner (as LinuxCNC's planner).
+ * (A 90 degree blend within 0.05 mm is taken at 16 mm/s over 0.4 mm: no
+ * faster than stopping there.) */
+static void test_rapids(void **s)
+{
+	static struct prog pg;
+	struct meas m, exact;
+
+	(void)s;
+	memset(&pg, 0, sizeof(pg));
+	pg.name = "rapids";
+	line(&pg, 0, 0, 5);
+	line(&pg, 30, 0, 5);
+	line(&pg, 30, 20, 5);
+	line(&pg, 30, 20, 0);	/* rapid into a feed move at its end */
+	for (unsigned int i = 0; i < pg.n; i++)
+		pg.el[i].rapid = 1;
+	line(&pg, 10, 20, 0);
+	corner_at(&pg, 1);
+	corner_at(&pg, 2);
+	corner_at(&pg, 3);
+	corner_at(&pg, 4);
+	run(&pg, SH2000_PATH_BLEND, 0.5, 0.5, &m);
+	run(&pg, SH2000_PATH_EXACT_PATH, 0, 0, &exact);
+	print_message("%-12s G64 P0.5   max deviation %.4f mm, %llu servo cycles (G61: %llu), axes at %.3f of vmax, %.3f of amax\n",
+		      pg.name, m.max, (unsigned long long)m.cycles,
+		      (unsigned long long)exact.cycles, m.v_ratio, m.a_ratio);
+	assert_true(m.max <= 0.5 + 0.0005);
+	for (unsigned int i = 0; i < 3; i++)
+		assert_true(m.near[i] > 0.05);
+	assert_true(m.near[3] < 0.001);	/* G0 to G1: a stop */
+	assert_true(m.cycles < exact.cycles);
+	assert_true(m.v_ratio <= 1.0);
+	assert_true(m.a_ratio <= 1.0);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -471,6 +545,8 @@ int main(void)
 		cmocka_unit_test(test_helix),
 		cmocka_unit_test(test_pocket),
 		cmocka_unit_test(test_surface),
+		cmocka_unit_test(test_line_accel),
+		cmocka_unit_test(test_rapids),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

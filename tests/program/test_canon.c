@@ -221,6 +221,47 @@ static void test_path_modes(void **state)
 		     SH2000_PD_UNKNOWN, 1, 14);
 }
 
+/* The same through the streaming reader, which hands each line's blocks
+ * out before it reads the next: SET_NAIVECAM_TOLERANCE after the mode's
+ * line still reaches the planner (the mode is given again with it). */
+static void test_path_modes_streamed(void **state)
+{
+	static const char text[] =
+		"    1 N..... ON_RESET()\n"
+		"    2 N..... SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, 0.000000)\n"
+		"    3 N..... SET_NAIVECAM_TOLERANCE(0.0000)\n"
+		"    4 N10    USE_LENGTH_UNITS(CANON_UNITS_INCHES)\n"
+		"    5 N20    SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, 0.001000)\n"
+		"    6 N20    SET_NAIVECAM_TOLERANCE(0.0005)\n"
+		"    7 N30    SET_FEED_RATE(10.0000)\n"
+		"    8 N30    STRAIGHT_FEED(1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+		"    9 N40    PROGRAM_END()\n";
+	struct sh2000_prog_diags diags;
+	struct sh2000_prog_reader *r;
+	const struct sh2000_prog_block *b;
+	struct sh2000_prog_block last = { 0 };
+	unsigned int modes = 0;
+
+	(void)state;
+	sh2000_prog_diags_init(&diags);
+	assert_int_equal(sh2000_prog_reader_open_text(&r, SH2000_PROG_CANON, "t",
+						      text, strlen(text), NULL,
+						      &diags), 0);
+	while (sh2000_prog_reader_next(r, &b) == 1) {
+		if (b->kind != SH2000_PROG_PATH_MODE)
+			continue;
+		last = *b;
+		modes++;
+	}
+	assert_int_equal(sh2000_prog_reader_errors(r), 0);
+	sh2000_prog_reader_close(r);
+	sh2000_prog_diags_free(&diags);
+	assert_true(modes >= 1);
+	assert_int_equal(last.u.path.mode, SH2000_PATH_BLEND);
+	assert_near(last.u.path.tolerance, 0.0254, 1e-12);
+	assert_near(last.u.path.naive_tolerance, 0.0127, 1e-12);
+}
+
 static void test_older_format(void **state)
 {
 	(void)state;
@@ -262,6 +303,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_errors, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_older_format, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_path_modes, setup, teardown),
+		cmocka_unit_test(test_path_modes_streamed),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

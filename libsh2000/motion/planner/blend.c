@@ -37,6 +37,10 @@
  * to its tangent, so the corner's tolerance rule gives a first cut the
  * measurement rarely has to shorten. */
 #define BLEND_ARC_TURN 0.5
+/* What of the move before a corner a blend may take when the blend at its
+ * start has taken its half (a sliver stays: the move keeps its length and
+ * tangent). */
+#define BLEND_TAIL_KEEP 0.98
 /* Chords of a piece of an arc when measuring a biarc against it. */
 #define PIECE_CHORDS 16u
 /* Samples of each biarc arc, ends included. */
@@ -61,11 +65,15 @@ static struct pl_block *tail_block(struct sh2000_path *p)
 	return t;
 }
 
-/* The longest cut of block b at a corner: half of it, and on an arc no
- * more than BLEND_ARC_TURN of its sweep. */
-static double max_cut(const struct pl_block *b)
+/* The longest cut of block b at a corner: half of it (the rest is for the
+ * corner after it), but of the move before the corner (tail: under a
+ * finite tolerance; G64 alone would round a whole run of near-tangent
+ * moves away) nearly all that is left once the blend at its start has
+ * taken its half; on an arc
+ * no more than BLEND_ARC_TURN of its sweep. */
+static double max_cut(const struct pl_block *b, int tail)
 {
-	double d = 0.5 * b->L;
+	double d = (tail && b->nblend ? BLEND_TAIL_KEEP : 0.5) * b->L;
 
 	if (b->type == BLK_ARC)
 		d = pl_min(d, BLEND_ARC_TURN * b->L / fabs(b->g.arc.sweep));
@@ -148,7 +156,7 @@ static unsigned int blend_lines(struct sh2000_path *p, struct pl_block *t,
 
 	R = isinf(tol) ? INFINITY : tol * cos(phi / 2) / (1.0 - cos(phi / 2));
 	d = R * tan(phi / 2);
-	d = pl_min(d, pl_min(max_cut(t), max_cut(b)));
+	d = pl_min(d, pl_min(max_cut(t, !isinf(tol)), max_cut(b, 0)));
 	if (d < BLEND_MIN_MM)
 		return 0;
 	pl_block_cut(t, 0.0, t->L - d, t);
@@ -170,8 +178,8 @@ static unsigned int blend_curves(struct sh2000_path *p, struct pl_block *t,
 	unsigned int n, i, tries;
 
 	d = isinf(tol) ? INFINITY : tol / tan(phi / 4);	/* R tan(phi/2) */
-	dt = pl_min(d, max_cut(t));
-	db = pl_min(d, max_cut(b));
+	dt = pl_min(d, max_cut(t, !isinf(tol)));
+	db = pl_min(d, max_cut(b, 0));
 	for (tries = 0; tries < BIARC_TRIES; tries++) {
 		double dev, vmin = INFINITY, scale = 0.5;
 

@@ -71,12 +71,45 @@ void pl_block_pos(const struct pl_block *b, double s, double pos[SH2000_AXES])
 /* ---- one substep ------------------------------------------------------- */
 
 struct ctl {
-	const struct pl_limits *lim;
+	struct pl_limits lim;	/* the head block's: |a| <= lim.A now */
 	int trap;
 	double h, v, a, vcur;
-	const double *cons;	/* pairs (distance, speed) */
+	/* the limits ahead: triples (distance, speed, the smallest
+	 * acceleration allowed up to there) */
+	const double *cons;
 	unsigned int n;
+	/* where the acceleration allowed drops: pairs (distance, acceleration) */
+	const double *drops;
+	unsigned int nd;
 };
+
+/* Distance to slow to limit i from (v, a), at the acceleration allowed on
+ * the way to it. */
+static double cons_brake(const struct ctl *c, unsigned int i, double v,
+			 double a)
+{
+	struct pl_limits L = { c->cons[3 * i + 2], c->lim.J };
+
+	return pl_brake_dist(&L, v, c->trap ? 0.0 : a, c->cons[3 * i + 1]);
+}
+
+/* Room left, after a step to (s, v, a), to bring the acceleration down to
+ * drop i's before it: negative when it no longer can. The step that
+ * crosses a drop is checked only at its end, so the drop counts two
+ * substeps early. */
+static double drop_room(const struct ctl *c, unsigned int i, double s,
+			double v, double a)
+{
+	double Ad = c->drops[2 * i + 1], J = c->lim.J, t;
+	double dd = c->drops[2 * i] - s - 2.0 * v * c->h;
+
+	if (a <= Ad)
+		return INFINITY;
+	if (c->trap)
+		return dd;
+	t = (a - Ad) / J;	/* at full jerk down, covering ... */
+	return dd - t * (v + t * (a / 2.0 - t * J / 6.0));
+}
 
 static void step_state(const struct ctl *c, double j, double *s, double *v,
 		       double *a)
@@ -95,13 +128,13 @@ static int lower_ok(const struct ctl *c, double j)
 	step_state(c, j, &s, &v, &a);
 	if (v < -V_EPS)
 		return 0;
-	if (!c->trap && a < -c->lim->A * (1.0 + 1e-12))
+	if (!c->trap && a < -c->lim.A * (1.0 + 1e-12))
 		return 0;
 	if (!c->trap) {
 		if (j > 0.0 && c->a < 0.0 && -c->a / j < c->h &&
 		    c->v - c->a * c->a / (2.0 * j) < -V_EPS)
 			return 0;
-		if (a < 0.0 && v - a * a / (2.0 * c->lim->J) < -V_EPS)
+		if (a < 0.0 && v - a * a / (2.0 * c->lim.J) < -V_EPS)
 			return 0;
 	}
 	return 1;
@@ -110,11 +143,11 @@ static int lower_ok(const struct ctl *c, double j)
 /* The limits ahead, from the state reached after advancing s. */
 static int cons_ok(const struct ctl *c, double s, double v, double a)
 {
-	double J = c->lim->J;
+	double J = c->lim.J;
 	unsigned int i;
 
 	for (i = 0; i < c->n; i++) {
-		double d = c->cons[2 * i] - s, V = c->cons[2 * i + 1];
+		double d = c->cons[3 * i] - s, V = c->cons[3 * i + 1];
 
 		if (d <= 0.0) {
 			if (v > V + V_EPS)
@@ -122,11 +155,13 @@ static int cons_ok(const struct ctl *c, double s, double v, double a)
 			if (!c->trap && a > 0.0 &&
 			    v + a * a / (2.0 * J) > V + V_EPS)
 				return 0;
-		} else if (pl_brake_dist(c->lim, v, c->trap ? 0.0 : a, V) >
-			   d + 1e-12) {
+		} else if (cons_brake(c, i, v, a) > d + 1e-12) {
 			return 0;
 		}
 	}
+	for (i = 0; i < c->nd; i++)
+		if (drop_room(c, i, s, v, a) < 0.0)
+			return 0;
 	return 1;
 }
 
@@ -138,11 +173,11 @@ static int cons_ok(const struct ctl *c, double s, double v, double a)
  * zeros, where the binding condition is just met, matter to the search. */
 static double upper_slack(const struct ctl *c, double j)
 {
-	double s, v, a, pk, J = c->lim->J, m;
+	double s, v, a, pk, J = c->lim.J, m;
 	unsigned int i;
 
 	step_state(c, j, &s, &v, &a);
-	m = c->trap ? INFINITY : c->lim->A * (1.0 + 1e-12) - a;
+	m = c->trap ? INFINITY : c->lim.A * (1.0 + 1e-12) - a;
 	/* the speed at the start counts only when it is too high: as a
 	 * constant room it would hide how the others change with j */
 	if (c->v > c->vcur + V_EPS)
@@ -154,17 +189,18 @@ static double upper_slack(const struct ctl *c, double j)
 	if (!c->trap && a > 0.0)
 		m = pl_min(m, c->vcur + V_EPS - (v + a * a / (2.0 * J)));
 	for (i = 0; i < c->n && m >= 0.0; i++) {
-		double d = c->cons[2 * i] - s, V = c->cons[2 * i + 1];
+		double d = c->cons[3 * i] - s, V = c->cons[3 * i + 1];
 
 		if (d > 0.0) {
-			m = pl_min(m, d + 1e-12 -
-				   pl_brake_dist(c->lim, v, c->trap ? 0.0 : a, V));
+			m = pl_min(m, d + 1e-12 - cons_brake(c, i, v, a));
 			continue;
 		}
 		m = pl_min(m, V + V_EPS - v);
 		if (!c->trap && a > 0.0)
 			m = pl_min(m, V + V_EPS - (v + a * a / (2.0 * J)));
 	}
+	for (i = 0; i < c->nd && m >= 0.0; i++)
+		m = pl_min(m, drop_room(c, i, s, v, a));
 	return m;
 }
 
@@ -184,32 +220,34 @@ static double highest_jerk(const struct ctl *c, double lo, double hi,
 
 /* The speed of the limit that binds: the current one if it is exceeded,
  * else the one ahead with the least room left (the braking curve the
- * controller is riding). */
-static double danger(const struct ctl *c)
+ * controller is riding); in *A the acceleration to ride it with. */
+static double danger(const struct ctl *c, double *A)
 {
 	double vt = c->vcur, slack = INFINITY;
 	unsigned int i;
 
+	*A = c->lim.A;
 	if (c->v > c->vcur + V_EPS || (!c->trap && c->a > 0.0 &&
-	    c->v + c->a * c->a / (2.0 * c->lim->J) > c->vcur + V_EPS))
+	    c->v + c->a * c->a / (2.0 * c->lim.J) > c->vcur + V_EPS))
 		return c->vcur;
 	for (i = 0; i < c->n; i++) {
-		double r = c->cons[2 * i] -
-			   pl_brake_dist(c->lim, c->v, c->trap ? 0.0 : c->a,
-					 c->cons[2 * i + 1]);
+		double r = c->cons[3 * i] - cons_brake(c, i, c->v, c->a);
 
 		if (r < slack) {
 			slack = r;
-			vt = fmin(c->vcur, c->cons[2 * i + 1]);
+			vt = fmin(c->vcur, c->cons[3 * i + 1]);
+			*A = c->cons[3 * i + 2];
 		}
 	}
 	return vt;
 }
 
-/* Follow the exact time-optimal transition to speed vt for one substep. */
-static void follow(const struct ctl *c, double vt, double *ds, double *v,
-		   double *a)
+/* Follow the exact time-optimal transition to speed vt at acceleration A
+ * for one substep. */
+static void follow(const struct ctl *c, double vt, double A, double *ds,
+		   double *v, double *a)
 {
+	struct pl_limits L = { A, c->lim.J };
 	struct pl_trans tr;
 	double t = c->h;
 	unsigned int i;
@@ -217,7 +255,7 @@ static void follow(const struct ctl *c, double vt, double *ds, double *v,
 	*ds = 0.0;
 	*v = c->v;
 	*a = c->trap ? 0.0 : c->a;
-	pl_trans_plan(c->lim, c->v, *a, vt, &tr);
+	pl_trans_plan(&L, c->v, *a, vt, &tr);
 	for (i = 0; i < (unsigned int)tr.n && t > 0.0; i++) {
 		double dt = pl_min(tr.dur[i], t);
 
@@ -257,51 +295,77 @@ static struct pl_block *head(struct sh2000_path *p)
 
 /*
  * The limits ahead that can matter in a substep of length h from the
- * current state, into p->cons as (distance, speed) pairs: a descending
- * staircase, since a limit no lower than a nearer one is met by meeting
- * that one and holding the speed, and nothing further than any stop from
- * the fastest this substep can lead to. Each block's limit is local: its
- * junction and the feeds of it and of the block before; the controller
- * checks every limit ahead from the exact state, so no backward pass is
- * needed. A stop at the end of what is queued closes the list.
+ * current state, into p->cons as (distance, speed, acceleration) triples:
+ * a descending staircase, since a limit no lower than a nearer one is met
+ * by meeting that one and holding the speed, and nothing further than any
+ * stop from the fastest this substep can lead to. Each block's limit is
+ * local: its junction and the feeds of it and of the block before; the
+ * controller checks every limit ahead from the exact state, so no
+ * backward pass is needed. A stop at the end of what is queued closes the
+ * list.
+ *
+ * The acceleration differs from block to block (pl_block_accel()): each
+ * limit is checked at the smallest acceleration of the blocks before it
+ * (A0: the head's), where the braking curve to it runs (it ends at a = 0
+ * where the limit starts), so it holds wherever it runs,
+ * and where that smallest acceleration drops, the drop goes into
+ * p->drops (distance, acceleration), a staircase too: the controller
+ * brings its acceleration down before it gets there. Next to a corner
+ * that is not blended, over the two periods of its speed, the
+ * acceleration is lim.A: the corner's turn takes the rest of the axes'.
  */
 static unsigned int limits_ahead(struct sh2000_path *p, double h,
-				 double level, int halt)
+				 double level, int halt, double A0,
+				 unsigned int *nd)
 {
 	const struct pl_limits *lim = &p->lim;
 	int trap = isinf(lim->J);
-	double zone = 2.0 * p->cfg.period_s, vup = p->v + lim->A * h, dh, d;
-	unsigned int i, n = 0;
+	double zone = 2.0 * p->cfg.period_s, vup = p->v + p->a_top * h, dh, d;
+	double amin = A0;
+	unsigned int i, n = 0, m = 0;
 
+	/* lim.A is the least any block has: the longest braking */
 	dh = vup * (h + zone) +
-	     pl_brake_dist(lim, vup, trap ? 0.0 : lim->A, 0.0) + 1e-9;
-	level = fmin(level, vup + (trap ? 0.0 : lim->A * lim->A /
+	     pl_brake_dist(lim, vup, trap ? 0.0 : p->a_top, 0.0) + 1e-9;
+	level = fmin(level, vup + (trap ? 0.0 : p->a_top * p->a_top /
 				   (2.0 * lim->J)));
 	d = head(p)->L - p->s;
 	for (i = 1; i < p->count && d <= dh; i++) {
 		const struct pl_block *k = pl_block_at(p, i);
 		double V = halt ? 0.0 : pl_entry_limit(p, i);
+		/* the card's spline spans two periods either side of a
+		 * corner: the corner speed holds over them */
+		double t = k->corner ? zone : 0.0, Ak = k->A, ab = amin;
 
+		if (k->corner && k->vj > 0.0)
+			ab = Ak = fmin(Ak, lim->A);
 		if (V < level) {
-			/* the card's spline spans two periods either side
-			 * of a corner: the corner speed holds over them; a
-			 * lower feed holds from feed_zone before */
-			double t = k->corner ? zone : 0.0;
-
+			/* a lower feed holds from feed_zone before; the
+			 * braking to it runs in the blocks before (a corner's
+			 * zone at lim.A), ending at a = 0 */
 			if (k->feed < k->prev_feed)
 				t = fmax(t, p->feed_zone);
-			p->cons[2 * n] = d - t * V;
-			p->cons[2 * n + 1] = V;
+			p->cons[3 * n] = d - t * V;
+			p->cons[3 * n + 1] = V;
+			p->cons[3 * n + 2] = fmin(amin, ab);
 			n++;
 			level = V;
+		}
+		if (Ak < amin) {
+			amin = Ak;
+			p->drops[2 * m] = d - (k->corner ? zone : 0.0) * V;
+			p->drops[2 * m + 1] = Ak;
+			m++;
 		}
 		d += k->L;
 	}
 	if (i == p->count && d <= dh && level > 0.0) {
-		p->cons[2 * n] = d;
-		p->cons[2 * n + 1] = 0.0;
+		p->cons[3 * n] = d;
+		p->cons[3 * n + 1] = 0.0;
+		p->cons[3 * n + 2] = amin;
 		n++;
 	}
+	*nd = m;
 	return n;
 }
 
@@ -309,22 +373,22 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
  * out of reach, towards the lowest such one. */
 static void brake(const struct ctl *c, double *ds, double *v, double *a)
 {
-	double vt = danger(c);
-	int trap = c->trap;
+	double A, vt = danger(c, &A);
 	unsigned int i, k;
 
 	for (i = 0; i <= c->n; i++) {
 		double lowest = vt;
 
-		follow(c, vt, ds, v, a);
+		follow(c, vt, A, ds, v, a);
 		for (k = 0; k < c->n; k++) {
-			double dd = c->cons[2 * k] - *ds, V = c->cons[2 * k + 1];
+			double dd = c->cons[3 * k] - *ds, V = c->cons[3 * k + 1];
 
 			if (V < lowest &&
 			    (dd <= 0.0 ? *v > V + V_EPS :
-			     pl_brake_dist(c->lim, *v, trap ? 0.0 : *a, V) >
-			     dd + 1e-12))
+			     cons_brake(c, k, *v, *a) > dd + 1e-12)) {
 				lowest = V;
+				A = pl_min(A, c->cons[3 * k + 2]);
+			}
 		}
 		if (lowest == vt)
 			break;
@@ -361,7 +425,7 @@ static double bisect(const struct ctl *c, int (*ok)(const struct ctl *, double),
  */
 static void choose_step(const struct ctl *c, double *ds, double *v, double *a)
 {
-	double J = c->trap ? c->lim->A : c->lim->J, jl, jh, fJ, fl;
+	double J = c->trap ? c->lim.A : c->lim.J, jl, jh, fJ, fl;
 
 	fJ = upper_slack(c, J);
 	if (fJ >= 0.0 && lower_ok(c, J)) {
@@ -371,7 +435,7 @@ static void choose_step(const struct ctl *c, double *ds, double *v, double *a)
 		return;
 	}
 	if (c->v <= c->vcur + V_EPS) {
-		follow(c, c->vcur, ds, v, a);
+		follow(c, c->vcur, c->lim.A, ds, v, a);
 		if (cons_ok(c, *ds, *v, *a))
 			return;
 	}
@@ -414,7 +478,8 @@ static int substep(struct sh2000_path *p, double h)
 	struct ctl c;
 	unsigned int n;
 
-	c.lim = &p->lim;
+	c.lim.J = p->lim.J;
+	c.lim.A = b->A;
 	c.trap = isinf(p->lim.J);
 	c.h = h;
 	c.v = p->v;
@@ -422,20 +487,23 @@ static int substep(struct sh2000_path *p, double h)
 	c.vcur = halt ? 0.0 : pl_cap(p, b);
 	/* a stop has no zone: s a rounding below zero (a curve's arc
 	 * accounting) must not hold the carriage at the corner for ever */
-	if (b->corner && b->vj > 0.0 && p->s < zone * b->vj)
+	if (b->corner && b->vj > 0.0 && p->s < zone * b->vj) {
 		c.vcur = fmin(c.vcur, b->vj);
+		c.lim.A = fmin(c.lim.A, p->lim.A);
+	}
 	/* a higher feed only once the lower one is feed_zone behind */
 	if (!halt && b->feed > b->prev_feed &&
 	    p->s < p->feed_zone * pl_prev_cap(p, b))
 		c.vcur = fmin(c.vcur, fmax(pl_prev_cap(p, b), 0.0));
-	n = limits_ahead(p, h, c.vcur, halt);
+	n = limits_ahead(p, h, c.vcur, halt, c.lim.A, &c.nd);
 	c.cons = p->cons;
 	c.n = n;
-	if (n && p->cons[2 * n - 1] == 0.0 && p->cons[2 * n - 2] < 1e-6 &&
+	c.drops = p->drops;
+	if (n && p->cons[3 * n - 2] == 0.0 && p->cons[3 * n - 3] < 1e-6 &&
 	    p->v < 1e-4 && !halt) {
 		/* at rest a hair before a stop (exact stop, end of the
 		 * queue): the transitions land within rounding of it */
-		ds = fmax(p->cons[2 * n - 2], 0.0);
+		ds = fmax(p->cons[3 * n - 3], 0.0);
 		v = a = 0.0;
 	} else {
 		choose_step(&c, &ds, &v, &a);

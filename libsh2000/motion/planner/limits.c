@@ -3,7 +3,9 @@
  * Speed limits from the geometry: along a curve (axis speeds, centripetal
  * acceleration, chord tolerance, jerk) and through the corner between two
  * blocks (the corner tolerance, the axes' acceleration over one period
- * and what the card's B-spline does to a corner).
+ * and what the card's B-spline does to a corner); and the acceleration
+ * along each block (a line's axes each up to their own amax, a curve's
+ * tangential share).
  */
 #include <math.h>
 
@@ -28,6 +30,23 @@ double pl_curve_vlim(const struct sh2000_path *p, const double t[SH2000_AXES],
 			v = fmin(v, cbrt(share * p->lim.J / (kappa * kappa)));
 	}
 	return v;
+}
+
+double pl_block_accel(const struct sh2000_path *p, const struct pl_block *b)
+{
+	const struct sh2000_path_config *c = &p->cfg;
+	double A = INFINITY;
+	unsigned int a;
+
+	if (b->type != BLK_LINE)
+		return p->a_curve;
+	/* along a line axis i accelerates at A |d_i|: each axis to its own
+	 * amax, as LinuxCNC's planner does; the margin as everywhere */
+	for (a = 0; a < SH2000_AXES; a++)
+		if (fabs(b->g.line.d[a]) > 1e-12)
+			A = fmin(A, c->margin * c->amax[a] /
+				    fabs(b->g.line.d[a]));
+	return fmin(pl_accel_room(p, A * p->a_scale), p->a_top);
 }
 
 double pl_junction(const struct sh2000_path *p, const double t1[SH2000_AXES],

@@ -55,6 +55,7 @@ static void line_to(const struct sh2000_path *p, struct pl_block *k,
 		k->g.line.d[a] = k->t0[a] = k->t1[a] =
 			(k->p1[a] - k->p0[a]) / len;
 	k->vlim = pl_curve_vlim(p, k->t0, 0.0);
+	k->A = pl_block_accel(p, k);
 }
 
 int pl_merge_line(struct sh2000_path *p, const struct pl_block *b)
@@ -62,7 +63,7 @@ int pl_merge_line(struct sh2000_path *p, const struct pl_block *b)
 	double tol = p->cfg.naive_tol;
 	struct pl_block *t, *prev = NULL, m;
 
-	if (b->type != BLK_LINE || !(tol > 0.0) || p->stop_next ||
+	if (b->type != BLK_LINE || b->rapid || !(tol > 0.0) || p->stop_next ||
 	    p->cfg.mode != SH2000_PATH_BLEND || !p->count ||
 	    (p->count == 1 && p->moving) || p->merged_n >= PL_MERGE_MAX)
 		return 0;

@@ -13,6 +13,9 @@
 
 #include "planner.h"
 
+/* The compensated spline's acceleration ringing over J T (below). */
+#define PL_RING_K 0.1
+
 static const char axis_name[] = SH2000_AXIS_LETTERS;
 
 void sh2000_path_config_default(struct sh2000_path_config *cfg)
@@ -167,15 +170,34 @@ int sh2000_path_create(struct sh2000_path **out,
 		amin = fmin(amin, cfg->amax[a]);
 	p->amin = amin;
 	share = cfg->centripetal_share;
-	p->lim.A = (1.0 - share) * cfg->margin * amin;
 	p->lim.J = cfg->profile == SH2000_PROFILE_SCURVE ?
 		   cfg->jerk * cfg->margin : INFINITY;
 	/* A step in the acceleration overshoots by (1 + 2r/(1 + r)) times
 	 * through the compensation filter (r = 2 - sqrt 3): only the
 	 * trapezoid has such steps. */
-	if (cfg->profile == SH2000_PROFILE_TRAPEZOID &&
-	    cfg->output == SH2000_OUTPUT_COMPENSATED)
-		p->lim.A /= 1.75;
+	p->a_scale = cfg->profile == SH2000_PROFILE_TRAPEZOID &&
+		     cfg->output == SH2000_OUTPUT_COMPENSATED ? 1.0 / 1.75 : 1.0;
+	/* next to a corner that is not blended: the share the corner's
+	 * axis-speed jump leaves (limits.c) */
+	p->lim.A = (1.0 - share) * cfg->margin * amin * p->a_scale;
+	/* along a curve, tangential and centripetal acceleration are at
+	 * right angles: with the centripetal share s of the smallest amax,
+	 * sqrt(1 - s^2) of it along the path keeps their sum within it */
+	/* the compensated spline rings above an acceleration the S-curve
+	 * reaches within about a period by up to 0.1 J T on the card's
+	 * servo cycles (950 mm/s^2 at the defaults: 5500 on a line planned
+	 * at 4750 without it; tests/planner test_blend, test_accel) */
+	p->a_ring = cfg->profile == SH2000_PROFILE_SCURVE &&
+		    cfg->output == SH2000_OUTPUT_COMPENSATED ?
+		    PL_RING_K * p->lim.J * cfg->period_s : 0.0;
+	p->a_curve = pl_accel_room(p, sqrt(1.0 - share * share) *
+				   cfg->margin * amin * p->a_scale);
+	/* the most a line can get (min_i amax_i / |d_i| never exceeds the
+	 * norm of the amax vector) */
+	p->a_top = 0.0;
+	for (a = 0; a < SH2000_AXES; a++)
+		p->a_top += cfg->amax[a] * cfg->amax[a];
+	p->a_top = sqrt(p->a_top) * cfg->margin * p->a_scale;
 	/* The card's compensated spline rings above the speed a transition
 	 * ends at, by about 0.004 J T^2 (0.007 A T for the trapezoid's
 	 * acceleration steps), measured on its fine set-points (the feed test
@@ -184,7 +206,7 @@ int sh2000_path_create(struct sh2000_path **out,
 	 * compensation's ringing over about six. */
 	if (cfg->output == SH2000_OUTPUT_COMPENSATED)
 		p->feed_margin = isinf(p->lim.J) ?
-				 0.010 * p->lim.A * cfg->period_s :
+				 0.010 * p->a_top * cfg->period_s :
 				 0.005 * p->lim.J * cfg->period_s * cfg->period_s;
 	p->feed_zone = cfg->period_s *
 		       (cfg->output == SH2000_OUTPUT_RAW ? 2.0 : 6.0);
@@ -194,7 +216,8 @@ int sh2000_path_create(struct sh2000_path **out,
 		free(p);
 		return -ENOMEM;
 	}
-	p->cons = pl_alloc(p, 2 * (p->cap + 1) * sizeof(double));
+	p->cons = pl_alloc(p, 5 * (p->cap + 2) * sizeof(double));
+	p->drops = p->cons ? p->cons + 3 * (p->cap + 2) : NULL;
 	if (!p->cons) {
 		free(p->blk);
 		free(p);

@@ -75,7 +75,10 @@ struct pl_block {
 	 * has left that block's speed behind (queue.c) */
 	double prev_feed, prev_vlim;
 	double vj;		/* limit at the junction into this block */
+	double A;		/* path acceleration allowed in it, mm/s^2
+				 * (pl_block_accel()) */
 	int stop_after;		/* exact stop at the end (point-to-point) */
+	int rapid;		/* a rapid (G0) or the blend between two */
 	int corner;		/* the junction into it is a corner */
 	double t0[SH2000_AXES], t1[SH2000_AXES];	/* unit tangents at start and end */
 	double p0[SH2000_AXES], p1[SH2000_AXES];	/* exact start and end points */
@@ -156,8 +159,13 @@ struct sh2000_path {
 	void *ctx;
 	char err[256];
 
-	/* limits in path terms */
+	/* limits in path terms: lim.A is the acceleration next to a corner
+	 * that is not blended (the axes' room for the corner's turn is
+	 * what it leaves); each block has its own (pl_block_accel()):
+	 * a_curve along curves, up to a_top on lines; a_scale is what the
+	 * trapezoid's steps through the compensation cost */
 	struct pl_limits lim;
+	double a_curve, a_top, a_scale, a_ring;
 	double amin;		/* smallest axis acceleration */
 	/* s: how long before a drop and after a rise of the speed limit the
 	 * lower limit holds, so that the card's spline, which spreads a
@@ -174,7 +182,10 @@ struct sh2000_path {
 	unsigned int cap, head, count;
 	struct pl_nurbs *pending;	/* NURBS still being expanded */
 	double pending_feed;
-	double *cons;		/* controller scratch: (distance, speed) */
+	double *cons;		/* controller scratch: (distance, speed,
+				 * acceleration) of the limits ahead ... */
+	double *drops;		/* ... and (distance, acceleration) where
+				 * the acceleration allowed drops */
 	double qend[SH2000_AXES];	/* end of the queued primitives */
 	double tail_feed, tail_vlim;	/* of the last block queued */
 	/* the corners merged into the last block (merge.c) */
@@ -182,6 +193,7 @@ struct sh2000_path {
 	unsigned int merged_n;
 	double tend[SH2000_AXES];	/* tangent there (0: none / after a stop) */
 	int stop_next;		/* next block starts from rest */
+	int tail_rapid;		/* the last block queued is a rapid */
 	uint32_t seq;
 	uint64_t nurbs_ids;
 
@@ -272,6 +284,15 @@ int pl_nurbs_expand(struct sh2000_path *p);
  * jerk. */
 double pl_curve_vlim(const struct sh2000_path *p, const double t[SH2000_AXES],
 		     double kappa);
+/* The path acceleration allowed along block b: a line's, at which its
+ * most loaded axis reaches its amax (times the margin); a curve's
+ * tangential share (a_curve). */
+double pl_block_accel(const struct sh2000_path *p, const struct pl_block *b);
+/* What of an acceleration A the compensated spline's ringing leaves. */
+static inline double pl_accel_room(const struct sh2000_path *p, double A)
+{
+	return A - p->a_ring > A / 1.4 ? A - p->a_ring : A / 1.4;
+}
 /* Speed allowed through the corner from tangent t1 (in) to t0 (out). */
 double pl_junction(const struct sh2000_path *p, const double t1[SH2000_AXES],
 		   const double t0[SH2000_AXES]);

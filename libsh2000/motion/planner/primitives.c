@@ -75,8 +75,12 @@ static int ready(struct sh2000_path *p)
 
 /* ---- lines and point-to-point ----------------------------------------- */
 
+/* What a straight move is: a feed move, point-to-point (from rest to
+ * rest) or a rapid. */
+enum { LINE_FEED, LINE_P2P, LINE_RAPID };
+
 static int line_block(struct sh2000_path *p, const double end[SH2000_AXES],
-		      double feed, int p2p)
+		      double feed, int kind)
 {
 	struct pl_block b;
 	double len = 0.0;
@@ -101,10 +105,11 @@ static int line_block(struct sh2000_path *p, const double end[SH2000_AXES],
 	for (a = 0; a < SH2000_AXES; a++)
 		b.g.line.d[a] = b.t0[a] = b.t1[a] = (end[a] - p->qend[a]) / len;
 	b.vlim = pl_curve_vlim(p, b.t0, 0.0);
-	if (p2p) {
+	if (kind == LINE_P2P) {
 		p->stop_next = 1;
 		b.stop_after = 1;
 	}
+	b.rapid = kind == LINE_RAPID;
 	pl_push_block(p, &b);
 	return 0;
 }
@@ -120,7 +125,7 @@ int sh2000_path_line(struct sh2000_path *p, const double end[SH2000_AXES], doubl
 		r = check_feed(p, "feed", feed, 0);
 	if (r)
 		return r;
-	return line_block(p, end, feed, 0);
+	return line_block(p, end, feed, LINE_FEED);
 }
 
 int sh2000_path_move_abs(struct sh2000_path *p, const double target[SH2000_AXES],
@@ -135,7 +140,19 @@ int sh2000_path_move_abs(struct sh2000_path *p, const double target[SH2000_AXES]
 		r = check_feed(p, "speed", speed, 1);
 	if (r)
 		return r;
-	return line_block(p, target, speed, 1);
+	return line_block(p, target, speed, LINE_P2P);
+}
+
+int sh2000_path_rapid(struct sh2000_path *p, const double target[SH2000_AXES])
+{
+	int r;
+
+	if (!target)
+		return pl_err(p, -EINVAL, "rapid: no target");
+	r = check_point(p, "rapid: target", target);
+	if (r)
+		return r;
+	return line_block(p, target, 0.0, LINE_RAPID);
 }
 
 int sh2000_path_move_rel(struct sh2000_path *p, const double delta[SH2000_AXES],

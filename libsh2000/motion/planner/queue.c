@@ -16,6 +16,9 @@ static void push_one(struct sh2000_path *p, struct pl_block *b);
 
 void pl_push_block(struct sh2000_path *p, struct pl_block *b)
 {
+	/* rapid to feed move or back: a stop, as in LinuxCNC's planner */
+	if (b->rapid != p->tail_rapid)
+		p->stop_next = 1;
 	if (pl_merge_line(p, b))
 		return;
 	p->merged_n = 0;	/* a new last block */
@@ -28,8 +31,10 @@ void pl_push_blended(struct sh2000_path *p, struct pl_block *b)
 	unsigned int n, i;
 
 	n = pl_blend_corner(p, b, k);
-	for (i = 0; i < n; i++)
+	for (i = 0; i < n; i++) {
+		k[i].rapid = b->rapid;
 		push_one(p, &k[i]);
+	}
 	b->nblend = n;
 	push_one(p, b);
 }
@@ -45,6 +50,7 @@ void pl_unqueue_tail(struct sh2000_path *p)
 	p->tail_feed = prev->feed;
 	p->tail_vlim = prev->vlim;
 	p->stop_next = prev->stop_after;
+	p->tail_rapid = prev->rapid;
 	memcpy(p->tend, prev->t1, sizeof(p->tend));
 	memcpy(p->qend, prev->p1, sizeof(p->qend));
 }
@@ -55,6 +61,7 @@ static void push_one(struct sh2000_path *p, struct pl_block *b)
 	double nt = 0.0;
 
 	b->seq = p->seq;
+	b->A = pl_block_accel(p, b);
 	if (p->cfg.mode == SH2000_PATH_EXACT_STOP)
 		b->stop_after = 1;
 	for (i = 0; i < SH2000_AXES; i++)
@@ -76,6 +83,7 @@ static void push_one(struct sh2000_path *p, struct pl_block *b)
 	p->tail_feed = b->feed;
 	p->tail_vlim = b->vlim;
 	p->stop_next = b->stop_after;
+	p->tail_rapid = b->rapid;
 	memcpy(p->tend, b->t1, sizeof(p->tend));
 	memcpy(p->qend, b->p1, sizeof(p->qend));
 	p->blk[(p->head + p->count) % p->cap] = *b;

@@ -30,7 +30,7 @@ int sh2000_path_add_block(struct sh2000_path *p,
 {
 	switch (b->kind) {
 	case SH2000_PROG_RAPID:
-		return sh2000_path_move_abs(p, b->end, 0.0);
+		return sh2000_path_rapid(p, b->end);
 	case SH2000_PROG_LINE:
 		return sh2000_path_line(p, b->end, b->feed);
 	case SH2000_PROG_ARC:

@@ -37,6 +37,11 @@ struct cstate {
 	bool resetting;
 	unsigned int reset_seen;
 	double naive_mm;	/* SET_NAIVECAM_TOLERANCE, mm */
+	/* the program's last SET_MOTION_CONTROL_MODE (path_set: one was
+	 * seen), given again with a naive CAM tolerance that follows it */
+	bool path_set;
+	enum sh2000_path_mode path_mode;
+	double path_tol_mm;
 	double res_mm;		/* rounding of the position as last printed */
 	struct prog_tool_state tools;	/* the tool and its offset, mm */
 };
@@ -643,7 +648,10 @@ static int cmd_motion_mode(struct prog_ctx *c, struct cstate *st,
 		return 0;
 	tol *= st->unit;
 	st->naive_mm = tol;	/* until SET_NAIVECAM_TOLERANCE says */
-	return path_block(c, l, (enum sh2000_path_mode)i, tol, tol);
+	st->path_set = true;
+	st->path_mode = (enum sh2000_path_mode)i;
+	st->path_tol_mm = tol;
+	return path_block(c, l, st->path_mode, tol, tol);
 }
 
 static int cmd_naivecam(struct prog_ctx *c, struct cstate *st,
@@ -658,14 +666,20 @@ static int cmd_naivecam(struct prog_ctx *c, struct cstate *st,
 	if (st->resetting)
 		return 0;
 	st->naive_mm = v * st->unit;
-	/* rs274 prints it right after the mode G64 set: one setting */
+	/* rs274 prints it right after the mode G64 set: one setting, made
+	 * in that block while the reader still holds it ... */
 	last = c->prog->count ? &c->prog->blocks[c->prog->count - 1] : NULL;
 	if (last && last->kind == SH2000_PROG_PATH_MODE &&
 	    last->pos.line == l->line - 1) {
 		last->u.path.naive_tolerance = st->naive_mm;
 		return 0;
 	}
-	return 0;
+	/* ... else (a streaming reader has handed that block out) the mode
+	 * again with it; before any mode of the program's, the next mode
+	 * sets its own */
+	if (!st->path_set)
+		return 0;
+	return path_block(c, l, st->path_mode, st->path_tol_mm, st->naive_mm);
 }
 
 typedef int (*cmd_fn)(struct prog_ctx *c, struct cstate *st,

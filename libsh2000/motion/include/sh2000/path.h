@@ -177,6 +177,11 @@ int sh2000_path_nurbs(struct sh2000_path *p, const struct sh2000_nurbs *n,
  * mm/s, or as fast as the axes allow when speed is 0. */
 int sh2000_path_move_abs(struct sh2000_path *p,
 			 const double target[SH2000_AXES], double speed);
+/* A rapid (G0): a straight move as fast as the axes allow. Under G64 it
+ * joins the rapids before and after it as feed moves join (blended
+ * within the path tolerance, G64 Q merging none); it stops where it meets
+ * a feed move, as LinuxCNC's planner does, and under G61 and G61.1. */
+int sh2000_path_rapid(struct sh2000_path *p, const double target[SH2000_AXES]);
 int sh2000_path_move_rel(struct sh2000_path *p,
 			 const double delta[SH2000_AXES], double speed);
 /* Jog one axis at signed `velocity` mm/s for at most `travel` mm; end it

@@ -8,14 +8,13 @@ BUILD program). LinuxCNC's exit code is this script's.
 Checks, each printed as "ok ..." or "FAIL ...": machine on, homing, the
 program runs to its end (M2) with the machine on and no error from
 LinuxCNC, the card ends where the program does, no underrun. Prints the
-program's run time and the smallest queue fill seen by the servo thread
-(program.hal: minmax over sh2000.0.queue-fill).
+program's run time, the smallest queue fill and the longest servo period
+seen (program.hal). The helpers shared with ui.py are in lcnc.py.
 
 Environment: SH2000_TEST_DEVICE (sim:NAME), SH2000_TEST_CTL (sh2000ctl),
 SH2000_TEST_PROGRAM (the G-code file), SH2000_TEST_FEED (feed override,
 default 1), SH2000_TEST_TIMEOUT (seconds the program may take, default 120).
 """
-import json
 import os
 import re
 import subprocess
@@ -24,78 +23,14 @@ import time
 
 import linuxcnc
 
-DEVICE = os.environ["SH2000_TEST_DEVICE"]
-CTL = os.environ["SH2000_TEST_CTL"]
+from lcnc import (CTL, DEVICE, c, card_pos_at_rest, check, errors, halget,
+                  machine_on, mdi, results, s, wait)
+
 PROGRAM = os.environ["SH2000_TEST_PROGRAM"]
 FEED = float(os.environ.get("SH2000_TEST_FEED", "1"))
 TIMEOUT = float(os.environ.get("SH2000_TEST_TIMEOUT", "120"))
 # where the program runs: mid-travel (the card's axes travel 0..600 mm)
 ORIGIN = (300.0, 300.0, 300.0)
-
-s = linuxcnc.stat()
-c = linuxcnc.command()
-e = linuxcnc.error_channel()
-results = {"passed": 0, "failed": 0}
-errors = []
-
-
-def check(what, cond, detail=""):
-    key = "passed" if cond else "failed"
-    results[key] += 1
-    print(("ok   " if cond else "FAIL ") + what + (": " + detail if detail else ""),
-          flush=True)
-    return cond
-
-
-def drain_errors():
-    while True:
-        m = e.poll()
-        if not m:
-            return
-        errors.append(m[1])
-        print("--   linuxcnc: " + m[1].strip(), flush=True)
-
-
-def wait(cond, timeout):
-    end = time.time() + timeout
-    while time.time() < end:
-        s.poll()
-        drain_errors()
-        if cond():
-            return True
-        time.sleep(0.05)
-    s.poll()
-    drain_errors()
-    return cond()
-
-
-def halget(pin):
-    return subprocess.run(["halcmd", "-s", "getp", pin], capture_output=True,
-                          text=True, check=True).stdout.strip()
-
-
-def card_pos():
-    """The card's x, y, z encoder positions (its own coordinates), mm."""
-    r = subprocess.run([CTL, "-d", DEVICE, "status", "--json"],
-                       capture_output=True, text=True)
-    if r.returncode not in (0, 4) or not r.stdout:
-        return None
-    return [a["pos_mm"] for a in json.loads(r.stdout.splitlines()[-1])["axes"]][:3]
-
-
-def card_at_rest(timeout=3.0):
-    """The card's position once two readings 0.1 s apart agree within
-    0.1 um (LinuxCNC calls a move done on position-fb, a queue before the
-    card has played it); the last reading after timeout."""
-    end = time.time() + timeout
-    last = card_pos()
-    while time.time() < end:
-        time.sleep(0.1)
-        pos = card_pos()
-        if pos and last and all(abs(a - b) < 1e-4 for a, b in zip(pos, last)):
-            return pos
-        last = pos
-    return last
 
 
 def program_end():
@@ -114,26 +49,6 @@ def program_end():
                 last[axis] = float(v)
     unit = 25.4 if inch else 1.0
     return [last.get(a, 0.0) * unit for a in "xyz"]
-
-
-def machine_on():
-    """estop reset (twice if the card had to be reset first), then on."""
-    for _ in range(3):
-        c.state(linuxcnc.STATE_ESTOP_RESET)
-        if wait(lambda: s.task_state == linuxcnc.STATE_ESTOP_RESET, 2.0):
-            break
-        time.sleep(0.2)
-    c.state(linuxcnc.STATE_ON)
-    return wait(lambda: s.task_state == linuxcnc.STATE_ON, 5.0)
-
-
-def mdi(cmd, timeout=60):
-    c.mode(linuxcnc.MODE_MDI)
-    c.wait_complete()
-    c.mdi(cmd)
-    return wait(lambda: s.task_state != linuxcnc.STATE_ON or
-                (s.interp_state == linuxcnc.INTERP_IDLE and
-                 s.state == linuxcnc.RCS_DONE), timeout) and s.task_state == linuxcnc.STATE_ON
 
 
 def home():
@@ -195,7 +110,7 @@ def run():
         return
     # the card at LinuxCNC's HOME (5 mm in every joint): the offset
     # between the card's coordinates and LinuxCNC's, which homing made
-    home_card = card_at_rest()
+    home_card = card_pos_at_rest()
     check("work offset", mdi("G10 L2 P1 X%g Y%g Z%g" % ORIGIN))
     name = os.path.basename(PROGRAM)
     ok, took = run_program()
@@ -212,7 +127,7 @@ def run():
     check("no underrun", int(halget("sh2000.0.underruns"), 0) == 0,
           halget("sh2000.0.underruns"))
     end = program_end()
-    got = card_at_rest()
+    got = card_pos_at_rest()
     want = [h - 5.0 + o + p for h, o, p in zip(home_card or [0.0] * 3, ORIGIN, end)]
     check("the card ends where %s does" % name,
           got is not None and all(abs(a - b) < 0.001 for a, b in zip(got, want)),

@@ -257,40 +257,64 @@ int sh2000_sim_server_attach(struct sh2000_sim_server **out, uint16_t *ram,
 }
 
 /*
- * How far behind its schedule a server may fall and still catch up by
- * running the missed cycles back to back: the card's oscillator does not
- * stop when the system deschedules the server, so its cycles per host
- * second stay exact on a loaded machine. Half the default host timeout:
- * when the host was descheduled too, a longer burst of cycles without its
- * heartbeat would latch a host timeout on a moving card. Further behind
- * the server resumes from now and those cycles are lost.
+ * How far behind its schedule a server may fall and still catch up: the
+ * card's oscillator does not stop when the system deschedules the server,
+ * so its cycles per host second stay exact on a loaded machine. Half the
+ * default host timeout: when the host was descheduled too, a longer run of
+ * cycles without its heartbeat would latch a host timeout on a moving
+ * card. Further behind the server resumes from now and those cycles are
+ * lost.
  */
 #define SERVER_CATCH_UP_NS	50000000ull
 
-/* Sleep until `due` (CLOCK_MONOTONIC ns), unless stopped or already
- * late; returns the due time the schedule goes on from. */
-static uint64_t wait_until(struct sh2000_sim_server *s, uint64_t due)
+/*
+ * How fast it catches up: at most this many cycles per servo period, not
+ * back to back. A real card never stops, so whatever a served card replays
+ * is an artefact of the host's scheduler; replayed in a burst it would
+ * take in a few hundred microseconds the points the card would have taken
+ * over the whole stall, before the host, descheduled by the same load and
+ * catching up its own periods, has sent the next ones, and run the queue
+ * dry. Paced, a stall of D catches up in D / (PACE - 1), and a host that
+ * catches up within that keeps its queue (docs/cardmodel.md).
+ */
+#define SERVER_CATCH_UP_PACE	4
+
+/* The schedule of the server's cycles in CLOCK_MONOTONIC ns: when the
+ * next cycle is due on the card's oscillator, and when the last began. */
+struct sched_state {
+	uint64_t due, last;
+};
+
+/* Sleep until the next cycle may run (its due time, or a paced step after
+ * the last when late), unless stopped; a server further behind than
+ * SERVER_CATCH_UP_NS goes on from now. */
+static void wait_next(struct sh2000_sim_server *s, struct sched_state *st,
+		      uint64_t host_ns)
 {
-	uint64_t now = sim_mono_ns();
+	uint64_t now = sim_mono_ns(), wake = st->due;
 	struct timespec ts;
 
-	if (now > due + SERVER_CATCH_UP_NS)
-		return now;
-	if (now >= due)
-		return due;
-	ts.tv_sec = (time_t)(due / 1000000000ull);
-	ts.tv_nsec = (long)(due % 1000000000ull);
-	while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) ==
-		       EINTR &&
-	       !__atomic_load_n(&s->stop, __ATOMIC_ACQUIRE))
-		;
-	return due;
+	if (now > st->due + SERVER_CATCH_UP_NS)
+		st->due = wake = now;
+	else if (now >= st->due && st->last + host_ns / SERVER_CATCH_UP_PACE > wake)
+		wake = st->last + host_ns / SERVER_CATCH_UP_PACE;
+	if (wake > now) {
+		ts.tv_sec = (time_t)(wake / 1000000000ull);
+		ts.tv_nsec = (long)(wake % 1000000000ull);
+		while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts,
+				       NULL) == EINTR &&
+		       !__atomic_load_n(&s->stop, __ATOMIC_ACQUIRE))
+			;
+		now = wake;
+	}
+	st->last = now;
 }
 
 int sh2000_sim_server_run(struct sh2000_sim_server *s)
 {
-	uint64_t due = sim_mono_ns();
+	struct sched_state st = { .due = sim_mono_ns() };
 
+	st.last = st.due;
 	if (s->shm)
 		__atomic_store_n(&s->shm->running, 1, __ATOMIC_RELEASE);
 	while (!__atomic_load_n(&s->stop, __ATOMIC_ACQUIRE)) {
@@ -306,7 +330,8 @@ int sh2000_sim_server_run(struct sh2000_sim_server *s)
 			__atomic_store_n(&s->shm->cycles, c, __ATOMIC_RELAXED);
 		if (s->flags & SH2000_SIM_SERVER_FREE_RUN)
 			continue;
-		due = wait_until(s, due + host_ns);
+		st.due += host_ns;
+		wait_next(s, &st, host_ns);
 	}
 	if (s->shm)
 		__atomic_store_n(&s->shm->running, 0, __ATOMIC_RELEASE);

@@ -15,6 +15,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <getopt.h>
+#include <sched.h>
 #include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -32,6 +33,15 @@
 #ifndef SH2000_TOOLS_VERSION
 #define SH2000_TOOLS_VERSION "0.0.0"
 #endif
+
+/*
+ * The SCHED_FIFO priority a real-time card takes by default: a real card's
+ * DSP never waits for the PC, and an ordinary process on a busy desktop
+ * wakes milliseconds late now and then (tens of ms with a busy process per
+ * core), which drains a LinuxCNC queue of 10 ms. Below LinuxCNC's servo
+ * thread (rtapi_app's threads take 90s), above everything ordinary.
+ */
+#define SIM_PRIORITY	60
 
 /* Set by the signal handlers; the server only needs a flag. */
 static volatile sig_atomic_t stop_requested;
@@ -83,6 +93,9 @@ static void usage(FILE *f)
 "                     card (default 0)\n"
 "  -r, --ready-fd FD  write \"ready\\n\" to file descriptor FD once serving,\n"
 "                     then close it\n"
+"  -p, --priority N   the SCHED_FIFO priority the card's servo loop takes\n"
+"                     when the system permits it (1..99, default %d; 0: none);\n"
+"                     when it does not, a note on stderr says so\n"
 "  -q, --quiet        print nothing on stdout (errors still go to stderr)\n"
 "  --mass KG          every axis' moving mass (default 2)\n"
 "  --friction NS_PER_M  every axis' viscous friction, N/(m/s) (default 20)\n"
@@ -91,7 +104,7 @@ static void usage(FILE *f)
 "\n"
 "Prints where it serves, then a line \"ready\" on stdout (unless --quiet).\n"
 "Exit status: 0 stopped by a signal, 1 failure while serving, 2 usage\n"
-"error, 3 the name or PATH cannot be served.\n");
+"error, 3 the name or PATH cannot be served.\n", SIM_PRIORITY);
 }
 
 static void print_ready(int quiet, int ready_fd)
@@ -116,6 +129,7 @@ struct serve_opts {
 	unsigned int flags;
 	double ppm;
 	int quiet, ready_fd;
+	int priority;		/* SCHED_FIFO priority to take, 0 none */
 	/* the machine behind the card: every axis' plant */
 	struct sh2000_sim_config cfg;
 };
@@ -155,6 +169,27 @@ static void print_mode(const struct serve_opts *o)
 		       o->cfg.axis[0].friction_ns_per_m);
 }
 
+/*
+ * The servo loop (this thread: sh2000_sim_server_run runs in it) takes
+ * SCHED_FIFO at o->priority when permitted (root, CAP_SYS_NICE, or an
+ * RLIMIT_RTPRIO that allows it); when not, it says so and goes on with
+ * ordinary scheduling. A free-running card runs cycles back to back, a
+ * busy loop that must not be real-time.
+ */
+static void take_priority(const struct serve_opts *o)
+{
+	struct sched_param sp = { .sched_priority = o->priority };
+
+	if (!o->priority || (o->flags & SH2000_SIM_SERVER_FREE_RUN))
+		return;
+	if (sched_setscheduler(0, SCHED_FIFO | SCHED_RESET_ON_FORK, &sp) == 0)
+		return;
+	sh2000_tool_msg("no real-time priority (SCHED_FIFO %d: %s): on a busy "
+			"machine the card's servo cycles come late; allow it "
+			"(sh2000-sim(1), PRIORITY) or use --priority=0",
+			o->priority, strerror(errno));
+}
+
 static int serve_name(const char *name, const struct serve_opts *o)
 {
 	struct sh2000_sim_server *s;
@@ -174,6 +209,7 @@ static int serve_name(const char *name, const struct serve_opts *o)
 	}
 	/* checked when parsed: cannot fail */
 	(void)sh2000_sim_server_set_clock_ppm(s, o->ppm);
+	take_priority(o);
 	served = s;
 	if (stale)
 		sh2000_tool_msg("sim:%s: replaced %s left by a server that is gone",
@@ -252,6 +288,7 @@ static int serve_attach(const char *path, const struct serve_opts *o)
 		return SH2000_EXIT_CARD;
 	}
 	(void)sh2000_sim_server_set_clock_ppm(s, o->ppm);
+	take_priority(o);
 	served = s;
 	if (!o->quiet) {
 		printf("sh2000-sim: card model attached to %s (pid %d, ", path,
@@ -306,6 +343,12 @@ static int option(int c, const char *arg, const char **attach,
 				"--ready-fd: %ld is not open", l);
 		o->ready_fd = (int)l;
 		return -1;
+	case 'p':
+		if (sh2000_tool_long(arg, 0, 99, &l) < 0)
+			return sh2000_tool_usage(NULL,
+				"--priority: '%s' is not a number in 0..99", arg);
+		o->priority = (int)l;
+		return -1;
 	case 'q':
 		o->quiet = 1;
 		return -1;
@@ -357,6 +400,7 @@ int main(int argc, char **argv)
 		{ "free-run", no_argument, NULL, 'F' },
 		{ "clock-ppm", required_argument, NULL, 'c' },
 		{ "ready-fd", required_argument, NULL, 'r' },
+		{ "priority", required_argument, NULL, 'p' },
 		{ "quiet", no_argument, NULL, 'q' },
 		{ "mass", required_argument, NULL, 'm' },
 		{ "friction", required_argument, NULL, 'f' },
@@ -365,14 +409,14 @@ int main(int argc, char **argv)
 		{ NULL, 0, NULL, 0 },
 	};
 	struct serve_opts o = { .flags = 0, .ppm = 0.0, .quiet = 0,
-				.ready_fd = -1 };
+				.ready_fd = -1, .priority = SIM_PRIORITY };
 	const char *attach = NULL;
 	int c, r;
 
 	sh2000_sim_config_default(&o.cfg);
 	sh2000_tool_init("sh2000-sim");
 	opterr = 0;
-	while ((c = getopt_long(argc, argv, "+a:Fc:r:qhV", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, "+a:Fc:r:p:qhV", opts, NULL)) != -1) {
 		r = option(c, optarg, &attach, &o);
 		if (r == -2 && optopt && optopt != '?')
 			return sh2000_tool_usage(NULL,

@@ -16,8 +16,11 @@ expect 2 "$SIM" --mass 0 n && err_has "--mass: '0' is not a number above 0 and a
 expect 2 "$SIM" --mass heavy n && err_has "--mass: 'heavy' is not a number"
 expect 2 "$SIM" --friction -1 n && err_has "--friction: '-1' is not a number in 0\.\.1e\+06"
 expect 2 "$SIM" --friction && err_has "unknown option|missing"
+expect 2 "$SIM" --priority 100 n && err_has "--priority: '100' is not a number in 0\.\.99"
+expect 2 "$SIM" -p high n && err_has "--priority: 'high' is not a number"
 expect 0 "$SIM" --help && out_has "^Usage: sh2000-sim" && out_has "--attach PATH" &&
-	out_has "--clock-ppm N" && out_has "--mass KG" && out_has "--friction NS_PER_M"
+	out_has "--clock-ppm N" && out_has "--mass KG" && out_has "--friction NS_PER_M" &&
+	out_has "--priority N"
 expect 0 "$SIM" -V && out_has "^sh2000-sim [0-9.]+$" &&
 	out_has "^libsh2000 [0-9.]+ \(libsh2000\.so\.[0-9]+\)$" &&
 	out_has "^protocol 1\.[0-9]+$" && out_has "^driver ABI [0-9]+$"

@@ -92,6 +92,16 @@ file(CONFIGURE OUTPUT ${_sh2000_shlibs_dir}/shlibs.local
 file(CONFIGURE OUTPUT ${_sh2000_shlibs_dir}/sim/shlibs.local
   CONTENT "${_l_device_exact}\n${_l_motion}\n${_l_sim}\n")
 set(CPACK_SH2000_SHLIBS_DIR ${_sh2000_shlibs_dir})
+# Debian symbols files of the libraries that promise a stable ABI: every
+# exported symbol with the version that added it, shipped as DEBIAN/symbols
+# (dpkg-shlibdeps of programs built against the installed packages prefers
+# them to shlibs) and checked by dpkg-gensymbols -c4 when the packages are
+# built (cmake/debian/prebuild.cmake). libsh2000-sim has none: it promises
+# no ABI, its shlibs pins the exact version.
+foreach(_pkg libsh2000 libsh2000-motion)
+  configure_file(${CMAKE_CURRENT_LIST_DIR}/debian/${_pkg}.symbols
+    ${_sh2000_shlibs_dir}/${_pkg}/symbols COPYONLY)
+endforeach()
 
 # ---- the runtime libraries -----------------------------------------------
 # ABI rule (docs/install.md): compatible changes keep the SONAME and need
@@ -115,7 +125,8 @@ kernel driver (/dev/sh2000-N), direct port I/O or a simulated card
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_RECOMMENDS "libsh2000-sim")
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_SUGGESTS "sh2000-dkms, sh2000-tools")
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_CONTROL_EXTRA
-  ${_sh2000_shlibs_dir}/libsh2000/shlibs ${_sh2000_ldconfig})
+  ${_sh2000_shlibs_dir}/libsh2000/shlibs ${_sh2000_shlibs_dir}/libsh2000/symbols
+  ${_sh2000_ldconfig})
 
 set(CPACK_DEBIAN_MOTION_PACKAGE_NAME libsh2000-motion)
 set(CPACK_DEBIAN_MOTION_PACKAGE_SECTION libs)
@@ -126,7 +137,8 @@ libsh2000: geometry, the look-ahead planner, the streaming runner, homing,
 soft limits and the program readers (G-code, rs274 canonical output, CSV,
 NURBS JSON). This package holds the shared library.")
 set(CPACK_DEBIAN_MOTION_PACKAGE_CONTROL_EXTRA
-  ${_sh2000_shlibs_dir}/libsh2000-motion/shlibs ${_sh2000_ldconfig})
+  ${_sh2000_shlibs_dir}/libsh2000-motion/shlibs ${_sh2000_shlibs_dir}/libsh2000-motion/symbols
+  ${_sh2000_ldconfig})
 
 set(CPACK_DEBIAN_SIM_PACKAGE_NAME libsh2000-sim)
 set(CPACK_DEBIAN_SIM_PACKAGE_SECTION libs)

@@ -5,6 +5,11 @@
 #  - man pages gzipped
 # and what this build's dpkg-shlibdeps runs (CPackDeb, in each package's
 # staging directory) read: debian/shlibs.local (cmake/Packaging.cmake).
+# Last, as dh_makeshlibs does, dpkg-gensymbols checks each library that has
+# a symbols file (cmake/debian/<package>.symbols, shipped as DEBIAN/symbols)
+# against it, at the strictest level (-c4): a symbol gone, a symbol new, a
+# library gone or new all stop the build, so the symbols file, the ABI
+# baseline (abi/) and the SONAME are updated together (docs/install.md).
 # gzip -9n: no name, no time stamp, so the packages are reproducible.
 
 file(GLOB _components LIST_DIRECTORIES true "${CPACK_TEMPORARY_DIRECTORY}/*")
@@ -60,4 +65,29 @@ foreach(p IN LISTS _files)
       message(FATAL_ERROR "gzip ${p} failed")
     endif()
   endif()
+endforeach()
+
+# dpkg-gensymbols -c4 on the staged library of each package with a symbols
+# file; its output (the symbols as built) goes beside the checked file.
+foreach(dir IN LISTS _components)
+  get_filename_component(comp "${dir}" NAME)
+  string(TOUPPER "${comp}" COMP)
+  set(pkg "${CPACK_DEBIAN_${COMP}_PACKAGE_NAME}")
+  set(sym "${CPACK_SH2000_SHLIBS_DIR}/${pkg}/symbols")
+  if(NOT pkg OR NOT EXISTS "${sym}")
+    continue()
+  endif()
+  execute_process(
+    COMMAND dpkg-gensymbols -c4 -p${pkg}
+      -v${CPACK_PACKAGE_VERSION}-${CPACK_DEBIAN_PACKAGE_RELEASE}
+      -P${dir} -I${sym} -O${sym}.built
+    WORKING_DIRECTORY "${dir}"
+    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "dpkg-gensymbols -c4: ${pkg} does not match "
+      "cmake/debian/${pkg}.symbols (a symbol added or removed: add new "
+      "ones with the version that adds them; a removal breaks the ABI and "
+      "needs a new SONAME, docs/install.md):\n${out}")
+  endif()
+  message(STATUS "dpkg-gensymbols -c4: ${pkg} matches its symbols file")
 endforeach()

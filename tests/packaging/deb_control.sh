@@ -1,6 +1,6 @@
 # shellcheck shell=bash disable=SC2154  # the caller sets the variables named below
 # Sourced by deb_install: the packages' control fields and maintainer
-# scripts. Uses debs, debver, ver, t.
+# scripts. Uses debs, debver, ver, t, src.
 field() { dpkg-deb -f "${debs[$1]}" "$2"; }
 deps() { # deps PKG FIELD: one relation a line ("name (op ver)")
 	field "$1" "$2" | tr ',' '\n' | sed 's/^ *//; s/ *$//'
@@ -27,6 +27,35 @@ for l in "${!shlibs_op[@]}"; do
 	check "$l: ldconfig trigger" [ "$(ctl "$l" triggers)" = "activate-noawait ldconfig" ]
 	soname_pkg[$l.so.0]=$l
 done
+# Symbols files: shipped as committed, checked by dpkg-gensymbols -c4 while
+# cpack built the packages, and that check does fail on a symbol the file
+# lists but the library lacks, and on one the library has but the file
+# does not list (the shipped file with a line added, with one removed).
+for l in libsh2000 libsh2000-motion; do
+	check "$l: DEBIAN/symbols is cmake/debian/$l.symbols" \
+		[ "$(ctl "$l" symbols)" = "$(cat "$src/cmake/debian/$l.symbols")" ]
+	check "$l: cpack ran dpkg-gensymbols -c4 and it passed" \
+		grep -Fq "dpkg-gensymbols -c4: $l matches its symbols file" "$t/cpack.log"
+	mkdir -p "$t/sym/$l"
+	dpkg-deb -x "${debs[$l]}" "$t/sym/$l"
+	ctl "$l" symbols >"$t/sym/$l.ok"
+	{ cat "$t/sym/$l.ok"; echo " sh2000_no_such_symbol@Base $ver"; } >"$t/sym/$l.gone"
+	grep -v '^ sh2000_' "$t/sym/$l.ok" >"$t/sym/$l.new"
+	grep '^ sh2000_' "$t/sym/$l.ok" | tail -n +2 >>"$t/sym/$l.new"
+	for k in ok gone new; do
+		(cd "$t/sym/$l" && dpkg-gensymbols -c4 -p"$l" -v"$debver" -P. \
+			-I"$t/sym/$l.$k" -O"$t/sym/$l.$k.out") >/dev/null 2>&1
+		echo $? >"$t/sym/$l.$k.rc"
+	done
+	check "$l: dpkg-gensymbols -c4 passes the packaged library with its file" \
+		[ "$(cat "$t/sym/$l.ok.rc")" = 0 ]
+	check "$l: and fails with a symbol removed from the library" \
+		[ "$(cat "$t/sym/$l.gone.rc")" != 0 ]
+	check "$l: and with a symbol the file does not list" \
+		[ "$(cat "$t/sym/$l.new.rc")" != 0 ]
+done
+check "libsh2000-sim: no symbols file (no ABI promise; shlibs pins =)" \
+	no q ctl libsh2000-sim symbols
 check "libsh2000: Depends on libc6" dep_matches libsh2000 Depends '^libc6\b'
 check "libsh2000: Recommends libsh2000-sim (loaded for \`sim\`)" \
 	dep_matches libsh2000 Recommends '^libsh2000-sim( |$)'

@@ -177,7 +177,7 @@ static void observe(void *ctx, const struct sh2000_cycle *p)
 
 static void progress(struct sh2000_run *r)
 {
-	struct sh2000_run_progress pr;
+	struct sh2000_run_progress pr = {0};	/* reserved zero */
 
 	if (!r->cfg.progress || !r->have_st)
 		return;

@@ -17,7 +17,7 @@ int main(int argc, char **argv)
 	const char *dev = argc > 1 ? argv[1] : "sim";
 	struct sh2000_status st;
 	struct sh2000 *h;
-	char msg[256];
+	char msg[512];	/* as the tools: a message names a path and a remedy */
 	int r;
 
 	r = sh2000_open(&h, dev, msg, sizeof(msg));

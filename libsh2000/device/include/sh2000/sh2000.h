@@ -214,6 +214,7 @@ struct sh2000_axis_status {
 	int16_t dac;		/* DAC code */
 	unsigned int state;	/* SH2000_AXIS_* bits */
 	unsigned int faults;	/* SH2000_AXIS_FAULT_* bits */
+	uint64_t reserved[4];	/* room to grow, zero (see below) */
 };
 
 /* The fault that latched first since the last reset (protocol 1.4: the
@@ -227,6 +228,16 @@ struct sh2000_first_fault {
 				 * card_cycle */
 };
 
+/*
+ * Room to grow. The structs a later version may extend (this status, the
+ * configs, the stats) end in `reserved`: a new field takes its place in
+ * an anonymous union, so the size and every offset stay and a program
+ * built against an older header keeps working (docs/install.md, "Versions
+ * and the ABI"). The library zeroes it in what it fills, the _default()
+ * functions in what they fill; a caller that fills a config by hand
+ * starts from zero (= {0}) or from _default(). A new field's 0 means what
+ * the library did before it.
+ */
 struct sh2000_status {
 	unsigned int card_state;	/* enum sh2000_card_state */
 	unsigned int card_faults;	/* SH2000_FAULT_* bits */
@@ -245,6 +256,7 @@ struct sh2000_status {
 	/* Appended in protocol 1.4: which of the latched faults came
 	 * first; sh2000_status_error() names it. */
 	struct sh2000_first_fault first_fault;
+	uint64_t reserved[16];		/* room to grow, zero */
 };
 
 /* A card heartbeat unchanged for this long is a stopped DSP (or five
@@ -467,6 +479,7 @@ struct sh2000_gather_config {
 	uint32_t samples;		/* samples in the record, >= 1 */
 	unsigned int trigger;		/* enum sh2000_gather_trigger */
 	uint32_t pretrigger;		/* samples kept from before it */
+	uint64_t reserved[4];		/* room to grow, zero */
 };
 
 /* No signals, period 1, 1000 samples, trigger now, no pre-trigger. */
@@ -488,6 +501,7 @@ struct sh2000_gather_info {
 	uint32_t buffer;		/* the card's memory, 32-bit values */
 	double sample_s;		/* period in seconds, at the servo
 					   period the handle knows */
+	uint64_t reserved[4];		/* room to grow, zero */
 };
 
 /*

@@ -85,6 +85,8 @@ struct sh2000_path_config {
 	double start[SH2000_AXES];		/* position at create, mm */
 	unsigned int window;		/* look-ahead blocks (256) */
 	unsigned int comp_window;	/* compensation half-window (12) */
+	uint64_t reserved[16];	/* room to grow, zero (sh2000.h, above
+				 * struct sh2000_status) */
 };
 
 /* Fills *cfg with the defaults (limits of a small linear-motor table). */
@@ -234,6 +236,8 @@ struct sh2000_path_stats {
 	double nurbs_feed_fluctuation_predicted;
 	size_t mem_bytes;	/* heap the planner holds now */
 	size_t mem_peak;	/* and at most so far */
+	uint64_t reserved[8];	/* room to grow, zero (sh2000.h, above
+				 * struct sh2000_status) */
 };
 
 void sh2000_path_stats(const struct sh2000_path *p,

@@ -251,6 +251,8 @@ struct sh2000_prog_options {
 	/* A tool change (M6, CHANGE_TOOL) becomes a PAUSE block with
 	 * tool_change set; otherwise it is reported once. */
 	bool pause_at_tool_change;
+	uint64_t reserved[8];	/* room to grow, zero (sh2000.h, above
+				 * struct sh2000_status) */
 };
 
 void sh2000_prog_options_default(struct sh2000_prog_options *o);

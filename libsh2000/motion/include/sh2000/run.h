@@ -52,6 +52,8 @@ struct sh2000_run_progress {
 	 * from the ring, as the last poll shows; -1 before the first */
 	int64_t seq;
 	const struct sh2000_status *status;	/* the last poll */
+	uint64_t reserved[4];	/* room to grow, zero (sh2000.h, above
+				 * struct sh2000_status) */
 };
 
 struct sh2000_run_config {
@@ -68,6 +70,8 @@ struct sh2000_run_config {
 	void (*sample)(void *ctx, const struct sh2000_run_sample *s);
 	void (*progress)(void *ctx, const struct sh2000_run_progress *p);
 	void *ctx;
+	uint64_t reserved[8];	/* room to grow, zero (sh2000.h, above
+				 * struct sh2000_status) */
 };
 
 void sh2000_run_config_default(struct sh2000_run_config *cfg);
@@ -179,6 +183,8 @@ struct sh2000_run_stats {
 	 * motion still to come (SH2000_RING_RECORDS when never seen) */
 	unsigned int min_fill;
 	uint64_t underruns;	/* card stopped because the ring ran dry */
+	uint64_t reserved[8];	/* room to grow, zero (sh2000.h, above
+				 * struct sh2000_status) */
 };
 
 void sh2000_run_stats(const struct sh2000_run *r, struct sh2000_run_stats *st);
@@ -198,6 +204,8 @@ struct sh2000_program_opts {
 	int optional_stop;		/* M1 pauses like M0 (0: skipped) */
 	/* the card's soft limits the plan must keep (NULL: none) */
 	const struct sh2000_limits *limits;
+	uint64_t reserved[8];	/* room to grow, zero (sh2000.h, above
+				 * struct sh2000_status) */
 };
 
 void sh2000_program_opts_default(struct sh2000_program_opts *o);
@@ -211,6 +219,8 @@ struct sh2000_program_plan {
 	/* a failure: "file:line[:column]" of the block and the reason */
 	char where[256];
 	char error[320];
+	uint64_t reserved[8];	/* room to grow, zero (sh2000.h, above
+				 * struct sh2000_status) */
 };
 
 /*

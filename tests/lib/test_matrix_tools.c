@@ -271,6 +271,7 @@ static int inject_at_point(struct watch *w)
 	const struct timespec tick = { 0, 200000 };
 	struct sh2000 *h = w->h;
 	uint16_t head0, head;
+	double t0 = served_now_ms();
 
 	CHECK(sh2000_ram_read(h, SH2000_W_HEAD, 1, &head0));
 	for (;;) {
@@ -280,6 +281,13 @@ static int inject_at_point(struct watch *w)
 		CHECK(sh2000_ram_read(h, SH2000_W_HEAD, 1, &head));
 		if ((uint16_t)(head - head0) >= SERVED_AT_POINT)
 			break;
+		/* 150 records are 300 ms of motion */
+		if (served_now_ms() - t0 > CELL_MS) {
+			kill(w->tool, SIGKILL);
+			fail_msg("%s: the tool pushed %u of the %u records before the fault in %.0f ms",
+				 w->f->name, (uint16_t)(head - head0),
+				 SERVED_AT_POINT, CELL_MS);
+		}
 		nanosleep(&tick, NULL);
 	}
 	if (w->f->what == KILL_TOOL) {

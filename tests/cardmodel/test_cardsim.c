@@ -106,21 +106,37 @@ static void deterministic(void **state)
 	sh2000_cardsim_destroy(b);
 }
 
-/* A minute of motion: 100 mm strokes at 300 mm/s, the ring topped up every
- * millisecond straight through the RAM (no port cycles, so this measures
- * the card model alone). */
-static void minute_of_motion(void **state)
-{
-	struct sh2000_cardsim *c;
-	uint16_t *ram, head = 0, seq = 1, hb = 0;
-	struct timespec t0, t1;
-	double x = 0.0, dir = 1.0, v = 0.0, wall;
-	const double vmax = 3e7, amax = 3e8, Tc = 0.002, stroke = 1e7;
-	unsigned int ms;
+/* What the card did with each axis over the minute, cycle by cycle. */
+struct motion_seen {
+	double lo[SH2000_AXES], hi[SH2000_AXES];	/* encoder range */
+	double last[SH2000_AXES];	/* set-point the cycle before */
+	int dir[SH2000_AXES];		/* its direction then (0: none yet) */
+	unsigned int turns[SH2000_AXES];	/* reversals of the set-point */
+	uint64_t cycles;
+};
 
-	(void)state;
-	assert_int_equal(sh2000_cardsim_create(&c, NULL), 0);
-	ram = sh2000_cardsim_ram(c);
+static void watch_motion(void *ctx, const struct sh2000_probe *p)
+{
+	struct motion_seen *m = ctx;
+	unsigned int a;
+
+	m->cycles++;
+	for (a = 0; a < SH2000_AXES; a++) {
+		double d = p->axis[a].fine_cmd - m->last[a];
+		int dir = d > 0.5 ? 1 : d < -0.5 ? -1 : 0;
+
+		m->lo[a] = fmin(m->lo[a], p->axis[a].actual);
+		m->hi[a] = fmax(m->hi[a], p->axis[a].actual);
+		if (dir && m->dir[a] && dir != m->dir[a])
+			m->turns[a]++;
+		if (dir)
+			m->dir[a] = dir;
+		m->last[a] = p->axis[a].fine_cmd;
+	}
+}
+
+static void enable_all(struct sh2000_cardsim *c, uint16_t *ram)
+{
 	sh2000_dpram_write(ram, SH2000_W_CMD_OP, SH2000_CMD_ENABLE);
 	sh2000_dpram_write(ram, SH2000_W_CMD_ARG_LO, 0xf);
 	sh2000_dpram_write(ram, SH2000_W_CMD_CHECK,
@@ -128,6 +144,56 @@ static void minute_of_motion(void **state)
 	sh2000_dpram_write(ram, SH2000_W_CMD_SEQ, 1);
 	sh2000_cardsim_advance(c, 1000000);
 	assert_int_equal(ram[SH2000_W_CMD_RESULT], SH2000_RES_OK);
+}
+
+/* Axis a is commanded x / (a + 1): the card did that, stroke after
+ * stroke, and consumed a record every coarse period of its minute. */
+static void assert_motion(const struct motion_seen *m, uint16_t *ram,
+			  uint16_t head, unsigned int turns, double stroke)
+{
+	uint16_t tail = sh2000_dpram_read(ram, SH2000_W_TAIL);
+	unsigned int a, consumed = tail;
+
+	/* 60 s of 2 ms coarse periods, none skipped, none run dry */
+	printf("# %u records consumed, %u queued; %u reversals commanded\n",
+	       consumed, (uint16_t)(head - tail), turns);
+	assert_true(consumed >= 30000 - 1 && consumed <= 30000 + 1);
+	assert_true((uint16_t)(head - tail) <= 32);
+	assert_int_equal(m->cycles, 600000);
+	for (a = 0; a < SH2000_AXES; a++) {
+		double end = stroke / (a + 1);
+
+		printf("# axis %u: %.0f .. %.0f counts (commanded 0 .. %.0f), %u reversals\n",
+		       a, m->lo[a], m->hi[a], end, m->turns[a]);
+		/* the whole stroke, within a count per thousand */
+		assert_true(fabs(m->lo[a]) <= end * 1e-3);
+		assert_true(fabs(m->hi[a] - end) <= end * 1e-3);
+		/* every reversal the card has reached (the last records
+		 * queued may hold one more) */
+		assert_true(m->turns[a] + 1 >= turns && m->turns[a] <= turns);
+	}
+}
+
+/* A minute of motion: 100 mm strokes at 300 mm/s, the ring topped up every
+ * millisecond straight through the RAM (no port cycles, so this measures
+ * the card model alone). */
+static void minute_of_motion(void **state)
+{
+	struct sh2000_cardsim *c;
+	struct motion_seen seen = { .cycles = 0 };	/* all at 0 counts */
+	uint16_t *ram, head = 0, seq = 1, hb = 0;
+	struct timespec t0, t1;
+	double x = 0.0, dir = 1.0, v = 0.0, wall;
+	const double vmax = 3e7, amax = 3e8, Tc = 0.002, stroke = 1e7;
+	unsigned int ms, turns = 0;
+
+	(void)state;
+	assert_int_equal(sh2000_cardsim_create(&c, NULL), 0);
+	ram = sh2000_cardsim_ram(c);
+	enable_all(c, ram);
+	sh2000_fw_set_observer(sh2000_cardsim_fw(c), watch_motion, &seen);
+	/* the records are counted from here */
+	assert_int_equal(sh2000_dpram_read(ram, SH2000_W_TAIL), 0);
 	clock_gettime(CLOCK_MONOTONIC, &t0);
 	for (ms = 0; ms < 60000; ms++) {
 		while ((uint16_t)(head - sh2000_dpram_read(ram, SH2000_W_TAIL)) < 32) {
@@ -142,6 +208,7 @@ static void minute_of_motion(void **state)
 				x = dir > 0 ? stroke : 0;
 				dir = -dir;
 				v = 0;
+				turns++;
 			}
 			for (a = 0; a < SH2000_AXES; a++) {
 				int32_t p = (int32_t)lrint(x / (a + 1));
@@ -163,6 +230,7 @@ static void minute_of_motion(void **state)
 	wall = (double)(t1.tv_sec - t0.tv_sec) + (t1.tv_nsec - t0.tv_nsec) * 1e-9;
 	assert_int_equal(ram[SH2000_W_FAULTS], 0);
 	assert_int_equal(ram[SH2000_W_STATE], SH2000_STATE_RUNNING);
+	assert_motion(&seen, ram, head, turns, stroke);
 	printf("# 60 s of 4-axis motion (%u records, 600000 servo cycles) in %.3f s wall: %.0fx real time\n",
 	       seq - 1u, wall, 60.0 / wall);
 	sh2000_cardsim_destroy(c);

@@ -27,6 +27,25 @@ void served_name(char *buf, size_t len, const char *what)
 	snprintf(buf, len, "sim:mx-%s-%d", what, (int)getpid());
 }
 
+void served_card_wait(struct sh2000_sim_server *s, double ms)
+{
+	const struct timespec tick = { 0, 1000000 };
+	struct sh2000_probe p;
+	double t0 = served_now_ms();
+	uint64_t from, card_ns = (uint64_t)(ms * 1e6);
+
+	sh2000_sim_server_probe(s, &p);
+	from = p.time_ns;
+	while (p.time_ns - from < card_ns) {
+		if (served_now_ms() - t0 > 20.0 * ms)
+			fail_msg("the served card's clock ran %.1f ms of the %.1f ms waited for in %.0f ms",
+				 (double)(p.time_ns - from) * 1e-6, ms,
+				 served_now_ms() - t0);
+		nanosleep(&tick, NULL);
+		sh2000_sim_server_probe(s, &p);
+	}
+}
+
 /* A server just started may not have run its first cycle within the
  * heartbeat limit on a loaded machine: that is tried again (1 s). */
 struct sh2000 *served_open(const char *dev)
@@ -65,7 +84,7 @@ serve_child(const char *dev, int req_fd, int ack_fd)
 	/* a test that fails must not leave its card running */
 	prctl(PR_SET_PDEATHSIG, SIGKILL);
 	if (sh2000_sim_server_create(&s, dev + 4, NULL, 0, msg, sizeof(msg)) ||
-	    sh2000_sim_server_start(s)) {
+	    rt_server_start(s)) {
 		fprintf(stderr, "server %s: %s\n", dev, msg);
 		_exit(3);
 	}

@@ -11,22 +11,31 @@
 #include <unistd.h>
 
 #include "fakecard.h"
+#include "rt.h"
 #include "simtest.h"
 
 /* One servo cycle of the default timing (100 us). */
 #define SERVO_NS	100000ull
 
+/* Ticks a caller tries before a run of torn snapshots fails the test. */
+#define TORN_TICKS	10
+
 /*
  * A real-time caller's tick: a torn snapshot (the card publishes one
  * every millisecond, a poll takes 94 us, so about one poll in ten) is
- * read again on the next tick, 1 ms later.
+ * read again on the next tick, 1 ms later; TORN_TICKS torn ones in a row
+ * are a card that never publishes a whole one.
  */
 static void tick_poll(struct sh2000 *h, struct sh2000_status *st)
 {
 	int r, i;
 
-	for (i = 0; (r = sh2000_poll_once(h, st)) == -EAGAIN && i < 10; i++)
+	for (i = 0; (r = sh2000_poll_once(h, st)) == -EAGAIN; i++) {
+		if (i == TORN_TICKS)
+			fail_msg("sh2000_poll_once: %d ticks 1 ms apart, every snapshot torn",
+				 TORN_TICKS + 1);
 		sh2000_sleep_ns(h, 1000000);
+	}
 	CHECK(r);
 }
 
@@ -226,13 +235,15 @@ static void test_slot_held_elsewhere(void **state)
 	r = sh2000_sim_server_create(&s, name, NULL, 0, msg, sizeof(msg));
 	if (r < 0)
 		fail_msg("server: %s", msg);
-	assert_int_equal(sh2000_sim_server_start(s), 0);
+	assert_int_equal(rt_server_start(s), 0);
 	assert_int_equal(sh2000_open(&a, dev, msg, sizeof(msg)), 0);
 	assert_int_equal(sh2000_open(&b, dev, msg, sizeof(msg)), 0);
 	h = a;
 	CHECK(sh2000_command_start(a, SH2000_CMD_NOP, 0, 0, 0));
 	assert_int_equal(sh2000_command_start(b, SH2000_CMD_NOP, 0, 0, 0),
 			 -EAGAIN);
+	/* bounded: the library gives up at its command timeout
+	 * (test_command_timeout) */
 	while ((r = sh2000_command_complete(a, NULL)) == -EINPROGRESS)
 		usleep(100);
 	assert_int_equal(r, 0);
@@ -246,8 +257,7 @@ static void test_slot_held_elsewhere(void **state)
 	assert_int_equal(sh2000_command_start(b, SH2000_CMD_ENABLE, 0, 0, 1),
 			 -SH2000_EOWNED);
 	/* and a point from a handle without the motion */
-	while (sh2000_poll_once(b, &st) == -EAGAIN)
-		;
+	tick_poll(b, &st);
 	{
 		int32_t p[SH2000_AXES] = { 0 };
 

@@ -13,6 +13,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include "rt.h"
 #include "simtest.h"
 #include "sh2000_shm.h"
 
@@ -59,13 +60,13 @@ static void test_served_card(void **state)
 	(void)state;
 	name(n, sizeof(n), "serve");
 	s = serve(n, 0);
-	CHECK(sh2000_sim_server_start(s));
+	CHECK(rt_server_start(s));
 	snprintf(dev, sizeof(dev), "sim:%s", n);
 	if (sh2000_open(&h, dev, msg, sizeof(msg)) < 0)
 		fail_msg("%s", msg);
 	assert_int_equal(sh2000_backend(h), SH2000_BACKEND_SHM);
-	/* real time on a shared machine: the server thread may be
-	 * descheduled for longer than a real DSP ever stops */
+	/* longer than the command timeout (100 ms): the stopped card
+	 * below is told apart from one that does not answer */
 	sh2000_set_heartbeat_limit(h, 500000000ull);
 	CHECK(sh2000_nop(h));
 	CHECK(sh2000_enable(h, 0xf));

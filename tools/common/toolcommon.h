@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Shared code of the SH-2000 command-line tools (sh2000ctl, sh2000-sim,
- * sh2000-upload): the device option, one message format, one set of exit
- * codes, axis and number parsing. Static library `sh2000_toolcommon`.
+ * What the SH-2000 command-line tools (sh2000ctl, sh2000-upload,
+ * sh2000-tune, sh2000-sim) share: the device option, one message format,
+ * one set of exit codes, axis and number parsing, parameter lines, the
+ * gnuplot runner. Static library `sh2000_toolcommon`.
  *
  * Messages go to stderr as "<tool>: <device>: <reason>", for example
  *     sh2000ctl: sim: axis 2 parameter kp: -1.5 is negative

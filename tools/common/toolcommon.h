@@ -21,7 +21,14 @@
 
 #include <sh2000/sh2000.h>
 
-/* Exit codes every tool uses (documented in each man page). */
+/*
+ * Exit codes of every tool, one meaning per number (documented in each man
+ * page and docs/tools.md). 0..4 can end any command; 5..8 end only what can
+ * meet them. 5 keeps sh2000-upload's old "program has errors" and 7 the
+ * "stopped" that sh2000-upload, sh2000ctl and sh2000-tune already shared;
+ * sh2000-tune's abort on a protective limit, once 5, is 8, so that 5 means
+ * one thing everywhere.
+ */
 enum sh2000_tool_exit {
 	SH2000_EXIT_OK = 0,	/* done */
 	SH2000_EXIT_CARD = 1,	/* the card or the library refused or failed
@@ -29,6 +36,17 @@ enum sh2000_tool_exit {
 	SH2000_EXIT_USAGE = 2,	/* bad command line */
 	SH2000_EXIT_DEVICE = 3,	/* the device cannot be opened */
 	SH2000_EXIT_FAULT = 4,	/* a fault or emergency stop is latched */
+	SH2000_EXIT_INPUT = 5,	/* the input (a program) has errors: nothing
+				 * moved */
+	SH2000_EXIT_HELPER = 6,	/* a helper program (rs274, gnuplot) is
+				 * missing or failed */
+	SH2000_EXIT_STOPPED = 7, /* stopped by the operator (SIGINT, SIGTERM)
+				  * or by a STOP from another program: the
+				  * card at rest, nothing latched */
+	SH2000_EXIT_ABORTED = 8, /* a test aborted on a protective limit (the
+				  * following-error bound): the card's fault
+				  * cleared, the axis and parameters put
+				  * back */
 };
 
 /*
@@ -108,6 +126,16 @@ void sh2000_tool_param_line(FILE *f, unsigned int id, double v);
  * gnuplot-nox). */
 int sh2000_tool_gnuplot(const char *def, const char *script,
 			const char *errfile, int *status);
+
+/* SIGINT and SIGTERM (stopsignal.c): the operator asks the tool to stop.
+ * sh2000_tool_catch_stop() installs the one handler and sets the count to
+ * 0; sh2000_tool_stop_asked() is the number of signals since, at most 2.
+ * SH2000_SECOND_COUNTS: a second signal counts (sh2000-upload makes it an
+ * emergency stop); SH2000_SECOND_KILLS: a second signal has the default
+ * action and ends the program at once. */
+enum sh2000_tool_second { SH2000_SECOND_COUNTS, SH2000_SECOND_KILLS };
+void sh2000_tool_catch_stop(enum sh2000_tool_second second);
+int sh2000_tool_stop_asked(void);
 
 /* s as a gnuplot single-quoted string (a quote inside becomes '_'). */
 void sh2000_tool_gnuplot_quoted(FILE *f, const char *s);

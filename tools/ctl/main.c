@@ -189,7 +189,8 @@ static void usage(FILE *f)
 "  sh2000ctl -d sim enable x + move x=310 + status\n"
 "\n"
 "Exit status: 0 ok, 1 the card or a command failed, 2 usage error,\n"
-"3 the device cannot be opened, 4 a fault or emergency stop is latched.\n");
+"3 the device cannot be opened, 4 a fault or emergency stop is latched,\n"
+"7 jog, move or home stopped by a signal or by another program's STOP.\n");
 }
 
 static void version(void)

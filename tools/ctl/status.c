@@ -3,7 +3,6 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -272,14 +271,6 @@ static void status_json(struct ctl *c, const struct sh2000_status *st,
 	json_object_put(o);
 }
 
-static volatile sig_atomic_t watch_stop;
-
-static void on_sigint(int sig)
-{
-	(void)sig;
-	watch_stop = 1;
-}
-
 int ctl_status(struct ctl *c, int argc, char **argv)
 {
 	int json = 0, watch = 0, rc = 0;
@@ -325,15 +316,9 @@ int ctl_status(struct ctl *c, int argc, char **argv)
 	rc = ctl_open(c);
 	if (rc)
 		return rc;
-	if (watch) {
-		struct sigaction sa;
-
-		memset(&sa, 0, sizeof(sa));
-		sa.sa_handler = on_sigint;
-		sigaction(SIGINT, &sa, NULL);
-		sigaction(SIGTERM, &sa, NULL);
-	}
-	for (long n = 0; !watch_stop; n++) {
+	if (watch)
+		sh2000_tool_catch_stop(SH2000_SECOND_COUNTS);
+	for (long n = 0; !(watch && sh2000_tool_stop_asked()); n++) {
 		struct sh2000_status st;
 		char err[512] = "";
 		int r = sh2000_poll(c->h, &st), e;

@@ -114,7 +114,7 @@ static int report_failure(const struct plot_files *pf, const char *out,
 		fprintf(stderr, "  %s", line);
 	if (f)
 		fclose(f);
-	return TUNE_EXIT_HELPER;
+	return SH2000_EXIT_HELPER;
 }
 
 /* The script written to the temporary directory and closed. */
@@ -166,10 +166,10 @@ int tune_gnuplot_run(const char *name, const char *out,
 	}
 	if (e == -ENOENT) {
 		sh2000_tool_msg("--plot %s: gnuplot not found on PATH (Debian package gnuplot-nox)", out);
-		r = TUNE_EXIT_HELPER;
+		r = SH2000_EXIT_HELPER;
 	} else if (e) {
 		sh2000_tool_msg("--plot %s: %s", out, strerror(-e));
-		r = TUNE_EXIT_HELPER;
+		r = SH2000_EXIT_HELPER;
 	} else if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
 		r = report_failure(&pf, out, status);
 	}

@@ -14,15 +14,6 @@
 
 #include "toolcommon.h"
 
-/* The test was aborted (following-error limit), the axis is back at its
- * start and the parameters are as they were. */
-#define TUNE_EXIT_ABORTED 5
-/* gnuplot missing or failed (the figures were printed) */
-#define TUNE_EXIT_HELPER 6
-/* SIGINT or SIGTERM: the motion stopped on its way, the parameters as they
- * were, nothing written (as sh2000-upload's 7) */
-#define TUNE_EXIT_STOPPED 7
-
 /* The settling band of the report, counts. */
 #define TUNE_SETTLE_COUNTS 10.0
 
@@ -81,9 +72,9 @@ struct tune_metrics {
  * encoder never crossed 90 % of the step (no rise time). */
 int tune_metrics(const struct tune_trace *tr, struct tune_metrics *m);
 
-/* Run the step test on h: exit code (0, TUNE_EXIT_ABORTED, or another
+/* Run the step test on h: exit code (0, SH2000_EXIT_ABORTED, or another
  * with the message printed); *tr filled on 0, tr->start (the axis' start
- * set-point) also on TUNE_EXIT_ABORTED. */
+ * set-point) also on SH2000_EXIT_ABORTED. */
 int tune_step(struct sh2000 *h, const struct tune_opts *o,
 	      struct tune_trace *tr);
 void tune_trace_free(struct tune_trace *tr);
@@ -147,11 +138,6 @@ struct tune_move {
 };
 
 int tune_move_fail(struct tune_move *s, int r, const char *what);
-/* SIGINT and SIGTERM set a flag the test moves look at between batches
- * and after each move (a second signal ends the program at once). */
-void tune_signals(void);
-/* A stop was asked (by a signal): stop now, put everything back. */
-int tune_stop_asked(void);
 /* The card idle and unfaulted, the axis enabled (by --enable), the path
  * configuration and the start read: an exit code, nothing moved. */
 int tune_move_prepare(struct tune_move *s);
@@ -177,7 +163,7 @@ int tune_move_read(struct tune_move *s, unsigned int rec,
 		   struct sh2000_gather_info *gi, double **values);
 /* Arm the record (tune_move_arm), move(s) (pushes, waits until idle: a
  * library code), then undo and the limits back, whatever happened; after
- * a following-error fault the axis back at its start (TUNE_EXIT_ABORTED):
+ * a following-error fault the axis back at its start (SH2000_EXIT_ABORTED):
  * an exit code. */
 int tune_move_run(struct tune_move *s, unsigned int signals, double span_s,
 		  unsigned int *rec, int (*move)(struct tune_move *s));

@@ -249,12 +249,12 @@ int upl_trace_plot(struct upl_trace *t, const char *out, const char *title)
 		if (e == -ENOENT) {
 			sh2000_tool_msg("--plot %s: gnuplot not found on PATH (Debian package gnuplot-nox)",
 					out);
-			return UPLOAD_EXIT_HELPER;
+			return SH2000_EXIT_HELPER;
 		}
 		if (e) {
 			sh2000_tool_msg("--plot %s: cannot run gnuplot: %s", out,
 					strerror(-e));
-			return UPLOAD_EXIT_HELPER;
+			return SH2000_EXIT_HELPER;
 		}
 		if (WIFEXITED(status) && WEXITSTATUS(status) == 0)
 			return SH2000_EXIT_OK;
@@ -270,7 +270,7 @@ int upl_trace_plot(struct upl_trace *t, const char *out, const char *title)
 		fprintf(stderr, "  %s", line);
 	if (f)
 		fclose(f);
-	return UPLOAD_EXIT_HELPER;
+	return SH2000_EXIT_HELPER;
 }
 
 void upl_trace_free(struct upl_trace *t)

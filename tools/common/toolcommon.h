@@ -120,12 +120,34 @@ void sh2000_tool_param_format(char *buf, size_t len, unsigned int id,
 			      double v);
 void sh2000_tool_param_line(FILE *f, unsigned int id, double v);
 
-/* Run "gnuplot -e DEF SCRIPT" (DEF e.g. "DATA='file'"), its stdout to
- * /dev/null and stderr into errfile; *status as waitpid() gives it. 0, or
- * -errno when it cannot run (-ENOENT: not on PATH, Debian package
- * gnuplot-nox). */
-int sh2000_tool_gnuplot(const char *def, const char *script,
-			const char *errfile, int *status);
+/* Pictures through gnuplot (gnuplot.c, Debian package gnuplot-nox). */
+struct sh2000_tool_plot_kind {
+	int svg;	/* the output is SVG (its name ends in .svg) */
+	int cairo;	/* PNG through pngcairo, else libgd's png */
+};
+/* Writes a picture's script into f for out: 0 or -errno. */
+typedef int (*sh2000_tool_plot_script)(FILE *f, const void *ctx,
+				       const char *out,
+				       const struct sh2000_tool_plot_kind *k);
+
+/* Draw out (SVG if its name ends in .svg, else PNG: pngcairo, then libgd's
+ * png if this gnuplot lacks cairo) with the script write_script(ctx)
+ * writes, gnuplot's DATA set to the data file. The script and gnuplot's
+ * stderr go to dir and are removed after. An exit code, the message
+ * printed: 0; SH2000_EXIT_HELPER when gnuplot is missing ("gnuplot not
+ * found on PATH") or fails (its stderr shown); SH2000_EXIT_CARD when the
+ * script cannot be written. */
+int sh2000_tool_plot(const char *dir, const char *data, const char *out,
+		     sh2000_tool_plot_script write_script, const void *ctx);
+
+/* The lines every picture's script starts with: the terminal of kind k at
+ * width x height pixels, the output, a grid and the multiplot's title. */
+void sh2000_tool_plot_head(FILE *f, const char *out, const char *title,
+			   const struct sh2000_tool_plot_kind *k,
+			   unsigned int width, unsigned int height);
+
+/* s as a gnuplot single-quoted string (a quote inside becomes '_'). */
+void sh2000_tool_gnuplot_quoted(FILE *f, const char *s);
 
 /* SIGINT and SIGTERM (stopsignal.c): the operator asks the tool to stop.
  * sh2000_tool_catch_stop() installs the one handler and sets the count to
@@ -136,8 +158,5 @@ int sh2000_tool_gnuplot(const char *def, const char *script,
 enum sh2000_tool_second { SH2000_SECOND_COUNTS, SH2000_SECOND_KILLS };
 void sh2000_tool_catch_stop(enum sh2000_tool_second second);
 int sh2000_tool_stop_asked(void);
-
-/* s as a gnuplot single-quoted string (a quote inside becomes '_'). */
-void sh2000_tool_gnuplot_quoted(FILE *f, const char *s);
 
 #endif /* SH2000_TOOLCOMMON_H */

@@ -315,18 +315,16 @@ void tune_fr_grid(double f0, double f1, size_t n, double *hz);
 int tune_plot_bode(const struct tune_fr *fr, const struct tune_margins *m,
 		   const char *out, const char *title);
 
-/* gnuplot on script (DATA set to data), PNG through pngcairo if this
- * gnuplot has it, else libgd: an exit code with the message printed.
- * write_script(f, ctx, out, svg, cairo) writes the script (0 or -errno). */
+/* A picture of the tool: write_data(ctx) writes NAME.dat into a private
+ * temporary directory, sh2000_tool_plot() draws out from it with
+ * write_script, the directory is removed after. An exit code with the
+ * message printed. */
 int tune_gnuplot_run(const char *name, const char *out,
 		     int (*write_data)(const void *ctx, const char *path),
-		     int (*write_script)(FILE *f, const void *ctx,
-					 const char *out, int svg, int cairo),
-		     const void *ctx);
+		     sh2000_tool_plot_script write_script, const void *ctx);
 
-/* The terminal (PNG through pngcairo or libgd, or SVG), output and
- * multiplot title lines every picture's script starts with. */
-void tune_plot_terminal(FILE *f, const char *out, const char *title,
-			int svg, int cairo);
+/* Every picture's size in pixels. */
+#define TUNE_PLOT_W	1200
+#define TUNE_PLOT_H	900
 
 #endif /* SH2000_TUNE_H */

@@ -26,10 +26,8 @@ static void unwrapped(const double complex *z, size_t n, double *ph)
 
 	for (size_t i = 0; i < n; i++) {
 		ph[i] = carg(z[i]) * 180 / M_PI;
-		while (i && ph[i] - ph[i - 1] > 180)
-			ph[i] -= 360;
-		while (i && ph[i] - ph[i - 1] < -180)
-			ph[i] += 360;
+		if (i)
+			ph[i] = tune_phase_unwrap(ph[i - 1], ph[i]);
 	}
 	shift = n ? -360 * ceil(ph[n - 1] / 360) : 0;
 	for (size_t i = 0; i < n; i++)

@@ -296,11 +296,24 @@ double tune_chirp_f1_max(double servo_s);
  * crosses 0 dB in the measured band (no crossover, no phase margin; the
  * other figures are still filled, NAN where absent). */
 int tune_margins(const struct tune_fr *fr, struct tune_margins *m);
+/* One step of unwrapping a phase along the frequencies: ph (degrees) moved
+ * by whole turns to within 180 degrees of the previous unwrapped prev. */
+double tune_phase_unwrap(double prev, double ph);
+/* The phase margin of a loop whose unwrapped phase at its gain crossover
+ * is ph degrees: 180 + ph placed by whole turns in (-180, 180]. */
+double tune_phase_margin(double ph);
 
 /* The card's PID (pid.c's incremental law with integral and derivative,
- * the feed-forward aside) at hz, servo period tau: DAC codes per count. */
+ * the feed-forward aside) at hz, servo period tau: DAC codes per count
+ * (loopmodel.c, with C(z) in its other forms). */
 double complex tune_pid_response(const struct tune_gains *g, double tau,
 				 double hz);
+/* C(z) = Kp A + (Kp Td/tau) D at theta = w tau, the parts without Kp: A
+ * the proportional and integral, D the derivative per Kp Td/tau. */
+void tune_pid_parts(double tau, double ti, double th, double complex *A,
+		    double complex *D);
+/* C(z) = Kp (n[0] + n[1] z^-1 + n[2] z^-2) / (1 - z^-1). */
+void tune_pid_numerator(const struct tune_gains *g, double tau, double n[3]);
 /* The gains of axis a as the card has them: a library code. */
 int tune_read_gains(struct sh2000 *h, unsigned int a, struct tune_gains *g);
 /* The response of y to x (n samples each, from rest to rest) at hz[0..nf)

@@ -350,6 +350,38 @@ int sh2000_param_id(const char *name);
 const char *sh2000_param_name(unsigned int param);
 const char *sh2000_param_unit(unsigned int param);
 
+/*
+ * The card's timing: coarse_period_us and fine_steps changed together
+ * through legal states (sh2000_timing_ok() after every single set; the
+ * card checks each against the other's current value). Of the paths
+ * sh2000_set_timing() takes one whose states in between keep the servo
+ * period within the longer of the old and the new where there is one
+ * (the loops then never run slower than at either end). The target is
+ * checked first: -SH2000_EPARAM with the reason, nothing sent. A failure
+ * half-way leaves the card at a legal state on the way.
+ */
+int sh2000_set_timing(struct sh2000 *h, unsigned int coarse_us,
+		      unsigned int fine_steps);
+
+/* One set of that path: SH2000_GP_COARSE_PERIOD_US or SH2000_GP_FINE_STEPS
+ * and its value. */
+struct sh2000_timing_step {
+	unsigned int id;
+	unsigned int value;
+};
+#define SH2000_TIMING_STEPS_MAX	16
+/* only states whose servo period is within the longer of the two ends */
+#define SH2000_TIMING_NO_LONGER	0x0001u
+/* The path itself, without a card (a real-time caller sends the steps
+ * itself): the fewest sets from (coarse0_us, fine0) to (coarse_us,
+ * fine_steps), each leaving a legal state in the protocol's ranges, into
+ * steps[0..max). The number of steps (0: already there), or -SH2000_EPARAM
+ * when the target is not legal or no path of at most max steps exists. */
+int sh2000_timing_path(unsigned int coarse0_us, unsigned int fine0,
+		       unsigned int coarse_us, unsigned int fine_steps,
+		       unsigned int flags, struct sh2000_timing_step *steps,
+		       unsigned int max);
+
 /* Every per-axis parameter, indexed by enum sh2000_param, in user units. */
 struct sh2000_axis_params {
 	double v[SH2000_AXIS_PARAMS];

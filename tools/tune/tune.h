@@ -272,8 +272,8 @@ struct tune_margins {
 /* The card's timing before the sweep (coarse0_us, fine0), for it
  * (coarse_us, fine) and as it is now (cur_*: 0 before the first change). */
 struct tune_chirp_timing {
-	long coarse0_us, coarse_us, cur_coarse_us;
-	unsigned int fine0, fine, cur_fine;
+	long coarse0_us, coarse_us;
+	unsigned int fine0, fine;
 };
 
 /* The coarse period (a divisor of the card's, the servo period kept) that

@@ -74,6 +74,11 @@ static void known_paths(void **state)
 	assert_int_equal(path(2000, 20, 100, 1, 0, st), 2);
 	/* (3000, 20) is 150 us and (2000, 30) not whole ns: through more */
 	assert_true(path(2000, 20, 3000, 30, SH2000_TIMING_NO_LONGER, st) > 2);
+	/* the coarse period not known (0): set first, legal with fine0 */
+	assert_int_equal(path(0, 1, 1000, 10, 0, st), 2);
+	assert_int_equal(st[0].id, SH2000_GP_COARSE_PERIOD_US);
+	assert_int_equal(st[0].value, 1000);
+	assert_int_equal(path(0, 1, 1000, 1, 0, st), 1);
 	/* targets the card refuses */
 	assert_int_equal(path(2000, 20, 1000, 3, 0, st), -SH2000_EPARAM);
 	assert_int_equal(path(2000, 20, 50, 1, 0, st), -SH2000_EPARAM);

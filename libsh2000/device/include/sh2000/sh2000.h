@@ -375,7 +375,9 @@ struct sh2000_timing_step {
 /* The path itself, without a card (a real-time caller sends the steps
  * itself): the fewest sets from (coarse0_us, fine0) to (coarse_us,
  * fine_steps), each leaving a legal state in the protocol's ranges, into
- * steps[0..max). The number of steps (0: already there), or -SH2000_EPARAM
+ * steps[0..max). coarse0_us 0: the card's coarse period is not known (the
+ * first step then sets it to a value legal with fine0; from fine0 1 every
+ * value is). The number of steps (0: already there), or -SH2000_EPARAM
  * when the target is not legal or no path of at most max steps exists. */
 int sh2000_timing_path(unsigned int coarse0_us, unsigned int fine0,
 		       unsigned int coarse_us, unsigned int fine_steps,

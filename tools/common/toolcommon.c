@@ -9,7 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <uapi/sh2000.h>
 
 static const char *tool_name = "sh2000";
 
@@ -196,7 +195,7 @@ void sh2000_tool_print_version(const char *tool_version)
 	       "driver ABI %u\n",
 	       sh2000_tool_name(), tool_version, sh2000_version(),
 	       sh2000_soversion(), SH2000_PROTO_MAJOR, SH2000_PROTO_MINOR,
-	       (unsigned int)SH2000_ABI_VERSION);
+	       sh2000_driver_abi());
 }
 
 int sh2000_tool_write_text(const char *path, const char *text, size_t len)

@@ -16,7 +16,6 @@
 #define SH2000_TOOLS_VERSION "0.0.0"
 #endif
 
-#include <uapi/sh2000.h>
 
 static const struct ctl_cmd cmds[] = {
 	{ "info", ctl_info, "",

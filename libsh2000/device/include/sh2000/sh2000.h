@@ -192,12 +192,23 @@ unsigned int sh2000_card_version(const struct sh2000 *h);
 
 /*
  * Versions of the library that is running (not the one compiled against):
- * "MAJOR.MINOR.PATCH", and the SONAME's major (libsh2000.so.N). The protocol
- * version it speaks is SH2000_PROTO_MAJOR/MINOR, the driver ABI it expects
- * SH2000_ABI_VERSION.
+ * "MAJOR.MINOR.PATCH", the SONAME's major (libsh2000.so.N), and the kernel
+ * driver's ABI version it speaks (it refuses another at open). The
+ * protocol version it speaks is SH2000_PROTO_MAJOR/MINOR.
  */
 const char *sh2000_version(void);
 unsigned int sh2000_soversion(void);
+unsigned int sh2000_driver_abi(void);
+
+/* sh2000_driver_info() flags: the card is sh2000_sim.ko's simulated one */
+#define SH2000_DRIVER_SIMULATED	0x0001u
+/* What the kernel driver behind h (/dev/sh2000-N) says about itself: its
+ * version into version[0..len) (NUL-terminated), its ABI version and
+ * SH2000_DRIVER_* flags (either pointer may be NULL). 0; -ENODEV when h
+ * is not a /dev/sh2000-N handle (no driver); another -errno when the
+ * driver does not answer. */
+int sh2000_driver_info(struct sh2000 *h, char *version, size_t len,
+		       unsigned int *abi, unsigned int *flags);
 
 /* The handle's clock: virtual card time for `sim`, CLOCK_MONOTONIC else. */
 uint64_t sh2000_now_ns(struct sh2000 *h);
@@ -566,6 +577,10 @@ struct sh2000_port_counters {
 /* Port cycles this handle issued (dev: the driver's counters for the
  * card). */
 int sh2000_port_counters(struct sh2000 *h, struct sh2000_port_counters *c);
+/* The dual-port RAM's size in 16-bit words, for programs that do not see
+ * the driver's register map (driver/sh2000_hw.h's SH2000_RAM_WORDS; the
+ * library checks that the two agree when it is built). */
+#define SH2000_DPRAM_WORDS	1024u
 /* Words [addr, addr+n) of the dual-port RAM (no wrap past 1023). */
 int sh2000_ram_read(struct sh2000 *h, unsigned int addr, unsigned int n,
 		    uint16_t *buf);

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 /*
- * One card under a servo thread: opening it (at load), then per tick the
- * read half (status, feedback, command answers, emergency stop) and the
- * write half (configuration, enable/disable/reset commands, the stream of
- * one coarse point per tick, the thread's clock correction).
+ * One card under a servo thread: opening and closing it (at load and
+ * exit), the card's state words as the pins show them, and per tick the
+ * read half (status, feedback, command answers, emergency stop). The write
+ * half is write.c, the clock correction timebase.c, the feedback's delay
+ * feedback.c.
  *
  * Only libsh2000's real-time calls run in a tick, so nothing here waits:
  * a command is started in one tick and its answer taken in a later one, a

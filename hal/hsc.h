@@ -122,6 +122,9 @@ struct hsc_card {
 	long period_ns;		/* servo thread period, 0 before the first tick */
 	int configured;		/* coarse period etc. set for period_ns */
 	int cfg_step;
+	/* the sets that take the card's timing to the thread's */
+	struct sh2000_timing_step tsteps[SH2000_TIMING_STEPS_MAX];
+	int ntsteps;
 
 	/* one command in flight at a time */
 	int cmd_busy;

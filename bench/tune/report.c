@@ -7,7 +7,7 @@
 
 #include "bench_tune.h"
 
-/* The tolerance: tuned within 10 % of the best. */
+/* The tuner's promise: tuned within 10 % of the best the search finds. */
 #define WITHIN 1.10
 
 static void print_ident(const struct plant_case *pc, const struct row *w)

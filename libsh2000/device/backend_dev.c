@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * /dev/sh2000-N: the kernel driver does the seeking (the same
- * sh2000_seek_plan()); the file is the RAM, word i at byte 2*i, LE.
+ * sh2000_seek_plan()); the file is the RAM, word i at byte 2*i, LE. Also
+ * what the driver says about itself (sh2000_driver_info()), so that no
+ * program above the library needs the driver's headers.
  */
 #include <endian.h>
 #include <errno.h>
@@ -195,5 +197,31 @@ int sh2000_dev_open(struct sh2000 *h, const char *path, char *msg,
 				  SH2000_ABI_VERSION, SH2000_RAM_WORDS);
 	}
 	h->be = &dev_backend;
+	return 0;
+}
+
+int sh2000_driver_info(struct sh2000 *h, char *version, size_t len,
+		       unsigned int *abi, unsigned int *flags)
+{
+	struct sh2000_info info;
+	int e;
+
+	if (h->be != &dev_backend || h->fd < 0)
+		return sh2000_fail(h, -ENODEV, "%s: no kernel driver behind this device",
+				   h->device);
+	memset(&info, 0, sizeof(info));
+	if (ioctl(h->fd, SH2000_IOC_GET_INFO, &info) < 0) {
+		e = errno;
+		return sh2000_fail(h, -e, "%s: GET_INFO: %s", h->device,
+				   strerror(e));
+	}
+	if (version && len)
+		snprintf(version, len, "%.*s", (int)sizeof(info.driver_version),
+			 info.driver_version);
+	if (abi)
+		*abi = info.abi_version;
+	if (flags)
+		*flags = (info.flags & SH2000_INFO_SIMULATED) ?
+			 SH2000_DRIVER_SIMULATED : 0;
 	return 0;
 }

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * sim:NAME: a card model served by another process (sim_server.c) whose
+ * sim:NAME: a card model served by another process (sh2000-sim, through
+ * libsh2000-sim's server.c) whose
  * shared memory plays the dual-port RAM; real time. The FPGA side (the
  * address counter) is emulated here, so port-cycle counts are those of
  * the real card.

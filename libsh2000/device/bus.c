@@ -75,6 +75,11 @@ int sh2000_bus_counters(struct sh2000 *h, struct sh2000_port_counters *c)
 	return 0;
 }
 
+/* sh2000.h's size of the RAM for programs above the library is the
+ * register map's */
+_Static_assert(SH2000_DPRAM_WORDS == SH2000_RAM_WORDS,
+	       "SH2000_DPRAM_WORDS differs from driver/sh2000_hw.h");
+
 int sh2000_rd(struct sh2000 *h, unsigned int addr, unsigned int n,
 	      uint16_t *buf)
 {

@@ -1,5 +1,10 @@
 /* SPDX-License-Identifier: MIT */
-/* Opening a card by device string; the handle's clock; raw access. */
+/*
+ * Opening and closing a card by device string (or by port functions): the
+ * backend, the card's hello and the arbiter; the handle's accessors, the
+ * port-cycle counters and raw access to the dual-port RAM. The handle's
+ * clock is clock.c's.
+ */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>

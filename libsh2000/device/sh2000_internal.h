@@ -223,6 +223,15 @@ int sh2000_cmd_write(struct sh2000 *h, unsigned int op, unsigned int axis,
 int sh2000_cmd_result_error(unsigned int res);
 const char *sh2000_cmd_op_name(unsigned int op);
 
+/* params.c, with the lock held: the word the card gets for parameter id
+ * of axis (SH2000_GLOBAL) set to v, or -SH2000_EPARAM with the message
+ * sh2000_param_set() gives; a global parameter's word read or set (the
+ * handle's copy of the timing kept). */
+int sh2000_param_check(struct sh2000 *h, int axis, unsigned int id,
+		       double v, int32_t *word);
+int sh2000_global_get_locked(struct sh2000 *h, unsigned int id, int32_t *word);
+int sh2000_global_set_locked(struct sh2000 *h, unsigned int id, int32_t word);
+
 /* command.c, with the lock held (it may release it while waiting) */
 int sh2000_command_locked(struct sh2000 *h, unsigned int op,
 			  unsigned int axis, unsigned int param, int32_t arg,

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /*
- * sh2000._sh2000: module set-up, the error helper every method uses, and
- * the library's tables (error names, versions, parameter names and units).
+ * sh2000._sh2000: module set-up (the types, status.c's constants,
+ * gather.c's), the error helper every method uses, strerror() and
+ * version().
  */
 #include <errno.h>
 #include <string.h>

@@ -189,7 +189,7 @@ class Card:
         return Program(self, path, format, feed_mm_s)
 
 
-def open(device=None):  # noqa: A001 (the issue's name: sh2000.open)
+def open(device=None):  # noqa: A001 (the API's name: sh2000.open, like open())
     """Open a card by device string: "/dev/sh2000-0", "io:0x300", "sim",
     "sim:NAME"; None: $SH2000_DEVICE, else /dev/sh2000-0."""
     return Card(device)

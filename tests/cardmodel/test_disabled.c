@@ -109,7 +109,7 @@ static void let_go_at(struct harness *h, double v)
 	assert_int_equal(h_word(h, SH2000_W_FAULTS), 0);
 }
 
-/* The issue's case: a move on axis 1 right after the reset, axis 0 held
+/* The case that once failed: a move on axis 1 right after the reset, axis 0 held
  * where the host read it while its carriage coasts on. */
 static void coasting_held(void **state)
 {

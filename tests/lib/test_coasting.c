@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * A carriage the card let go of coasts (issue 11: after any fault "reset
+ * A carriage the card let go of coasts (the promise: after any fault "reset
  * brings the card back, and the next run works"). A DSP stall while X
  * moves at 100 mm/s leaves X disabled (the counter jumped by the distance
  * the carriage went meanwhile) and its carriage coasting on its friction

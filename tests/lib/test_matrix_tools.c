@@ -465,7 +465,7 @@ static void tool_cell(unsigned int fi, enum tool t)
 			 f->latched);
 	/* a stalled DSP lets X go at its speed when it runs again (at the
 	 * clear, 20 ms before the reset): the next run, which worked, must
-	 * have started while X coasted (issue 11), 80 mm/s on an idle
+	 * have started while X coasted, 80 mm/s on an idle
 	 * machine, 1 mm/s 0.4 s later */
 	if (f->what == SH2000_INJECT_DSP_STALL && c->coast_mm_s < 1.0)
 		fail_msg("%s / %s: X at %.2f mm/s at the reset: the next run did not meet a coasting carriage",

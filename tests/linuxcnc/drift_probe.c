@@ -2,7 +2,7 @@
 /*
  * drift_probe: what two cards driven by hal_sh2000 do against each other,
  * seen from outside LinuxCNC the way `sh2000ctl status` sees them (for the
- * drift test of issue 12: tests/linuxcnc/drift).
+ * drift test, tests/linuxcnc/drift).
  *
  *   drift_probe SECONDS WARMUP TARGET PERIOD_NS DEV0 DEV1
  *

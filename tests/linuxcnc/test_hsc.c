@@ -185,7 +185,7 @@ static void test_stream_and_feedback(void **state)
 	}
 	print_message("fill %d..%d (target %d), port cycles per tick (read + one point) %.1f on average\n",
 		      fill_min, fill_max, HSC_QUEUE_TARGET, cycles / 500.0);
-	/* issue 12: one tick on the simulated card (poll + one point
+	/* the budget: one tick on the simulated card (poll + one point
 	 * posted in the mailbox) within 150 port cycles */
 	assert_true(cycles <= 150 * 500);
 	assert_true(fill_min >= HSC_QUEUE_TARGET - 2);
@@ -297,7 +297,7 @@ static void test_stopped_by_another_program(void **state)
 	rig_close(r);
 }
 
-/* ---- two cards on their own clocks (issue 12, item 4) ---- */
+/* ---- two cards on their own clocks (the drift test) ---- */
 
 #define DRIFT_PPM	100.0
 #define DRIFT_TARGET	10
@@ -451,7 +451,7 @@ static void test_two_cards_drift(void **state)
 	print_message("port cycles per tick: card 0 %.1f on average (at most %u), card 1 %.1f (at most %u: a tick with two points)\n",
 		      (double)cycles[0] / n, cycles_max[0],
 		      (double)cycles[1] / n, cycles_max[1]);
-	/* issue 12: <= 150 port cycles per tick, a follower's occasional
+	/* the budget: <= 150 port cycles per tick, a follower's occasional
 	 * second point (through the ring) included */
 	assert_true(cycles[0] <= 150ull * (uint64_t)n);
 	assert_true(cycles[1] <= 150ull * (uint64_t)n);

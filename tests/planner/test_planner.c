@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /*
- * The planner against its contract (issue 4): limits never exceeded on the
+ * The planner against its contract: limits never exceeded on the
  * records and on the card's fine points, end points exact, arcs and NURBS
  * within tolerance of the exact geometry, constant memory, bad geometry
  * rejected with a clear message and nothing emitted.

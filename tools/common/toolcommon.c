@@ -4,17 +4,11 @@
 
 #include <ctype.h>
 #include <errno.h>
-#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <spawn.h>
-#include <sys/wait.h>
 
-#include <uapi/sh2000.h>
-
-extern char **environ;
 
 static const char *tool_name = "sh2000";
 
@@ -201,7 +195,7 @@ void sh2000_tool_print_version(const char *tool_version)
 	       "driver ABI %u\n",
 	       sh2000_tool_name(), tool_version, sh2000_version(),
 	       sh2000_soversion(), SH2000_PROTO_MAJOR, SH2000_PROTO_MINOR,
-	       (unsigned int)SH2000_ABI_VERSION);
+	       sh2000_driver_abi());
 }
 
 int sh2000_tool_write_text(const char *path, const char *text, size_t len)
@@ -227,34 +221,4 @@ int sh2000_tool_write_text(const char *path, const char *text, size_t len)
 			remove(path);
 	}
 	return r;
-}
-
-int sh2000_tool_gnuplot(const char *def, const char *script,
-			const char *errfile, int *status)
-{
-	posix_spawn_file_actions_t fa;
-	char *argv[] = { "gnuplot", "-e", (char *)def, (char *)script, NULL };
-	pid_t pid;
-	int e;
-
-	posix_spawn_file_actions_init(&fa);
-	posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-	posix_spawn_file_actions_addopen(&fa, 2, errfile,
-					 O_WRONLY | O_CREAT | O_TRUNC, 0600);
-	e = posix_spawnp(&pid, "gnuplot", &fa, NULL, argv, environ);
-	posix_spawn_file_actions_destroy(&fa);
-	if (e)
-		return -e;
-	while (waitpid(pid, status, 0) < 0)
-		if (errno != EINTR)
-			return -errno;
-	return 0;
-}
-
-void sh2000_tool_gnuplot_quoted(FILE *f, const char *s)
-{
-	fputc('\'', f);
-	for (; *s; s++)
-		fputc(*s == '\'' ? '_' : *s, f);
-	fputc('\'', f);
 }

@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Shared code of the SH-2000 command-line tools (sh2000ctl, sh2000-sim,
- * sh2000-upload): the device option, one message format, one set of exit
- * codes, axis and number parsing. Static library `sh2000_toolcommon`.
+ * What the SH-2000 command-line tools (sh2000ctl, sh2000-upload,
+ * sh2000-tune, sh2000-sim) share: the device option, one message format,
+ * one set of exit codes, axis and number parsing, parameter lines, the
+ * gnuplot runner. Static library `sh2000_toolcommon`.
  *
  * Messages go to stderr as "<tool>: <device>: <reason>", for example
  *     sh2000ctl: sim: axis 2 parameter kp: -1.5 is negative
@@ -20,7 +21,14 @@
 
 #include <sh2000/sh2000.h>
 
-/* Exit codes every tool uses (documented in each man page). */
+/*
+ * Exit codes of every tool, one meaning per number (documented in each man
+ * page and docs/tools.md). 0..4 can end any command; 5..8 end only what can
+ * meet them. 5 keeps sh2000-upload's old "program has errors" and 7 the
+ * "stopped" that sh2000-upload, sh2000ctl and sh2000-tune already shared;
+ * sh2000-tune's abort on a protective limit, once 5, is 8, so that 5 means
+ * one thing everywhere.
+ */
 enum sh2000_tool_exit {
 	SH2000_EXIT_OK = 0,	/* done */
 	SH2000_EXIT_CARD = 1,	/* the card or the library refused or failed
@@ -28,6 +36,17 @@ enum sh2000_tool_exit {
 	SH2000_EXIT_USAGE = 2,	/* bad command line */
 	SH2000_EXIT_DEVICE = 3,	/* the device cannot be opened */
 	SH2000_EXIT_FAULT = 4,	/* a fault or emergency stop is latched */
+	SH2000_EXIT_INPUT = 5,	/* the input (a program) has errors: nothing
+				 * moved */
+	SH2000_EXIT_HELPER = 6,	/* a helper program (rs274, gnuplot) is
+				 * missing or failed */
+	SH2000_EXIT_STOPPED = 7, /* stopped by the operator (SIGINT, SIGTERM)
+				  * or by a STOP from another program: the
+				  * card at rest, nothing latched */
+	SH2000_EXIT_ABORTED = 8, /* a test aborted on a protective limit (the
+				  * following-error bound): the card's fault
+				  * cleared, the axis and parameters put
+				  * back */
 };
 
 /*
@@ -101,14 +120,43 @@ void sh2000_tool_param_format(char *buf, size_t len, unsigned int id,
 			      double v);
 void sh2000_tool_param_line(FILE *f, unsigned int id, double v);
 
-/* Run "gnuplot -e DEF SCRIPT" (DEF e.g. "DATA='file'"), its stdout to
- * /dev/null and stderr into errfile; *status as waitpid() gives it. 0, or
- * -errno when it cannot run (-ENOENT: not on PATH, Debian package
- * gnuplot-nox). */
-int sh2000_tool_gnuplot(const char *def, const char *script,
-			const char *errfile, int *status);
+/* Pictures through gnuplot (gnuplot.c, Debian package gnuplot-nox). */
+struct sh2000_tool_plot_kind {
+	int svg;	/* the output is SVG (its name ends in .svg) */
+	int cairo;	/* PNG through pngcairo, else libgd's png */
+};
+/* Writes a picture's script into f for out: 0 or -errno. */
+typedef int (*sh2000_tool_plot_script)(FILE *f, const void *ctx,
+				       const char *out,
+				       const struct sh2000_tool_plot_kind *k);
+
+/* Draw out (SVG if its name ends in .svg, else PNG: pngcairo, then libgd's
+ * png if this gnuplot lacks cairo) with the script write_script(ctx)
+ * writes, gnuplot's DATA set to the data file. The script and gnuplot's
+ * stderr go to dir and are removed after. An exit code, the message
+ * printed: 0; SH2000_EXIT_HELPER when gnuplot is missing ("gnuplot not
+ * found on PATH") or fails (its stderr shown); SH2000_EXIT_CARD when the
+ * script cannot be written. */
+int sh2000_tool_plot(const char *dir, const char *data, const char *out,
+		     sh2000_tool_plot_script write_script, const void *ctx);
+
+/* The lines every picture's script starts with: the terminal of kind k at
+ * width x height pixels, the output, a grid and the multiplot's title. */
+void sh2000_tool_plot_head(FILE *f, const char *out, const char *title,
+			   const struct sh2000_tool_plot_kind *k,
+			   unsigned int width, unsigned int height);
 
 /* s as a gnuplot single-quoted string (a quote inside becomes '_'). */
 void sh2000_tool_gnuplot_quoted(FILE *f, const char *s);
+
+/* SIGINT and SIGTERM (stopsignal.c): the operator asks the tool to stop.
+ * sh2000_tool_catch_stop() installs the one handler and sets the count to
+ * 0; sh2000_tool_stop_asked() is the number of signals since, at most 2.
+ * SH2000_SECOND_COUNTS: a second signal counts (sh2000-upload makes it an
+ * emergency stop); SH2000_SECOND_KILLS: a second signal has the default
+ * action and ends the program at once. */
+enum sh2000_tool_second { SH2000_SECOND_COUNTS, SH2000_SECOND_KILLS };
+void sh2000_tool_catch_stop(enum sh2000_tool_second second);
+int sh2000_tool_stop_asked(void);
 
 #endif /* SH2000_TOOLCOMMON_H */

@@ -16,7 +16,6 @@
 #define SH2000_TOOLS_VERSION "0.0.0"
 #endif
 
-#include <uapi/sh2000.h>
 
 static const struct ctl_cmd cmds[] = {
 	{ "info", ctl_info, "",
@@ -189,7 +188,8 @@ static void usage(FILE *f)
 "  sh2000ctl -d sim enable x + move x=310 + status\n"
 "\n"
 "Exit status: 0 ok, 1 the card or a command failed, 2 usage error,\n"
-"3 the device cannot be opened, 4 a fault or emergency stop is latched.\n");
+"3 the device cannot be opened, 4 a fault or emergency stop is latched,\n"
+"7 jog, move or home stopped by a signal or by another program's STOP.\n");
 }
 
 static void version(void)

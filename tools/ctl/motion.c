@@ -9,7 +9,6 @@
  */
 #include <errno.h>
 #include <math.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,10 +17,6 @@
 #include <sh2000/run.h>
 
 #include "ctl.h"
-
-/* exit code of a motion or homing ended by a STOP from another program (as
- * sh2000-upload's) */
-#define CTL_EXIT_STOPPED 7
 
 /* ---- enable / disable / stop / estop / reset ---------------------------- */
 
@@ -186,7 +181,7 @@ int ctl_home(struct ctl *c, int argc, char **argv)
 				    (int)(timeout * 1000), msg, sizeof(msg));
 		if (r == -SH2000_ESTOPPED) {
 			sh2000_tool_msg("%s", msg);
-			return CTL_EXIT_STOPPED;
+			return SH2000_EXIT_STOPPED;
 		}
 		if (r < 0)
 			return sh2000_tool_fail(c->h, r, "home");
@@ -200,15 +195,6 @@ int ctl_home(struct ctl *c, int argc, char **argv)
 }
 
 /* ---- planned motion: jog and move --------------------------------------- */
-
-/* SIGINT/SIGTERM during jog and move: stop the card, not just the tool */
-static volatile sig_atomic_t interrupted;
-
-static void on_interrupt(int sig)
-{
-	(void)sig;
-	interrupted = 1;
-}
 
 struct motion_setup {
 	struct sh2000_path_config cfg;
@@ -285,22 +271,22 @@ static void on_progress(void *ctx, const struct sh2000_run_progress *p)
 	struct sh2000_run **run = ctx;
 
 	(void)p;
-	if (interrupted && *run)
+	if (sh2000_tool_stop_asked() && *run)
 		sh2000_run_stop(*run);
 }
 
 /* How a run that did not end at its end point ended: an exit code. */
 static int run_ended(struct ctl *c, struct sh2000_run *run, int r)
 {
-	if (interrupted) {
+	if (sh2000_tool_stop_asked()) {
 		sh2000_tool_msg("%s: interrupted: card stopped", sh2000_device(c->h));
-		return SH2000_EXIT_CARD;
+		return SH2000_EXIT_STOPPED;
 	}
 	sh2000_tool_msg("%s", sh2000_run_error(run));
 	if (r == -SH2000_ESTOPPED) {
 		sh2000_tool_msg("%s: stopped by another program; the card is at rest on the path",
 				sh2000_device(c->h));
-		return CTL_EXIT_STOPPED;
+		return SH2000_EXIT_STOPPED;
 	}
 	return r == -SH2000_ELIMIT ? SH2000_EXIT_CARD : sh2000_tool_exit_code(r);
 }
@@ -337,15 +323,13 @@ static int run_motion(struct ctl *c, struct motion_setup *m, unsigned int mask,
 {
 	struct sh2000_run_config rc;
 	struct sh2000_run *run = NULL;
-	struct sigaction sa;
 	double end[SH2000_AXES];
 	char err[512] = "";
 	int r;
 
-	memset(&sa, 0, sizeof(sa));
-	sa.sa_handler = on_interrupt;
-	sigaction(SIGINT, &sa, NULL);
-	sigaction(SIGTERM, &sa, NULL);
+	/* SIGINT/SIGTERM during jog and move: stop the card, not just the
+	 * tool (on_progress) */
+	sh2000_tool_catch_stop(SH2000_SECOND_COUNTS);
 	sh2000_run_config_default(&rc);
 	rc.progress = on_progress;
 	rc.ctx = &run;		/* filled in by the create */
@@ -359,7 +343,7 @@ static int run_motion(struct ctl *c, struct motion_setup *m, unsigned int mask,
 		sh2000_path_end_position(sh2000_run_path(run), end);
 		r = sh2000_run_finish(run);
 	}
-	if (r < 0 || interrupted) {
+	if (r < 0 || sh2000_tool_stop_asked()) {
 		r = run_ended(c, run, r);
 		sh2000_run_destroy(run);
 		return r;

@@ -188,19 +188,20 @@ static int plan_apply(struct ctl *c, struct ctl_plan *p,
 			return SH2000_EXIT_CARD;
 		}
 	}
-	if (p->set[CTL_SECT_GLOBAL][SH2000_GP_COARSE_PERIOD_US] &&
+	if (p->set[CTL_SECT_GLOBAL][SH2000_GP_COARSE_PERIOD_US] ||
 	    p->set[CTL_SECT_GLOBAL][SH2000_GP_FINE_STEPS]) {
-		/* the card checks each against the other's current value */
-		int coarse_first = sh2000_timing_ok(
-			(long long)p->v[CTL_SECT_GLOBAL][SH2000_GP_COARSE_PERIOD_US],
-			(long long)cur[CTL_SECT_GLOBAL][SH2000_GP_FINE_STEPS]);
-		unsigned int a = coarse_first ? SH2000_GP_COARSE_PERIOD_US : SH2000_GP_FINE_STEPS;
-		unsigned int b = coarse_first ? SH2000_GP_FINE_STEPS : SH2000_GP_COARSE_PERIOD_US;
+		/* the library takes the card there through legal states */
+		double *g = p->v[CTL_SECT_GLOBAL];
+		int *set = p->set[CTL_SECT_GLOBAL];
+		double tc = set[SH2000_GP_COARSE_PERIOD_US] ? g[SH2000_GP_COARSE_PERIOD_US] :
+			    cur[CTL_SECT_GLOBAL][SH2000_GP_COARSE_PERIOD_US];
+		double tf = set[SH2000_GP_FINE_STEPS] ? g[SH2000_GP_FINE_STEPS] :
+			    cur[CTL_SECT_GLOBAL][SH2000_GP_FINE_STEPS];
 
-		if ((r = set_one(c, SH2000_GLOBAL, a, p->v[CTL_SECT_GLOBAL][a])) ||
-		    (r = set_one(c, SH2000_GLOBAL, b, p->v[CTL_SECT_GLOBAL][b])))
-			return r;
-		p->set[CTL_SECT_GLOBAL][a] = p->set[CTL_SECT_GLOBAL][b] = 0;
+		r = sh2000_set_timing(c->h, (unsigned int)tc, (unsigned int)tf);
+		if (r < 0)
+			return sh2000_tool_fail(c->h, r, "set the timing");
+		set[SH2000_GP_COARSE_PERIOD_US] = set[SH2000_GP_FINE_STEPS] = 0;
 	}
 	for (unsigned int id = SH2000_GP_FIRST; id < SH2000_GP_END; id++)
 		if (p->set[CTL_SECT_GLOBAL][id] &&

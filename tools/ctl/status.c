@@ -1,20 +1,14 @@
 /* SPDX-License-Identifier: MIT */
 /* sh2000ctl info, status (table, JSON, watch) and dump. */
 #include <errno.h>
-#include <fcntl.h>
 #include <math.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/ioctl.h>
 #include <time.h>
 #include <unistd.h>
 
 #include <json-c/json.h>
-
-#include <sh2000_hw.h>
-#include <uapi/sh2000.h>
 
 #include "ctl.h"
 
@@ -67,24 +61,22 @@ int ctl_info(struct ctl *c, int argc, char **argv)
 	printf("backend          %s\n", backend_name(sh2000_backend(c->h)));
 	printf("card protocol    %u.%u\n", SH2000_PROTO_VERSION_MAJOR(v),
 	       SH2000_PROTO_VERSION_MINOR(v));
-	printf("library          libsh2000 %s, protocol %u.%u\n",
-	       SH2000_TOOLS_VERSION, SH2000_PROTO_MAJOR, SH2000_PROTO_MINOR);
+	/* the library actually loaded, not the one the tool was built with */
+	printf("library          libsh2000 %s (libsh2000.so.%u), protocol %u.%u\n",
+	       sh2000_version(), sh2000_soversion(), SH2000_PROTO_MAJOR,
+	       SH2000_PROTO_MINOR);
 	if (sh2000_backend(c->h) == SH2000_BACKEND_DEV) {
-		struct sh2000_info di;
-		int fd = open(sh2000_device(c->h), O_RDONLY | O_CLOEXEC);
+		char dv[64];
+		unsigned int abi, flags;
 
-		memset(&di, 0, sizeof(di));
-		if (fd >= 0 && ioctl(fd, SH2000_IOC_GET_INFO, &di) == 0)
-			printf("driver           %.*s, ABI %u (tools built for %u)%s\n",
-			       (int)sizeof(di.driver_version), di.driver_version,
-			       di.abi_version, (unsigned int)SH2000_ABI_VERSION,
-			       (di.flags & SH2000_INFO_SIMULATED) ?
+		if (sh2000_driver_info(c->h, dv, sizeof(dv), &abi, &flags) == 0)
+			printf("driver           %s, ABI %u (library speaks %u)%s\n",
+			       dv, abi, sh2000_driver_abi(),
+			       (flags & SH2000_DRIVER_SIMULATED) ?
 			       ", simulated card" : "");
-		if (fd >= 0)
-			close(fd);
 	} else {
-		printf("driver           not used (tools built for ABI %u)\n",
-		       (unsigned int)SH2000_ABI_VERSION);
+		printf("driver           not used (library speaks ABI %u)\n",
+		       sh2000_driver_abi());
 	}
 	if ((r = get_global(c, SH2000_GP_COARSE_PERIOD_US, &coarse)) ||
 	    (r = get_global(c, SH2000_GP_FINE_STEPS, &fine)) ||
@@ -272,14 +264,6 @@ static void status_json(struct ctl *c, const struct sh2000_status *st,
 	json_object_put(o);
 }
 
-static volatile sig_atomic_t watch_stop;
-
-static void on_sigint(int sig)
-{
-	(void)sig;
-	watch_stop = 1;
-}
-
 int ctl_status(struct ctl *c, int argc, char **argv)
 {
 	int json = 0, watch = 0, rc = 0;
@@ -325,15 +309,9 @@ int ctl_status(struct ctl *c, int argc, char **argv)
 	rc = ctl_open(c);
 	if (rc)
 		return rc;
-	if (watch) {
-		struct sigaction sa;
-
-		memset(&sa, 0, sizeof(sa));
-		sa.sa_handler = on_sigint;
-		sigaction(SIGINT, &sa, NULL);
-		sigaction(SIGTERM, &sa, NULL);
-	}
-	for (long n = 0; !watch_stop; n++) {
+	if (watch)
+		sh2000_tool_catch_stop(SH2000_SECOND_COUNTS);
+	for (long n = 0; !(watch && sh2000_tool_stop_asked()); n++) {
 		struct sh2000_status st;
 		char err[512] = "";
 		int r = sh2000_poll(c->h, &st), e;
@@ -382,13 +360,13 @@ static int parse_word(const char *s, size_t n, long *v)
 		return -1;
 	memcpy(buf, s, n);
 	buf[n] = '\0';
-	return sh2000_tool_long(buf, 0, SH2000_RAM_WORDS - 1, v);
+	return sh2000_tool_long(buf, 0, SH2000_DPRAM_WORDS - 1, v);
 }
 
 int ctl_dump(struct ctl *c, int argc, char **argv)
 {
 	unsigned int from[64], to[64], nr = 0;
-	static uint16_t buf[SH2000_RAM_WORDS];
+	static uint16_t buf[SH2000_DPRAM_WORDS];
 	int r;
 
 	if (ctl_want_help(argc, argv))
@@ -401,7 +379,7 @@ int ctl_dump(struct ctl *c, int argc, char **argv)
 			return sh2000_tool_usage(argv[0], "dump: at most 64 ranges");
 		if (!strcmp(a, "all")) {
 			from[nr] = 0;
-			to[nr++] = SH2000_RAM_WORDS - 1;
+			to[nr++] = SH2000_DPRAM_WORDS - 1;
 			continue;
 		}
 		sep = strpbrk(a, "-+");
@@ -420,8 +398,8 @@ int ctl_dump(struct ctl *c, int argc, char **argv)
 		} else {
 			long n;
 
-			if (sh2000_tool_long(sep + 1, 1, SH2000_RAM_WORDS, &n) < 0 ||
-			    x + n > SH2000_RAM_WORDS)
+			if (sh2000_tool_long(sep + 1, 1, SH2000_DPRAM_WORDS, &n) < 0 ||
+			    x + n > SH2000_DPRAM_WORDS)
 				goto bad;
 			y = x + n - 1;
 		}
@@ -431,11 +409,11 @@ int ctl_dump(struct ctl *c, int argc, char **argv)
 bad:
 		return sh2000_tool_usage(argv[0],
 			"dump: bad range '%s' (N, N-M, N+COUNT or all; words 0..%u)",
-			a, SH2000_RAM_WORDS - 1);
+			a, SH2000_DPRAM_WORDS - 1);
 	}
 	if (!nr) {
 		from[0] = 0;
-		to[nr++] = SH2000_RAM_WORDS - 1;
+		to[nr++] = SH2000_DPRAM_WORDS - 1;
 	}
 	r = ctl_open(c);
 	if (r)

@@ -26,9 +26,11 @@
 #include <unistd.h>
 
 #include <sh2000/sim.h>
-#include <sh2000_hw.h>
 
 #include "toolcommon.h"
+
+/* the dual-port RAM a served name or file holds, in bytes */
+#define RAM_BYTES (2u * SH2000_DPRAM_WORDS)
 
 #ifndef SH2000_TOOLS_VERSION
 #define SH2000_TOOLS_VERSION "0.0.0"
@@ -248,8 +250,8 @@ static int serve_attach(const char *path, const struct serve_opts *o)
 	uint16_t *ram;
 	int fd, r;
 
-	if (maplen < SH2000_RAM_BYTES)
-		maplen = SH2000_RAM_BYTES;
+	if (maplen < RAM_BYTES)
+		maplen = RAM_BYTES;
 	fd = open(path, O_RDWR | O_CLOEXEC);
 	if (fd < 0) {
 		sh2000_tool_msg("%s: cannot open: %s", path, strerror(errno));
@@ -260,10 +262,10 @@ static int serve_attach(const char *path, const struct serve_opts *o)
 		close(fd);
 		return SH2000_EXIT_DEVICE;
 	}
-	if (S_ISREG(sb.st_mode) && sb.st_size < SH2000_RAM_BYTES) {
+	if (S_ISREG(sb.st_mode) && sb.st_size < RAM_BYTES) {
 		sh2000_tool_msg("%s: %lld bytes, the RAM needs %u",
 				path, (long long)sb.st_size,
-				SH2000_RAM_BYTES);
+				RAM_BYTES);
 		close(fd);
 		return SH2000_EXIT_DEVICE;
 	}

@@ -190,10 +190,10 @@ static int identify_and_design(struct sh2000 *h, const struct tune_opts *o)
 	r = tune_ident(h, o, &id);
 	if (r)
 		return r;
-	if (tune_stop_asked()) {
+	if (sh2000_tool_stop_asked()) {
 		sh2000_tool_msg("%s: axis %c: stopped by a signal after the identification: nothing written",
 				sh2000_device(h), an);
-		return TUNE_EXIT_STOPPED;
+		return SH2000_EXIT_STOPPED;
 	}
 	print_plant(&id, an);
 	if (tune_design(&id.plant, &req, &gn, &mn, why, sizeof(why)) < 0) {

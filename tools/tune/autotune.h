@@ -5,7 +5,7 @@
  * all-or-nothing and as a parameter file (gains.c), and the whole flow
  * (auto.c). Kept apart from tune.h, the test moves' interface. The
  * design's predicted margins are struct tune_design_margins; the ones a
- * chirp measures, struct tune_design_margins (margins.c).
+ * chirp measures, struct tune_margins (margins.c).
  */
 #ifndef SH2000_TUNE_AUTOTUNE_H
 #define SH2000_TUNE_AUTOTUNE_H
@@ -34,6 +34,15 @@ struct tune_plant {
 	double resid, resid_rel;
 	size_t samples;
 };
+
+/* The plant sampled over T with the DAC held (loopmodel.c): a = exp(-p T),
+ * c = (1 - a)/p, e = (T - c)/p, each well computed as p T -> 0. */
+void tune_plant_sample(double p, double T, double *a, double *c, double *e);
+/* pl's P(z) = z^-d (b0 z + b1) / ((z - 1)(z - a)): its a, b0, b1. */
+void tune_plant_z(const struct tune_plant *pl, double *a, double *b0,
+		  double *b1);
+/* P(z) at z = e^(j th), counts per DAC code. */
+double complex tune_plant_at(const struct tune_plant *pl, double th);
 
 /* Predicted loop figures (controller x plant incl. delay, discrete). */
 struct tune_design_margins {

@@ -9,40 +9,28 @@
  * its value), the servo period unchanged, and put back afterwards.
  *
  * The card takes COARSE_PERIOD_US and FINE_STEPS one at a time, and the
- * servo period (their quotient) changes in between. The steps are taken
- * one prime factor p at a time and in the order that makes the period in
- * between p times SHORTER, never longer (the PID is then sampled faster
- * for a command's time, which a stable loop stands; a longer period
- * could make it unstable): down, COARSE / p then FINE / p; up, FINE * p
- * then COARSE * p. Every step is checked before the first is sent (the
- * servo period in between not below the card's minimum, whole us).
+ * servo period (their quotient) changes in between: libsh2000's
+ * sh2000_set_timing() walks through legal states, and only through
+ * states whose servo period is not longer than at the ends when there is
+ * such a path (the PID is then sampled faster for a command's time, which
+ * a stable loop stands; a longer period could make it unstable). The plan
+ * asks for such a path (sh2000_timing_path(), SH2000_TIMING_NO_LONGER)
+ * before anything is sent.
  */
 #include <math.h>
 
 #include "tune.h"
 
-static unsigned int smallest_prime(unsigned int n)
+/* A path from (coarse_us, fine) to the fine steps `to` (the servo period
+ * kept) whose states in between never lengthen the servo period. */
+static int steps_ok(long coarse_us, unsigned int fine, unsigned int to)
 {
-	for (unsigned int p = 2; p * p <= n; p++)
-		if (n % p == 0)
-			return p;
-	return n;
-}
+	struct sh2000_timing_step st[SH2000_TIMING_STEPS_MAX];
 
-/* Every intermediate step from (coarse, fine) by factors of fine/to_fine
- * possible: the coarse period divisible, the servo period in between
- * not below the card's minimum. */
-static int steps_ok(long coarse_us, unsigned int fine, unsigned int to_fine)
-{
-	while (fine > to_fine) {
-		unsigned int p = smallest_prime(fine / to_fine);
-
-		if (coarse_us % p || coarse_us * 1000 / p / fine < SH2000_FW_MIN_SERVO_NS)
-			return 0;
-		coarse_us /= p;
-		fine /= p;
-	}
-	return 1;
+	return sh2000_timing_path((unsigned int)coarse_us, fine,
+				  (unsigned int)(coarse_us / (long)(fine / to)), to,
+				  SH2000_TIMING_NO_LONGER, st,
+				  SH2000_TIMING_STEPS_MAX) >= 0;
 }
 
 int tune_chirp_timing_plan(const struct tune_move *m, double f1_hz,
@@ -67,50 +55,23 @@ int tune_chirp_timing_plan(const struct tune_move *m, double f1_hz,
 	return -1;
 }
 
-static int set(struct tune_move *m, unsigned int id, long v)
-{
-	int r = sh2000_param_set(m->h, SH2000_GLOBAL, id, (double)v);
-
-	return r < 0 ? tune_move_fail(m, r, "set the coarse period") : 0;
-}
-
-/* From (*coarse, *fine) to the fine steps `to`, one prime at a time. */
-static int walk(struct tune_move *m, long *coarse, unsigned int *fine,
-		unsigned int to)
-{
-	int r = 0;
-
-	while (!r && *fine > to) {
-		unsigned int p = smallest_prime(*fine / to);
-
-		if (!(r = set(m, SH2000_GP_COARSE_PERIOD_US, *coarse / p))) {
-			*coarse /= p;
-			if (!(r = set(m, SH2000_GP_FINE_STEPS, *fine / p)))
-				*fine /= p;
-		}
-	}
-	while (!r && *fine < to) {
-		unsigned int p = smallest_prime(to / *fine);
-
-		if (!(r = set(m, SH2000_GP_FINE_STEPS, *fine * p))) {
-			*fine *= p;
-			if (!(r = set(m, SH2000_GP_COARSE_PERIOD_US, *coarse * p)))
-				*coarse *= p;
-		}
-	}
-	return r;
-}
-
 int tune_chirp_timing_apply(struct tune_move *m, struct tune_chirp_timing *t,
 			    int sweep)
 {
-	long coarse = t->cur_coarse_us ? t->cur_coarse_us : t->coarse0_us;
-	unsigned int fine = t->cur_fine ? t->cur_fine : t->fine0;
-	int r = walk(m, &coarse, &fine, sweep ? t->fine : t->fine0);
+	double coarse = 0, fine = 0;
+	int r = sh2000_set_timing(m->h, (unsigned int)(sweep ? t->coarse_us : t->coarse0_us),
+				  sweep ? t->fine : t->fine0);
+	int g;
 
-	t->cur_coarse_us = coarse;
-	t->cur_fine = fine;
+	if (r < 0)
+		r = tune_move_fail(m, r, "set the coarse period");
+	/* where the card is, also after a failure half-way */
+	if ((g = sh2000_param_get(m->h, SH2000_GLOBAL, SH2000_GP_COARSE_PERIOD_US,
+				  &coarse)) < 0 ||
+	    (g = sh2000_param_get(m->h, SH2000_GLOBAL, SH2000_GP_FINE_STEPS,
+				  &fine)) < 0)
+		return r ? r : tune_move_fail(m, g, "read the timing back");
 	m->pc.period_s = coarse * 1e-6;
-	m->pc.fine_steps = fine;
+	m->pc.fine_steps = (unsigned int)fine;
 	return r;
 }

@@ -1,13 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * Gain design for sh2000-tune --auto, pure functions. The loop is the
- * card's own discrete form (docs/cardmodel.md "Controller"): the
- * incremental PID
- *   u(k) = u(k-1) + Kp{ e(k)-e(k-1) + (tau/Ti) e(k) + (Td/tau)[e(k)-2e(k-1)+e(k-2)] }
- * is, summed, C(z) = Kp [1 + (tau/Ti)/(1 - 1/z) + (Td/tau)(1 - 1/z)],
- * and the plant m a = kF u - b v sampled with the DAC held over the servo
- * cycle (zero-order hold, exact) and d cycles of dead time is
- *   P(z) = z^-d (b0 z + b1) / ((z - 1)(z - a)),  a = exp(-p T).
+ * card's own discrete form, the PID's C(z) and the sampled plant's P(z)
+ * with its dead time as loopmodel.c writes them.
  * For a crossover wc and Ti = ratio / wc, C is linear in Kp and
  * Kp Td/tau: two unknowns for the two equations of
  * C(wc) = e^{j(-pi + PM - arg P)} / |P|, the phase margin asked at wc.
@@ -27,42 +22,6 @@
 
 #define SCAN_POINTS 6000
 #define DEG (180.0 / M_PI)
-
-/* a, b0, b1 of the sampled plant (see above), robust for p T -> 0. */
-static void plant_coeffs(const struct tune_plant *pl, double *a, double *b0,
-			 double *b1)
-{
-	double T = pl->T, p = pl->p, pt = p * T, c, tcp;
-
-	*a = exp(-pt);
-	c = pt > 0 ? -expm1(-pt) / p : T;		/* (1 - a) / p */
-	if (pt < 1e-4)	/* (T - c) / p by its series: no cancellation */
-		tcp = T * T / 2 - p * T * T * T / 6 + p * p * T * T * T * T / 24;
-	else
-		tcp = (T - c) / p;
-	*b0 = pl->g * tcp;
-	*b1 = pl->g * c * c - *a * *b0;
-}
-
-static double complex plant_at(const struct tune_plant *pl, double th)
-{
-	double a, b0, b1;
-	double complex z = cexp(I * th);
-
-	plant_coeffs(pl, &a, &b0, &b1);
-	return cpow(z, -(double)pl->d) * (b0 * z + b1) / ((z - 1) * (z - a));
-}
-
-/* The controller's bracket without Kp: A (proportional + integral) and D
- * (derivative, per Kp Td/tau) at theta, so C = Kp A + (Kp Td/tau) D. */
-static void ctrl_parts(double tau, double ti, double th, double complex *A,
-		       double complex *D)
-{
-	double complex d = 1 - cexp(-I * th);
-
-	*A = 1 + (ti > 0 ? (tau / ti) / d : 0);
-	*D = d;
-}
 
 /* All roots of c[0] z^n + ... + c[n] inside |z| = 1 (Schur-Cohn step-down:
  * every reflection coefficient below 1 in magnitude). */
@@ -90,14 +49,13 @@ static int schur_stable(const double *c, int n)
 static int closed_loop_stable(const struct tune_plant *pl,
 			      const struct tune_gains *gn)
 {
-	double a, b0, b1, c[16] = { 0 }, tau = pl->T, k = gn->td / tau;
-	double n0 = 1 + (gn->ti > 0 ? tau / gn->ti : 0) + k, n1 = -(1 + 2 * k);
-	double n2 = k, q[4] = { 1, -(2 + 0), 0, 0 };
+	double a, b0, b1, c[16] = { 0 }, n[3], q[4] = { 1, -(2 + 0), 0, 0 };
 	int deg = (int)pl->d + 4;
 
 	if (pl->d > 11)
 		return 0;
-	plant_coeffs(pl, &a, &b0, &b1);
+	tune_plant_z(pl, &a, &b0, &b1);
+	tune_pid_numerator(gn, pl->T, n);
 	/* (z-1)^2 (z-a) = z^3 - (2+a) z^2 + (1+2a) z - a */
 	q[1] = -(2 + a);
 	q[2] = 1 + 2 * a;
@@ -105,43 +63,18 @@ static int closed_loop_stable(const struct tune_plant *pl,
 	for (int i = 0; i < 4; i++)
 		c[i] = q[i];		/* times z^(d+1): the low terms are 0 */
 	/* (n0 z^2 + n1 z + n2)(b0 z + b1), degree 3, at the lowest powers */
-	c[deg - 3] += gn->kp * n0 * b0;
-	c[deg - 2] += gn->kp * (n0 * b1 + n1 * b0);
-	c[deg - 1] += gn->kp * (n1 * b1 + n2 * b0);
-	c[deg] += gn->kp * n2 * b1;
+	c[deg - 3] += gn->kp * n[0] * b0;
+	c[deg - 2] += gn->kp * (n[0] * b1 + n[1] * b0);
+	c[deg - 1] += gn->kp * (n[1] * b1 + n[2] * b0);
+	c[deg] += gn->kp * n[2] * b1;
 	return schur_stable(c, deg);
-}
-
-/* Unwrapped loop phase at each scan point: the first point is below -180
- * degrees (two integrators and the friction pole's lag). */
-static double unwrap(double ph, double prev_ph, double acc, int first)
-{
-	double dp;
-
-	if (first)
-		return ph > 0 ? ph - 2 * M_PI : ph;
-	dp = ph - prev_ph;
-	dp -= 2 * M_PI * nearbyint(dp / (2 * M_PI));
-	return acc + dp;
-}
-
-/* The phase margin of a gain crossover at unwrapped phase acc, degrees. */
-static double pm_of(double acc)
-{
-	double pm = fmod(acc * DEG + 180, 360);
-
-	if (pm > 180)
-		pm -= 360;
-	if (pm <= -180)
-		pm += 360;
-	return pm;
 }
 
 void tune_margins_of(const struct tune_plant *pl, const struct tune_gains *gn,
 		     struct tune_design_margins *m)
 {
 	double lo = log(1e-5), hi = log(M_PI * 0.99999);
-	double prev_mag = 0, prev_ph = 0, acc = 0, prev_acc = 0;
+	double prev_mag = 0, acc = 0, prev_acc = 0;
 
 	m->pm_deg = INFINITY;
 	m->gm_db = INFINITY;
@@ -149,24 +82,25 @@ void tune_margins_of(const struct tune_plant *pl, const struct tune_gains *gn,
 	m->wpc_hz = 0;
 	for (int i = 0; i <= SCAN_POINTS; i++) {
 		double th = exp(lo + (hi - lo) * i / SCAN_POINTS);
-		double complex L = tune_pid_response(gn, pl->T, th / (2 * M_PI * pl->T)) * plant_at(pl, th);
-		double mag = cabs(L), ph = carg(L), hz = th / (2 * M_PI * pl->T);
+		double complex L = tune_pid_response(gn, pl->T, th / (2 * M_PI * pl->T)) * tune_plant_at(pl, th);
+		double mag = cabs(L), ph = carg(L) * DEG, hz = th / (2 * M_PI * pl->T);
 
-		acc = unwrap(ph, prev_ph, acc, i == 0);
+		/* unwrapped in degrees; the first point is below -180 degrees
+		 * (two integrators and the friction pole's lag) */
+		acc = i == 0 ? (ph > 0 ? ph - 360 : ph) : tune_phase_unwrap(acc, ph);
 		if (i > 0 && (prev_mag - 1) * (mag - 1) <= 0 && prev_mag != mag &&
-		    (pm_of(acc) < m->pm_deg || m->wc_hz == 0)) {
-			m->pm_deg = pm_of(acc);
+		    (tune_phase_margin(acc) < m->pm_deg || m->wc_hz == 0)) {
+			m->pm_deg = tune_phase_margin(acc);
 			m->wc_hz = hz;
 		}
 		/* a crossing of -180 - k 360 degrees with |L| < 1 */
 		if (i > 0 && mag < 1 &&
-		    floor((acc * DEG + 180) / 360) != floor((prev_acc * DEG + 180) / 360) &&
+		    floor((acc + 180) / 360) != floor((prev_acc + 180) / 360) &&
 		    -20 * log10(mag) < m->gm_db) {
 			m->gm_db = -20 * log10(mag);
 			m->wpc_hz = hz;
 		}
 		prev_mag = mag;
-		prev_ph = ph;
 		prev_acc = acc;
 	}
 	m->stable = closed_loop_stable(pl, gn);
@@ -179,9 +113,9 @@ static int solve_at(const struct tune_plant *pl, double th, double ratio,
 		    double pm_deg, struct tune_gains *gn)
 {
 	double tau = pl->T, wc = th / tau, det, kd;
-	double complex P = plant_at(pl, th), A, D, Cs;
+	double complex P = tune_plant_at(pl, th), A, D, Cs;
 
-	ctrl_parts(tau, ratio / wc, th, &A, &D);
+	tune_pid_parts(tau, ratio / wc, th, &A, &D);
 	Cs = cexp(I * (-M_PI + pm_deg / DEG - carg(P))) / cabs(P);
 	/* Kp A + Kd D = Cs: two real equations */
 	det = creal(A) * cimag(D) - cimag(A) * creal(D);

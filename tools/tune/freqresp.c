@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Frequency responses from a gathered record, and the card's controller
- * computed from its discrete law.
+ * Frequency responses from a gathered record (the card's controller
+ * computed from its law is loopmodel.c's), and the gains the card has.
  *
  * Estimator: the chirp test's record runs from rest to rest (the axis
  * still before the sweep and settled after it), so each signal, less its
@@ -67,24 +67,6 @@ void tune_fr_ratio(const double *x, const double *y, size_t n, double ts,
 		}
 		out[i] = xx > 0 ? xy / xx : NAN;
 	}
-}
-
-/*
- * pid.c's law, u(k) = u(k-1) + Kp{e(k)-e(k-1) + (tau/Ti) e(k)
- * + (Td/tau)[e(k)-2e(k-1)+e(k-2)]}, as a transfer function of z = e^(jwtau):
- *   C(z) = Kp [ (1 - z^-1) + tau/Ti + (Td/tau)(1 - z^-1)^2 ] / (1 - z^-1)
- * (no integral term when Ti = 0). The DAC's clamp and rounding are
- * outside the linear response.
- */
-double complex tune_pid_response(const struct tune_gains *g, double tau,
-				 double hz)
-{
-	double complex d = 1 - cexp(-I * 2 * M_PI * hz * tau);
-	double complex num = d + (g->td / tau) * d * d;
-
-	if (g->ti > 0)
-		num += tau / g->ti;
-	return g->kp * num / d;
 }
 
 int tune_read_gains(struct sh2000 *h, unsigned int a, struct tune_gains *g)

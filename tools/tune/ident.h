@@ -16,7 +16,7 @@ struct tune_ident_result {
 /*
  * Move axis o->axis with the excitation within o's bounds (travel_mm,
  * vmax, dac_max, ferr_max_mm; o->enable) and fit its plant into res. An
- * exit code: 0, TUNE_EXIT_ABORTED (following-error bound: the axis is back
+ * exit code: 0, SH2000_EXIT_ABORTED (following-error bound: the axis is back
  * at its start, the card's limits as they were) or another with the
  * message printed.
  */

@@ -11,9 +11,8 @@
  * gain g, the start position and the start velocity, so those come from a
  * 3x3 normal system; p is found by a scan and a golden-section search of
  * the residual, d by trying 0..dmax. The model, sampled exactly with the
- * DAC held over each servo cycle T (docs/cardmodel.md "Plant"):
- *   v(k+1) = a v(k) + c g u(k-d),  x(k+1) = x(k) + c v(k) + e g u(k-d),
- *   a = exp(-p T), c = (1 - a)/p, e = (T - c)/p.
+ * DAC held over each servo cycle T (loopmodel.c's tune_plant_sample()):
+ *   v(k+1) = a v(k) + c g u(k-d),  x(k+1) = x(k) + c v(k) + e g u(k-d).
  */
 #include <math.h>
 #include <stdio.h>
@@ -32,16 +31,6 @@ struct fit {
 	double T;
 	double *s_u, *s_v;	/* responses to u (g = 1) and to v0 = 1 */
 };
-
-static void coeffs(double p, double T, double *a, double *c, double *e)
-{
-	double pt = p * T;
-
-	*a = exp(-pt);
-	*c = pt > 0 ? -expm1(-pt) / p : T;
-	*e = pt < 1e-4 ? T * T / 2 - p * T * T * T / 6 + p * p * T * T * T * T / 24 :
-			 (T - *c) / p;
-}
 
 /* Solve the 3x3 system M x = r (Cramer: it is small and well scaled by
  * the caller). 0, or -1 when singular. */
@@ -72,7 +61,7 @@ static double sse_at(struct fit *f, double p, unsigned int d, double *g)
 	double a, c, e, v = 0, x = 0, vv = 1, xv = 0, M[3][3] = { { 0 } };
 	double r[3] = { 0 }, th[3], sse = 0;
 
-	coeffs(p, f->T, &a, &c, &e);
+	tune_plant_sample(p, f->T, &a, &c, &e);
 	for (size_t k = 0; k < f->n; k++) {
 		double u = k >= d + 1 ? f->dac[k - d - 1] : 0, nx, nxv;
 

@@ -98,9 +98,9 @@ static void usage(FILE *f)
 "\n"
 "Exit status: 0 done, 1 the card or the library failed (or a bound\n"
 "refused the step: nothing moved), 2 usage error, 3 device, 4 fault\n"
-"latched, 5 aborted on the following-error limit (axis back at its\n"
-"start), 6 gnuplot missing or failed, 7 stopped by SIGINT or SIGTERM (the\n"
-"motion stopped on its way, the card's limits and timing put back);\n"
+"latched, 6 gnuplot missing or failed, 7 stopped by SIGINT or SIGTERM\n"
+"(the motion stopped on its way, the card's limits and timing put back),\n"
+"8 aborted on the following-error limit (axis back at its start);\n"
 "--auto: 1 also when the design is refused (nothing written).\n");
 }
 
@@ -288,7 +288,9 @@ int main(int argc, char **argv)
 		return r < 0 ? SH2000_EXIT_OK : r;
 	if ((r = outputs_writable(&o)))
 		return r;
-	tune_signals();
+	/* the test moves look at sh2000_tool_stop_asked() between batches
+	 * and after each move; a second signal ends the program at once */
+	sh2000_tool_catch_stop(SH2000_SECOND_KILLS);
 	if ((r = sh2000_tool_open(&h, o.device_arg)))
 		return r;
 	/* The in-process card is this program's alone and starts with every

@@ -34,17 +34,31 @@ static double at(const double *hz, size_t i, double f)
 	return hz[i] * pow(hz[i + 1] / hz[i], f);
 }
 
+double tune_phase_unwrap(double prev, double ph)
+{
+	while (ph - prev > 180)
+		ph -= 360;
+	while (ph - prev < -180)
+		ph += 360;
+	return ph;
+}
+
+double tune_phase_margin(double ph)
+{
+	/* ph into (-360, 0] */
+	ph = fmod(ph, 360);
+	if (ph > 0)
+		ph -= 360;
+	return 180 + ph;
+}
+
 /* The phase of L in degrees, unwrapped along the frequencies. */
 static void unwrap(const struct tune_fr *fr, double *ph)
 {
 	for (size_t i = 0; i < fr->n; i++) {
 		ph[i] = carg(fr->loop[i]) * 180 / M_PI;
-		if (i) {
-			while (ph[i] - ph[i - 1] > 180)
-				ph[i] -= 360;
-			while (ph[i] - ph[i - 1] < -180)
-				ph[i] += 360;
-		}
+		if (i)
+			ph[i] = tune_phase_unwrap(ph[i - 1], ph[i]);
 	}
 }
 
@@ -59,11 +73,7 @@ static void crossover(const struct tune_fr *fr, const double *ph,
 			double f = frac(a, b, 0), p = ph[i] + f * (ph[i + 1] - ph[i]);
 
 			m->wc_hz = at(fr->hz, i, f);
-			/* into (-360, 0] */
-			p = fmod(p, 360);
-			if (p > 0)
-				p -= 360;
-			m->pm_deg = 180 + p;
+			m->pm_deg = tune_phase_margin(p);
 			return;
 		}
 	}

@@ -11,15 +11,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include "tune.h"
-
-struct plot_files {
-	char dir[64], data[96], script[96], err[96];
-};
 
 struct step_plot {
 	const struct tune_trace *tr;
@@ -40,21 +34,8 @@ static int write_data(const void *ctx, const char *path)
 	return fclose(f) ? -errno : 0;
 }
 
-void tune_plot_terminal(FILE *f, const char *out, const char *title,
-			int svg, int cairo)
-{
-	fputs(svg ? "set terminal svg size 1200,900 dynamic font 'Sans,11'\n" :
-	      cairo ? "set terminal pngcairo size 1200,900 font 'Sans,10'\n" :
-		      "set terminal png size 1200,900\n", f);
-	fputs("set output ", f);
-	sh2000_tool_gnuplot_quoted(f, out);
-	fputs("\nset grid\nset multiplot title ", f);
-	sh2000_tool_gnuplot_quoted(f, title);
-	fputs("\n", f);
-}
-
-static int write_script(FILE *f, const void *ctx, const char *out, int svg,
-			int cairo)
+static int write_script(FILE *f, const void *ctx, const char *out,
+			const struct sh2000_tool_plot_kind *k)
 {
 	const struct step_plot *sp = ctx;
 	const struct tune_trace *tr = sp->tr;
@@ -66,7 +47,7 @@ static int write_script(FILE *f, const void *ctx, const char *out, int svg,
 		snprintf(settle, sizeof(settle), "%.2f ms", m->settle_s * 1e3);
 	else
 		snprintf(settle, sizeof(settle), "not settled");
-	tune_plot_terminal(f, out, sp->title, svg, cairo);
+	sh2000_tool_plot_head(f, out, sp->title, k, TUNE_PLOT_W, TUNE_PLOT_H);
 	/* the step takes milliseconds of a hold of many: show the step and
 	 * a few times its settling */
 	fprintf(f, "set xrange [%.3f:%.3f]\n", tr->t[0] * 1e3,
@@ -92,88 +73,28 @@ static int write_script(FILE *f, const void *ctx, const char *out, int svg,
 	return 0;
 }
 
-static void cleanup(const struct plot_files *pf)
-{
-	unlink(pf->data);
-	unlink(pf->script);
-	unlink(pf->err);
-	rmdir(pf->dir);
-}
-
-static int report_failure(const struct plot_files *pf, const char *out,
-			  int status)
-{
-	char line[512];
-	FILE *f;
-
-	sh2000_tool_msg("--plot %s: gnuplot failed (%s %d):", out,
-			WIFEXITED(status) ? "exit status" : "signal",
-			WIFEXITED(status) ? WEXITSTATUS(status) : WTERMSIG(status));
-	f = fopen(pf->err, "r");
-	while (f && fgets(line, sizeof(line), f))
-		fprintf(stderr, "  %s", line);
-	if (f)
-		fclose(f);
-	return TUNE_EXIT_HELPER;
-}
-
-/* The script written to the temporary directory and closed. */
-static int script_file(const char *path, const void *ctx, const char *out,
-		       int svg, int cairo,
-		       int (*write_script)(FILE *f, const void *ctx,
-					   const char *out, int svg, int cairo))
-{
-	FILE *f = fopen(path, "w");
-	int e;
-
-	if (!f)
-		return -errno;
-	e = write_script(f, ctx, out, svg, cairo);
-	if (fclose(f) && !e)
-		e = -errno;
-	return e;
-}
-
 int tune_gnuplot_run(const char *name, const char *out,
 		     int (*write_data)(const void *ctx, const char *path),
-		     int (*write_script)(FILE *f, const void *ctx,
-					 const char *out, int svg, int cairo),
-		     const void *ctx)
+		     sh2000_tool_plot_script write_script, const void *ctx)
 {
-	struct plot_files pf;
-	size_t n = strlen(out);
-	int svg = n >= 4 && !strcasecmp(out + n - 4, ".svg");
-	int status = 0, e = 0, r = SH2000_EXIT_OK;
-	char def[160];
+	char dir[64], data[96];
+	int e, r;
 
-	snprintf(pf.dir, sizeof(pf.dir), "/tmp/sh2000-tune.XXXXXX");
-	if (!mkdtemp(pf.dir)) {
+	snprintf(dir, sizeof(dir), "/tmp/sh2000-tune.XXXXXX");
+	if (!mkdtemp(dir)) {
 		sh2000_tool_msg("--plot: temporary directory: %s", strerror(errno));
 		return SH2000_EXIT_CARD;
 	}
-	snprintf(pf.data, sizeof(pf.data), "%s/%s.dat", pf.dir, name);
-	snprintf(pf.script, sizeof(pf.script), "%s/%s.gp", pf.dir, name);
-	snprintf(pf.err, sizeof(pf.err), "%s/gnuplot.err", pf.dir);
-	snprintf(def, sizeof(def), "DATA='%s'", pf.data);
-	e = write_data(ctx, pf.data);
-	/* pngcairo draws better; plain png (libgd) if this gnuplot lacks it */
-	for (int cairo = 1; !e && cairo >= 0; cairo--) {
-		e = script_file(pf.script, ctx, out, svg, cairo, write_script);
-		if (!e)
-			e = sh2000_tool_gnuplot(def, pf.script, pf.err, &status);
-		if (e || (WIFEXITED(status) && WEXITSTATUS(status) == 0) || svg)
-			break;
+	snprintf(data, sizeof(data), "%s/%s.dat", dir, name);
+	e = write_data(ctx, data);
+	if (e) {
+		sh2000_tool_msg("--plot %s: %s: %s", out, data, strerror(-e));
+		r = SH2000_EXIT_CARD;
+	} else {
+		r = sh2000_tool_plot(dir, data, out, write_script, ctx);
 	}
-	if (e == -ENOENT) {
-		sh2000_tool_msg("--plot %s: gnuplot not found on PATH (Debian package gnuplot-nox)", out);
-		r = TUNE_EXIT_HELPER;
-	} else if (e) {
-		sh2000_tool_msg("--plot %s: %s", out, strerror(-e));
-		r = TUNE_EXIT_HELPER;
-	} else if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-		r = report_failure(&pf, out, status);
-	}
-	cleanup(&pf);
+	unlink(data);
+	rmdir(dir);
 	return r;
 }
 

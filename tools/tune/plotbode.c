@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The pictures of the ramp and chirp tests through gnuplot (plot.c's
- * tune_gnuplot_run): the Bode plot of the measured plant, the loop and
+ * tune_gnuplot_run over toolcommon's runner): the Bode plot of the measured plant, the loop and
  * the closed loop (magnitude in dB, phase in degrees, log frequency) with
  * the crossover, phase margin, gain margin and bandwidth marked; and the
  * ramp's following error with the set-point's speed.
@@ -26,10 +26,8 @@ static void unwrapped(const double complex *z, size_t n, double *ph)
 
 	for (size_t i = 0; i < n; i++) {
 		ph[i] = carg(z[i]) * 180 / M_PI;
-		while (i && ph[i] - ph[i - 1] > 180)
-			ph[i] -= 360;
-		while (i && ph[i] - ph[i - 1] < -180)
-			ph[i] += 360;
+		if (i)
+			ph[i] = tune_phase_unwrap(ph[i - 1], ph[i]);
 	}
 	shift = n ? -360 * ceil(ph[n - 1] / 360) : 0;
 	for (size_t i = 0; i < n; i++)
@@ -95,8 +93,8 @@ static void mark(FILE *f, double hz, const char *color, const char *label,
 			label, hz, y, left ? "right" : "left", left ? "-0.5" : "0.5", color);
 }
 
-static int bode_script(FILE *f, const void *ctx, const char *out, int svg,
-		       int cairo)
+static int bode_script(FILE *f, const void *ctx, const char *out,
+		       const struct sh2000_tool_plot_kind *k)
 {
 	const struct bode_plot *bp = ctx;
 	const struct tune_margins *m = bp->m;
@@ -108,7 +106,7 @@ static int bode_script(FILE *f, const void *ctx, const char *out, int svg,
 	snprintf(gml, sizeof(gml), "-180 deg at %+.1f dB: gain may fall %.1f dB",
 		 -m->gm_low_db, -m->gm_low_db);
 	snprintf(bw, sizeof(bw), "bandwidth %.1f Hz", m->bw_hz);
-	tune_plot_terminal(f, out, bp->title, svg, cairo);
+	sh2000_tool_plot_head(f, out, bp->title, k, TUNE_PLOT_W, TUNE_PLOT_H);
 	fprintf(f, "set logscale x\nset xrange [%g:%g]\nset format x '%%g'\n"
 		"set key outside right top\nset lmargin 10\nset rmargin 36\n", lo, hi);
 	ticks_125(f, lo, hi);
@@ -170,14 +168,14 @@ static int ramp_data(const void *ctx, const char *path)
 	return fclose(f) ? -errno : 0;
 }
 
-static int ramp_script(FILE *f, const void *ctx, const char *out, int svg,
-		       int cairo)
+static int ramp_script(FILE *f, const void *ctx, const char *out,
+		       const struct sh2000_tool_plot_kind *k)
 {
 	const struct ramp_plot *p = ctx;
 	const struct tune_ramp *rp = p->rp;
 	double um = 1e3 / rp->counts_per_mm;
 
-	tune_plot_terminal(f, out, p->title, svg, cairo);
+	sh2000_tool_plot_head(f, out, p->title, k, TUNE_PLOT_W, TUNE_PLOT_H);
 	fprintf(f, "set autoscale xfix\nset origin 0,0.35\nset size 1,0.6\n"
 		"set title 'following error: constant speed peak %.3f um, RMS %.3f um; accelerating peak %.3f um'\n"
 		"set ylabel 'following error (um)'\nset xlabel 't (ms from the start)'\n"

@@ -10,7 +10,6 @@
  * started.
  */
 #include <math.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -34,33 +33,6 @@
  * library code). */
 #define STOP_ASKED	(-4)
 
-static volatile sig_atomic_t stop_flag;
-
-static void on_stop(int sig)
-{
-	(void)sig;
-	stop_flag = 1;
-}
-
-void tune_signals(void)
-{
-	struct sigaction sa;
-
-	memset(&sa, 0, sizeof(sa));
-	sa.sa_handler = on_stop;
-	/* one-shot: a second signal, while the tool puts things back, has
-	 * the default action */
-	sa.sa_flags = SA_RESETHAND;
-	sigemptyset(&sa.sa_mask);
-	sigaction(SIGINT, &sa, NULL);
-	sigaction(SIGTERM, &sa, NULL);
-}
-
-int tune_stop_asked(void)
-{
-	return stop_flag != 0;
-}
-
 int tune_move_fail(struct tune_move *s, int r, const char *what)
 {
 	return sh2000_tool_fail(s->h, r, what);
@@ -75,7 +47,7 @@ int tune_move_push(struct tune_move *s, const int32_t *v, unsigned int n,
 	while (n) {
 		unsigned int k = n < PUSH_BATCH ? n : PUSH_BATCH;
 
-		if (stop_flag)
+		if (sh2000_tool_stop_asked())
 			return STOP_ASKED;
 		for (unsigned int i = 0; i < k; i++) {
 			memcpy(pts[i], s->p, sizeof(pts[i]));
@@ -217,7 +189,7 @@ int tune_move_recover(struct tune_move *s, int fault)
 	if (r < 0)
 		sh2000_tool_msg("%s", sh2000_run_error(run));
 	sh2000_run_destroy(run);
-	return r < 0 ? sh2000_tool_exit_code(r) : TUNE_EXIT_ABORTED;
+	return r < 0 ? sh2000_tool_exit_code(r) : SH2000_EXIT_ABORTED;
 }
 
 int tune_move_arm(struct tune_move *s, unsigned int signals, double span_s,
@@ -296,7 +268,7 @@ static int stopped(struct tune_move *s)
 				sh2000_device(s->h), s->name, sh2000_tool_axis_name(s->a),
 				st.axis[s->a].cmd_counts / s->pc.counts_per_mm[s->a],
 				(st.axis[s->a].cmd_counts - s->start) / s->pc.counts_per_mm[s->a]);
-	return TUNE_EXIT_STOPPED;
+	return SH2000_EXIT_STOPPED;
 }
 
 int tune_move_run(struct tune_move *s, unsigned int signals, double span_s,
@@ -309,7 +281,7 @@ int tune_move_run(struct tune_move *s, unsigned int signals, double span_s,
 		return r;
 	}
 	r = move(s);
-	if (r == STOP_ASKED || (r >= 0 && stop_flag))
+	if (r == STOP_ASKED || (r >= 0 && sh2000_tool_stop_asked()))
 		return stopped(s);
 	if (r == -SH2000_EFERR) {
 		/* the bound the user set: back to the start */

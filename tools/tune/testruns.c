@@ -100,7 +100,7 @@ static int after(struct sh2000 *h, unsigned int axis, int r, double start)
 {
 	if (!r)
 		return tune_check_back(h, axis, start);
-	if (r == TUNE_EXIT_ABORTED && tune_check_back(h, axis, start))
+	if (r == SH2000_EXIT_ABORTED && tune_check_back(h, axis, start))
 		return SH2000_EXIT_CARD;
 	return r;
 }

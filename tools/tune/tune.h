@@ -14,15 +14,6 @@
 
 #include "toolcommon.h"
 
-/* The test was aborted (following-error limit), the axis is back at its
- * start and the parameters are as they were. */
-#define TUNE_EXIT_ABORTED 5
-/* gnuplot missing or failed (the figures were printed) */
-#define TUNE_EXIT_HELPER 6
-/* SIGINT or SIGTERM: the motion stopped on its way, the parameters as they
- * were, nothing written (as sh2000-upload's 7) */
-#define TUNE_EXIT_STOPPED 7
-
 /* The settling band of the report, counts. */
 #define TUNE_SETTLE_COUNTS 10.0
 
@@ -81,9 +72,9 @@ struct tune_metrics {
  * encoder never crossed 90 % of the step (no rise time). */
 int tune_metrics(const struct tune_trace *tr, struct tune_metrics *m);
 
-/* Run the step test on h: exit code (0, TUNE_EXIT_ABORTED, or another
+/* Run the step test on h: exit code (0, SH2000_EXIT_ABORTED, or another
  * with the message printed); *tr filled on 0, tr->start (the axis' start
- * set-point) also on TUNE_EXIT_ABORTED. */
+ * set-point) also on SH2000_EXIT_ABORTED. */
 int tune_step(struct sh2000 *h, const struct tune_opts *o,
 	      struct tune_trace *tr);
 void tune_trace_free(struct tune_trace *tr);
@@ -147,11 +138,6 @@ struct tune_move {
 };
 
 int tune_move_fail(struct tune_move *s, int r, const char *what);
-/* SIGINT and SIGTERM set a flag the test moves look at between batches
- * and after each move (a second signal ends the program at once). */
-void tune_signals(void);
-/* A stop was asked (by a signal): stop now, put everything back. */
-int tune_stop_asked(void);
 /* The card idle and unfaulted, the axis enabled (by --enable), the path
  * configuration and the start read: an exit code, nothing moved. */
 int tune_move_prepare(struct tune_move *s);
@@ -177,7 +163,7 @@ int tune_move_read(struct tune_move *s, unsigned int rec,
 		   struct sh2000_gather_info *gi, double **values);
 /* Arm the record (tune_move_arm), move(s) (pushes, waits until idle: a
  * library code), then undo and the limits back, whatever happened; after
- * a following-error fault the axis back at its start (TUNE_EXIT_ABORTED):
+ * a following-error fault the axis back at its start (SH2000_EXIT_ABORTED):
  * an exit code. */
 int tune_move_run(struct tune_move *s, unsigned int signals, double span_s,
 		  unsigned int *rec, int (*move)(struct tune_move *s));
@@ -286,8 +272,8 @@ struct tune_margins {
 /* The card's timing before the sweep (coarse0_us, fine0), for it
  * (coarse_us, fine) and as it is now (cur_*: 0 before the first change). */
 struct tune_chirp_timing {
-	long coarse0_us, coarse_us, cur_coarse_us;
-	unsigned int fine0, fine, cur_fine;
+	long coarse0_us, coarse_us;
+	unsigned int fine0, fine;
 };
 
 /* The coarse period (a divisor of the card's, the servo period kept) that
@@ -310,11 +296,24 @@ double tune_chirp_f1_max(double servo_s);
  * crosses 0 dB in the measured band (no crossover, no phase margin; the
  * other figures are still filled, NAN where absent). */
 int tune_margins(const struct tune_fr *fr, struct tune_margins *m);
+/* One step of unwrapping a phase along the frequencies: ph (degrees) moved
+ * by whole turns to within 180 degrees of the previous unwrapped prev. */
+double tune_phase_unwrap(double prev, double ph);
+/* The phase margin of a loop whose unwrapped phase at its gain crossover
+ * is ph degrees: 180 + ph placed by whole turns in (-180, 180]. */
+double tune_phase_margin(double ph);
 
 /* The card's PID (pid.c's incremental law with integral and derivative,
- * the feed-forward aside) at hz, servo period tau: DAC codes per count. */
+ * the feed-forward aside) at hz, servo period tau: DAC codes per count
+ * (loopmodel.c, with C(z) in its other forms). */
 double complex tune_pid_response(const struct tune_gains *g, double tau,
 				 double hz);
+/* C(z) = Kp A + (Kp Td/tau) D at theta = w tau, the parts without Kp: A
+ * the proportional and integral, D the derivative per Kp Td/tau. */
+void tune_pid_parts(double tau, double ti, double th, double complex *A,
+		    double complex *D);
+/* C(z) = Kp (n[0] + n[1] z^-1 + n[2] z^-2) / (1 - z^-1). */
+void tune_pid_numerator(const struct tune_gains *g, double tau, double n[3]);
 /* The gains of axis a as the card has them: a library code. */
 int tune_read_gains(struct sh2000 *h, unsigned int a, struct tune_gains *g);
 /* The response of y to x (n samples each, from rest to rest) at hz[0..nf)
@@ -329,18 +328,16 @@ void tune_fr_grid(double f0, double f1, size_t n, double *hz);
 int tune_plot_bode(const struct tune_fr *fr, const struct tune_margins *m,
 		   const char *out, const char *title);
 
-/* gnuplot on script (DATA set to data), PNG through pngcairo if this
- * gnuplot has it, else libgd: an exit code with the message printed.
- * write_script(f, ctx, out, svg, cairo) writes the script (0 or -errno). */
+/* A picture of the tool: write_data(ctx) writes NAME.dat into a private
+ * temporary directory, sh2000_tool_plot() draws out from it with
+ * write_script, the directory is removed after. An exit code with the
+ * message printed. */
 int tune_gnuplot_run(const char *name, const char *out,
 		     int (*write_data)(const void *ctx, const char *path),
-		     int (*write_script)(FILE *f, const void *ctx,
-					 const char *out, int svg, int cairo),
-		     const void *ctx);
+		     sh2000_tool_plot_script write_script, const void *ctx);
 
-/* The terminal (PNG through pngcairo or libgd, or SVG), output and
- * multiplot title lines every picture's script starts with. */
-void tune_plot_terminal(FILE *f, const char *out, const char *title,
-			int svg, int cairo);
+/* Every picture's size in pixels. */
+#define TUNE_PLOT_W	1200
+#define TUNE_PLOT_H	900
 
 #endif /* SH2000_TUNE_H */

@@ -13,14 +13,7 @@
 
 #include "upload.h"
 
-volatile sig_atomic_t upl_stop_flag, upl_resume_flag, upl_hold_flag;
-
-static void on_stop(int sig)
-{
-	(void)sig;
-	if (upl_stop_flag < 2)
-		upl_stop_flag++;
-}
+volatile sig_atomic_t upl_resume_flag, upl_hold_flag;
 
 static void on_resume(int sig)
 {
@@ -39,11 +32,9 @@ void upl_signals(void)
 {
 	struct sigaction sa;
 
+	sh2000_tool_catch_stop(SH2000_SECOND_COUNTS);
 	memset(&sa, 0, sizeof(sa));
-	sa.sa_handler = on_stop;
 	sigemptyset(&sa.sa_mask);
-	sigaction(SIGINT, &sa, NULL);
-	sigaction(SIGTERM, &sa, NULL);
 	sa.sa_handler = on_resume;
 	sigaction(SIGUSR1, &sa, NULL);
 	sa.sa_handler = on_hold;
@@ -62,13 +53,13 @@ void upl_on_progress(void *ctx, const struct sh2000_run_progress *p)
 {
 	struct upl_runctx *rc = ctx;
 
-	if (upl_stop_flag && !rc->stop_sent && rc->run) {
+	if (sh2000_tool_stop_asked() && !rc->stop_sent && rc->run) {
 		rc->stop_sent = 1;
 		upl_report_end(&rc->rep);
 		sh2000_tool_msg("stopping on the path (signal; a second one is an emergency stop)");
 		sh2000_run_stop(rc->run);
 	}
-	if (upl_stop_flag >= 2 && !rc->estop_sent && rc->h) {
+	if (sh2000_tool_stop_asked() >= 2 && !rc->estop_sent && rc->h) {
 		rc->estop_sent = 1;
 		upl_report_end(&rc->rep);
 		sh2000_tool_msg("emergency stop (second signal)");
@@ -155,7 +146,7 @@ int upl_pause(void *ctx, const struct sh2000_prog_block *b)
 		struct sh2000_status st;
 		int e;
 
-		if (upl_stop_flag)
+		if (sh2000_tool_stop_asked())
 			return -ECANCELED;
 		if (sh2000_backend(rc->h) == SH2000_BACKEND_SIM)
 			continue;
@@ -182,7 +173,7 @@ int upl_run_fail(const struct upl_runctx *rc, const char *file, int e)
 	if (e == -ECANCELED) {
 		sh2000_tool_msg("%s%sstopped by the operator; the card is at rest on the path",
 				where, where[0] ? ": " : "");
-		return UPLOAD_EXIT_STOPPED;
+		return SH2000_EXIT_STOPPED;
 	}
 	if (rc->pause_error)
 		return sh2000_tool_fail(rc->h, e, "while paused");
@@ -190,7 +181,7 @@ int upl_run_fail(const struct upl_runctx *rc, const char *file, int e)
 	if (where[0])
 		sh2000_tool_msg("%s: the card was running this block", where);
 	if (e == -SH2000_ESTOPPED)
-		return UPLOAD_EXIT_STOPPED;	/* an operator's STOP elsewhere */
+		return SH2000_EXIT_STOPPED;	/* an operator's STOP elsewhere */
 	return sh2000_tool_exit_code(e);
 }
 

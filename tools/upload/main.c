@@ -90,7 +90,7 @@ static int first_pass(struct sh2000 *h, const struct upl_opts *o,
 		fprintf(stderr, "%s: error: %s\n",
 			plan->where[0] ? plan->where : o->file, plan->error);
 		sh2000_tool_msg("%s: the plan failed; nothing moved", o->file);
-		return UPLOAD_EXIT_PROGRAM;
+		return SH2000_EXIT_INPUT;
 	}
 	if (plan->optional_skipped && !o->quiet)
 		sh2000_tool_msg("M1 optional stops are skipped (--optional-stop pauses at them)");
@@ -210,7 +210,7 @@ static int second_pass(struct sh2000 *h, const struct upl_opts *o,
 	e = sh2000_prog_reader_rewind(src->reader);
 	if (!e)
 		e = sh2000_run_program(rc->run, src->reader, &po, upl_pause, rc);
-	if (!e && upl_stop_flag)
+	if (!e && sh2000_tool_stop_asked())
 		e = -ECANCELED;
 	upl_report_end(&rc->rep);
 	x = e ? upl_run_fail(rc, o->file, e) : SH2000_EXIT_OK;
@@ -273,12 +273,12 @@ int main(int argc, char **argv)
 	/* helpers first: a missing one must not cost a run */
 	if (o.rs274 && !upl_which("rs274")) {
 		sh2000_tool_msg("--rs274: LinuxCNC's rs274 interpreter is not installed (Debian package linuxcnc-uspace); without --rs274 the built-in parser reads the G-code subset");
-		return UPLOAD_EXIT_HELPER;
+		return SH2000_EXIT_HELPER;
 	}
 	if (o.plot && !upl_which("gnuplot")) {
 		sh2000_tool_msg("--plot %s: gnuplot not found on PATH (Debian package gnuplot-nox)",
 				o.plot);
-		return UPLOAD_EXIT_HELPER;
+		return SH2000_EXIT_HELPER;
 	}
 	x = sh2000_tool_open(&h, o.device);
 	if (x)

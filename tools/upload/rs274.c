@@ -153,11 +153,11 @@ int upl_rs274_run(const struct upl_opts *o, struct upl_source *s)
 	posix_spawn_file_actions_destroy(&fa);
 	if (e) {
 		sh2000_tool_msg("--rs274: cannot run rs274: %s", strerror(e));
-		return UPLOAD_EXIT_HELPER;
+		return SH2000_EXIT_HELPER;
 	}
 	while (waitpid(pid, &status, 0) < 0)
 		if (errno != EINTR)
-			return UPLOAD_EXIT_HELPER;
+			return SH2000_EXIT_HELPER;
 	/* rs274 stops printing at an error; the reader then finds no
 	 * PROGRAM_END and says so, after rs274's own message */
 	if (!WIFEXITED(status))

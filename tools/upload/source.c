@@ -23,7 +23,7 @@ static int read_tools(struct upl_source *s, const struct upl_opts *o)
 		sh2000_tool_msg("--tool-table %s: %zu error%s; nothing moved",
 				o->tool_table, s->diags.errors,
 				s->diags.errors == 1 ? "" : "s");
-		return UPLOAD_EXIT_PROGRAM;
+		return SH2000_EXIT_INPUT;
 	}
 	return SH2000_EXIT_CARD;	/* cannot be read */
 }
@@ -79,7 +79,7 @@ int upl_source_errors(struct upl_source *s, const struct upl_opts *o)
 				s->canon);
 		s->dir[0] = 0;
 	}
-	return UPLOAD_EXIT_PROGRAM;
+	return SH2000_EXIT_INPUT;
 }
 
 void upl_source_close(struct upl_source *s)

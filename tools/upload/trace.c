@@ -9,9 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include "upload.h"
@@ -159,26 +157,11 @@ uint64_t upl_trace_rows(const struct upl_trace *t)
 	return t->rows;
 }
 
-static int write_script(const char *script,
-			const char *out, const char *title, int svg,
-			int cairo)
+static int write_script(FILE *f, const void *ctx, const char *out,
+			const struct sh2000_tool_plot_kind *k)
 {
-	FILE *f = fopen(script, "w");
-
-	if (!f)
-		return -errno;
-	if (svg)
-		fputs("set terminal svg size 1400,900 dynamic font 'Sans,11'\n", f);
-	else if (cairo)
-		fputs("set terminal pngcairo size 1400,900 font 'Sans,10'\n", f);
-	else
-		fputs("set terminal png size 1400,900\n", f);
-	fputs("set output ", f);
-	sh2000_tool_gnuplot_quoted(f, out);
-	fputs("\nset datafile separator ' '\nset grid\n"
-	      "set multiplot title ", f);
-	sh2000_tool_gnuplot_quoted(f, title);
-	fputs("\n"
+	sh2000_tool_plot_head(f, out, (const char *)ctx, k, 1400, 900);
+	fputs("set datafile separator ' '\n"
 	      /* left: the path in XY, true to scale */
 	      "set origin 0,0\nset size 0.5,0.95\n"
 	      "set size ratio -1\n"
@@ -201,29 +184,11 @@ static int write_script(const char *script,
 	      "set yrange [0:*]\n"
 	      "plot DATA using 1:7 with lines lc rgb '#d03a1f' title '|set-point - encoder|'\n"
 	      "unset multiplot\n", f);
-	if (fclose(f))
-		return -errno;
 	return 0;
-}
-
-/* gnuplot -e "DATA='...'" script, its stderr into errfile. */
-static int run_gnuplot(struct upl_trace *t, const char *script,
-		       const char *errfile, int *status)
-{
-	char def[160];
-
-	snprintf(def, sizeof(def), "DATA='%s'", t->data);
-	return sh2000_tool_gnuplot(def, script, errfile, status);
 }
 
 int upl_trace_plot(struct upl_trace *t, const char *out, const char *title)
 {
-	char script[96], errfile[96], line[512];
-	size_t n = strlen(out);
-	int svg = n >= 4 && !strcasecmp(out + n - 4, ".svg");
-	int status = 0, e, cairo;
-	FILE *f;
-
 	if (!t->plot)
 		return SH2000_EXIT_OK;
 	if (fclose(t->plot)) {
@@ -236,47 +201,11 @@ int upl_trace_plot(struct upl_trace *t, const char *out, const char *title)
 		sh2000_tool_msg("--plot %s: no samples to draw", out);
 		return SH2000_EXIT_CARD;
 	}
-	snprintf(script, sizeof(script), "%s/plot.gp", t->dir);
-	snprintf(errfile, sizeof(errfile), "%s/gnuplot.err", t->dir);
-	/* pngcairo draws better; plain png (libgd) if this gnuplot lacks it */
-	for (cairo = 1; cairo >= 0; cairo--) {
-		e = write_script(script, out, title, svg, cairo);
-		if (e) {
-			sh2000_tool_msg("--plot: %s: %s", script, strerror(-e));
-			return SH2000_EXIT_CARD;
-		}
-		e = run_gnuplot(t, script, errfile, &status);
-		if (e == -ENOENT) {
-			sh2000_tool_msg("--plot %s: gnuplot not found on PATH (Debian package gnuplot-nox)",
-					out);
-			return UPLOAD_EXIT_HELPER;
-		}
-		if (e) {
-			sh2000_tool_msg("--plot %s: cannot run gnuplot: %s", out,
-					strerror(-e));
-			return UPLOAD_EXIT_HELPER;
-		}
-		if (WIFEXITED(status) && WEXITSTATUS(status) == 0)
-			return SH2000_EXIT_OK;
-		if (svg)
-			break;
-	}
-	sh2000_tool_msg("--plot %s: gnuplot failed (%s %d):", out,
-			WIFEXITED(status) ? "exit status" : "signal",
-			WIFEXITED(status) ? WEXITSTATUS(status) :
-			WTERMSIG(status));
-	f = fopen(errfile, "r");
-	while (f && fgets(line, sizeof(line), f))
-		fprintf(stderr, "  %s", line);
-	if (f)
-		fclose(f);
-	return UPLOAD_EXIT_HELPER;
+	return sh2000_tool_plot(t->dir, t->data, out, write_script, title);
 }
 
 void upl_trace_free(struct upl_trace *t)
 {
-	char p[128];
-
 	if (!t)
 		return;
 	if (t->csv)
@@ -284,13 +213,8 @@ void upl_trace_free(struct upl_trace *t)
 	if (t->plot)
 		fclose(t->plot);
 	if (t->dir[0]) {
-		static const char *const names[] = { "plot.dat", "plot.gp",
-						     "gnuplot.err" };
-
-		for (size_t i = 0; i < sizeof(names) / sizeof(names[0]); i++) {
-			snprintf(p, sizeof(p), "%s/%s", t->dir, names[i]);
-			unlink(p);
-		}
+		/* the runner removed its script and gnuplot's stderr */
+		unlink(t->data);
 		rmdir(t->dir);
 	}
 	free(t);

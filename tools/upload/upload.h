@@ -21,13 +21,6 @@
 
 #include "toolcommon.h"
 
-/* Exit codes beyond the shared ones of toolcommon.h (0..4). */
-enum {
-	UPLOAD_EXIT_PROGRAM = 5,	/* the program has errors: nothing moved */
-	UPLOAD_EXIT_HELPER = 6,		/* rs274 or gnuplot missing or failed */
-	UPLOAD_EXIT_STOPPED = 7,	/* the operator stopped the run */
-};
-
 /* ---- options.c -------------------------------------------------------- */
 
 struct upl_opts {
@@ -71,13 +64,13 @@ int upl_source_open(struct upl_source *s, const struct upl_opts *o,
 int upl_rs274_run(const struct upl_opts *o, struct upl_source *s);
 /* Remove that directory (unless s->dir was emptied to keep it). */
 void upl_rs274_clean(struct upl_source *s);
-/* Print the program's errors: UPLOAD_EXIT_PROGRAM. */
+/* Print the program's errors: SH2000_EXIT_INPUT. */
 int upl_source_errors(struct upl_source *s, const struct upl_opts *o);
 void upl_source_close(struct upl_source *s);
 
 /* ---- execute.c -------------------------------------------------------- */
 
-extern volatile sig_atomic_t upl_stop_flag, upl_resume_flag, upl_hold_flag;
+extern volatile sig_atomic_t upl_resume_flag, upl_hold_flag;
 
 struct upl_trace;
 

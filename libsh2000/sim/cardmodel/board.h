@@ -3,7 +3,8 @@
  * The card as its firmware sees it: the FPGA's registers on the DSP's bus
  * and the DSP's side of the dual-port RAM. Nothing else: the motors,
  * switches and scales are behind these registers (plant.h, which no
- * firmware file includes; tests/cardmodel/test_layers checks that).
+ * firmware file includes; ctest cardmodel_layers, tests/cardmodel/layers.sh,
+ * checks that).
  *
  * The paper names the parts (four 28-bit encoder counters in the FPGA, the
  * DAC7744, limit and home switches); the register layout below is the

@@ -1,15 +1,17 @@
 // SPDX-License-Identifier: MIT
 /*
  * The DSP firmware: protocol v1 on the card side (docs/protocol.md). One
- * call of sh2000_fw_cycle() is one servo interrupt. Its order is fixed:
- *   1. emergency stop (before anything else can act);
- *   2. sample the encoders, switches and index latches; axis checks;
- *   3. card heartbeat, host heartbeat watchdog;
+ * call of sh2000_dsp_interrupt() is one servo interrupt (card.c's
+ * sh2000_fw_cycle() runs it, then the board and plant). Its order is fixed:
+ *   1. sample the encoders, switches and index latches;
+ *   2. emergency stop (before any check, command or motion can act);
+ *   3. axis checks, card heartbeat, host heartbeat watchdog;
  *   4. at most one command (its status words published before its ACK);
  *   5. ring and motion: records, B-spline, controlled stop or homing;
  *   6. PID + feed-forward per axis, following-error and DAC checks;
  *   7. DAC out (the board then holds it until the next interrupt);
- *   8. publish the status words and, every STATUS_PERIOD cycles, the
+ *   8. data gathering (gather.c);
+ *   9. publish the status words and, every STATUS_PERIOD cycles, the
  *      versioned snapshot.
  * Everything is in struct sh2000_dsp, allocated once; nothing allocates or
  * blocks inside a cycle. The card is reached only through board.h: the

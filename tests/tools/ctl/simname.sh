@@ -97,7 +97,7 @@ kill -INT $MP
 wait $MP
 mrc=$?
 checks=$((checks + 1))
-[ $mrc = 1 ] && grep -q "interrupted: card stopped" "$T/move.err" || fail "SIGINT move: exit $mrc, $(cat "$T/move.err")"
+[ $mrc = 7 ] && grep -q "interrupted: card stopped" "$T/move.err" || fail "SIGINT move: exit $mrc, $(cat "$T/move.err")"
 expect 0 "${CTL_RT[@]}" "${D[@]}" status --json &&
 	json_check /state = idle /faults = '[]' /axes/0/cmd_mm in 2,39
 # the server goes: no card any more, the shared memory is gone

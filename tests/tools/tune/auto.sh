@@ -89,7 +89,7 @@ stop_sim
 expect 0 "$TUNE" -d sim x --auto --enable --dry-run &&
 	out_has '^plant gain g +30517[0-9.]* counts/s\^2 per DAC code$' &&
 	out_has '^friction pole b/m +10 1/s$'
-# the issue's own command: no --enable on the in-process card
+# the command as the docs give it: no --enable on the in-process card
 expect 0 "$TUNE" -d sim x --auto --plot "$T/issue.png" &&
 	out_has '^chirp with the new gains:$' && out_has '^the old gains are back on the card$'
 

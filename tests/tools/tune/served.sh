@@ -21,7 +21,7 @@ expect 0 "${TUNE_RT[@]}" "${S[@]}" x --step 0.02 --dac-max 500 --ferr-max 0.05 &
 expect 0 "${CTL_RT[@]}" "${S[@]}" params x ferr_limit dac_limit
 checks=$((checks + 1))
 [ "$out" = "$before" ] || fail "limits after the step: $out, before: $before"
-expect 5 "${TUNE_RT[@]}" "${S[@]}" x --step -0.5 --ferr-max 0.0002 &&
+expect 8 "${TUNE_RT[@]}" "${S[@]}" x --step -0.5 --ferr-max 0.0002 &&
 	out_has '^back at the start +1\.000000 mm$'
 expect 0 "${CTL_RT[@]}" "${S[@]}" params x ferr_limit dac_limit
 checks=$((checks + 1))

@@ -46,8 +46,8 @@ checks=$((checks + 1))
 awk -F, 'NR > 1 && ($4 > 300 || $4 < -300) { bad = 1 } END { exit bad }' "$T/d.csv" ||
 	fail "the DAC went beyond --dac-max 300"
 
-# beyond the following-error bound: aborted, back at the start, exit 5
-expect 5 "$TUNE" "${S[@]}" x --step 0.5 --enable --ferr-max 0.0002 &&
+# beyond the following-error bound: aborted, back at the start, exit 8
+expect 8 "$TUNE" "${S[@]}" x --step 0.5 --enable --ferr-max 0.0002 &&
 	err_has 'step test aborted: axis following error limit exceeded \(limit 0\.0002 mm' &&
 	out_has '^back at the start +0\.000000 mm$'
 

@@ -28,8 +28,8 @@ is_png "$T/r.png"
 # the other way, a shorter travel given
 expect 0 "$TUNE" "${S[@]}" y --ramp -50 --travel 3 --enable &&
 	out_has '^axis y: ramp -50 mm/s over 3 mm' && out_has '^back at the start +0\.000000 mm$'
-# beyond the following-error bound: aborted, back at the start, exit 5
-expect 5 "$TUNE" "${S[@]}" x --ramp 300 --enable --ferr-max 0.00005 &&
+# beyond the following-error bound: aborted, back at the start, exit 8
+expect 8 "$TUNE" "${S[@]}" x --ramp 300 --enable --ferr-max 0.00005 &&
 	err_has 'ramp test aborted: axis following error limit exceeded \(limit 5e-05 mm' &&
 	out_has '^back at the start +0\.000000 mm$'
 # bounds that refuse before anything moves
@@ -72,8 +72,8 @@ expect 0 "$TUNE" "${S[@]}" x --chirp 5:3000 --enable --dac-max 1000 --accel 2000
 	err_has 'the DAC reached its bound during the sweep: .*\(a smaller --amplitude or --accel\)' &&
 	out_has '^crossover' && out_has '^peak DAC +1000 codes$'
 # beyond the following-error bound: aborted, the card's coarse period put
-# back (the runner's way back needs it), back at the start, exit 5
-expect 5 "$TUNE" "${S[@]}" x --chirp 5:3000 --enable --dac-max 1000 --accel 100000 &&
+# back (the runner's way back needs it), back at the start, exit 8
+expect 8 "$TUNE" "${S[@]}" x --chirp 5:3000 --enable --dac-max 1000 --accel 100000 &&
 	err_has 'chirp test aborted: axis following error limit exceeded' &&
 	out_has '^back at the start +0\.000000 mm$'
 # bounds that refuse before anything moves

@@ -503,7 +503,7 @@ t_tool_rs274() {
 	"$CHECK" r.csv end >e
 	# rs274 reads a table in its own inches: given in mm, it is converted
 	[ "$(value cmd e)" = "20.000000,10.000000,9.000000,0.000000" ] || fail "rs274 end $(value cmd e), expected 20,10,9,0 as the built-in parser"
-	# without a table rs274 stops at T1, as the cds.ngc did
+	# without a table rs274 stops at T1, as a user's program with T1 did
 	expect 5 "--rs274 without a table" -- "$UPLOAD" -q -d sim --rs274 --trace n.csv "$DATA/tool_start.ngc"
 	has "Requested tool 1 not found in the tool table" err
 	no_motion n.csv

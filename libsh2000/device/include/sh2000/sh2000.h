@@ -192,12 +192,23 @@ unsigned int sh2000_card_version(const struct sh2000 *h);
 
 /*
  * Versions of the library that is running (not the one compiled against):
- * "MAJOR.MINOR.PATCH", and the SONAME's major (libsh2000.so.N). The protocol
- * version it speaks is SH2000_PROTO_MAJOR/MINOR, the driver ABI it expects
- * SH2000_ABI_VERSION.
+ * "MAJOR.MINOR.PATCH", the SONAME's major (libsh2000.so.N), and the kernel
+ * driver's ABI version it speaks (it refuses another at open). The
+ * protocol version it speaks is SH2000_PROTO_MAJOR/MINOR.
  */
 const char *sh2000_version(void);
 unsigned int sh2000_soversion(void);
+unsigned int sh2000_driver_abi(void);
+
+/* sh2000_driver_info() flags: the card is sh2000_sim.ko's simulated one */
+#define SH2000_DRIVER_SIMULATED	0x0001u
+/* What the kernel driver behind h (/dev/sh2000-N) says about itself: its
+ * version into version[0..len) (NUL-terminated), its ABI version and
+ * SH2000_DRIVER_* flags (either pointer may be NULL). 0; -ENODEV when h
+ * is not a /dev/sh2000-N handle (no driver); another -errno when the
+ * driver does not answer. */
+int sh2000_driver_info(struct sh2000 *h, char *version, size_t len,
+		       unsigned int *abi, unsigned int *flags);
 
 /* The handle's clock: virtual card time for `sim`, CLOCK_MONOTONIC else. */
 uint64_t sh2000_now_ns(struct sh2000 *h);
@@ -361,6 +372,40 @@ int sh2000_param_get(struct sh2000 *h, int axis, unsigned int param,
 int sh2000_param_id(const char *name);
 const char *sh2000_param_name(unsigned int param);
 const char *sh2000_param_unit(unsigned int param);
+
+/*
+ * The card's timing: coarse_period_us and fine_steps changed together
+ * through legal states (sh2000_timing_ok() after every single set; the
+ * card checks each against the other's current value). Of the paths
+ * sh2000_set_timing() takes one whose states in between keep the servo
+ * period within the longer of the old and the new where there is one
+ * (the loops then never run slower than at either end). The target is
+ * checked first: -SH2000_EPARAM with the reason, nothing sent. A failure
+ * half-way leaves the card at a legal state on the way.
+ */
+int sh2000_set_timing(struct sh2000 *h, unsigned int coarse_us,
+		      unsigned int fine_steps);
+
+/* One set of that path: SH2000_GP_COARSE_PERIOD_US or SH2000_GP_FINE_STEPS
+ * and its value. */
+struct sh2000_timing_step {
+	unsigned int id;
+	unsigned int value;
+};
+#define SH2000_TIMING_STEPS_MAX	16
+/* only states whose servo period is within the longer of the two ends */
+#define SH2000_TIMING_NO_LONGER	0x0001u
+/* The path itself, without a card (a real-time caller sends the steps
+ * itself): the fewest sets from (coarse0_us, fine0) to (coarse_us,
+ * fine_steps), each leaving a legal state in the protocol's ranges, into
+ * steps[0..max). coarse0_us 0: the card's coarse period is not known (the
+ * first step then sets it to a value legal with fine0; from fine0 1 every
+ * value is). The number of steps (0: already there), or -SH2000_EPARAM
+ * when the target is not legal or no path of at most max steps exists. */
+int sh2000_timing_path(unsigned int coarse0_us, unsigned int fine0,
+		       unsigned int coarse_us, unsigned int fine_steps,
+		       unsigned int flags, struct sh2000_timing_step *steps,
+		       unsigned int max);
 
 /* Every per-axis parameter, indexed by enum sh2000_param, in user units. */
 struct sh2000_axis_params {
@@ -546,6 +591,10 @@ struct sh2000_port_counters {
 /* Port cycles this handle issued (dev: the driver's counters for the
  * card). */
 int sh2000_port_counters(struct sh2000 *h, struct sh2000_port_counters *c);
+/* The dual-port RAM's size in 16-bit words, for programs that do not see
+ * the driver's register map (driver/sh2000_hw.h's SH2000_RAM_WORDS; the
+ * library checks that the two agree when it is built). */
+#define SH2000_DPRAM_WORDS	1024u
 /* Words [addr, addr+n) of the dual-port RAM (no wrap past 1023). */
 int sh2000_ram_read(struct sh2000 *h, unsigned int addr, unsigned int n,
 		    uint16_t *buf);

@@ -537,6 +537,42 @@ static void test_rapids(void **s)
 	assert_true(m.a_ratio <= 1.0);
 }
 
+/* A circle as CAM writes it, short moves with small turns (200 a lap,
+ * 1.8 degrees each), under G64 P0.01: the moves' length, not P, bounds
+ * each blend, so the blends are all there is between the corners and run
+ * at their limit with more of the acceleration across the path (up to
+ * 0.866 of it). Three laps take less than the circle's length at the
+ * speed the configured share (0.5) would allow on a 5 mm radius, and no
+ * axis passes its amax. */
+static void test_short_curve(void **s)
+{
+	static struct prog pg;
+	struct meas m;
+	const double R = 5.0;
+	const unsigned int n = 200, laps = 3;
+	double L, v_half, t;
+
+	(void)s;
+	memset(&pg, 0, sizeof(pg));
+	pg.name = "short-curve";
+	for (unsigned int i = 1; i <= n * laps; i++) {
+		double th = 2.0 * M_PI * i / n;
+
+		line(&pg, R * sin(th), R - R * cos(th), 0);
+		pg.el[pg.n - 1].feed = 300.0;
+	}
+	run(&pg, SH2000_PATH_BLEND, 0.01, 0, &m);
+	L = n * laps * 2.0 * R * sin(M_PI / n);
+	v_half = sqrt(0.5 * 0.95 * AMAX * R);
+	t = m.cycles * m.tau;
+	print_message("%-12s G64 P0.01  max deviation %.4f mm, %.3f s (%.3f s at the 0.5 share's speed), axes at %.3f of vmax, %.3f of amax\n",
+		      pg.name, m.max, t, L / v_half, m.v_ratio, m.a_ratio);
+	assert_true(m.max <= 0.01 + 0.0005);
+	assert_true(t < L / v_half);
+	assert_true(m.v_ratio <= 1.0);
+	assert_true(m.a_ratio <= 1.0);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -547,6 +583,7 @@ int main(void)
 		cmocka_unit_test(test_surface),
 		cmocka_unit_test(test_line_accel),
 		cmocka_unit_test(test_rapids),
+		cmocka_unit_test(test_short_curve),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -14,7 +14,7 @@
 
 int pl_arc_to(const struct sh2000_path *p, const double a[SH2000_AXES],
 	      const double ta[SH2000_AXES], const double b[SH2000_AXES],
-	      double feed, struct pl_block *k)
+	      double feed, double smax, struct pl_block *k)
 {
 	double c[SH2000_AXES], n[SH2000_AXES], tt[SH2000_AXES];
 	double L = 0.0, ca, sa = 0.0, al, R;
@@ -63,7 +63,7 @@ int pl_arc_to(const struct sh2000_path *p, const double a[SH2000_AXES],
 	k->g.blend.R = R;
 	k->g.blend.phi = 2.0 * al;
 	k->L = R * 2.0 * al;
-	k->vlim = pl_curve_vlim(p, tt, 1.0 / R);
+	pl_curve_block_vlim(p, k, tt, 1.0 / R, smax);
 	return 0;
 }
 
@@ -76,7 +76,7 @@ int pl_arc_to(const struct sh2000_path *p, const double a[SH2000_AXES],
 unsigned int pl_biarc(const struct sh2000_path *p,
 		      const double a[SH2000_AXES], const double ta[SH2000_AXES],
 		      const double b[SH2000_AXES], const double tb[SH2000_AXES],
-		      double feed, struct pl_block k[2])
+		      double feed, double smax, struct pl_block k[2])
 {
 	double v[SH2000_AXES], t[SH2000_AXES], m[SH2000_AXES], tm[SH2000_AXES];
 	double vt, vv, c = pl_dot(ta, tb), d, nm = 0.0;
@@ -107,8 +107,8 @@ unsigned int pl_biarc(const struct sh2000_path *p,
 		return 0;
 	for (i = 0; i < SH2000_AXES; i++)
 		tm[i] /= nm;
-	if (pl_arc_to(p, a, ta, m, feed, &k[0]) ||
-	    pl_arc_to(p, m, tm, b, feed, &k[1]))
+	if (pl_arc_to(p, a, ta, m, feed, smax, &k[0]) ||
+	    pl_arc_to(p, m, tm, b, feed, smax, &k[1]))
 		return 0;
 	/* the tangents where they meet and at the end exactly as the
 	 * neighbours have them: the junctions are tangent */

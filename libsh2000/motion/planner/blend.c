@@ -41,6 +41,12 @@
  * start has taken its half (a sliver stays: the move keeps its length and
  * tangent). */
 #define BLEND_TAIL_KEEP 0.98
+/* The largest turn (rad) whose blend may take more than the configured
+ * centripetal share: past it an axis' own acceleration, the tangential
+ * braking and then the centripetal, both along it, went past its amax on
+ * the card's compensated set-points (2.2 times, the surfacing raster's
+ * 90 degree ends at 0.866; tests/planner test_blend). */
+#define BLEND_SHARE_TURN (M_PI / 4.0)
 /* Chords of a piece of an arc when measuring a biarc against it. */
 #define PIECE_CHORDS 16u
 /* Samples of each biarc arc, ends included. */
@@ -146,11 +152,33 @@ static double deviation(const struct pl_block *ca, const struct pl_block *cb,
 	return dev;
 }
 
+/* The centripetal share a blend may take: where the moves' length bounds
+ * it rather than the tolerance (G64 alone, or short moves of a curve as
+ * CAM writes them, blended end to end), or before a move too short to
+ * reach its feed from rest, the blend is about all there is between the
+ * corners and runs at its limit, so more of the acceleration goes across
+ * the path. Before a longer move the braking at the blend's smaller
+ * tangential acceleration (control.c checks a limit at the least
+ * acceleration before it) costs more than the blend's speed gains. */
+static double blend_smax(const struct sh2000_path *p,
+			 const struct pl_block *t, const struct pl_block *b,
+			 double phi)
+{
+	double f = pl_min(b->feed, p->cfg.vmax[0]), tol = p->cfg.corner_tol;
+	/* the cut the tolerance allows (blend_lines) against the moves' */
+	double dtol = isinf(tol) ? INFINITY : tol / tan(phi / 4);
+	int by_length = dtol > pl_min(max_cut(t, !isinf(tol)), max_cut(b, 0));
+
+	return phi < BLEND_SHARE_TURN &&
+	       (by_length || b->L < f * f / (2.0 * p->a_top)) ?
+	       PL_SHARE_MAX : p->cfg.centripetal_share;
+}
+
 /* Two lines: the arc whose middle lies share * tol from the corner, its
  * cut d along both. */
 static unsigned int blend_lines(struct sh2000_path *p, struct pl_block *t,
 				struct pl_block *b, double phi, double tol,
-				struct pl_block *k)
+				double smax, struct pl_block *k)
 {
 	double d, R;
 
@@ -161,7 +189,8 @@ static unsigned int blend_lines(struct sh2000_path *p, struct pl_block *t,
 		return 0;
 	pl_block_cut(t, 0.0, t->L - d, t);
 	pl_block_cut(b, d, b->L, b);
-	if (pl_arc_to(p, t->p1, t->t1, b->p0, pl_min(t->feed, b->feed), k))
+	if (pl_arc_to(p, t->p1, t->t1, b->p0, pl_min(t->feed, b->feed), smax,
+		      k))
 		return 0;
 	memcpy(k->t1, b->t0, sizeof(k->t1));	/* tangent to b exactly */
 	return 1;
@@ -171,7 +200,7 @@ static unsigned int blend_lines(struct sh2000_path *p, struct pl_block *t,
  * of the corner's pieces (and no slower than the corner itself). */
 static unsigned int blend_curves(struct sh2000_path *p, struct pl_block *t,
 				 struct pl_block *b, double phi, double tol,
-				 struct pl_block *k)
+				 double smax, struct pl_block *k)
 {
 	double d, dt, db, vcorner = pl_junction(p, t->t1, b->t0);
 	struct pl_block ta, tb, ca, cb;
@@ -190,7 +219,7 @@ static unsigned int blend_curves(struct sh2000_path *p, struct pl_block *t,
 		pl_block_cut(b, db, b->L, &tb);
 		pl_block_cut(b, 0.0, db, &cb);
 		n = pl_biarc(p, ta.p1, ta.t1, tb.p0, tb.t0,
-			     pl_min(t->feed, b->feed), k);
+			     pl_min(t->feed, b->feed), smax, k);
 		if (n) {
 			dev = deviation(&ca, &cb, k, n);
 			for (i = 0; i < n; i++)
@@ -213,7 +242,7 @@ static unsigned int blend_curves(struct sh2000_path *p, struct pl_block *t,
 unsigned int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
 			     struct pl_block k[2])
 {
-	double tol = p->cfg.corner_tol, phi, share;
+	double tol = p->cfg.corner_tol, phi, share, smax, grow;
 	struct pl_block *t;
 	unsigned int n, i;
 
@@ -226,12 +255,18 @@ unsigned int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
 	phi = acos(pl_max(-1.0, pl_min(1.0, pl_dot(t->t1, b->t0))));
 	if (phi < 1e-6 || phi > M_PI - 1e-3)
 		return 0;	/* straight on, or back along itself */
+	/* the spline's error at the arc's ends grows faster than the
+	 * centripetal acceleration the arc takes: its square (measured,
+	 * tests/planner test_corner_tolerance) */
+	smax = blend_smax(p, t, b, phi);
+	grow = smax / p->cfg.centripetal_share;
 	share = p->cfg.output == SH2000_OUTPUT_RAW ? BLEND_SHARE_RAW :
-		pl_max(0.5, pl_min(0.95, 1.0 - BLEND_SPLINE_MM / tol));
+		pl_max(0.5, pl_min(0.95, 1.0 - BLEND_SPLINE_MM * grow * grow /
+					 tol));
 	if (t->type == BLK_LINE && b->type == BLK_LINE)
-		n = blend_lines(p, t, b, phi, share * tol, k);
+		n = blend_lines(p, t, b, phi, share * tol, smax, k);
 	else
-		n = blend_curves(p, t, b, phi, share * tol, k);
+		n = blend_curves(p, t, b, phi, share * tol, smax, k);
 	for (i = 0; i < n; i++)
 		raw_limit(p, share, &k[i]);
 	return n;

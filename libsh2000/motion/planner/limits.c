@@ -11,8 +11,9 @@
 
 #include "planner.h"
 
-double pl_curve_vlim(const struct sh2000_path *p, const double t[SH2000_AXES],
-		     double kappa)
+/* The speed limit at a point with the centripetal share s. */
+static double vlim_share(const struct sh2000_path *p,
+			 const double t[SH2000_AXES], double kappa, double s)
 {
 	const struct sh2000_path_config *c = &p->cfg;
 	double v = INFINITY;
@@ -22,7 +23,7 @@ double pl_curve_vlim(const struct sh2000_path *p, const double t[SH2000_AXES],
 		if (fabs(t[a]) > 1e-12)
 			v = fmin(v, c->margin * c->vmax[a] / fabs(t[a]));
 	if (kappa > 1e-12) {
-		double share = c->centripetal_share * c->margin;
+		double share = s * c->margin;
 
 		v = fmin(v, sqrt(share * p->amin / kappa));
 		v = fmin(v, sqrt(8.0 * c->chord_tol / kappa) / c->period_s);
@@ -32,14 +33,57 @@ double pl_curve_vlim(const struct sh2000_path *p, const double t[SH2000_AXES],
 	return v;
 }
 
+double pl_curve_vlim(const struct sh2000_path *p, const double t[SH2000_AXES],
+		     double kappa)
+{
+	return vlim_share(p, t, kappa, p->cfg.centripetal_share);
+}
+
+void pl_curve_block_vlim(const struct sh2000_path *p, struct pl_block *k,
+			 const double t[SH2000_AXES], double kappa,
+			 double smax)
+{
+	double s0 = p->cfg.centripetal_share, s1 = pl_max(s0, smax);
+	double f = k->feed > 0.0 ? k->feed : INFINITY;
+	double lo = s0, hi = s1;
+	unsigned int i;
+
+	k->share = s0;
+	k->vlim = vlim_share(p, t, kappa, s0);
+	if (k->vlim >= f || s1 <= s0)
+		return;
+	if (vlim_share(p, t, kappa, s1) <= f) {
+		lo = s1;
+	} else {	/* the least share that reaches the feed */
+		for (i = 0; i < 30; i++) {
+			double m = 0.5 * (lo + hi);
+
+			if (vlim_share(p, t, kappa, m) < f)
+				lo = m;
+			else
+				hi = m;
+		}
+		lo = hi;
+	}
+	k->share = lo;
+	k->vlim = vlim_share(p, t, kappa, lo);
+}
+
 double pl_block_accel(const struct sh2000_path *p, const struct pl_block *b)
 {
 	const struct sh2000_path_config *c = &p->cfg;
 	double A = INFINITY;
 	unsigned int a;
 
-	if (b->type != BLK_LINE)
-		return p->a_curve;
+	if (b->type != BLK_LINE) {
+		double s = b->share;
+
+		if (!(s > c->centripetal_share))
+			return p->a_curve;
+		/* tangential and centripetal at right angles (path.c) */
+		return pl_accel_room(p, sqrt(1.0 - s * s) * c->margin *
+					p->amin * p->a_scale);
+	}
 	/* along a line axis i accelerates at A |d_i|: each axis to its own
 	 * amax, as LinuxCNC's planner does; the margin as everywhere */
 	for (a = 0; a < SH2000_AXES; a++)

@@ -37,6 +37,11 @@ struct pl_nurbs {
 /* Moves merged into one line at most (G64 Q). */
 #define PL_MERGE_MAX 32u
 
+/* The largest centripetal share a curve block that its curvature holds
+ * below its feed takes (LinuxCNC's blend arcs: sqrt(1 - 0.5^2), half of
+ * the acceleration left along the path). */
+#define PL_SHARE_MAX 0.866
+
 /* Free blocks a primitive wants in the window: its own and the blend
  * blocks that may replace the corner before it (pl_room()). */
 #define PL_ROOM 3u
@@ -77,6 +82,9 @@ struct pl_block {
 	double vj;		/* limit at the junction into this block */
 	double A;		/* path acceleration allowed in it, mm/s^2
 				 * (pl_block_accel()) */
+	double share;		/* a curve's centripetal share of the
+				 * acceleration (pl_curve_block_vlim());
+				 * 0: the configured one */
 	int stop_after;		/* exact stop at the end (point-to-point) */
 	int rapid;		/* a rapid (G0) or the blend between two */
 	int corner;		/* the junction into it is a corner */
@@ -256,16 +264,18 @@ int pl_merge_line(struct sh2000_path *p, const struct pl_block *b);
 unsigned int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
 			     struct pl_block k[2]);
 /* biarc.c: the circular arc from a along unit tangent ta to b (a line when
- * straight) into *k: 0, or -1 when it would turn 180 degrees or more. */
+ * straight) into *k, its centripetal share up to smax
+ * (pl_curve_block_vlim()): 0, or -1 when it would turn 180 degrees or
+ * more. */
 int pl_arc_to(const struct sh2000_path *p, const double a[SH2000_AXES],
 	      const double ta[SH2000_AXES], const double b[SH2000_AXES],
-	      double feed, struct pl_block *k);
-/* Two arcs meeting tangentially from a along ta to b along tb: 2 blocks in
- * k[], or 0 when there is no such pair. */
+	      double feed, double smax, struct pl_block *k);
+/* Two arcs meeting tangentially from a along ta to b along tb (shares up
+ * to smax): 2 blocks in k[], or 0 when there is no such pair. */
 unsigned int pl_biarc(const struct sh2000_path *p,
 		      const double a[SH2000_AXES], const double ta[SH2000_AXES],
 		      const double b[SH2000_AXES], const double tb[SH2000_AXES],
-		      double feed, struct pl_block k[2]);
+		      double feed, double smax, struct pl_block k[2]);
 /* cut.c: an arc block's length and end tangents from its arc and ends. */
 void pl_arc_frame(struct pl_block *b);
 /* The piece of line or arc b from s0 to s1 along it into *out (out may be
@@ -284,6 +294,16 @@ int pl_nurbs_expand(struct sh2000_path *p);
  * jerk. */
 double pl_curve_vlim(const struct sh2000_path *p, const double t[SH2000_AXES],
 		     double kappa);
+/* The speed limit of a curve block k of constant curvature kappa (worst
+ * tangent t) and its centripetal share: the configured one where the
+ * block reaches its feed with it, more (up to PL_SHARE_MAX) where the
+ * curvature holds it below, just enough for the feed. Such a block runs
+ * at its limit, so what it gives up is tangential acceleration it seldom
+ * uses. smax: the most it may take (0: the configured share alone). Sets
+ * k->vlim and k->share. */
+void pl_curve_block_vlim(const struct sh2000_path *p, struct pl_block *k,
+			 const double t[SH2000_AXES], double kappa,
+			 double smax);
 /* The path acceleration allowed along block b: a line's, at which its
  * most loaded axis reaches its amax (times the margin); a curve's
  * tangential share (a_curve). */

@@ -16,6 +16,8 @@ static const char axis_name[] = SH2000_AXIS_LETTERS;
 
 /* NURBS start points: what "the same point" means, mm. */
 #define GEOM_TOL 0.001
+/* An arc within about 10 degrees of the tangent it is entered along. */
+#define ARC_TANGENT_COS 0.985
 
 
 static int check_feed(struct sh2000_path *p, const char *what, double feed,
@@ -252,6 +254,19 @@ static int arc_range(struct sh2000_path *p, const struct sh2000_arc *g)
 	return 0;
 }
 
+/* The centripetal share an arc may take: more where it carries on near
+ * tangentially from the move before under a blending mode (a spiral of
+ * arcs: the speed carries over, so the arc runs at its limit and seldom
+ * needs the tangential acceleration it gives up); the configured share
+ * where it starts from rest or after a corner, to speed up within it. */
+static double arc_smax(const struct sh2000_path *p, const struct pl_block *b)
+{
+	if (p->cfg.mode != SH2000_PATH_BLEND || p->stop_next ||
+	    pl_dot(p->tend, b->t0) < ARC_TANGENT_COS)
+		return 0.0;
+	return PL_SHARE_MAX;
+}
+
 /* A block for a resolved arc from the current end to `end`. */
 static void arc_block(struct sh2000_path *p, const struct sh2000_arc *g,
 		      const double end[SH2000_AXES], double feed,
@@ -273,7 +288,8 @@ static void arc_block(struct sh2000_path *p, const struct sh2000_arc *g,
 	for (a = 0; a < SH2000_AXES; a++)
 		tt[a] = (a != i && a != j) ? b->t0[a] : f;
 	/* helix curvature: (planar share)^2 / r */
-	b->vlim = pl_curve_vlim(p, tt, f * f / fmin(g->r0, g->r1));
+	pl_curve_block_vlim(p, b, tt, f * f / fmin(g->r0, g->r1),
+			    arc_smax(p, b));
 }
 
 int sh2000_path_arc(struct sh2000_path *p, const struct sh2000_path_arc *arc,

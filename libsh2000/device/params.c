@@ -113,63 +113,78 @@ static const struct sh2000_param_info *check_id(struct sh2000 *h, int axis,
 	return *r ? NULL : p;
 }
 
-/*
- * User value -> the 32-bit word the card gets, or -SH2000_EPARAM with a
- * message naming axis and parameter. Only reads h (for the message).
- */
-static int encode(struct sh2000 *h, int axis, const struct sh2000_param_info *p,
-		  double v, double scale, int32_t *word)
+/* The one rule for a value, every front end's reason (sh2000.h). */
+int sh2000_param_value_check(unsigned int id, double v, double scale,
+			     double *card, char *why, size_t len)
 {
-	double c = scaled(p->id) ? v * scale : v;
-	const char *u = units[p->id];
-	char at[64];
+	const struct sh2000_param_info *p = sh2000_param_lookup(id);
+	double k = p && scaled(id) ? scale : 1.0;
+	double c = v * k;
+	const char *u = p ? units[id] : "";
 
-	where(at, sizeof(at), axis, p->name);
+	if (!p)
+		return sh2000_msg(why, len, -SH2000_EPARAM, "parameter %u: unknown", id);
 	if (!isfinite(v))
-		return sh2000_fail(h, -SH2000_EPARAM, "%s: %g is not a finite number",
-				   at, v);
+		return sh2000_msg(why, len, -SH2000_EPARAM, "%g is not a finite number", v);
 	if (p->type == SH2000_PT_F32) {
 		/* too small for a normal binary32 is refused like too large:
 		 * never rounded to 0 */
 		if (!isfinite(c) || fabs(c) > FLT_MAX ||
 		    (c != 0.0 && fabs(c) < FLT_MIN))
-			return sh2000_fail(h, -SH2000_EPARAM,
-					   "%s: %g %s is not representable as a 32-bit float in card units",
-					   at, v, u);
-		*word = (int32_t)sh2000_f32_bits(c);
-		c = sh2000_f32_value((uint32_t)*word);
+			return sh2000_msg(why, len, -SH2000_EPARAM,
+					  "%g %s does not fit a 32-bit float in card units",
+					  v, u);
+		c = sh2000_f32_value(sh2000_f32_bits(c));
 	} else {
 		double rc = nearbyint(c);
 
-		if (!scaled(p->id) && rc != c)
-			return sh2000_fail(h, -SH2000_EPARAM,
-					   "%s: %g is not an integer", at, v);
+		if (!scaled(id) && rc != c)
+			return sh2000_msg(why, len, -SH2000_EPARAM,
+					  "%g is not an integer", v);
 		if (!isfinite(rc) || rc < INT32_MIN || rc > INT32_MAX)
-			return sh2000_fail(h, -SH2000_EPARAM,
-					   "%s: %g %s is %g counts: does not fit the card's 32-bit value",
-					   at, v, u, rc);
+			return sh2000_msg(why, len, -SH2000_EPARAM,
+					  "%g %s is %g counts: does not fit the card's 32-bit value",
+					  v, u, rc);
 		c = rc;
-		*word = (int32_t)rc;
 	}
 	if (sh2000_param_in_range(p, c) != 0) {
-		double k = scaled(p->id) ? scale : 1.0;
-
-		if (p->min == 0 && c < 0)
-			return sh2000_fail(h, -SH2000_EPARAM, "%s: %g is negative",
-					   at, v);
 		if (c >= p->min && c <= p->max &&
 		    !(p->min_exclusive && c == p->min))
-			return sh2000_fail(h, -SH2000_EPARAM,
-					   "%s: %g %s is not representable on the card (%s)",
-					   at, v, u, p->type == SH2000_PT_F32 ?
-					   "not a normal 32-bit float" :
-					   p->id == SH2000_P_HOME_VEL ? "must not be 0" :
-					   "not an integer");
-		return sh2000_fail(h, -SH2000_EPARAM,
-				   "%s: %g %s is outside %s%g..%g %s", at, v, u,
-				   p->min_exclusive ? "(exclusive) " : "",
-				   p->min / k, p->max / k, u);
+			return sh2000_msg(why, len, -SH2000_EPARAM,
+					  "%g %s is not representable on the card (%s)",
+					  v, u, p->type == SH2000_PT_F32 ?
+					  "not a normal 32-bit float" :
+					  id == SH2000_P_HOME_VEL ? "must not be 0" :
+					  "not an integer");
+		return sh2000_msg(why, len, -SH2000_EPARAM,
+				  "%g %s is outside %s%g..%g %s", v, u,
+				  p->min_exclusive ? "(exclusive) " : "",
+				  p->min / k, p->max / k, u);
 	}
+	if (card)
+		*card = c;
+	return 0;
+}
+
+/*
+ * User value -> the 32-bit word the card gets, or -SH2000_EPARAM with a
+ * message naming axis, parameter and the reason sh2000_param_value_check()
+ * gives (the one every front end prints). Only reads h (for the message).
+ */
+static int encode(struct sh2000 *h, int axis, const struct sh2000_param_info *p,
+		  double v, double scale, int32_t *word)
+{
+	char at[64], why[200];
+	double c;
+	int r;
+
+	r = sh2000_param_value_check(p->id, v, scale, &c, why, sizeof(why));
+	if (r < 0) {
+		where(at, sizeof(at), axis, p->name);
+		return sh2000_fail(h, r, "%s: %s", at, why);
+	}
+	*word = p->type == SH2000_PT_F32 ? (int32_t)sh2000_f32_bits(c) :
+					   (int32_t)c;
 	return 0;
 }
 

@@ -175,13 +175,13 @@ static void test_params_rejected(void **state)
 
 	(void)state;
 	CHECK(sh2000_param_get(h, 2, SH2000_P_KP, &kp0));
-	bad(h, 2, SH2000_P_KP, -1.5, "axis 2 parameter kp: -1.5 is negative");
+	bad(h, 2, SH2000_P_KP, -1.5, "axis 2 parameter kp: -1.5 DAC/count is outside 0..1000 DAC/count");
 	bad(h, 0, SH2000_P_TI, NAN, "axis 0 parameter ti: nan is not a finite");
 	bad(h, 0, SH2000_P_KVFF, INFINITY, "not a finite");
 	bad(h, 1, SH2000_P_SCALE, 0.0, "axis 1 parameter scale");
 	bad(h, 1, SH2000_P_VMAX, 1e40, "axis 1 parameter vmax");
 	/* too small for a float is refused too, not rounded to 0 */
-	bad(h, 1, SH2000_P_KAFF, 1e-50, "not representable as a 32-bit float");
+	bad(h, 1, SH2000_P_KAFF, 1e-50, "does not fit a 32-bit float");
 	bad(h, 1, SH2000_P_SOFT_MIN, 1e9, "does not fit the card's 32-bit value");
 	CHECK(sh2000_param_set(h, 1, SH2000_P_SOFT_MAX, 100.0));
 	bad(h, 1, SH2000_P_SOFT_MIN, 200.0, "200 mm is not below soft_max (100 mm)");

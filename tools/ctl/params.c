@@ -46,37 +46,8 @@ static int plan_read_file(struct ctl_plan *p, const char *path)
 static int check_value(const struct sh2000_param_info *pi, double v,
 		       double scale, double *card, char *why, size_t len)
 {
-	double c = ctl_param_is_mm(pi->id) ? v * scale : v;
-	double k = ctl_param_is_mm(pi->id) ? scale : 1.0;
-	const char *u = sh2000_param_unit(pi->id);
-
-	if (pi->type == SH2000_PT_F32) {
-		if (!isfinite(c) || fabs(c) > FLT_MAX ||
-		    (c != 0.0 && fabs(c) < FLT_MIN)) {
-			snprintf(why, len, "%g %s does not fit a 32-bit float", v, u);
-			return -1;
-		}
-		c = (float)c;
-	} else {
-		double rc = nearbyint(c);
-
-		if (!ctl_param_is_mm(pi->id) && rc != c) {
-			snprintf(why, len, "%g is not an integer", v);
-			return -1;
-		}
-		c = rc;
-	}
-	if (sh2000_param_in_range(pi, c) != 0) {
-		if (c >= pi->min && c <= pi->max && !(pi->min_exclusive && c == pi->min))
-			snprintf(why, len, "%g %s is not representable on the card", v, u);
-		else
-			snprintf(why, len, "%g %s is outside %s%g..%g %s", v, u,
-				 pi->min_exclusive ? "(exclusive) " : "",
-				 pi->min / k, pi->max / k, u);
-		return -1;
-	}
-	*card = c;
-	return 0;
+	return sh2000_param_value_check(pi->id, v, scale, card, why, len) < 0 ?
+	       -1 : 0;
 }
 
 /* Check the plan against the card's current values; nothing is sent. */

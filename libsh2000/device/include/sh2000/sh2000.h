@@ -372,6 +372,17 @@ int sh2000_param_get(struct sh2000 *h, int axis, unsigned int param,
 int sh2000_param_id(const char *name);
 const char *sh2000_param_name(unsigned int param);
 const char *sh2000_param_unit(unsigned int param);
+/*
+ * Whether value v (in the parameter's user unit: mm for the ones the card
+ * keeps in counts, which scale converts) can go to the card: 0 and the
+ * value the card will hold in *card (counts, or rounded to a binary32),
+ * or -SH2000_EPARAM with the reason in why, e.g. "2000 DAC/count is
+ * outside 0..1000 DAC/count". sh2000_param_set() refuses with the same
+ * reason after "axis N parameter NAME: ", and every front end (sh2000ctl,
+ * Python) prints it: one rule, one wording. Reads no card.
+ */
+int sh2000_param_value_check(unsigned int param, double v, double scale,
+			     double *card, char *why, size_t len);
 
 /*
  * The card's timing: coarse_period_us and fine_steps changed together

@@ -88,7 +88,8 @@ static void on_fine(void *ctx, const double x[4], const double act[4])
 }
 
 /* Run the zigzag in a mode; the deviation and the time it took. */
-static void run(enum sh2000_path_mode mode, double tol, struct dev *d)
+static void run(enum sh2000_path_mode mode, double tol, int raw,
+		struct dev *d)
 {
 	static struct plcard pc;
 	struct sh2000_path_config c;
@@ -99,6 +100,8 @@ static void run(enum sh2000_path_mode mode, double tol, struct dev *d)
 	for (i = 0; i < NPTS; i++)
 		d->near[i] = INFINITY;
 	sh2000_path_config_default(&c);
+	if (raw)
+		c.output = SH2000_OUTPUT_RAW;
 	assert_int_equal(plcard_open(&pc, c.vmax, c.amax, 1, d->o), 0);
 	memcpy(c.start, d->o, sizeof(c.start));
 	memcpy(d->last, d->o, sizeof(d->last));
@@ -130,7 +133,7 @@ static void test_blend_tolerances(void **s)
 
 	(void)s;
 	for (i = 0; i < sizeof(tols) / sizeof(tols[0]); i++) {
-		run(SH2000_PATH_BLEND, tols[i], &d);
+		run(SH2000_PATH_BLEND, tols[i], 0, &d);
 		print_message("G64 P%-6g  max deviation %.6f mm, %llu servo cycles\n",
 			      tols[i], d.max, (unsigned long long)d.cycles);
 		/* within the tolerance and a count on the card's own
@@ -159,32 +162,35 @@ static double max_near(const struct dev *d)
 	return m;
 }
 
+static void exact_report(const char *name, const struct dev *d)
+{
+	print_message("%-12s max deviation %.2f nm, corners within %.2f nm, %.2f nm past a stop, %llu servo cycles\n",
+		      name, d->max * 1e6, max_near(d) * 1e6, d->past * 1e6,
+		      (unsigned long long)d->cycles);
+	/* every corner met to a count of the card, nothing past a stop
+	 * (the card's spline stops exactly on a rest point) */
+	assert_true(max_near(d) <= COUNT);
+	assert_true(d->max <= COUNT);
+	assert_true(d->past <= COUNT);
+	assert_int_equal(d->leg, NPTS - 1);
+}
+
 static void test_exact_modes(void **s)
 {
-	struct dev best, path, stop;
+	struct dev best, path, stop, raw;
 
 	(void)s;
-	run(SH2000_PATH_BLEND, 0, &best);
-	run(SH2000_PATH_EXACT_PATH, 0, &path);
-	run(SH2000_PATH_EXACT_STOP, 0, &stop);
-	print_message("G64         max deviation %.4f mm, %llu servo cycles\n",
+	run(SH2000_PATH_BLEND, 0, 0, &best);
+	run(SH2000_PATH_EXACT_PATH, 0, 0, &path);
+	run(SH2000_PATH_EXACT_STOP, 0, 0, &stop);
+	print_message("G64          max deviation %.4f mm, %llu servo cycles\n",
 		      best.max, (unsigned long long)best.cycles);
-	print_message("G61         max deviation %.2f nm, corners within %.2f nm, %.2f nm past a stop, %llu servo cycles\n",
-		      path.max * 1e6, max_near(&path) * 1e6, path.past * 1e6,
-		      (unsigned long long)path.cycles);
-	print_message("G61.1       max deviation %.2f nm, corners within %.2f nm, %.2f nm past a stop, %llu servo cycles\n",
-		      stop.max * 1e6, max_near(&stop) * 1e6, stop.past * 1e6,
-		      (unsigned long long)stop.cycles);
-	/* G61 and G61.1 stop on every corner to a count of the card and
-	 * never ring past it (its spline stops exactly on a rest point) */
-	assert_true(max_near(&path) <= COUNT);
-	assert_true(max_near(&stop) <= COUNT);
-	assert_true(path.max <= COUNT);
-	assert_true(stop.max <= COUNT);
-	assert_true(path.past <= COUNT);
-	assert_true(stop.past <= COUNT);
-	assert_int_equal(path.leg, NPTS - 1);
-	assert_int_equal(stop.leg, NPTS - 1);
+	exact_report("G61", &path);
+	exact_report("G61.1", &stop);
+	run(SH2000_PATH_EXACT_PATH, 0, 1, &raw);
+	exact_report("G61 raw", &raw);
+	run(SH2000_PATH_EXACT_STOP, 0, 1, &raw);
+	exact_report("G61.1 raw", &raw);
 	/* G64 alone is the fastest and rounds the most */
 	assert_true(best.cycles <= path.cycles);
 	assert_true(best.max > path.max);

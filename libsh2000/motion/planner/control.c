@@ -585,16 +585,22 @@ static int exact_rest(const struct sh2000_path *p, double A)
 static int emit(struct sh2000_path *p, const double q[SH2000_AXES], int end)
 {
 	double P[SH2000_AXES];
-	int last, rest;
+	int last, rest = !end && p->v <= 1e-12 && fabs(p->a) <= 1e-9 &&
+			 p->count;
+	unsigned int k;
 
 	if (!p->comp) {
-		queue_point(p, q, end ? SH2000_PATH_F_END : 0);
+		/* at rest on the way (a corner taken at v = 0): the card's
+		 * approximating spline meets a point only where three records
+		 * in a row are that point, so it holds there two periods more
+		 * (else it cuts the corner by a sixth of the steps around it) */
+		for (k = 0; k < (rest ? 3u : 1u); k++)
+			queue_point(p, q, end ? SH2000_PATH_F_END : 0);
 		return drain(p);
 	}
-	/* at rest on the way (a corner taken at v = 0): the compensated
-	 * spline stops on it, not rings through it, where it may */
-	rest = !end && p->v <= 1e-12 && fabs(p->a) <= 1e-9 && p->count &&
-	       exact_rest(p, fmin(p->a_prev, head(p)->A));
+	/* the compensated spline stops on it, not rings through it, where
+	 * it may */
+	rest = rest && exact_rest(p, fmin(p->a_prev, head(p)->A));
 	if (pl_bscomp_push(p->comp, q, rest, P))
 		queue_point(p, P, 0);
 	if (end)
@@ -635,8 +641,14 @@ int pl_period(struct sh2000_path *p)
 			sh2000_bscomp_start(p->comp, p->pos);
 		}
 	}
-	for (k = 0; k < p->substeps && !rest; k++)
+	for (k = 0; k < p->substeps && !rest; k++) {
 		rest = substep(p, h);
+		/* stopped on the way (a corner taken at rest) within the
+		 * period: it rests there to the period's end, so that the stop
+		 * is a point the card's spline can stop on (emit()) */
+		if (!rest && p->v <= 1e-12 && fabs(p->a) <= 1e-9)
+			break;
+	}
 	ds = p->dist_now;
 	p->dist_now = 0.0;
 	if (rest && p->count == 1 && p->s >= head(p)->L) {

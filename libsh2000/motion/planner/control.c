@@ -570,16 +570,30 @@ static int drain(struct sh2000_path *p)
 	return 0;
 }
 
+/* Periods a motion between two rests lasts at least for its rests to be
+ * exact: shorter ones bring the one-sided knots of both rests together,
+ * and the card's jerk then reached 1.47 times the planned one (G0 X0.03;
+ * 1.32 as the filter ran through) where longer moves stay as they were. */
+#define REST_PERIODS 7
+
 /* Whether the card's compensated spline may stop exactly on a rest point
  * whose stop and start accelerate at up to A (bscomp.c): the exact stop
  * keeps the card's acceleration within the S-curve's only where its ramp
  * A/J lasts a period or more. A faster ramp is a step to the spline, which
  * a stop exact in one period overshoots (1.14 of amax at 5000 mm/s^2 and
  * the default jerk, 1.03 at 9000, 0.96 at 10000 where A/J is 0.9 T):
- * there the stop rings as before. The trapezoid's steps never take it. */
-static int exact_rest(const struct sh2000_path *p, double A)
+ * there the stop rings as before. The trapezoid's steps never take it.
+ * stop: the motion that ends there lasted REST_PERIODS (or there is none);
+ * next: the length of the move that starts there (0: none), at least what
+ * the S-curve covers from rest to rest in REST_PERIODS. */
+static int exact_rest(const struct sh2000_path *p, double A, int stop,
+		      double next)
 {
-	return !isinf(p->lim.J) && A >= p->lim.J * p->cfg.period_s;
+	double t = REST_PERIODS * p->cfg.period_s;
+
+	return !isinf(p->lim.J) && A >= p->lim.J * p->cfg.period_s &&
+	       (!stop || p->since_rest >= REST_PERIODS) &&
+	       (next == 0.0 || next >= p->lim.J * t * t * t / 32.0);
 }
 
 static int emit(struct sh2000_path *p, const double q[SH2000_AXES], int end)
@@ -600,12 +614,21 @@ static int emit(struct sh2000_path *p, const double q[SH2000_AXES], int end)
 	}
 	/* the compensated spline stops on it, not rings through it, where
 	 * it may */
-	rest = rest && exact_rest(p, fmin(p->a_prev, head(p)->A));
+	p->since_rest++;
+	if (rest) {
+		/* resting on: as it was when it came to rest */
+		rest = p->since_rest <= 1 ? p->rest_exact :
+		       exact_rest(p, fmin(p->a_prev, head(p)->A), 1,
+				  head(p)->L);
+		p->rest_exact = rest;
+		p->since_rest = 0;
+	}
 	if (pl_bscomp_push(p->comp, q, rest, P))
 		queue_point(p, P, 0);
 	if (end)
 		pl_bscomp_exact(p->comp, exact_rest(p, p->count ?
-				fmin(p->a_prev, head(p)->A) : p->a_prev));
+				fmin(p->a_prev, head(p)->A) : p->a_prev, 1,
+				0.0));
 	while (end && sh2000_bscomp_flush(p->comp, P, &last))
 		queue_point(p, P, last ? SH2000_PATH_F_END : 0);
 	return drain(p);
@@ -637,7 +660,10 @@ int pl_period(struct sh2000_path *p)
 		p->dist_now = 0.0;
 		p->a_prev = INFINITY;
 		if (p->comp) {
-			pl_bscomp_exact(p->comp, exact_rest(p, head(p)->A));
+			p->rest_exact = exact_rest(p, head(p)->A, 0,
+						   head(p)->L);
+			pl_bscomp_exact(p->comp, p->rest_exact);
+			p->since_rest = 0;
 			sh2000_bscomp_start(p->comp, p->pos);
 		}
 	}

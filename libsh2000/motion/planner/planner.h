@@ -216,6 +216,8 @@ struct sh2000_path {
 	double dist;		/* path distance at the last sample */
 	double dist_now;	/* path distance travelled so far */
 	double a_prev;		/* A of the block last left (a stop's) */
+	unsigned int since_rest;	/* periods since the motion rested */
+	int rest_exact;		/* whether that rest was exact */
 
 	/* NURBS predictor history (same curve only) */
 	uint64_t hist_id;

@@ -15,6 +15,8 @@
 #include <cmocka.h>
 
 #include "plcheck.h"
+#include "planner.h"
+#include "sh2000/bspline.h"
 
 /* Headroom the checks allow: the records must stay within the limits; the
  * plan uses `margin` of them. */
@@ -1131,6 +1133,110 @@ static void test_sink_failure(void **s)
 
 /* ---- the compensation filter alone --------------------------------------- */
 
+/* Rest points split the stream: three legs from rest to rest (a corner,
+ * then on along the same line), each a smooth step of 40 points. The
+ * card's spline over [start x3, P..., end x3] stays on the legs to the
+ * rounding, stops exactly on each rest point, never turns back, and
+ * passes through every point not next to a rest. */
+#define RL 40
+static const double rest_pts[4][2] = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 1, 2 } };
+
+static double rest_polyline(const double x[2], double *along)
+{
+	double best = INFINITY, s = 0.0;
+	unsigned int i;
+
+	for (i = 0; i < 3; i++) {
+		const double *a = rest_pts[i], *b = rest_pts[i + 1];
+		double dx = b[0] - a[0], dy = b[1] - a[1], t, d;
+
+		t = ((x[0] - a[0]) * dx + (x[1] - a[1]) * dy) / (dx * dx + dy * dy);
+		t = fmin(fmax(t, 0.0), 1.0);
+		d = hypot(x[0] - a[0] - t * dx, x[1] - a[1] - t * dy);
+		if (d < best - 1e-15) {
+			best = d;
+			*along = s + t;
+		}
+		s += 1.0;
+	}
+	return best;
+}
+
+static void test_bscomp_rests(void **s)
+{
+	static double q[3 * RL][2], P[3 * RL + 40][2], seq[3 * RL + 50][2];
+	struct sh2000_bscomp *bc;
+	double x[2], dev = 0.0, back = 0.0, prev = 0.0, knot_err = 0.0;
+	unsigned int n = 0, m = 0, i, k, leg, stops = 0;
+	int last = 0;
+
+	(void)s;
+	for (leg = 0; leg < 3; leg++)
+		for (i = 1; i <= RL; i++) {
+			double t = (double)i / RL, u = t * t * t * (10 - 15 * t + 6 * t * t);
+
+			for (k = 0; k < 2; k++)
+				q[leg * RL + i - 1][k] = rest_pts[leg][k] +
+					u * (rest_pts[leg + 1][k] - rest_pts[leg][k]);
+		}
+	assert_int_equal(sh2000_bscomp_create(&bc, 12, 2), 0);
+	pl_bscomp_exact(bc, 1);
+	sh2000_bscomp_start(bc, rest_pts[0]);
+	for (i = 0; i < 3 * RL; i++)
+		if (pl_bscomp_push(bc, q[i], i % RL == RL - 1, x))
+			memcpy(P[n++], x, sizeof(x));
+	while (sh2000_bscomp_flush(bc, x, &last))
+		memcpy(P[n++], x, sizeof(x));
+	sh2000_bscomp_destroy(bc);
+	assert_true(last);
+	for (k = 0; k < 3; k++)
+		memcpy(seq[m++], rest_pts[0], sizeof(x));
+	for (k = 0; k < n; k++)
+		memcpy(seq[m++], P[k], sizeof(x));
+	for (k = 0; k < 3; k++)
+		memcpy(seq[m++], rest_pts[3], sizeof(x));
+	for (k = 0; k + 3 < m; k++) {
+		unsigned int f, j;
+
+		for (f = 0; f < 20; f++) {
+			double y[2], along = 0.0;
+
+			for (j = 0; j < 2; j++)
+				y[j] = sh2000_bspline(seq[k][j], seq[k + 1][j],
+						      seq[k + 2][j], seq[k + 3][j],
+						      f / 20.0);
+			dev = fmax(dev, rest_polyline(y, &along));
+			back = fmax(back, prev - along);
+			prev = fmax(prev, along);
+		}
+	}
+	/* a knot on each rest point, exactly */
+	for (i = 1; i < 4; i++)
+		for (k = 0; k + 2 < m; k++)
+			if (hypot((seq[k][0] + 4 * seq[k + 1][0] + seq[k + 2][0]) / 6 - rest_pts[i][0],
+				  (seq[k][1] + 4 * seq[k + 1][1] + seq[k + 2][1]) / 6 - rest_pts[i][1]) < 1e-12) {
+				stops++;
+				break;
+			}
+	/* every point not next to a rest on a knot */
+	for (i = 0; i < 3 * RL; i++) {
+		double best = INFINITY;
+
+		if (i % RL < 1 || i % RL >= RL - 2)
+			continue;
+		for (k = 0; k + 2 < m; k++)
+			best = fmin(best, hypot((seq[k][0] + 4 * seq[k + 1][0] + seq[k + 2][0]) / 6 - q[i][0],
+						(seq[k][1] + 4 * seq[k + 1][1] + seq[k + 2][1]) / 6 - q[i][1]));
+		knot_err = fmax(knot_err, best);
+	}
+	print_message("rests: %u records for %u points, off the legs %.2g mm, back %.2g mm, %u of 3 rests on a knot, other points within %.2g mm\n",
+		      n, 3 * RL, dev, back, stops, knot_err);
+	assert_true(dev < 1e-12);
+	assert_true(back < 1e-12);
+	assert_int_equal(stops, 3);
+	assert_true(knot_err < 3e-7);
+}
+
 static void test_bscomp_stream(void **s)
 {
 	struct sh2000_bscomp *bc;
@@ -1218,6 +1324,7 @@ int main(void)
 		cmocka_unit_test(test_stop_discards),
 		cmocka_unit_test(test_sink_failure),
 		cmocka_unit_test(test_bscomp_stream),
+		cmocka_unit_test(test_bscomp_rests),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

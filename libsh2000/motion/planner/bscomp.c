@@ -19,10 +19,22 @@
  * than COMP_EPS are left out) and after the last one are emitted too, and
  * the last record is E exactly. Both ends are then exact to COMP_EPS.
  *
- * Interpolation rings: through the points of a stop the spline overshoots
- * the end point (about J T^3 / 70 for an S-curve, 2.4 um for a trapezoid
- * that stops in two periods) and before a start it backs off the start
- * point. Where the window is straight and runs one way (a move from rest
+ * Interpolation rings: through the points of a stop the spline would
+ * overshoot the end point (about J T^3 / 70 for an S-curve, 2.4 um for a
+ * trapezoid that stops in two periods) and before a start back off the
+ * start point, and at a corner taken at rest (G61, G61.1) the points of the
+ * leg after it would pull those of the leg before off the path. So a rest
+ * point C (the start, the end, and every point the planner marks as one:
+ * v = 0 and a = 0 there) splits the stream: each motion between two rests
+ * is filtered alone (the points beyond its rests taken as the rests), and
+ * the three control points around each rest are C itself. The card's
+ * spline then stops on C at its knot with v = 0 and a = 0, and between two
+ * rests it only ever uses the control points of one motion. The price is
+ * the knot next to each rest: the one-sided solution of the tridiagonal
+ * system, P_lin + alpha (-r)^k from each rest (alpha making P next to the
+ * rest C), interpolates every point but that one.
+ *
+ * Where the window is straight and runs one way (a move from rest
  * along a line, the approach to a stop along one), the control points are
  * kept from passing the rest point and from turning back along the line:
  * a cubic B-spline stays within the hull of its control points and is
@@ -46,6 +58,9 @@ struct sh2000_bscomp {
 	/* ring of len points, each stored twice (at i and i + len) so that
 	 * the window from the oldest is contiguous: no modulo per tap */
 	double *q;
+	unsigned char *rest;	/* rest point flags, stored twice as q */
+	int exact;		/* the start and the end are rest points */
+	double *rp;		/* (-r)^k, k = 0..len */
 	unsigned int head;	/* oldest */
 	double *x0, *last;	/* rest point at start, last Q */
 	double *u;		/* direction of a straight window */
@@ -82,7 +97,10 @@ int sh2000_bscomp_create(struct sh2000_bscomp **out, unsigned int half,
 	c->last = calloc(naxes, sizeof(double));
 	c->tail = calloc((size_t)c->len * naxes, sizeof(double));
 	c->u = calloc(naxes, sizeof(double));
-	if (!c->w || !c->q || !c->x0 || !c->last || !c->tail || !c->u) {
+	c->rest = calloc((size_t)2 * c->len, 1);
+	c->rp = calloc(c->len + 1, sizeof(double));
+	if (!c->w || !c->q || !c->x0 || !c->last || !c->tail || !c->u ||
+	    !c->rest || !c->rp) {
 		sh2000_bscomp_destroy(c);
 		return -ENOMEM;
 	}
@@ -95,6 +113,9 @@ int sh2000_bscomp_create(struct sh2000_bscomp **out, unsigned int half,
 		c->w[half + k] /= sum;
 		c->w[half - k] = c->w[half + k];
 	}
+	c->rp[0] = 1.0;
+	for (k = 1; k <= c->len; k++)
+		c->rp[k] = -r * c->rp[k - 1];
 	*out = c;
 	return 0;
 }
@@ -109,6 +130,8 @@ void sh2000_bscomp_destroy(struct sh2000_bscomp *c)
 	free(c->last);
 	free(c->tail);
 	free(c->u);
+	free(c->rest);
+	free(c->rp);
 	free(c);
 }
 
@@ -118,6 +141,9 @@ void sh2000_bscomp_start(struct sh2000_bscomp *c, const double *x)
 
 	for (i = 0; i < 2 * c->len; i++)
 		memcpy(c->q + (size_t)i * c->naxes, x, c->naxes * sizeof(double));
+	/* the start is a rest point: the newest of the window */
+	memset(c->rest, 0, 2 * c->len);
+	c->rest[c->len - 1] = c->rest[2 * c->len - 1] = (unsigned char)c->exact;
 	memcpy(c->x0, x, c->naxes * sizeof(double));
 	memcpy(c->last, x, c->naxes * sizeof(double));
 	c->head = 0;
@@ -128,28 +154,89 @@ void sh2000_bscomp_start(struct sh2000_bscomp *c, const double *x)
 	c->guard_s = 0.0;
 }
 
-/* P at the centre of the window: the sum over the window from the oldest
- * point, in that order on every axis (the same sums as ever). */
+/* The window's last rest point at or before its centre (*p0, -1 if none)
+ * and its first after it (*p1, len if none), as positions in the window. */
+static void rests(const struct sh2000_bscomp *c, int *p0, int *p1)
+{
+	const unsigned char *f = c->rest + c->head;
+	int k;
+
+	*p0 = -1;
+	*p1 = (int)c->len;
+	for (k = (int)c->half; k >= 0 && *p0 < 0; k--)
+		if (f[k])
+			*p0 = k;
+	for (k = (int)c->half + 1; k < (int)c->len && *p1 == (int)c->len; k++)
+		if (f[k])
+			*p1 = k;
+}
+
+/* The filter centred at window position pos over the motion between the
+ * rests p0 and p1 alone: the points up to p0 taken as the one at p0, those
+ * from p1 on as the one at p1. Summed from the oldest point (without rests
+ * in the window the same sums as ever). */
+static double filt(const struct sh2000_bscomp *c, int pos, int p0, int p1,
+		   unsigned int ax)
+{
+	const double *q = c->q + (size_t)c->head * c->naxes;
+	double s = 0.0;
+	unsigned int k;
+
+	for (k = 0; k < c->len; k++) {
+		int i = pos - (int)c->half + (int)k;
+
+		i = i <= p0 ? p0 : i >= p1 ? p1 : i;
+		s += c->w[k] * q[(size_t)i * c->naxes + ax];
+	}
+	return s;
+}
+
+/* P at the centre of the window. Next to a rest point (within one) it is
+ * the rest point; else the filter over its own motion plus the one-sided
+ * corrections alpha (-r)^k from each rest that make P next to it the rest
+ * point (solved together where both rests are in the window). */
 static void centre(const struct sh2000_bscomp *c, double *p)
 {
 	const double *q = c->q + (size_t)c->head * c->naxes;
-	unsigned int ax, k;
+	int h = (int)c->half, p0, p1, in0, in1;
+	unsigned int ax;
+	double g;
 
+	rests(c, &p0, &p1);
+	in0 = p0 >= 0;
+	in1 = p1 < (int)c->len;
+	if ((in0 && h <= p0 + 1) || (in1 && h >= p1 - 1)) {
+		memcpy(p, q + (size_t)(in0 && h <= p0 + 1 ? p0 : p1) * c->naxes,
+		       c->naxes * sizeof(double));
+		return;
+	}
+	g = in0 && in1 ? c->rp[p1 - p0 - 2] : 0.0;
 	for (ax = 0; ax < c->naxes; ax++) {
-		double s = 0.0;
+		double e0 = 0.0, e1 = 0.0, al, be;
 
-		for (k = 0; k < c->len; k++)
-			s += c->w[k] * q[(size_t)k * c->naxes + ax];
-		p[ax] = s;
+		p[ax] = filt(c, h, p0, p1, ax);
+		if (in0)
+			e0 = q[(size_t)p0 * c->naxes + ax] -
+			     filt(c, p0 + 1, p0, p1, ax);
+		if (in1)
+			e1 = q[(size_t)p1 * c->naxes + ax] -
+			     filt(c, p1 - 1, p0, p1, ax);
+		al = (e0 - g * e1) / (1.0 - g * g);
+		be = (e1 - g * e0) / (1.0 - g * g);
+		if (in0)
+			p[ax] += al * c->rp[h - p0 - 1];
+		if (in1)
+			p[ax] += be * c->rp[p1 - 1 - h];
 	}
 }
 
-static void shift_in(struct sh2000_bscomp *c, const double *q)
+static void shift_in(struct sh2000_bscomp *c, const double *q, int rest)
 {
 	size_t n = c->naxes * sizeof(double);
 
 	memcpy(c->q + (size_t)c->head * c->naxes, q, n);
 	memcpy(c->q + (size_t)(c->head + c->len) * c->naxes, q, n);
+	c->rest[c->head] = c->rest[c->head + c->len] = rest != 0;
 	c->head = (c->head + 1) % c->len;
 }
 
@@ -235,9 +322,20 @@ static void guard_start(struct sh2000_bscomp *c, double *p)
 		c->guard--;
 }
 
+void pl_bscomp_exact(struct sh2000_bscomp *c, int on)
+{
+	c->exact = on != 0;
+}
+
 int sh2000_bscomp_push(struct sh2000_bscomp *c, const double *q, double *p)
 {
-	shift_in(c, q);
+	return pl_bscomp_push(c, q, 0, p);
+}
+
+int pl_bscomp_push(struct sh2000_bscomp *c, const double *q, int rest,
+		   double *p)
+{
+	shift_in(c, q, rest);
 	memcpy(c->last, q, c->naxes * sizeof(double));
 	centre(c, p);
 	guard_start(c, p);
@@ -259,8 +357,11 @@ int sh2000_bscomp_flush(struct sh2000_bscomp *c, double *p, int *last)
 		int guard = straight(c);
 
 		c->flushing = 1;
+		/* the end is a rest point: the newest of the window */
+		i = (c->head + c->len - 1) % c->len;
+		c->rest[i] = c->rest[i + c->len] = (unsigned char)c->exact;
 		for (i = 0; i < c->len - 1; i++) {
-			shift_in(c, e);
+			shift_in(c, e, 0);
 			centre(c, c->tail + (size_t)i * c->naxes);
 		}
 		/* a straight approach: none passes E nor turns back; a move

@@ -282,6 +282,7 @@ static void pop_head(struct sh2000_path *p)
 
 	if (b->type == BLK_NURBS)
 		pl_nurbs_put(p, b->g.nurbs.nb);
+	p->a_prev = b->A;
 	p->head = (p->head + 1) % p->cap;
 	p->count--;
 	if (p->pending)
@@ -569,17 +570,65 @@ static int drain(struct sh2000_path *p)
 	return 0;
 }
 
+/* Periods a motion between two rests lasts at least for its rests to be
+ * exact: shorter ones bring the one-sided knots of both rests together,
+ * and the card's jerk then reached 1.47 times the planned one (G0 X0.03;
+ * 1.32 as the filter ran through) where longer moves stay as they were. */
+#define REST_PERIODS 7
+
+/* Whether the card's compensated spline may stop exactly on a rest point
+ * whose stop and start accelerate at up to A (bscomp.c): the exact stop
+ * keeps the card's acceleration within the S-curve's only where its ramp
+ * A/J lasts a period or more. A faster ramp is a step to the spline, which
+ * a stop exact in one period overshoots (1.14 of amax at 5000 mm/s^2 and
+ * the default jerk, 1.03 at 9000, 0.96 at 10000 where A/J is 0.9 T):
+ * there the stop rings as before. The trapezoid's steps never take it.
+ * stop: the motion that ends there lasted REST_PERIODS (or there is none);
+ * next: the length of the move that starts there (0: none), at least what
+ * the S-curve covers from rest to rest in REST_PERIODS. */
+static int exact_rest(const struct sh2000_path *p, double A, int stop,
+		      double next)
+{
+	double t = REST_PERIODS * p->cfg.period_s;
+
+	return !isinf(p->lim.J) && A >= p->lim.J * p->cfg.period_s &&
+	       (!stop || p->since_rest >= REST_PERIODS) &&
+	       (next == 0.0 || next >= p->lim.J * t * t * t / 32.0);
+}
+
 static int emit(struct sh2000_path *p, const double q[SH2000_AXES], int end)
 {
 	double P[SH2000_AXES];
-	int last;
+	int last, rest = !end && p->v <= 1e-12 && fabs(p->a) <= 1e-9 &&
+			 p->count;
+	unsigned int k;
 
 	if (!p->comp) {
-		queue_point(p, q, end ? SH2000_PATH_F_END : 0);
+		/* at rest on the way (a corner taken at v = 0): the card's
+		 * approximating spline meets a point only where three records
+		 * in a row are that point, so it holds there two periods more
+		 * (else it cuts the corner by a sixth of the steps around it) */
+		for (k = 0; k < (rest ? 3u : 1u); k++)
+			queue_point(p, q, end ? SH2000_PATH_F_END : 0);
 		return drain(p);
 	}
-	if (sh2000_bscomp_push(p->comp, q, P))
+	/* the compensated spline stops on it, not rings through it, where
+	 * it may */
+	p->since_rest++;
+	if (rest) {
+		/* resting on: as it was when it came to rest */
+		rest = p->since_rest <= 1 ? p->rest_exact :
+		       exact_rest(p, fmin(p->a_prev, head(p)->A), 1,
+				  head(p)->L);
+		p->rest_exact = rest;
+		p->since_rest = 0;
+	}
+	if (pl_bscomp_push(p->comp, q, rest, P))
 		queue_point(p, P, 0);
+	if (end)
+		pl_bscomp_exact(p->comp, exact_rest(p, p->count ?
+				fmin(p->a_prev, head(p)->A) : p->a_prev, 1,
+				0.0));
 	while (end && sh2000_bscomp_flush(p->comp, P, &last))
 		queue_point(p, P, last ? SH2000_PATH_F_END : 0);
 	return drain(p);
@@ -609,11 +658,23 @@ int pl_period(struct sh2000_path *p)
 		p->moving = 1;
 		p->v = p->a = 0.0;
 		p->dist_now = 0.0;
-		if (p->comp)
+		p->a_prev = INFINITY;
+		if (p->comp) {
+			p->rest_exact = exact_rest(p, head(p)->A, 0,
+						   head(p)->L);
+			pl_bscomp_exact(p->comp, p->rest_exact);
+			p->since_rest = 0;
 			sh2000_bscomp_start(p->comp, p->pos);
+		}
 	}
-	for (k = 0; k < p->substeps && !rest; k++)
+	for (k = 0; k < p->substeps && !rest; k++) {
 		rest = substep(p, h);
+		/* stopped on the way (a corner taken at rest) within the
+		 * period: it rests there to the period's end, so that the stop
+		 * is a point the card's spline can stop on (emit()) */
+		if (!rest && p->v <= 1e-12 && fabs(p->a) <= 1e-9)
+			break;
+	}
 	ds = p->dist_now;
 	p->dist_now = 0.0;
 	if (rest && p->count == 1 && p->s >= head(p)->L) {

@@ -159,6 +159,16 @@ double pl_highest_pass(double (*f)(const void *ctx, double x), const void *ctx,
 
 struct sh2000_bscomp;
 
+/* sh2000_bscomp_push() for a point the motion rests on (v = 0, a = 0) and
+ * goes on from (a corner under G61): with rest set, the card's spline
+ * stops on it exactly (bscomp.c). */
+int pl_bscomp_push(struct sh2000_bscomp *c, const double *q, int rest,
+		   double *p);
+/* Whether the next start (sh2000_bscomp_start) and end (the flush) are
+ * rest points the card's spline stops on exactly; off by default
+ * (sh2000_bscomp_* as documented in path.h). */
+void pl_bscomp_exact(struct sh2000_bscomp *c, int on);
+
 struct sh2000_path {
 	/* the configuration in force (the path mode changes it) and as
 	 * created */
@@ -213,6 +223,9 @@ struct sh2000_path {
 	double pos[SH2000_AXES];	/* last sampled point */
 	double dist;		/* path distance at the last sample */
 	double dist_now;	/* path distance travelled so far */
+	double a_prev;		/* A of the block last left (a stop's) */
+	unsigned int since_rest;	/* periods since the motion rested */
+	int rest_exact;		/* whether that rest was exact */
 
 	/* NURBS predictor history (same curve only) */
 	uint64_t hist_id;

@@ -2,7 +2,8 @@
 /*
  * The DSP firmware: protocol v1 on the card side (docs/protocol.md). One
  * call of sh2000_dsp_interrupt() is one servo interrupt (card.c's
- * sh2000_fw_cycle() runs it, then the board and plant). Its order is fixed:
+ * sh2000_fw_cycle() runs it, then the board and the motors). Its order
+ * is fixed:
  *   1. sample the encoders, switches and index latches;
  *   2. emergency stop (before any check, command or motion can act);
  *   3. axis checks, card heartbeat, host heartbeat watchdog;

@@ -238,7 +238,9 @@ static int turns(const struct sh2000_prog_block *a,
  * jerk by any rule of the planner yet (docs/planner.md "Known limits"):
  * junctions into and out of arcs and NURBS, and the ends of the arcs that
  * blend a corner between two lines. So: straight moves only, and every
- * corner between two feed lines taken at rest (G61, G61.1).
+ * corner between two feed lines, or between two rapids (which are blended
+ * with each other as LinuxCNC blends them; a rapid and a feed move meet at
+ * rest), taken at rest (G61, G61.1).
  */
 static int jerk_bounded(const struct sh2000_program *prog,
 			const struct sh2000_path_config *c)
@@ -257,13 +259,15 @@ static int jerk_bounded(const struct sh2000_program *prog,
 			blend = b->u.path.mode == SH2000_PATH_BLEND;
 			break;
 		case SH2000_PROG_LINE:
-			if (prev && blend && turns(prev, b))
+		case SH2000_PROG_RAPID:
+			if (prev && prev->kind == b->kind && blend &&
+			    turns(prev, b))
 				return 0;
 			prev = b;
 			break;
 		case SH2000_PROG_FEED:
 			break;
-		default:	/* rapids, dwells, pauses: from rest */
+		default:	/* dwells, pauses: from rest */
 			prev = NULL;
 		}
 	}

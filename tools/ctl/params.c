@@ -41,15 +41,6 @@ static int plan_read_file(struct ctl_plan *p, const char *path)
 	return r;
 }
 
-/* Card units of a user value, as the library converts it; 0 if it fits
- * the parameter, else a message in *why. */
-static int check_value(const struct sh2000_param_info *pi, double v,
-		       double scale, double *card, char *why, size_t len)
-{
-	return sh2000_param_value_check(pi->id, v, scale, card, why, len) < 0 ?
-	       -1 : 0;
-}
-
 /* Check the plan against the card's current values; nothing is sent. */
 static int plan_check(struct ctl *c, struct ctl_plan *p,
 		      double cur[SH2000_AXES + 1][SH2000_GP_END])
@@ -92,8 +83,10 @@ static int plan_check(struct ctl *c, struct ctl_plan *p,
 					card[id] = cur[s][id] * k;
 				continue;
 			}
-			if (check_value(pi, p->v[s][id], scale, &card[id], why,
-					sizeof(why)) < 0)
+			/* the library's rule and words, in card units */
+			if (sh2000_param_value_check(id, p->v[s][id], scale,
+						     &card[id], why,
+						     sizeof(why)) < 0)
 				ctl_plan_error(p, p->line[s][id], "%s%s%s: %s",
 					   s == CTL_SECT_GLOBAL ? "" : ctl_plan_section(s),
 					   s == CTL_SECT_GLOBAL ? "" : " ", pi->name, why);

@@ -52,7 +52,9 @@ struct sp_check {
 	unsigned long long fine;	/* fine points so far */
 	const struct sp_path *path;	/* NULL: no geometry check */
 	double tol;		/* mm from the path a set-point may be */
-	/* worst seen: ratios to the limits, distance, and where (fine index) */
+	/* worst seen: ratios to the limits, distance, and where (fine index);
+	 * past the first point further than tol the distance is measured to
+	 * the near segments only, an upper bound of the true one */
 	double v_ratio, a_ratio, j_ratio, dev;
 	unsigned long long v_at, a_at, j_at, dev_at;
 	double dev_point[SH2000_AXES];
@@ -214,18 +216,19 @@ static inline void sp_path_free(struct sp_path *g)
 }
 
 /* Distance from x to the path: the segments near the last match first, a
- * whole scan only when they are further than tol. */
+ * whole scan only when they are further than tol and `whole` is set. */
 static inline double sp_path_dist(struct sp_path *g,
-				  const double x[SH2000_AXES], double tol)
+				  const double x[SH2000_AXES], double tol,
+				  int whole)
 {
 	double best = INFINITY;
-	size_t i, k;
+	size_t i, k, last = whole ? 2 * g->n : 16;
 
 	if (g->n == 0)
 		return 0.0;
 	if (g->n == 1)
 		return sp_dist_seg(x, g->v[0], g->v[0]);
-	for (k = 0; k <= 2 * g->n; k++) {
+	for (k = 0; k <= last; k++) {
 		/* cur, cur + 1, cur - 1, cur + 2, ... */
 		size_t off = (k + 1) / 2;
 
@@ -296,7 +299,12 @@ static inline void sp_fine(struct sp_check *c, const double y[SH2000_AXES])
 		}
 	}
 	if (c->path) {
-		double d = sp_path_dist((struct sp_path *)c->path, y, c->tol);
+		/* once a point is known to be off the path, the rest need only
+		 * the near segments: the check has failed either way, and a
+		 * whole scan for each point of a long stretch off the path
+		 * takes minutes */
+		double d = sp_path_dist((struct sp_path *)c->path, y, c->tol,
+					c->dev <= c->tol);
 
 		if (d > c->dev) {
 			c->dev = d;

@@ -130,11 +130,50 @@ static void test_random_bytes(void **state)
 	check(JSON, "", 0);
 }
 
+/* A NUL inside a line is refused where it is, in every format: read as
+ * the end of a number it would turn "0.\0\0001" into 0 (for a G64 P, no
+ * tolerance at all) and the program would run something else. */
+static void test_nul_byte(void **state)
+{
+	static const struct {
+		enum sh2000_prog_format fmt;
+		const char *name, *text;
+		size_t len;
+		unsigned int col;
+	} cases[] = {
+#define TEXT(s) s, sizeof(s) - 1
+		{ SH2000_PROG_GCODE, "t.ngc", TEXT("G64 P0.\0\0001\nG1 X1 F100\n"), 8 },
+		{ SH2000_PROG_CANON, "t.canon",
+		  TEXT("SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, 0.\0\0001)\n"), 45 },
+		{ SH2000_PROG_CSV, "t.csv", TEXT("x,y\n1,2\0\n"), 4 },
+#undef TEXT
+	};
+
+	(void)state;
+	for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); i++) {
+		const struct sh2000_prog_diag *e;
+
+		sh2000_prog_diags_free(&D);
+		sh2000_prog_diags_init(&D);
+		assert_int_equal(sh2000_program_read(&P, cases[i].fmt,
+						     cases[i].name, cases[i].text,
+						     cases[i].len, NULL, &D),
+				 -SH2000_PROG_EINVALID);
+		e = first_error();
+		assert_non_null(e);
+		assert_int_equal(e->code, SH2000_PD_SYNTAX);
+		assert_int_equal(e->pos.column, cases[i].col);
+		assert_non_null(strstr(e->message, "NUL"));
+		assert_int_equal(P.count, 0);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test_setup_teardown(test_mangled, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_random_bytes, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_nul_byte, setup, teardown),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

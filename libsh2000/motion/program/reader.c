@@ -248,7 +248,7 @@ static int text_line(struct sh2000_prog_reader *r, const char **s, size_t *n)
  * was fed, 0 when the input is done, or -errno. */
 static int step(struct sh2000_prog_reader *r)
 {
-	const char *s = NULL;
+	const char *s = NULL, *nul;
 	size_t n = 0;
 	bool cut = false;
 	int got;
@@ -269,6 +269,16 @@ static int step(struct sh2000_prog_reader *r)
 	if (cut)
 		prog_err(&r->c, SH2000_PD_SYNTAX, r->lineno, LINE_MAX_BYTES + 1,
 			 "line longer than %u bytes", LINE_MAX_BYTES);
+	/* every format is text: a NUL would end a number or a word early
+	 * and the rest of it would be read as something else ("0.\0\0001"
+	 * as a tolerance of 0, no tolerance at all), so the line is refused */
+	nul = memchr(s, '\0', n);
+	if (nul) {
+		prog_err(&r->c, SH2000_PD_SYNTAX, r->lineno,
+			 (unsigned int)(nul - s) + 1,
+			 "a NUL byte: not a text program (line skipped)");
+		return r->c.oom ? -ENOMEM : 1;
+	}
 	r->ops->line(&r->c, r->state, s, n, r->lineno);
 	return r->c.oom ? -ENOMEM : 1;
 }

@@ -194,7 +194,8 @@ static int sink(void *ctx, const struct sh2000_path_point *pt)
  * planner's corner and chord tolerances, 0.01 mm), G64 Q on top; G64
  * without P bounds a blend only by its moves (a blend arc takes at most
  * half of either move, and its middle is no further from the corner than
- * that), so then half the longest straight move. */
+ * that), so then half the longest straight move, a rapid included (rapids
+ * blend with rapids). */
 static double geo_tol(const struct sh2000_program *prog,
 		      const struct sh2000_path_config *c)
 {
@@ -204,7 +205,7 @@ static double geo_tol(const struct sh2000_program *prog,
 	for (size_t i = 0; i < prog->count; i++) {
 		const struct sh2000_prog_block *b = &prog->blocks[i];
 
-		if (b->kind == SH2000_PROG_LINE)
+		if (b->kind == SH2000_PROG_LINE || b->kind == SH2000_PROG_RAPID)
 			longest = fmax(longest, dist(b->start, b->end));
 		if (b->kind != SH2000_PROG_PATH_MODE ||
 		    b->u.path.mode != SH2000_PATH_BLEND)

@@ -26,8 +26,27 @@
  * on the target. */
 #define HSC_LEAD		0.5
 /* Records pushed in one tick by the stream (a further card whose clock is
- * faster than the thread needs two now and then). */
+ * faster than the thread needs two now and then, and records owed after a
+ * stall go out two a tick). */
 #define HSC_MAX_PUSH		2
+/* Ticks the fill must stay beyond its slack, ahead of the schedule,
+ * before the card is taken to have slipped and the stream is re-centred
+ * (records dropped). Shorter, a stall of the whole machine that the card
+ * then catches up (a served card catches up 50 ms in some 17 ms, the
+ * thread its ticks back to back) looks like a slip while it lasts, and
+ * every record dropped for it would move the card's timeline for good:
+ * one servo period of skew against the other cards and a jump of a
+ * period's motion in the set-point. */
+#define HSC_SLIP_TICKS		100
+/* How much faster than the thread's time the records sample the command
+ * while the stream catches up a card that slipped: the card plays the
+ * motion 5 % faster until the fill is back at the target (a slip of 40
+ * periods takes 800 ticks), rather than jump over what it missed (a
+ * step of 40 periods' motion, which the card refuses). */
+#define HSC_SLIP_RATE		0.05
+/* Ticks of the pins' commands kept, for records pushed late (owed while
+ * the ring was full): they hold the command of their own time. */
+#define HSC_CMD_HISTORY		128u
 /* Servo cycles per coarse period the driver aims at (100 us at 1 ms). */
 #define HSC_SERVO_NS		100000
 
@@ -166,6 +185,12 @@ struct hsc_card {
 	int32_t last_cmd[SH2000_AXES];	/* this tick's command */
 	int32_t prev_cmd[SH2000_AXES];	/* the last tick's */
 	int have_cmd;
+	/* the command of tick k at cmd_hist[k % HSC_CMD_HISTORY], for the
+	 * last HSC_CMD_HISTORY ticks of a stream (from cmd_hist_from) */
+	int32_t cmd_hist[HSC_CMD_HISTORY][SH2000_AXES];
+	uint64_t cmd_hist_from;
+	int over_ticks;		/* ticks in a row the fill was too far ahead */
+	int recentring;		/* catching up a card that slipped */
 
 	uint32_t underruns;
 	struct sh2000_port_counters pc_last;

@@ -176,24 +176,52 @@ static int push(struct hsc_card *c, const int32_t cmd[SH2000_AXES], double t,
 	return r;
 }
 
-/* The pins' command at thread time t (ticks): linear through the last
- * two ticks' commands, which extrapolates for a t after this tick. */
+/* The pins' command at thread time t (ticks): linear between the ticks'
+ * commands around t, from the history for a t before the last tick (a
+ * record pushed late), through the last two ticks' for a t after it,
+ * which extrapolates. */
 static void command_at(const struct hsc_card *c, double t,
 		       int32_t cmd[SH2000_AXES])
 {
-	double f = t - ((double)c->tick - 1.0);
+	double k = floor(t), f;
+	const int32_t *p0 = c->prev_cmd, *p1 = c->last_cmd;
 	unsigned int a;
 
+	if (k < (double)c->tick - 1.0) {
+		uint64_t oldest = c->tick >= HSC_CMD_HISTORY - 1 ?
+				  c->tick - (HSC_CMD_HISTORY - 1) : 0;
+
+		if (oldest < c->cmd_hist_from)
+			oldest = c->cmd_hist_from;
+		if (k < (double)oldest) {
+			k = (double)oldest;
+			t = k;
+		}
+		p0 = c->cmd_hist[(uint64_t)k % HSC_CMD_HISTORY];
+		p1 = c->cmd_hist[((uint64_t)k + 1) % HSC_CMD_HISTORY];
+		f = t - k;
+	} else {
+		f = t - ((double)c->tick - 1.0);
+	}
 	if (f < 0)
 		f = 0;
 	for (a = 0; a < SH2000_AXES; a++) {
-		double p0 = c->prev_cmd[a], p1 = c->last_cmd[a];
-		double v = nearbyint(p0 + f * (p1 - p0));
+		double v = nearbyint(p0[a] + f * (p1[a] - p0[a]));
 
 		/* only an extrapolation leaves the two commands' range */
 		cmd[a] = v < INT32_MIN || v > INT32_MAX ? c->last_cmd[a] :
 			 (int32_t)v;
 	}
+}
+
+/* This tick's command into the history (streaming or not: the first
+ * records of a stream are this tick's). */
+static void remember_command(struct hsc_card *c)
+{
+	memcpy(c->cmd_hist[c->tick % HSC_CMD_HISTORY], c->last_cmd,
+	       sizeof(c->last_cmd));
+	if (!c->streaming)
+		c->cmd_hist_from = c->tick;
 }
 
 /* Is the stream still the card's motion? */
@@ -244,6 +272,8 @@ static void start_stream(struct hsc_card *c, int target)
 		push(c, c->last_cmd, (double)c->tick, 0);
 	c->streaming = c->sfault == HSC_SF_NONE;
 	c->seen_running = 0;
+	c->over_ticks = 0;
+	c->recentring = 0;
 	c->delay_valid = 0;
 	c->stream_ticks = -1;	/* this tick's point is in the batch */
 }
@@ -260,10 +290,12 @@ static void start_stream(struct hsc_card *c, int target)
  * last two ticks' (or extrapolated up to HSC_LEAD of a tick, which keeps
  * the queue centred).
  *
- * Only when that fails (a card that slipped, a thread that fell far
- * behind) does the stream stall a point or add one, which moves the
- * card's timeline by a period: the measured delay is void then. A tick
- * that runs late sees the card ahead by its lateness.
+ * Only when that fails does the stream move the card's timeline: a card
+ * that slipped for HSC_SLIP_TICKS is caught up gradually (faster
+ * records), and a thread that fell so far behind that the ring nearly
+ * ran dry adds a record (the measured delay is void then). A tick that runs late sees the card ahead by its
+ * lateness; a stall of the whole machine, which the card and the thread
+ * both catch up, moves nothing.
  */
 static void stream(struct hsc_card *c, int target)
 {
@@ -278,13 +310,31 @@ static void stream(struct hsc_card *c, int target)
 		int slack = target / 2 > HSC_FILL_SLACK ? target / 2 :
 			    HSC_FILL_SLACK;
 
-		if (ahead > target + slack ||
-		    fill >= (int)sh2000_queue_size(c->h) - 1) {
-			c->delay_valid = 0;
-			c->due -= 1.0;
-			return;
-		}
-		if (ahead < target - slack && fill < 2) {
+		/*
+		 * The card has taken fewer records than its clock should
+		 * have: a stall it will catch up, or a slip. Only when that
+		 * lasts is the stream re-centred, and gradually: the records
+		 * sample the command HSC_SLIP_RATE faster than the thread's
+		 * time until the fill is back at the target, so the card
+		 * plays the motion that much faster a while instead of
+		 * jumping over what it missed. A full ring alone drops
+		 * nothing: the records wait (the loop below stops at a full
+		 * ring) and go out when there is room.
+		 */
+		c->over_ticks = ahead > target + slack ? c->over_ticks + 1 : 0;
+		if (c->over_ticks >= HSC_SLIP_TICKS)
+			c->recentring = 1;
+		if (c->recentring && ahead <= target)
+			c->recentring = 0;
+		if (c->recentring)
+			c->due -= HSC_SLIP_RATE * step;
+		/* the ring nearly dry and nothing owed to it but this
+		 * tick's record: the thread fell behind the card, which
+		 * holds this point a period (a record owed from earlier
+		 * ticks holds an older command: it goes first) */
+		if (ahead < target - slack && fill < 2 &&
+		    (double)c->rec_n - (double)target + 1.0 >
+		    c->due + HSC_LEAD * step - step) {
 			c->delay_valid = 0;
 			c->due += 1.0;
 			push(c, c->last_cmd, (double)c->tick, 0);
@@ -381,6 +431,7 @@ void hsc_write(struct hsc_card *c, const struct hsc_in *in,
 			c->streaming = 0;
 		}
 	}
+	remember_command(c);
 	if (c->ending && c->st_fresh && !hsc_moving(c->st.card_state))
 		c->ending = 0;
 	check_stream(c);

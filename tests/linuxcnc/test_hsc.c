@@ -7,9 +7,10 @@
  * sequence, that LinuxCNC's following error equals the card's own within
  * 1 um on a 200 mm/s move, the fill of the ring, the emergency stop both
  * ways, a jam as an amplifier fault, an underrun, a STOP from another
- * program and the reset that clears them; and two cards whose clocks are
- * off by +-100 ppm in one thread (each ring's fill, the skew between
- * their set-points).
+ * program and the reset that clears them; a stall of the whole machine
+ * that the card catches up, and a slip it does not; and two cards whose
+ * clocks are off by +-100 ppm in one thread (each ring's fill, the skew
+ * between their set-points).
  */
 #include <math.h>
 #include <setjmp.h>
@@ -297,6 +298,150 @@ static void test_stopped_by_another_program(void **state)
 	rig_close(r);
 }
 
+/* ---- a stall of the whole machine ---- */
+
+/* One tick of x moving at v mm/s, the thread `late_periods` late,
+ * `advance` card periods passing before it (on the rig's schedule: the
+ * card's virtual time runs in whole status periods). */
+static void stall_tick(struct rig *r, double *cmd, double v, int late_periods,
+		       int advance)
+{
+	unsigned int a;
+	uint64_t now;
+
+	r->t_next += (uint64_t)advance * PERIOD_NS;
+	now = sh2000_now_ns(r->c.h);
+	if (now < r->t_next)
+		sh2000_sleep_ns(r->c.h, r->t_next - now);
+	cmd[0] += v * PERIOD_NS * 1e-9;
+	hsc_read(&r->c, &r->in, &r->out, PERIOD_NS,
+		 (long)late_periods * PERIOD_NS);
+	for (a = 0; a < SH2000_AXES; a++)
+		r->in.axis[a].position_cmd = cmd[a];
+	hsc_write(&r->c, &r->in, &r->out);
+	if (!r->out.ok)
+		fail_msg("%s (fill %u)", r->c.err, r->c.st.queue_fill);
+}
+
+/*
+ * The machine stalls for n ticks with the card on it (a served card, or a
+ * virtual machine descheduled). Afterwards the thread runs the n ticks it
+ * missed back to back, late by n..1 periods, before the card has moved on
+ * (no card time passes); then the card catches up its n periods at a
+ * served card's pace, four periods a tick, while the thread is on time.
+ * x moves at v mm/s throughout. Returns the largest |card f-error| in mm
+ * from the stall to 500 ticks after it.
+ */
+static double stall_in_motion(struct rig *r, int n, double v)
+{
+	double cmd[SH2000_AXES] = { 0 }, worst = 0;
+	unsigned int a;
+	int k, behind = n;
+
+	for (a = 0; a < SH2000_AXES; a++)
+		cmd[a] = r->in.axis[a].position_cmd;
+	for (k = 0; k < n; k++)
+		stall_tick(r, cmd, v, n - k, 0);
+	while (behind > 0) {
+		int step = behind < 3 ? behind : 3;
+
+		stall_tick(r, cmd, v, 0, step + 1);
+		behind -= step;
+		worst = fmax(worst, fabs(r->out.axis[0].f_error));
+	}
+	r->t_next += PERIOD_NS;
+	for (k = 0; k < 500; k++) {
+		cmd[0] += v * PERIOD_NS * 1e-9;
+		tick(r, cmd);
+		assert_true(r->out.ok);
+		worst = fmax(worst, fabs(r->out.axis[0].f_error));
+	}
+	return worst;
+}
+
+/* A stall the card catches up moves neither the card's timeline (the
+ * delay from a command to its set-point, the fill) nor its set-point (no
+ * record dropped: no jump of a period's motion), with the ring deep
+ * enough to take the thread's catch-up (40 ticks) or not (70: records
+ * wait for room and still hold the command of their own tick). */
+static void test_stall_caught_up(void **state)
+{
+	static const int stalls[] = { 40, 70 };
+	double v = 100.0, cmd[SH2000_AXES] = { 0 }, before, worst;
+	unsigned int a, fill;
+	size_t i;
+	int k;
+
+	(void)state;
+	for (i = 0; i < sizeof(stalls) / sizeof(stalls[0]); i++) {
+		struct rig *r = rig_open();
+
+		r->in.queue_target = 20;
+		machine_on(r, 0x1);
+		for (a = 0; a < SH2000_AXES; a++)
+			cmd[a] = r->in.axis[a].position_cmd;
+		for (k = 0; k < 400; k++) {
+			cmd[0] += v * PERIOD_NS * 1e-9;
+			tick(r, cmd);
+		}
+		assert_true(r->c.delay_valid);
+		before = r->c.delay;
+		fill = r->c.st.queue_fill;
+		worst = stall_in_motion(r, stalls[i], v);
+		print_message("stall of %d ticks at %.0f mm/s: delay %.3f -> %.3f periods, fill %u -> %u, card f-error up to %.3f um\n",
+			      stalls[i], v, before, r->c.delay, fill,
+			      r->c.st.queue_fill, worst * 1e3);
+		assert_true(r->c.delay_valid);
+		assert_true(fabs(r->c.delay - before) < 0.2);
+		assert_true(abs((int)r->c.st.queue_fill - (int)fill) <= 1);
+		/* a dropped record is a step of 100 um in the set-point */
+		assert_true(worst < 0.005);
+		assert_int_equal(r->out.underruns, 0);
+		rig_close(r);
+	}
+}
+
+/* A card that loses 40 periods for good (a served card further behind
+ * than it catches up): after HSC_SLIP_TICKS the stream catches the card
+ * up (HSC_SLIP_RATE faster), without a step the card would refuse, and
+ * the fill is back at the target. */
+static void test_slip_recentred(void **state)
+{
+	struct rig *r = rig_open();
+	double cmd[SH2000_AXES] = { 0 }, v = 100.0;
+	unsigned int a, fill, most = 0;
+	int k;
+
+	(void)state;
+	r->in.queue_target = 20;
+	machine_on(r, 0x1);
+	for (a = 0; a < SH2000_AXES; a++)
+		cmd[a] = r->in.axis[a].position_cmd;
+	for (k = 0; k < 400; k++) {
+		cmd[0] += v * PERIOD_NS * 1e-9;
+		tick(r, cmd);
+	}
+	fill = r->c.st.queue_fill;
+	for (k = 0; k < 40; k++)
+		stall_tick(r, cmd, v, 40 - k, 0);
+	r->t_next = sh2000_now_ns(r->c.h) + PERIOD_NS;
+	for (k = 0; k < HSC_SLIP_TICKS + (int)(60 / HSC_SLIP_RATE); k++) {
+		cmd[0] += v * PERIOD_NS * 1e-9;
+		tick(r, cmd);
+		if (!r->out.ok)
+			fail_msg("tick %d: %s (fill %u)", k, r->c.err,
+				 r->c.st.queue_fill);
+		if (r->c.st.queue_fill > most)
+			most = r->c.st.queue_fill;
+	}
+	print_message("a slip of 40 periods: fill %u, up to %u, then %u\n",
+		      fill, most, r->c.st.queue_fill);
+	assert_true(most >= fill + 30);
+	assert_true(abs((int)r->c.st.queue_fill - (int)fill) <= 1);
+	assert_int_equal(r->out.underruns, 0);
+	rig_close(r);
+}
+
 /* ---- two cards on their own clocks (the drift test) ---- */
 
 #define DRIFT_PPM	100.0
@@ -476,6 +621,8 @@ int main(void)
 		cmocka_unit_test(test_jam_is_amp_fault),
 		cmocka_unit_test(test_underrun),
 		cmocka_unit_test(test_stopped_by_another_program),
+		cmocka_unit_test(test_stall_caught_up),
+		cmocka_unit_test(test_slip_recentred),
 		cmocka_unit_test(test_two_cards_drift),
 	};
 

@@ -163,6 +163,7 @@ struct sp_call {
 	void *obs_arg;
 	struct sh2000_cardsim *card;
 	double ppm;
+	double *tool;
 };
 
 static int sp_dispatch(const struct sh2000_ports *p, void *arg)
@@ -221,6 +222,19 @@ static int do_probe(struct simport *sp, struct sp_call *c)
 int sh2000_sim_probe(struct sh2000 *h, struct sh2000_probe *p)
 {
 	struct sp_call c = { .fn = do_probe, .probe = p };
+
+	return call(h, &c);
+}
+
+static int do_tool(struct simport *sp, struct sp_call *c)
+{
+	sh2000_fw_tool_position(sh2000_cardsim_fw(sp->card), c->tool);
+	return 0;
+}
+
+int sh2000_sim_tool_position(struct sh2000 *h, double tool_mm[SH2000_AXES])
+{
+	struct sp_call c = { .fn = do_tool, .tool = tool_mm };
 
 	return call(h, &c);
 }

@@ -95,6 +95,12 @@ void sh2000_fw_probe(const struct sh2000_fw *fw, struct sh2000_probe *p)
 	}
 }
 
+void sh2000_fw_tool_position(const struct sh2000_fw *fw,
+			     double tool_mm[SH2000_AXES])
+{
+	sh2000_board_tool(fw->hw, tool_mm);
+}
+
 void sh2000_fw_set_observer(struct sh2000_fw *fw, sh2000_fw_observer fn,
 			    void *ctx)
 {

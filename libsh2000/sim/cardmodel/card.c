@@ -101,6 +101,15 @@ void sh2000_fw_tool_position(const struct sh2000_fw *fw,
 	sh2000_board_tool(fw->hw, tool_mm);
 }
 
+void sh2000_fw_comp_offset(const struct sh2000_fw *fw,
+			   double off[SH2000_AXES])
+{
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++)
+		off[a] = fw->dsp.comp.off[a];
+}
+
 void sh2000_fw_set_observer(struct sh2000_fw *fw, sh2000_fw_observer fn,
 			    void *ctx)
 {

@@ -171,6 +171,11 @@ void sh2000_fw_probe(const struct sh2000_fw *fw, struct sh2000_probe *p);
  * what the scales read. Not visible to a host through the device API. */
 void sh2000_fw_tool_position(const struct sh2000_fw *fw,
 			     double tool_mm[SH2000_AXES]);
+/* Addition: what the compensation tables add to each axis' set-point
+ * this cycle (counts; 0 without tables): the loop holds the scale at the
+ * nominal set-point plus this. */
+void sh2000_fw_comp_offset(const struct sh2000_fw *fw,
+			   double off[SH2000_AXES]);
 /* Called after every servo cycle with the probe of that cycle (traces,
  * tests); NULL removes it. Runs inside sh2000_fw_cycle(): keep it short. */
 typedef void (*sh2000_fw_observer)(void *ctx, const struct sh2000_probe *p);

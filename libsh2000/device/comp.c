@@ -14,6 +14,9 @@
 
 #define PAGE_TRIES	3
 #define STATUS_TRIES	5
+/* How long a switch's blend may take to end, and how often to look. */
+#define BLEND_WAIT_NS	(4ull * SH2000_COMP_BLEND_MS * 1000000ull)
+#define BLEND_POLL_NS	5000000ull
 
 static int need_comp(struct sh2000 *h)
 {
@@ -89,8 +92,31 @@ static int load_locked(struct sh2000 *h, const uint16_t *w, size_t n,
 				   f.table, f.point, sh2000_comp_reason_name(f.reason));
 	}
 	if (r == -SH2000_ECMD_BUSY)
-		return sh2000_fail(h, r, "comp load: the card is moving or still blending the last switch: tables switch only at rest");
+		return sh2000_fail(h, r, "tables switch only at rest: the card is moving or still blending the last switch");
 	return r;
+}
+
+/* After a switch: wait (bounded) until the card's blend has ended, so
+ * that the next switch or a status shows the new set in place. */
+static int blend_wait(struct sh2000 *h)
+{
+	uint64_t t0 = sh2000_now_locked(h);
+	uint16_t w[SH2000_COMP_STATUS_WORDS];
+	int r;
+
+	for (;;) {
+		r = sh2000_rd(h, SH2000_W_COMP_STATUS, SH2000_COMP_STATUS_WORDS, w);
+		if (r < 0)
+			return r;
+		if (w[SH2000_CS_CHECK] == sh2000_check16(w, SH2000_CS_CHECK) &&
+		    w[SH2000_CS_STATE] != SH2000_COMP_SWITCHING)
+			return 0;
+		if (sh2000_now_locked(h) - t0 > BLEND_WAIT_NS)
+			return sh2000_fail(h, -SH2000_ETIMEOUT,
+					   "the card did not finish its %u ms blend to the new tables",
+					   SH2000_COMP_BLEND_MS);
+		sh2000_hold_wait(h, BLEND_POLL_NS);
+	}
 }
 
 int sh2000_comp_load_image(struct sh2000 *h, const uint16_t *w, size_t n,
@@ -108,6 +134,8 @@ int sh2000_comp_load_image(struct sh2000 *h, const uint16_t *w, size_t n,
 	r = need_comp(h);
 	if (!r)
 		r = load_locked(h, w, n, fault);
+	if (!r)
+		r = blend_wait(h);
 	pthread_mutex_unlock(&h->lock);
 	return r;
 }
@@ -124,7 +152,9 @@ int sh2000_comp_clear(struct sh2000 *h)
 		r = sh2000_command_locked(h, SH2000_CMD_COMP_CLEAR, 0, 0, 0, NULL,
 					  SH2000_CMD_TIMEOUT_MS);
 	if (r == -SH2000_ECMD_BUSY)
-		r = sh2000_fail(h, r, "comp clear: the card is moving or still blending the last switch: tables switch only at rest");
+		r = sh2000_fail(h, r, "tables switch only at rest: the card is moving or still blending the last switch");
+	if (!r)
+		r = blend_wait(h);
 	pthread_mutex_unlock(&h->lock);
 	return r;
 }

@@ -480,13 +480,14 @@ int sh2000_comp_check(const uint16_t *w, const struct sh2000_comp_index *ix,
 		vel[a] += s.vel;
 		acc[a] += s.acc;
 		off[a] += s.off;
-		/* the table that takes its target over is the one named */
-		if (off[a] > SH2000_COMP_MAX_OFFSET)
-			return fault(why, (int)i, s.opoint, SH2000_COMP_R_OFFSET);
+		/* the table that takes its target over is the one named; a
+		 * jump first (it also makes the curve overshoot) */
 		if (vel[a] > SH2000_COMP_VMAX_SHARE * lim->vmax[a])
 			return fault(why, (int)i, s.vpoint, SH2000_COMP_R_SLOPE);
 		if (acc[a] > SH2000_COMP_AMAX_SHARE * lim->amax[a])
 			return fault(why, (int)i, s.apoint, SH2000_COMP_R_ACCEL);
+		if (off[a] > SH2000_COMP_MAX_OFFSET)
+			return fault(why, (int)i, s.opoint, SH2000_COMP_R_OFFSET);
 	}
 	return 0;
 }

@@ -621,11 +621,12 @@ int sh2000_comp_status(struct sh2000 *h, struct sh2000_comp_status *st);
  * refusal (-SH2000_ECMD_VALUE, -SH2000_ECMD_CHECKSUM) with *fault saying
  * which table and point (fault may be NULL); -SH2000_ECMD_BUSY while the
  * card moves or is still blending from the last switch. A refusal
- * changes nothing that is active.
+ * changes nothing that is active. Returns when the card's blend to the
+ * new tables (SH2000_COMP_BLEND_MS) has ended.
  */
 int sh2000_comp_load_image(struct sh2000 *h, const uint16_t *w, size_t n,
 			   struct sh2000_comp_fault *fault);
-/* No tables (blended out at rest). */
+/* No tables (blended out at rest; returns when the blend has ended). */
 int sh2000_comp_clear(struct sh2000 *h);
 /* The axes' limits the card checks tables against, from its parameters. */
 int sh2000_comp_limits_get(struct sh2000 *h, struct sh2000_comp_limits *lim);

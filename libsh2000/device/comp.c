@@ -195,11 +195,17 @@ int sh2000_comp_limits_get(struct sh2000 *h, struct sh2000_comp_limits *lim)
 	unsigned int a, k;
 	int r;
 
-	for (a = 0; a < SH2000_AXES; a++)
-		for (k = 0; k < 2; k++) {
+	double scale;
+
+	/* the library's parameters are in mm; the rule is in counts */
+	for (a = 0; a < SH2000_AXES; a++) {
+		r = sh2000_param_get(h, (int)a, SH2000_P_SCALE, &scale);
+		for (k = 0; !r && k < 2; k++) {
 			r = sh2000_param_get(h, (int)a, ids[k], &dst[k][a]);
-			if (r < 0)
-				return r;
+			dst[k][a] *= scale;
 		}
+		if (r < 0)
+			return r;
+	}
 	return 0;
 }

@@ -9,11 +9,13 @@
  * tangents (exact for a parabola; one-sided at the ends), so the correction
  * is continuous in position and in its first derivative (the set-point's
  * velocity never steps as a point is crossed). A grid is the tensor
- * product of the same along both directions. A table's end points have a
- * zero slope and beyond them the correction holds the end's value: C1
- * everywhere and bounded however far an axis travels (the cost: the end
- * segments are less exact, so a calibration puts a point beyond each end
- * of the travel it corrects).
+ * product of the same along both directions. At a table's ends the tangent
+ * is the end segment's chord; beyond them the slope runs out linearly to 0
+ * over SH2000_COMP_RUNOUT end segments and the correction then holds: C1
+ * everywhere, bounded however far an axis travels, and bending no harder
+ * than the table (a slope cut to 0 at the end point would bend the end
+ * segment hard enough to ask an axis at full speed for a few % of its
+ * acceleration).
  */
 #include <math.h>
 #include <string.h>
@@ -57,30 +59,42 @@ static double tangent3(double xa, double xb, double xc, double ya, double yb,
 	return (h0 * (yc - yb) / h1 + h1 * (yb - ya) / h0) / (h0 + h1);
 }
 
+/* Beyond a table's end at (xe, ye) with slope m, d >= 0 past it
+ * (dir -1: before the first point, +1: after the last): the slope runs
+ * out over r. */
+static void runout(double ye, double m, double d, double r, int dir,
+		   double out[3])
+{
+	if (d >= r) {
+		out[0] = ye + dir * m * 0.5 * r;
+		out[1] = out[2] = 0.0;
+		return;
+	}
+	out[0] = ye + dir * m * (d - d * d / (2.0 * r));
+	out[1] = m * (1.0 - d / r);
+	out[2] = -dir * m / r;
+}
+
 /*
  * The curve at p in the segment from point 1 to point 2 of the window
  * x[0..3], y[0..3]; first: point 0 does not exist (the segment starts the
- * table), last: point 3 does not (it ends it). Out: f, f', f''. A table's
- * ends have slope 0; beyond them (only from an end segment) the end's
- * value holds.
+ * table), last: point 3 does not (it ends it). Out: f, f', f''. Beyond
+ * the segment only from an end segment: the run-out.
  */
 static void segment(const double x[4], const double y[4], int first,
 		    int last, double p, double out[3])
 {
-	double m0 = first ? 0.0 : tangent3(x[0], x[1], x[2], y[0], y[1], y[2]);
-	double m1 = last ? 0.0 : tangent3(x[1], x[2], x[3], y[1], y[2], y[3]);
-	double h = x[2] - x[1];
+	double h = x[2] - x[1], chord = (y[2] - y[1]) / h;
+	double m0 = first ? chord : tangent3(x[0], x[1], x[2], y[0], y[1], y[2]);
+	double m1 = last ? chord : tangent3(x[1], x[2], x[3], y[1], y[2], y[3]);
 
-	if (p <= x[1] || p >= x[2]) {
-		out[0] = p <= x[1] ? y[1] : y[2];
-		/* inside a table a point's own tangent; beyond it nothing */
-		out[1] = p <= x[1] ? (first ? 0.0 : m0) : (last ? 0.0 : m1);
-		out[2] = 0.0;
-		if (p == x[1] || p == x[2])
-			herm(y[1], y[2], m0, m1, h, p == x[1] ? 0.0 : 1.0, out);
-		return;
-	}
-	herm(y[1], y[2], m0, m1, h, (p - x[1]) / h, out);
+	if (p < x[1] && first)
+		runout(y[1], m0, x[1] - p, SH2000_COMP_RUNOUT * h, -1, out);
+	else if (p > x[2] && last)
+		runout(y[2], m1, p - x[2], SH2000_COMP_RUNOUT * h, 1, out);
+	else
+		herm(y[1], y[2], m0, m1, h, fmin(1.0, fmax(0.0, (p - x[1]) / h)),
+		     out);
 }
 
 /* The segment k (points k, k+1) of n points got by get(ctx, i, &x, &y),
@@ -420,8 +434,20 @@ static void worst_table(const uint16_t *w, const struct sh2000_comp_desc *t,
 {
 	struct table_ctx c = { w, t->data, t->n1 };
 	unsigned int k, f;
-	double x0, x1 = 0.0, y;
+	double x0, x1 = 0.0, y, r;
 
+	/* the run-outs: their bend is constant, their offset largest at
+	 * their far ends */
+	table_point(&c, 0, &x0, &y);
+	table_point(&c, 1, &x1, &y);
+	r = SH2000_COMP_RUNOUT * (x1 - x0);
+	sample(w, t, lim, x0 - 0.5 * r, 0.0, 0, s);
+	sample(w, t, lim, x0 - r, 0.0, 0, s);
+	table_point(&c, t->n1 - 2, &x0, &y);
+	table_point(&c, t->n1 - 1, &x1, &y);
+	r = SH2000_COMP_RUNOUT * (x1 - x0);
+	sample(w, t, lim, x1 + 0.5 * r, 0.0, (int)t->n1 - 1, s);
+	sample(w, t, lim, x1 + r, 0.0, (int)t->n1 - 1, s);
 	for (k = 0; k + 1 < t->n1; k++) {
 		table_point(&c, k, &x0, &y);
 		table_point(&c, k + 1, &x1, &y);

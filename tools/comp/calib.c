@@ -18,8 +18,8 @@
 
 /* Dwell before a measurement, samples averaged and their spacing. */
 #define SETTLE_NS	30000000ull
-#define SAMPLES		16
-#define SAMPLE_NS	500000ull
+#define SAMPLES		128
+#define SAMPLE_NS	2000000ull
 #define SWITCH_WAIT_MS	3000
 
 void cal_config_default(struct cal_config *c)

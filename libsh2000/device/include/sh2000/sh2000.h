@@ -628,7 +628,8 @@ int sh2000_comp_load_image(struct sh2000 *h, const uint16_t *w, size_t n,
 			   struct sh2000_comp_fault *fault);
 /* No tables (blended out at rest; returns when the blend has ended). */
 int sh2000_comp_clear(struct sh2000 *h);
-/* The axes' limits the card checks tables against, from its parameters. */
+/* The axes' limits the card checks tables against, from its parameters
+ * (counts/s, counts/s^2). */
 int sh2000_comp_limits_get(struct sh2000 *h, struct sh2000_comp_limits *lim);
 
 /* A table file (docs/compensation.md) read into an image; every table and

@@ -60,6 +60,9 @@ enum sh2000_comp_reason {
  * add together when every source axis moves at its own VMAX and AMAX (the
  * planner keeps 5 % of both free: docs/planner.md). */
 #define SH2000_COMP_MAX_OFFSET		100000.0	/* counts: 1 mm at 10 nm */
+/* Beyond a table's end its slope runs out to 0 over this many of its end
+ * segments (comp_table.c), then the correction holds. */
+#define SH2000_COMP_RUNOUT		16.0
 #define SH2000_COMP_VMAX_SHARE		0.02
 #define SH2000_COMP_AMAX_SHARE		0.04
 

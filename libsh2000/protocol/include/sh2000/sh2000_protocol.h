@@ -448,7 +448,8 @@ enum sh2000_comp_kind {
 	/* correction of TARGET as a function of SRC1's position: a pitch
 	 * table when SRC1 = TARGET, straightness when not. Data: N1 I32
 	 * positions, strictly increasing, then N1 F32 corrections; cubic
-	 * Hermite between them, slope 0 at the ends, their values beyond. */
+	 * Hermite between them; beyond the ends the slope runs out over
+	 * SH2000_COMP_RUNOUT end segments, then the correction holds. */
 	SH2000_COMP_TABLE = 1,
 	/* TARGET += coefficient * SRC1's position (squareness). N1 = 0;
 	 * data: one F32 (counts per count, i.e. rad). */
@@ -456,7 +457,7 @@ enum sh2000_comp_kind {
 	/* correction of TARGET as a function of SRC1 and SRC2 (flatness):
 	 * a uniform N1 x N2 grid. Data: I32 U0, DU > 0 (SRC1), V0, DV > 0
 	 * (SRC2), then N1 * N2 F32 corrections, SRC1 fastest; bicubic
-	 * Hermite inside, slope 0 at the edges, their values beyond. */
+	 * Hermite inside, the same run-out beyond the edges. */
 	SH2000_COMP_GRID = 3,
 };
 

@@ -88,4 +88,18 @@ int cal_load(struct cal_sim *s, const struct cal_tables *t);
 int cal_run(struct cal_sim *s, const struct cal_config *c,
 	    struct cal_tables *t);
 
+/* A program's path on the machine (pathcheck.c): a star of moves in X-Y-Z
+ * within +-0.9 half mm of the reference, each point reached at rest. */
+struct cal_path {
+	double geo_max, geo_rms;	/* mm: tool against the card's reported
+					 * (nominal) position, every cycle */
+	double rest_max;		/* mm: tool against the program's
+					 * points, at rest */
+	double lag_max;			/* counts: the servo's following error */
+	double vel_ratio;		/* corrected set-point velocity / vmax */
+	unsigned long cycles;
+};
+
+int cal_path_check(struct cal_sim *s, double half, struct cal_path *out);
+
 #endif /* SH2000_COMP_CALIB_H */

@@ -62,7 +62,7 @@ int main(int argc, char **argv)
 	c.grid_mm = travel / 10;
 	if (argc > 2)
 		c.passes = (unsigned int)atoi(argv[2]);
-	r = cal_sim_open(&s, NULL, tmp, msg, sizeof(msg));
+	r = cal_sim_open(&s, NULL, NULL, tmp, msg, sizeof(msg));
 	if (r < 0) {
 		fprintf(stderr, "bench_comp: %s\n", msg);
 		return 1;

@@ -53,8 +53,6 @@ static struct sh2000_board *board(double start_mm)
 	struct sh2000_board *b;
 
 	sh2000_sim_config_default(&cfg);
-	/* the counter against the carriage: a scale without pitch error */
-	sh2000_geometry_none(&cfg.geom);
 	cfg.axis[0].start_mm = start_mm;
 	assert_int_equal(sh2000_board_create(&b, board_ram, &cfg), 0);
 	return b;

@@ -20,8 +20,6 @@ static struct harness *start(double start_mm, double home_mm)
 	struct sh2000_sim_config cfg;
 
 	sh2000_sim_config_default(&cfg);
-	/* marks where the carriage is: a scale without pitch error */
-	sh2000_geometry_none(&cfg.geom);
 	cfg.axis[0].home_bounce_mm = bounce_mm;
 	cfg.axis[0].start_mm = start_mm;
 	cfg.axis[0].home_mm = home_mm;

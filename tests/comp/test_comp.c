@@ -413,7 +413,7 @@ static void corrected_path(void **state)
 		c.hi[a] = 10.0;
 	}
 	c.grid_mm = 5.0;
-	if (cal_sim_open(&s, NULL, path, msg, sizeof(msg)) < 0)
+	if (cal_sim_open(&s, NULL, NULL, path, msg, sizeof(msg)) < 0)
 		fail_msg("%s", msg);
 	assert_int_equal(cal_path_check(&s, 10.0, &before), 0);
 	assert_int_equal(cal_run(&s, &c, t), 0);

@@ -88,9 +88,11 @@ int cal_measure(struct cal_sim *s, double err[SH2000_AXES])
 }
 
 int cal_sim_open(struct cal_sim *s, const struct sh2000_sim_config *cfg,
-		 const char *tmp, char *msg, size_t len)
+		 const struct sh2000_geometry *g, const char *tmp, char *msg,
+		 size_t len)
 {
 	struct sh2000_path_config pc;
+	struct sh2000_geometry def;
 	unsigned int a;
 	int r;
 
@@ -100,7 +102,10 @@ int cal_sim_open(struct cal_sim *s, const struct sh2000_sim_config *cfg,
 	if (r < 0)
 		return r;
 	s->fw = sh2000_cardsim_fw(sh2000_sim_card(s->h));
-	r = sh2000_enable(s->h, (1u << SH2000_AXES) - 1u);
+	sh2000_geometry_default(&def);
+	r = sh2000_sim_set_geometry(s->h, g ? g : &def);
+	if (!r)
+		r = sh2000_enable(s->h, (1u << SH2000_AXES) - 1u);
 	if (!r)
 		r = sh2000_run_path_config(s->h, &pc);
 	for (a = 0; !r && a < SH2000_AXES; a++) {

@@ -73,10 +73,13 @@ struct cal_sim {
 	const char *tmp;		/* where tables go before a load */
 };
 
-/* Open `sim` (cfg NULL: the default machine), enable every axis and take
- * the reference (the interferometer zeroed where the machine stands). */
+/* Open `sim` (cfg NULL: the default plants) with geometry g (NULL: the
+ * default machine's errors, sh2000_geometry_default()), enable every axis
+ * and take the reference (the interferometer zeroed where the machine
+ * stands). */
 int cal_sim_open(struct cal_sim *s, const struct sh2000_sim_config *cfg,
-		 const char *tmp, char *msg, size_t len);
+		 const struct sh2000_geometry *g, const char *tmp, char *msg,
+		 size_t len);
 void cal_sim_close(struct cal_sim *s);
 int cal_move(struct cal_sim *s, const double target[SH2000_AXES], double feed);
 /* At rest: the error (mm) of the tool against the nominal target, both

@@ -121,7 +121,7 @@ static int cmd_calibrate(const char *dev, const struct cal_config *c,
 		return SH2000_EXIT_CARD;
 	}
 	close(fd);
-	r = cal_sim_open(&s, NULL, tmp, msg, sizeof(msg));
+	r = cal_sim_open(&s, NULL, NULL, tmp, msg, sizeof(msg));
 	if (r < 0) {
 		sh2000_tool_msg("%s", msg);
 		r = sh2000_tool_exit_code(r);

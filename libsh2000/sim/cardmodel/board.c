@@ -60,7 +60,7 @@ int sh2000_board_create(struct sh2000_board **out, uint16_t *ram,
 	if (!b)
 		return -12;
 	b->ram = ram;
-	b->geom = cfg->geom;
+	sh2000_geometry_none(&b->geom);
 	sh2000_fpga_init(&b->host, ram);
 	b->stuck = -1;
 	for (a = 0; a < SH2000_AXES; a++) {
@@ -255,6 +255,32 @@ const struct sh2000_plant *sh2000_board_plant(const struct sh2000_board *b,
 					      unsigned int axis)
 {
 	return axis < SH2000_AXES ? &b->ax[axis].plant : NULL;
+}
+
+int sh2000_board_set_geometry(struct sh2000_board *b,
+			       const struct sh2000_geometry *g)
+{
+	int64_t before[SH2000_AXES];
+	unsigned int a, k;
+
+	if (g) {
+		for (a = 0; a < SH2000_AXES; a++)
+			for (k = 0; k < SH2000_PITCH_TERMS; k++)
+				if (!(g->pitch_period_mm[a][k] > 0.0))
+					return -22;
+		if (!(g->travel_hi_mm != g->travel_lo_mm))
+			return -22;
+	}
+	for (a = 0; a < SH2000_AXES; a++)
+		before[a] = sh2000_plant_scale(&b->ax[a].plant);
+	if (g)
+		b->geom = *g;
+	else
+		sh2000_geometry_none(&b->geom);
+	/* the counter goes on from where it was */
+	for (a = 0; a < SH2000_AXES; a++)
+		b->ax[a].offset += before[a] - sh2000_plant_scale(&b->ax[a].plant);
+	return 0;
 }
 
 void sh2000_board_tool(const struct sh2000_board *b, double tool[SH2000_AXES])

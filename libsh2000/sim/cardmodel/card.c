@@ -101,6 +101,11 @@ void sh2000_fw_tool_position(const struct sh2000_fw *fw,
 	sh2000_board_tool(fw->hw, tool_mm);
 }
 
+int sh2000_fw_set_geometry(struct sh2000_fw *fw, const struct sh2000_geometry *g)
+{
+	return fw ? sh2000_board_set_geometry(fw->hw, g) : -22;
+}
+
 void sh2000_fw_comp_offset(const struct sh2000_fw *fw,
 			   double off[SH2000_AXES])
 {

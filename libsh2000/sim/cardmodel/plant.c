@@ -30,7 +30,6 @@ void sh2000_sim_config_default(struct sh2000_sim_config *cfg)
 		p->start_mm = 300.0;
 		p->home_bounce_mm = 0.0;
 	}
-	sh2000_geometry_default(&cfg->geom);
 }
 
 /* What the scale reads at carriage position x (mm). */

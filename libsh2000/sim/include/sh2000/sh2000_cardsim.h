@@ -58,7 +58,9 @@ struct sh2000_plant_config {
  *   Z = x_Z + flat_mm (b(x_X) + b(x_Y)) / 2 + flat_twist_mm s(x_X) s(x_Y)
  *   A = x_A
  * with the bow b(x) = 4 u (1 - u) and s(x) = 2 u - 1, u = (x - travel_lo_mm)
- * / (travel_hi_mm - travel_lo_mm). All zero: a perfect machine.
+ * / (travel_hi_mm - travel_lo_mm). All zero: a perfect machine, which is
+ * what a card model is until sh2000_fw_set_geometry() (or
+ * sh2000_sim_set_geometry()) gives it another.
  */
 #define SH2000_PITCH_TERMS	2u
 
@@ -77,15 +79,13 @@ struct sh2000_geometry {
 
 struct sh2000_sim_config {
 	struct sh2000_plant_config axis[SH2000_AXES];
-	struct sh2000_geometry geom;	/* addition */
 };
 
-/* Fills *cfg with the documented defaults (geometric errors included:
- * about 10 um of pitch error over 300 mm, 50 urad squareness, a few um of
- * straightness and flatness). */
+/* Fills *cfg with the documented defaults. */
 void sh2000_sim_config_default(struct sh2000_sim_config *cfg);
-/* Addition: a perfect machine's geometry (all zero), and the defaults
- * sh2000_sim_config_default() puts in. */
+/* Addition: a perfect machine's geometry (all zero); the default machine
+ * with errors (about 10 um of pitch error over 300 mm, 50 urad
+ * squareness, a few um of straightness and flatness). */
 void sh2000_geometry_none(struct sh2000_geometry *g);
 void sh2000_geometry_default(struct sh2000_geometry *g);
 /* Addition: where the tool is (mm, machine frame) with carriages at x[]:
@@ -166,6 +166,10 @@ double sh2000_fw_clock_ppm(const struct sh2000_fw *fw);
 int sh2000_fw_inject(struct sh2000_fw *fw, enum sh2000_inject what,
 		     unsigned int axis, unsigned int arg);
 void sh2000_fw_probe(const struct sh2000_fw *fw, struct sh2000_probe *p);
+/* Addition: the machine's geometry becomes *g (NULL: perfect). The
+ * counters do not jump: each scale is as if re-mounted where the carriage
+ * stands. -22 on a pitch period <= 0 or a travel of no length. */
+int sh2000_fw_set_geometry(struct sh2000_fw *fw, const struct sh2000_geometry *g);
 /* Addition: the simulated laser interferometer: where the tool truly is
  * (mm, machine frame: sh2000_geometry_tool() of the carriages), beside
  * what the scales read. Not visible to a host through the device API. */

@@ -18,7 +18,7 @@
 #                                      .so link, sh2000-sim.pc,
 #                                      sh2000SimTargets*.cmake
 #   tools      -> sh2000-tools         sh2000ctl, sh2000-sim, sh2000-upload,
-#                                      sh2000-tune, man pages
+#                                      sh2000-tune, sh2000-comp, man pages
 #   dkms       -> sh2000-dkms          driver sources in src/sh2000-<ver>/
 #                                      with dkms.conf, the udev rule, the
 #                                      modprobe example
@@ -152,7 +152,7 @@ install(FILES ${PROJECT_SOURCE_DIR}/docs/cardmodel.md
 
 # ---- the tools ------------------------------------------------------------
 # Whatever tools exist when configuring (they arrive one by one).
-set(SH2000_TOOLS sh2000ctl sh2000-sim sh2000-upload sh2000-tune)
+set(SH2000_TOOLS sh2000ctl sh2000-sim sh2000-upload sh2000-tune sh2000-comp)
 set(SH2000_TOOLS_INSTALLED)
 foreach(t IN LISTS SH2000_TOOLS)
   if(TARGET ${t})

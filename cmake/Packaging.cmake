@@ -160,7 +160,7 @@ set(CPACK_DEBIAN_DEV_PACKAGE_SECTION libdevel)
 set(CPACK_DEBIAN_DEV_DESCRIPTION
 "SH-2000TH motion card library (development files)
 Headers of the device API and the protocol (<sh2000/sh2000.h>,
-<sh2000/card.h>, <sh2000/sh2000_protocol.h>, <sh2000/bspline.h>) and the
+<sh2000/card.h>, <sh2000/comp.h>, <sh2000/sh2000_protocol.h>, <sh2000/bspline.h>) and the
 driver's ioctl ABI (<sh2000/uapi/sh2000.h>), libsh2000.a, libsh2000.so,
 sh2000.pc for pkg-config and the CMake package: find_package(sh2000) gives
 sh2000::sh2000 and sh2000::sh2000_static; its components motion and sim

@@ -27,6 +27,10 @@ const char *sh2000_cmd_op_name(unsigned int op)
 		[SH2000_CMD_GATHER_STOP] = "gather_stop",
 		[SH2000_CMD_GATHER_INFO] = "gather_info",
 		[SH2000_CMD_GATHER_READ] = "gather_read",
+		[SH2000_CMD_COMP_BEGIN] = "comp_begin",
+		[SH2000_CMD_COMP_PAGE] = "comp_page",
+		[SH2000_CMD_COMP_COMMIT] = "comp_commit",
+		[SH2000_CMD_COMP_CLEAR] = "comp_clear",
 	};
 
 	return op < sizeof(n) / sizeof(n[0]) && n[op] ? n[op] : "?";
@@ -172,11 +176,12 @@ int sh2000_cmd_exchange(struct sh2000 *h, unsigned int op, unsigned int axis,
 					   what, (int)(limit / 1000000ull),
 					   sh2000_state_name(st.card_state));
 	}
+	/* VALUE of a refusal too: it may say why (COMP_COMMIT) */
+	if (value)
+		*value = sh2000_w32(&ack[2]);
 	if (ack[1] != SH2000_RES_OK)
 		return sh2000_fail(h, sh2000_cmd_result_error(ack[1]), "%s: card answered %s",
 				   what, sh2000_result_name(ack[1]));
-	if (value)
-		*value = sh2000_w32(&ack[2]);
 	return 0;
 }
 

@@ -239,7 +239,8 @@ int sh2000_command_locked(struct sh2000 *h, unsigned int op,
 /* The same in parts, for exchanges that read the RAM before the slot is
  * given up (data gathering's window) or belong together: take the slot
  * (what names the caller in a timeout message), any number of exchanges
- * (write, wait for the acknowledgement, result as an error), drop it. */
+ * (write, wait for the acknowledgement, result as an error; *value gets
+ * CMD_VALUE whatever the result), drop it. */
 int sh2000_cmd_slot_take(struct sh2000 *h, const char *what);
 int sh2000_cmd_exchange(struct sh2000 *h, unsigned int op, unsigned int axis,
 			unsigned int param, int32_t arg, int32_t *value,

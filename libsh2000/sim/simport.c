@@ -163,6 +163,8 @@ struct sp_call {
 	void *obs_arg;
 	struct sh2000_cardsim *card;
 	double ppm;
+	double *tool;
+	const struct sh2000_geometry *geom;
 };
 
 static int sp_dispatch(const struct sh2000_ports *p, void *arg)
@@ -221,6 +223,31 @@ static int do_probe(struct simport *sp, struct sp_call *c)
 int sh2000_sim_probe(struct sh2000 *h, struct sh2000_probe *p)
 {
 	struct sp_call c = { .fn = do_probe, .probe = p };
+
+	return call(h, &c);
+}
+
+static int do_tool(struct simport *sp, struct sp_call *c)
+{
+	sh2000_fw_tool_position(sh2000_cardsim_fw(sp->card), c->tool);
+	return 0;
+}
+
+int sh2000_sim_tool_position(struct sh2000 *h, double tool_mm[SH2000_AXES])
+{
+	struct sp_call c = { .fn = do_tool, .tool = tool_mm };
+
+	return call(h, &c);
+}
+
+static int do_geometry(struct simport *sp, struct sp_call *c)
+{
+	return sh2000_fw_set_geometry(sh2000_cardsim_fw(sp->card), c->geom);
+}
+
+int sh2000_sim_set_geometry(struct sh2000 *h, const struct sh2000_geometry *g)
+{
+	struct sp_call c = { .fn = do_geometry, .geom = g };
 
 	return call(h, &c);
 }

@@ -231,6 +231,11 @@ static PyMethodDef card_methods[] = {
 	  "gather_wait(record, timeout_ms): its info once DONE"),
 	M("gather_read", sh2k_card_gather_read, METH_VARARGS,
 	  "gather_read(info, first, n): a bytearray of doubles"),
+	M("comp_load", sh2k_card_comp_load, METH_VARARGS,
+	  "comp_load(path): sh2000_comp_load_file"),
+	M("comp_clear", sh2k_card_comp_clear, METH_NOARGS, "comp_clear()"),
+	M("comp_status", sh2k_card_comp_status, METH_NOARGS,
+	  "comp_status(): the active tables as a dict"),
 	{ NULL, NULL, 0, NULL },
 };
 #undef M

@@ -24,5 +24,8 @@ PyObject *sh2k_card_gather_stop(PyCard *c, PyObject *unused);
 PyObject *sh2k_card_gather_info(PyCard *c, PyObject *unused);
 PyObject *sh2k_card_gather_wait(PyCard *c, PyObject *args);
 PyObject *sh2k_card_gather_read(PyCard *c, PyObject *args);
+PyObject *sh2k_card_comp_load(PyCard *c, PyObject *args);
+PyObject *sh2k_card_comp_clear(PyCard *c, PyObject *unused);
+PyObject *sh2k_card_comp_status(PyCard *c, PyObject *unused);
 
 #endif /* SH2000_PY_CARD_METHODS_H */

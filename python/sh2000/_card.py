@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: MIT
 """sh2000.Card: an open card, over the extension's Card (one libsh2000 call
 per method). Axes are "x", "y", "z", "a" (or 0..3); times in seconds."""
+import os
 from dataclasses import asdict
 
 from . import _gather, _sh2000
@@ -181,6 +182,24 @@ class Card:
         _gather.need_numpy()
         rec = self.gather_start(axes, signals, period, samples, trigger, pretrigger)
         return self.gather_read(self.gather_wait(rec, timeout))
+
+    # ---- compensation tables ---------------------------------------------------
+    def comp_load(self, path):
+        """Load a compensation table file (docs/compensation.md) and switch
+        to it at rest; a refused file raises with FILE:LINE in the message
+        and changes nothing on the card."""
+        self._c.comp_load(os.fspath(path))
+
+    def comp_clear(self):
+        """No compensation tables (switched at rest)."""
+        self._c.comp_clear()
+
+    def comp_status(self):
+        """The active tables: a dict of state ("none", "active",
+        "switching"), tables, id, sum and generation (switches)."""
+        st = self._c.comp_status()
+        st["state"] = ("none", "active", "switching")[st["state"]]
+        return st
 
     # ---- programs --------------------------------------------------------------
     def program(self, path, format=None, feed_mm_s=None):

@@ -221,7 +221,11 @@ static void first_fault(void **state)
 		 SH2000_W_FIRST_FAULT + SH2000_FF_CYCLE_LO,
 		 SH2000_W_FIRST_FAULT + SH2000_FF_CYCLE_HI);
 	has(row);
-	snprintf(row, sizeof(row), "| %u..%u | reserved |", end, SH2000_W_GATHER_BASE - 1);
+	/* 1.5's compensation status ends the reserved words */
+	snprintf(row, sizeof(row), "| %u..%u | reserved |", end, SH2000_W_COMP_STATUS - 1);
+	has(row);
+	snprintf(row, sizeof(row), "| %u..%u | `COMP_STATUS` |", SH2000_W_COMP_STATUS,
+		 SH2000_W_COMP_STATUS + SH2000_COMP_STATUS_WORDS - 1);
 	has(row);
 	snprintf(row, sizeof(row), "Version: **%u.%u**", SH2000_PROTO_MAJOR,
 		 SH2000_PROTO_MINOR);

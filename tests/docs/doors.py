@@ -28,7 +28,7 @@ import re
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-TOOLS = {"sh2000ctl", "sh2000-sim", "sh2000-upload", "sh2000-tune"}
+TOOLS = {"sh2000ctl", "sh2000-sim", "sh2000-upload", "sh2000-tune", "sh2000-comp"}
 COMMANDS = TOOLS | {
     "sudo", "cmake", "ctest", "cpack", "make", "apt", "apt-get", "dpkg",
     "dkms", "modprobe", "insmod", "rmmod", "depmod", "ldconfig", "groupadd",

@@ -41,6 +41,7 @@ int ctl_estop(struct ctl *c, int argc, char **argv);
 int ctl_reset(struct ctl *c, int argc, char **argv);
 int ctl_dump(struct ctl *c, int argc, char **argv);
 int ctl_gather(struct ctl *c, int argc, char **argv);
+int ctl_comp(struct ctl *c, int argc, char **argv);
 
 /* --help of a subcommand on stdout; 1 if argv holds -h/--help (then the
  * subcommand returns 0 at once). */

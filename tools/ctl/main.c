@@ -94,6 +94,15 @@ static const struct ctl_cmd cmds[] = {
 	  "  --no-wait           only arm the record (then e.g. '+ move ...')\n"
 	  "  --read              only wait for the card's record and write it\n"
 	  "Units are the card's: counts, DAC codes, counts/s.\n" },
+	{ "comp", ctl_comp, "load FILE | show [FILE] | clear",
+	  "The card's compensation tables (protocol 1.5, docs/compensation.md):\n"
+	  "  comp load FILE   read the table file, check it against the card's\n"
+	  "                   vmax and amax, send it and switch to it at rest;\n"
+	  "                   an error names FILE:LINE and nothing changes\n"
+	  "  comp show [FILE] the active tables' identity and sum (and whether\n"
+	  "                   FILE is them)\n"
+	  "  comp clear       no tables (switched at rest)\n"
+	  "Exit status 5 when the file is refused.\n" },
 	{ "dump", ctl_dump, "[RANGE...]",
 	  "Print dual-port RAM words as hex, 8 per line after the word offset\n"
 	  "(hex). RANGE: N, N-M (inclusive), N+COUNT or all; numbers decimal\n"

@@ -40,6 +40,7 @@ struct sh2000_board {
 	double carry_ns;	/* host-time fraction not yet handed out */
 	int stuck;		/* RAM word the DSP cannot write, or -1 */
 	struct record_drop drop;
+	struct sh2000_geometry geom;	/* the machine's (the plants') */
 };
 
 static uint32_t wrap(int64_t c)
@@ -59,12 +60,14 @@ int sh2000_board_create(struct sh2000_board **out, uint16_t *ram,
 	if (!b)
 		return -12;
 	b->ram = ram;
+	sh2000_geometry_none(&b->geom);
 	sh2000_fpga_init(&b->host, ram);
 	b->stuck = -1;
 	for (a = 0; a < SH2000_AXES; a++) {
 		struct board_axis *x = &b->ax[a];
 
 		sh2000_plant_init(&x->plant, &cfg->axis[a]);
+		sh2000_plant_set_geometry(&x->plant, &b->geom, a);
 		/* an incremental scale: the counter powers up at 0 */
 		x->offset = -sh2000_plant_scale(&x->plant);
 		x->range = SH2000_DAC_PM10V;
@@ -252,6 +255,42 @@ const struct sh2000_plant *sh2000_board_plant(const struct sh2000_board *b,
 					      unsigned int axis)
 {
 	return axis < SH2000_AXES ? &b->ax[axis].plant : NULL;
+}
+
+int sh2000_board_set_geometry(struct sh2000_board *b,
+			       const struct sh2000_geometry *g)
+{
+	int64_t before[SH2000_AXES];
+	unsigned int a, k;
+
+	if (g) {
+		for (a = 0; a < SH2000_AXES; a++)
+			for (k = 0; k < SH2000_PITCH_TERMS; k++)
+				if (!(g->pitch_period_mm[a][k] > 0.0))
+					return -22;
+		if (!(g->travel_hi_mm != g->travel_lo_mm))
+			return -22;
+	}
+	for (a = 0; a < SH2000_AXES; a++)
+		before[a] = sh2000_plant_scale(&b->ax[a].plant);
+	if (g)
+		b->geom = *g;
+	else
+		sh2000_geometry_none(&b->geom);
+	/* the counter goes on from where it was */
+	for (a = 0; a < SH2000_AXES; a++)
+		b->ax[a].offset += before[a] - sh2000_plant_scale(&b->ax[a].plant);
+	return 0;
+}
+
+void sh2000_board_tool(const struct sh2000_board *b, double tool[SH2000_AXES])
+{
+	double x[SH2000_AXES];
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++)
+		x[a] = b->ax[a].plant.x_mm;
+	sh2000_geometry_tool(&b->geom, x, tool);
 }
 
 /* ---- injected faults ---- */

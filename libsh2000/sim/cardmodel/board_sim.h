@@ -61,5 +61,10 @@ void sh2000_board_clear_faults(struct sh2000_board *b);
 /* The machine itself (probes, tests). */
 const struct sh2000_plant *sh2000_board_plant(const struct sh2000_board *b,
 					      unsigned int axis);
+/* The machine's geometry (NULL: perfect); the counters do not jump. */
+int sh2000_board_set_geometry(struct sh2000_board *b,
+			       const struct sh2000_geometry *g);
+/* Where the tool is (mm, machine frame): the interferometer. */
+void sh2000_board_tool(const struct sh2000_board *b, double tool[SH2000_AXES]);
 
 #endif /* SH2000_BOARD_SIM_H */

@@ -95,6 +95,26 @@ void sh2000_fw_probe(const struct sh2000_fw *fw, struct sh2000_probe *p)
 	}
 }
 
+void sh2000_fw_tool_position(const struct sh2000_fw *fw,
+			     double tool_mm[SH2000_AXES])
+{
+	sh2000_board_tool(fw->hw, tool_mm);
+}
+
+int sh2000_fw_set_geometry(struct sh2000_fw *fw, const struct sh2000_geometry *g)
+{
+	return fw ? sh2000_board_set_geometry(fw->hw, g) : -22;
+}
+
+void sh2000_fw_comp_offset(const struct sh2000_fw *fw,
+			   double off[SH2000_AXES])
+{
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++)
+		off[a] = fw->dsp.comp.off[a];
+}
+
 void sh2000_fw_set_observer(struct sh2000_fw *fw, sh2000_fw_observer fn,
 			    void *ctx)
 {

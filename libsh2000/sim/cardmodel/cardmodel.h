@@ -17,6 +17,7 @@
 #include "sh2000_hw.h"
 
 #include "board.h"
+#include "comp.h"
 
 /* ---- interp.c: B-spline window ---- */
 
@@ -171,6 +172,7 @@ struct sh2000_dsp {
 	unsigned int status_div;
 	uint64_t cycle;		/* servo interrupts taken */
 	struct sh2000_gather gather;	/* its record lives here */
+	struct sh2000_fw_comp comp;	/* compensation tables (comp.c) */
 };
 
 static inline int sh2000_axis_enabled(const struct sh2000_fw_axis *ax)

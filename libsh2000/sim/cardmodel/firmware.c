@@ -347,7 +347,9 @@ void sh2000_fw_set_position(struct sh2000_dsp *fw, unsigned int a, int64_t pos)
 	ax->act = pos;
 	ax->pid.e1 = 0.0;
 	ax->pid.e2 = 0.0;
-	sh2000_fw_hold_at(fw, a, (double)pos);
+	/* the carriage stays: its nominal position is the count less the
+	 * correction there */
+	sh2000_fw_hold_at(fw, a, (double)pos - fw->comp.off[a]);
 }
 
 static uint16_t execute(struct sh2000_dsp *fw, uint16_t seq, uint16_t op,
@@ -391,6 +393,11 @@ static uint16_t execute(struct sh2000_dsp *fw, uint16_t seq, uint16_t op,
 	case SH2000_CMD_GATHER_READ:
 		return sh2000_gather_command(fw, seq, op, axis, param, arg,
 					     value);
+	case SH2000_CMD_COMP_BEGIN:
+	case SH2000_CMD_COMP_PAGE:
+	case SH2000_CMD_COMP_COMMIT:
+	case SH2000_CMD_COMP_CLEAR:
+		return sh2000_comp_command(fw, op, param, arg, value);
 	default:
 		return SH2000_RES_BAD_OP;
 	}
@@ -692,6 +699,9 @@ static void servo(struct sh2000_dsp *fw, double T)
 {
 	unsigned int a;
 
+	/* the tables' corrections at the nominal set-points: the loop closes
+	 * on the corrected one, everything else stays nominal */
+	sh2000_comp_cycle(fw, T);
 	for (a = 0; a < SH2000_AXES; a++) {
 		struct sh2000_fw_axis *ax = &fw->ax[a];
 		struct sh2000_pid_gains g;
@@ -699,7 +709,7 @@ static void servo(struct sh2000_dsp *fw, double T)
 
 		if (!is_enabled(ax)) {
 			ax->dac = 0;
-			sh2000_fw_hold_at(fw, a, (double)ax->act);
+			sh2000_fw_hold_at(fw, a, (double)ax->act - fw->comp.off[a]);
 			continue;
 		}
 		if (ax->cmd_v != 0.0)
@@ -711,7 +721,7 @@ static void servo(struct sh2000_dsp *fw, double T)
 		     ax->cmd > (double)ax->prm.soft_max) &&
 		    !(ax->faults & SH2000_AXIS_FAULT_SOFT_LIMIT))
 			axis_fault(fw, a, SH2000_AXIS_FAULT_SOFT_LIMIT, 0);
-		e = ax->cmd - (double)ax->act;
+		e = ax->cmd + fw->comp.off[a] - (double)ax->act;
 		if (fabs(e) > (double)ax->prm.ferr_limit &&
 		    fw->state != SH2000_STATE_ESTOP) {
 			axis_fault(fw, a, SH2000_AXIS_FAULT_FERR, 1);
@@ -723,8 +733,9 @@ static void servo(struct sh2000_dsp *fw, double T)
 		g.kvff = ax->prm.kvff;
 		g.kaff = ax->prm.kaff;
 		g.dac_limit = ax->prm.dac_limit;
-		ax->dac = sh2000_pid_step(&ax->pid, &g, e, ax->cmd_v,
-					  ax->cmd_a, T);
+		ax->dac = sh2000_pid_step(&ax->pid, &g, e,
+					  ax->cmd_v + fw->comp.v[a],
+					  ax->cmd_a + fw->comp.a[a], T);
 		if (ax->dac >= ax->prm.dac_limit ||
 		    ax->dac <= -ax->prm.dac_limit) {
 			if (++ax->sat_cycles >= SH2000_FW_DAC_SAT_CYCLES)
@@ -752,7 +763,8 @@ static void publish_snapshot(struct sh2000_dsp *fw)
 		unsigned int w = SH2000_W_SNAP_AXIS(a);
 
 		put32(fw, w + SH2000_SNAP_CMD_LO, (uint32_t)sh2000_fw_cmd_counts(ax));
-		put32(fw, w + SH2000_SNAP_ACT_LO, ax->counter);
+		put32(fw, w + SH2000_SNAP_ACT_LO,
+		      sh2000_comp_nominal_counter(fw, a));
 		WR(fw, w + SH2000_SNAP_DAC, (uint16_t)ax->dac);
 	}
 	put32(fw, SH2000_W_SNAP_TIME_LO, (uint32_t)fw->cycle);
@@ -844,6 +856,7 @@ void sh2000_dsp_boot(struct sh2000_dsp *fw, struct sh2000_board *hw)
 	WR(fw, SH2000_W_CMD_ACK, fw->cmd_ack);
 	sh2000_fw_first_fault_clear(fw);
 	sh2000_queue_boot(fw);
+	sh2000_comp_boot(fw);
 	fw->state = SH2000_STATE_IDLE;
 	sh2000_fw_publish_words(fw);
 	publish_snapshot(fw);

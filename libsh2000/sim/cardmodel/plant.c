@@ -32,9 +32,24 @@ void sh2000_sim_config_default(struct sh2000_sim_config *cfg)
 	}
 }
 
-static int64_t counts_at(const struct sh2000_plant *p, double x_mm)
+/* What the scale reads at carriage position x (mm). */
+static double scale_mm(const struct sh2000_plant *p, double x_mm)
 {
-	return (int64_t)floor(x_mm * p->cfg.counts_per_mm);
+	return p->geom ? sh2000_geometry_scale(p->geom, p->axis, x_mm) : x_mm;
+}
+
+/* The count of scale reading s (mm). */
+static int64_t counts_at(const struct sh2000_plant *p, double s_mm)
+{
+	return (int64_t)floor(s_mm * p->cfg.counts_per_mm);
+}
+
+void sh2000_plant_set_geometry(struct sh2000_plant *p,
+			       const struct sh2000_geometry *g,
+			       unsigned int axis)
+{
+	p->geom = g;
+	p->axis = axis;
 }
 
 void sh2000_plant_init(struct sh2000_plant *p,
@@ -49,17 +64,20 @@ void sh2000_plant_init(struct sh2000_plant *p,
 	p->cache_T = -1.0;
 	p->cache_e = 0.0;
 	p->steps = 0;
+	p->geom = NULL;
+	p->axis = 0;
 }
 
-/* Did the carriage pass an index mark between x0 and the new x? */
+/* Did the carriage pass an index mark between x0 and the new x? The
+ * marks are graduations of the scale: where it reads k * period. */
 static void find_index(struct sh2000_plant *p, double x0)
 {
 	double per = p->cfg.index_period_mm, k0, k1;
 
 	if (per <= 0.0)
 		return;
-	k0 = floor(x0 / per);
-	k1 = floor(p->x_mm / per);
+	k0 = floor(scale_mm(p, x0) / per);
+	k1 = floor(scale_mm(p, p->x_mm) / per);
 	if (k0 != k1) {
 		p->index_crossed = 1;
 		p->index_mark = counts_at(p, (k1 > k0 ? k1 : k0) * per);
@@ -98,7 +116,7 @@ void sh2000_plant_step(struct sh2000_plant *p, double volts, double T)
 
 int64_t sh2000_plant_scale(const struct sh2000_plant *p)
 {
-	return counts_at(p, p->x_mm);
+	return counts_at(p, scale_mm(p, p->x_mm));
 }
 
 int sh2000_plant_limit_neg(const struct sh2000_plant *p)

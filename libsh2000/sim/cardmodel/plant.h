@@ -22,13 +22,23 @@ struct sh2000_plant {
 	int64_t index_mark;	/* the scale's count at that mark */
 	double cache_T, cache_e;	/* exp(-b T / m) for the last T */
 	uint64_t steps;		/* periods integrated (switch chatter) */
+	/* the machine's geometry: the scale's pitch error (the axis is
+	 * p->axis of it) */
+	const struct sh2000_geometry *geom;
+	unsigned int axis;
 };
 
 void sh2000_plant_init(struct sh2000_plant *p,
 		       const struct sh2000_plant_config *cfg);
+/* Addition: the scale of this plant reads through g's pitch error of
+ * axis `axis` (g outlives the plant; NULL: a perfect scale). */
+void sh2000_plant_set_geometry(struct sh2000_plant *p,
+			       const struct sh2000_geometry *g,
+			       unsigned int axis);
 /* Integrates `T` seconds with the amplifier's input `volts` held. */
 void sh2000_plant_step(struct sh2000_plant *p, double volts, double T);
-/* The scale's count at the carriage: floor(x * counts_per_mm). The FPGA
+/* The scale's count at the carriage: floor(scale(x) * counts_per_mm),
+ * scale(x) the reading with the pitch error. The FPGA
  * counts its pulses; where its counter starts is the board's business. */
 int64_t sh2000_plant_scale(const struct sh2000_plant *p);
 int sh2000_plant_limit_neg(const struct sh2000_plant *p);

@@ -593,6 +593,73 @@ int sh2000_gather_read(struct sh2000 *h, const struct sh2000_gather_info *gi,
 int sh2000_gather_column(const struct sh2000_gather_info *gi, unsigned int k,
 			 unsigned int *axis, unsigned int *signal);
 
+/* ---- compensation tables (protocol 1.5) ----------------------------- */
+
+/*
+ * Tables on the card that correct each servo cycle's set-point for the
+ * machine's geometry: pitch (an axis' own position), straightness (another
+ * axis'), squareness (a coefficient per pair), flatness (a grid over two
+ * axes). The host's path stays nominal. docs/compensation.md has the file
+ * format, the calibration and the order of corrections.
+ */
+#include "sh2000/comp.h"
+
+/* The card's active tables (status words, protocol.md section 18). */
+struct sh2000_comp_status {
+	unsigned int state;		/* enum sh2000_comp_state */
+	unsigned int tables;		/* tables active */
+	uint32_t id;			/* the image's identity */
+	uint32_t sum;			/* its sh2000_comp_sum() */
+	unsigned int generation;	/* switches since power-up, mod 2^16 */
+	uint64_t reserved[2];		/* room to grow, zero */
+};
+
+int sh2000_comp_status(struct sh2000 *h, struct sh2000_comp_status *st);
+/*
+ * Send an image (sh2000/comp.h) in pages and switch to it, in one hold of
+ * the command slot. -EOPNOTSUPP on a card older than 1.5; the card's
+ * refusal (-SH2000_ECMD_VALUE, -SH2000_ECMD_CHECKSUM) with *fault saying
+ * which table and point (fault may be NULL); -SH2000_ECMD_BUSY while the
+ * card moves or is still blending from the last switch. A refusal
+ * changes nothing that is active. Returns when the card's blend to the
+ * new tables (SH2000_COMP_BLEND_MS) has ended.
+ */
+int sh2000_comp_load_image(struct sh2000 *h, const uint16_t *w, size_t n,
+			   struct sh2000_comp_fault *fault);
+/* No tables (blended out at rest; returns when the blend has ended). */
+int sh2000_comp_clear(struct sh2000 *h);
+/* The axes' limits the card checks tables against, from its parameters
+ * (counts/s, counts/s^2). */
+int sh2000_comp_limits_get(struct sh2000 *h, struct sh2000_comp_limits *lim);
+
+/* A table file (docs/compensation.md) read into an image; every table and
+ * point keeps the line it came from. */
+struct sh2000_comp_file;
+
+/* Read `path` with the axes' scales (counts per mm). 0, or
+ * -SH2000_EPARAM with "FILE:LINE: why" in msg; -errno when unreadable. */
+int sh2000_comp_file_read(struct sh2000_comp_file **out, const char *path,
+			  const double scale[SH2000_AXES], char *msg,
+			  size_t len);
+void sh2000_comp_file_free(struct sh2000_comp_file *f);
+const uint16_t *sh2000_comp_file_image(const struct sh2000_comp_file *f,
+				       size_t *words);
+/* The line of table `table`'s point `point` (-1: the table's own line). */
+unsigned int sh2000_comp_file_line(const struct sh2000_comp_file *f,
+				   int table, int point);
+/* "FILE:LINE: table N (KIND): why" for a fault, into msg; returns msg. */
+const char *sh2000_comp_file_explain(const struct sh2000_comp_file *f,
+				     const struct sh2000_comp_fault *why,
+				     char *msg, size_t len);
+/* The file checked against limits: 0, or -SH2000_EPARAM and msg. */
+int sh2000_comp_file_check(const struct sh2000_comp_file *f,
+			   const struct sh2000_comp_limits *lim, char *msg,
+			   size_t len);
+/* Read `path` with the card's scales, check it against the card's limits
+ * and load it: 0, or an error whose message (sh2000_last_error) names
+ * FILE:LINE when a table is at fault. Nothing changes on a refusal. */
+int sh2000_comp_load_file(struct sh2000 *h, const char *path);
+
 /* ---- raw access, for tools and tests --------------------------------- */
 
 struct sh2000_port_counters {

@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define SH2000_PROTO_MAJOR		1u
-#define SH2000_PROTO_MINOR		4u
+#define SH2000_PROTO_MINOR		5u
 #define SH2000_PROTO_VERSION		((SH2000_PROTO_MAJOR << 8) | SH2000_PROTO_MINOR)
 #define SH2000_PROTO_VERSION_MAJOR(v)	(((v) >> 8) & 0xffu)
 #define SH2000_PROTO_VERSION_MINOR(v)	((v) & 0xffu)
@@ -29,6 +29,7 @@ extern "C" {
 #define SH2000_PROTO_MINOR_GATHER	2u	/* data gathering (GATHER_*) */
 #define SH2000_PROTO_MINOR_MAILBOX	3u	/* POSTED and the point mailbox */
 #define SH2000_PROTO_MINOR_FIRST_FAULT	4u	/* the first-fault record (FF_*) */
+#define SH2000_PROTO_MINOR_COMP		5u	/* compensation tables (COMP_*) */
 
 /* The one definition of the axis count, and of the axes' names (index:
  * axis; the G-code words that move them; tools print them lower case). */
@@ -112,6 +113,15 @@ enum sh2000_cmd_op {
 	SH2000_CMD_GATHER_STOP = 18,	/* end the record now */
 	SH2000_CMD_GATHER_INFO = 19,	/* describe it in the window */
 	SH2000_CMD_GATHER_READ = 20,	/* ARG = first value -> window */
+	/* protocol 1.5: compensation tables (docs/protocol.md section 18),
+	 * a range of their own, 24.. */
+	SH2000_CMD_COMP_BEGIN = 24,	/* ARG = image words: staging emptied */
+	SH2000_CMD_COMP_PAGE = 25,	/* ARG = first word, PARAM = count;
+					 * the words in the page window */
+	SH2000_CMD_COMP_COMMIT = 26,	/* ARG = the image's sh2000_comp_sum():
+					 * check, then switch at rest ->
+					 * VALUE = refusal (SH2000_COMP_FAULT) */
+	SH2000_CMD_COMP_CLEAR = 27,	/* no tables (at rest) */
 };
 
 /* SH2000_W_CMD_AXIS value addressing a global parameter. */

@@ -377,4 +377,128 @@ static inline double sh2000_f32_value(uint32_t b)
 	return (double)f;
 }
 
+/* ===========================================================================
+ * Protocol 1.5 (SH2000_PROTO_MINOR_COMP): compensation tables, docs/protocol.md
+ * section 18 and docs/compensation.md. One self-contained block.
+ *
+ * A table set travels as one image of 16-bit words (layout below). The host
+ * holds the command slot for the whole load: COMP_BEGIN (ARG = the image's
+ * words) empties the card's staging memory; for each page it writes the
+ * words into the page window and sends COMP_PAGE (ARG = the page's first
+ * word, in order, PARAM = its count); COMP_COMMIT (ARG = sh2000_comp_sum()
+ * of the whole image) makes the card check the sum, the layout and the
+ * tables against its axes' parameters, and switch to them only at rest
+ * (BUSY while moving: nothing changes, the staging is kept for a retry).
+ * A refusal changes nothing that is active. The switch (and COMP_CLEAR)
+ * blends from the old corrections to the new over SH2000_COMP_BLEND_MS with
+ * a smoothstep, so the set-point never steps.
+ * ======================================================================== */
+
+/* H: the page window: the gather window's words, which only the holder of
+ * the command slot uses (the card writes them only in answer to GATHER_INFO
+ * and GATHER_READ). Word 0 is sh2000_comp_page_check(), the page from 1. */
+#define SH2000_W_COMP_PAGE		SH2000_W_GATHER_BASE
+#define SH2000_COMP_PAGE_WORDS		(SH2000_GATHER_WINDOW_WORDS - 1u)
+
+/* C: the active tables, in the last reserved words before the gather
+ * window; written at every switch, CHECK last (a host that reads a CHECK
+ * that does not match reads again). */
+#define SH2000_W_COMP_STATUS		888u
+#define   SH2000_CS_STATE		0u	/* enum sh2000_comp_state
+						 * (sh2000/comp.h) */
+#define   SH2000_CS_TABLES		1u	/* tables active */
+#define   SH2000_CS_ID_LO		2u	/* the image's identity */
+#define   SH2000_CS_ID_HI		3u
+#define   SH2000_CS_SUM_LO		4u	/* its sh2000_comp_sum() */
+#define   SH2000_CS_SUM_HI		5u
+#define   SH2000_CS_GEN			6u	/* +1 per switch (mod 2^16) */
+#define   SH2000_CS_CHECK		7u	/* check16 of words 0..6 */
+#define SH2000_COMP_STATUS_WORDS	8u
+
+/* What the card holds (SH2000_COMP_MAX_WORDS, _TABLES) is in the public
+ * sh2000/comp.h, with the rules the image is checked by. */
+#include "sh2000/comp.h"
+
+#define SH2000_COMP_BLEND_MS		200u
+
+/* The image: a header, then each table: a descriptor and its data.
+ * 32-bit values take two words, low first; I32 two's complement, F32 the
+ * binary32 bit pattern (as parameters). Positions and corrections in
+ * counts of the axes concerned. */
+#define SH2000_CI_MAGIC			0u	/* SH2000_COMP_MAGIC */
+#define SH2000_CI_FORMAT		1u	/* SH2000_COMP_FORMAT */
+#define SH2000_CI_ID_LO			2u	/* chosen by the host */
+#define SH2000_CI_ID_HI			3u
+#define SH2000_CI_TABLES		4u	/* 0..SH2000_COMP_MAX_TABLES */
+#define SH2000_CI_RESERVED		5u	/* 0 */
+#define SH2000_COMP_HEADER_WORDS	6u
+#define SH2000_COMP_MAGIC		0x4354u	/* "CT" */
+#define SH2000_COMP_FORMAT		1u
+
+/* Table descriptor words. */
+#define SH2000_CT_KIND			0u	/* enum sh2000_comp_kind */
+#define SH2000_CT_TARGET		1u	/* axis corrected */
+#define SH2000_CT_SRC1			2u	/* axis whose position is read */
+#define SH2000_CT_SRC2			3u	/* GRID: the second one, else 0 */
+#define SH2000_CT_N1			4u	/* points (GRID: along SRC1) */
+#define SH2000_CT_N2			5u	/* GRID: points along SRC2, else 0 */
+#define SH2000_COMP_DESC_WORDS		6u
+
+enum sh2000_comp_kind {
+	/* correction of TARGET as a function of SRC1's position: a pitch
+	 * table when SRC1 = TARGET, straightness when not. Data: N1 I32
+	 * positions, strictly increasing, then N1 F32 corrections; cubic
+	 * Hermite between them; beyond the ends the slope runs out over
+	 * SH2000_COMP_RUNOUT end segments, then the correction holds. */
+	SH2000_COMP_TABLE = 1,
+	/* TARGET += coefficient * SRC1's position (squareness). N1 = 0;
+	 * data: one F32 (counts per count, i.e. rad). */
+	SH2000_COMP_SQUARE = 2,
+	/* correction of TARGET as a function of SRC1 and SRC2 (flatness):
+	 * a uniform N1 x N2 grid. Data: I32 U0, DU > 0 (SRC1), V0, DV > 0
+	 * (SRC2), then N1 * N2 F32 corrections, SRC1 fastest; bicubic
+	 * Hermite inside, the same run-out beyond the edges. */
+	SH2000_COMP_GRID = 3,
+};
+
+/* COMP_COMMIT's VALUE when refused with BAD_VALUE: the table (0..), the
+ * point in it and why (enum sh2000_comp_reason, sh2000/comp.h). */
+#define SH2000_COMP_FAULT(table, point, reason) \
+	(((uint32_t)(reason) << 24) | (((uint32_t)(table) & 0xffu) << 16) | \
+	 ((uint32_t)(point) & 0xffffu))
+#define SH2000_COMP_FAULT_REASON(v)	(((v) >> 24) & 0xffu)
+#define SH2000_COMP_FAULT_TABLE(v)	(((v) >> 16) & 0xffu)
+#define SH2000_COMP_FAULT_POINT(v)	((v) & 0xffffu)
+
+/* The image's sum: Fletcher-32 over its words. */
+static inline uint32_t sh2000_comp_sum(const uint16_t *w, size_t n)
+{
+	uint32_t a = 0xffffu, b = 0xffffu;
+	size_t i;
+
+	for (i = 0; i < n; i++) {
+		a = (a + w[i]) % 65535u;
+		b = (b + a) % 65535u;
+	}
+	return (b << 16) | a;
+}
+
+/* Check word of a page: over its first word's number, its count and its
+ * words (so a page is bound to its place in the image). */
+static inline uint16_t sh2000_comp_page_check(uint32_t first,
+					      const uint16_t *w,
+					      unsigned int count)
+{
+	uint32_t a = 0x5a, b = 0xa5;
+	uint16_t head[3] = { (uint16_t)(first & 0xffffu),
+			     (uint16_t)(first >> 16), (uint16_t)count };
+	unsigned int i;
+
+	for (i = 0; i < 3u + count; i++) {
+		a = (a + (i < 3u ? head[i] : w[i - 3u])) % 65521u;
+		b = (b + a) % 65521u;
+	}
+	return (uint16_t)(a ^ (b << 5) ^ (b >> 11));
+}
+
 #endif /* SH2000_PROTOCOL_H */

@@ -45,12 +45,56 @@ struct sh2000_plant_config {
 	double home_bounce_mm;
 };
 
+/*
+ * Addition: the machine's geometric errors (docs/cardmodel.md "Geometry").
+ * x_a is the carriage of axis a along its guide, in mm from the machine's
+ * zero (the plant's position). Each axis' scale reads
+ *   x + pitch_slope (x - pitch_ref_mm) + sum_k pitch_amp_mm sin(2 pi x /
+ *   pitch_period_mm + pitch_phase)
+ * (its graduations, the index marks among them, are where it reads them);
+ * the tool, as a laser interferometer measures it, is at
+ *   X = x_X + squareness_xy x_Y + straight_y_mm b(x_Y)
+ *   Y = x_Y + straight_x_mm b(x_X)
+ *   Z = x_Z + flat_mm (b(x_X) + b(x_Y)) / 2 + flat_twist_mm s(x_X) s(x_Y)
+ *   A = x_A
+ * with the bow b(x) = 4 u (1 - u) and s(x) = 2 u - 1, u = (x - travel_lo_mm)
+ * / (travel_hi_mm - travel_lo_mm). All zero: a perfect machine, which is
+ * what a card model is until sh2000_fw_set_geometry() (or
+ * sh2000_sim_set_geometry()) gives it another.
+ */
+#define SH2000_PITCH_TERMS	2u
+
+struct sh2000_geometry {
+	double pitch_slope[SH2000_AXES];	/* mm per mm */
+	double pitch_ref_mm[SH2000_AXES];
+	double pitch_amp_mm[SH2000_AXES][SH2000_PITCH_TERMS];
+	double pitch_period_mm[SH2000_AXES][SH2000_PITCH_TERMS];	/* > 0 */
+	double pitch_phase[SH2000_AXES][SH2000_PITCH_TERMS];	/* rad */
+	double squareness_xy;		/* rad: Y's guide leans towards +X */
+	double straight_x_mm;		/* X's guide: bow in Y */
+	double straight_y_mm;		/* Y's guide: bow in X */
+	double flat_mm, flat_twist_mm;	/* the XY plane in Z */
+	double travel_lo_mm, travel_hi_mm;
+};
+
 struct sh2000_sim_config {
 	struct sh2000_plant_config axis[SH2000_AXES];
 };
 
 /* Fills *cfg with the documented defaults. */
 void sh2000_sim_config_default(struct sh2000_sim_config *cfg);
+/* Addition: a perfect machine's geometry (all zero); the default machine
+ * with errors (about 10 um of pitch error over 300 mm, 50 urad
+ * squareness, a few um of straightness and flatness). */
+void sh2000_geometry_none(struct sh2000_geometry *g);
+void sh2000_geometry_default(struct sh2000_geometry *g);
+/* Addition: where the tool is (mm, machine frame) with carriages at x[]:
+ * what the simulated interferometer reads. */
+void sh2000_geometry_tool(const struct sh2000_geometry *g,
+			  const double x[SH2000_AXES], double tool[SH2000_AXES]);
+/* Addition: what axis a's scale reads (mm) with its carriage at x. */
+double sh2000_geometry_scale(const struct sh2000_geometry *g, unsigned int a,
+			     double x);
 
 /* ---- fault injection ---- */
 
@@ -122,6 +166,20 @@ double sh2000_fw_clock_ppm(const struct sh2000_fw *fw);
 int sh2000_fw_inject(struct sh2000_fw *fw, enum sh2000_inject what,
 		     unsigned int axis, unsigned int arg);
 void sh2000_fw_probe(const struct sh2000_fw *fw, struct sh2000_probe *p);
+/* Addition: the machine's geometry becomes *g (NULL: perfect). The
+ * counters do not jump: each scale is as if re-mounted where the carriage
+ * stands. -22 on a pitch period <= 0 or a travel of no length. */
+int sh2000_fw_set_geometry(struct sh2000_fw *fw, const struct sh2000_geometry *g);
+/* Addition: the simulated laser interferometer: where the tool truly is
+ * (mm, machine frame: sh2000_geometry_tool() of the carriages), beside
+ * what the scales read. Not visible to a host through the device API. */
+void sh2000_fw_tool_position(const struct sh2000_fw *fw,
+			     double tool_mm[SH2000_AXES]);
+/* Addition: what the compensation tables add to each axis' set-point
+ * this cycle (counts; 0 without tables): the loop holds the scale at the
+ * nominal set-point plus this. */
+void sh2000_fw_comp_offset(const struct sh2000_fw *fw,
+			   double off[SH2000_AXES]);
 /* Called after every servo cycle with the probe of that cycle (traces,
  * tests); NULL removes it. Runs inside sh2000_fw_cycle(): keep it short. */
 typedef void (*sh2000_fw_observer)(void *ctx, const struct sh2000_probe *p);

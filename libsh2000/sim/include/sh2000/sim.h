@@ -40,6 +40,11 @@ struct sh2000_cardsim *sh2000_sim_card(struct sh2000 *h);
 int sh2000_sim_inject(struct sh2000 *h, enum sh2000_inject what,
 		      unsigned int axis, unsigned int arg);
 int sh2000_sim_probe(struct sh2000 *h, struct sh2000_probe *p);
+/* Addition: the machine's geometry (sh2000_fw_set_geometry()). */
+int sh2000_sim_set_geometry(struct sh2000 *h, const struct sh2000_geometry *g);
+/* Addition: the simulated interferometer (sh2000_fw_tool_position()): the
+ * tool's true position in mm, machine frame. */
+int sh2000_sim_tool_position(struct sh2000 *h, double tool_mm[SH2000_AXES]);
 /* fn runs after every servo cycle, inside the library's calls on h. */
 int sh2000_sim_set_observer(struct sh2000 *h, sh2000_fw_observer fn,
 			    void *ctx);

@@ -1,0 +1,51 @@
+#!/bin/bash
+# sh2000ctl comp and sh2000-comp as a user runs them, on the in-process
+# card (`-d sim`, one card per sh2000ctl run, sub-commands joined with +):
+# load, show, clear; refusals name FILE:LINE, exit 5 and change nothing;
+# a laser CSV made into a table; a calibration whose tables load.
+# The helpers are the tools' tests' (tests/tools/ctl/testlib.sh).
+: "${COMP:?COMP must name sh2000-comp}"
+. "$(dirname "$0")/../tools/ctl/testlib.sh"
+
+printf 'id 0x00c0ffee\npitch X\n-10 0\n0 0.001\n10 0.0005\n' >"$T/good.comp"
+printf 'pitch X\n0 0\n1 0.001\n1 0.002\n' >"$T/order.comp"
+printf 'pitch X\n0 0\n1 0.001\n1.001 0.011\n2 0.011\n' >"$T/jump.comp"
+
+expect 0 "$CTL" -d sim comp load "$T/good.comp" + comp show "$T/good.comp"
+out_has 'tables: active, 1 table\(s\), id 0x00c0ffee'
+out_has 'good.comp: sum 0x[0-9a-f]+: the active tables'
+
+for bad in order:4 jump:4; do
+	name=${bad%%:*} line=${bad##*:}
+	expect 5 "$CTL" -d sim comp load "$T/good.comp" + comp load "$T/$name.comp"
+	err_has "$name.comp:$line: .*nothing changed on the card"
+	# the same card after the refusal: still the good tables
+	run "$CTL" -d sim comp load "$T/good.comp" + comp load "$T/$name.comp" + comp show
+	out_has 'tables: active, 1 table\(s\), id 0x00c0ffee'
+done
+
+expect 0 "$CTL" -d sim comp load "$T/good.comp" + comp clear + comp show
+out_has 'tables: none'
+expect 2 "$CTL" -d sim comp load
+
+# a laser system's export: header, nominal and measured positions
+printf 'nominal,measured\n0,0\n10,10.0004\n20,20.0007\n30,30.0009\n' >"$T/laser.csv"
+expect 0 "$COMP" csv x "$T/laser.csv" -o "$T/laser.comp"
+run cat "$T/laser.comp"
+out_has '^pitch X'
+out_has '^30.0000 -0.000900000'
+expect 0 "$CTL" -d sim comp load "$T/laser.comp"
+printf '0,0\n10,x\n' >"$T/broken.csv"
+expect 5 "$COMP" csv x "$T/broken.csv"
+err_has 'broken.csv:2:'
+
+# the simulated machine calibrated over a short travel: the tables load
+expect 0 "$COMP" calibrate -q --travel -5:5 --grid 5 --passes 1 -o "$T/cal.comp"
+run cat "$T/cal.comp"
+for t in 'pitch X' 'pitch Y' 'pitch Z' 'cross Y X' 'cross X Y' 'square X Y' 'grid Z X Y'; do
+	out_has "^$t"
+done
+expect 0 "$CTL" -d sim comp load "$T/cal.comp"
+out_has 'tables: active, 8 table\(s\)'
+expect 2 "$COMP" calibrate -d sim:nope -o "$T/x.comp"
+finish

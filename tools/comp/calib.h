@@ -1,0 +1,108 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Calibration of the compensation tables (docs/compensation.md): the
+ * tables as lists of corrections in mm, written as a table file; the
+ * simulated machine (in-process `sim`) moved over lines and a grid while
+ * its interferometer is read; a laser system's CSV turned into a table.
+ * Shared by sh2000-comp, its benchmark (bench/comp) and tests (tests/comp).
+ */
+#ifndef SH2000_COMP_CALIB_H
+#define SH2000_COMP_CALIB_H
+
+#include <stdio.h>
+
+#include "sh2000/sh2000.h"
+#include "sh2000/sim.h"
+
+#define CAL_MAX_POINTS	4096u
+#define CAL_MAX_GRID	64u
+
+/* One correction curve: positions (mm, nominal) and corrections (mm). */
+struct cal_line {
+	unsigned int n;
+	double pos[CAL_MAX_POINTS], corr[CAL_MAX_POINTS];
+};
+
+/* What a calibration finds, in the order the card applies it (all added
+ * to the nominal set-point): each axis' pitch, Y's straightness along X,
+ * X's along Y with the X-Y squareness split off, Z's flatness over X-Y. */
+struct cal_tables {
+	struct cal_line pitch[SH2000_AXES];
+	struct cal_line cross_yx;	/* Y corrected by X's position */
+	struct cal_line cross_xy;	/* X by Y's, squareness taken out */
+	double square_xy;		/* X += square_xy * Y (mm/mm) */
+	unsigned int gn1, gn2;		/* Z by X (n1) and Y (n2); 0: none */
+	double gu0, gdu, gv0, gdv;
+	double grid[CAL_MAX_GRID * CAL_MAX_GRID];
+	/* the raw X-by-Y corrections (square and cross together) */
+	struct cal_line raw_xy;
+};
+
+/* The table file (sh2000ctl comp load); 0 or -errno. */
+int cal_tables_write(const struct cal_tables *t, FILE *f, const char *comment);
+int cal_tables_save(const struct cal_tables *t, const char *path,
+		    const char *comment);
+
+/* A curve from a laser system's CSV, in mm: rows "nominal,measured"
+ * (pitch: the correction is nominal - measured) or, cross != 0,
+ * "nominal,deviation" of another axis (straightness: the correction is
+ * -deviation); relative to the first row, one point more beyond each end.
+ * 0, or -1 with "FILE:LINE: why" in msg. */
+int cal_from_csv(struct cal_line *out, const char *path, int cross,
+		 char *msg, size_t len);
+
+/* ---- the simulated machine ---- */
+
+struct cal_config {
+	double lo[SH2000_AXES], hi[SH2000_AXES];	/* travel, mm */
+	double step_mm;		/* lines' spacing (1) */
+	double grid_mm;		/* the flatness grid's (25) */
+	double feed;		/* mm/s between points (50) */
+	unsigned int passes;	/* measure again with the tables on (2) */
+	int verbose;
+};
+
+void cal_config_default(struct cal_config *c);
+
+struct cal_sim {
+	struct sh2000 *h;
+	struct sh2000_fw *fw;
+	double scale[SH2000_AXES];
+	double ref_nom[SH2000_AXES], ref_tool[SH2000_AXES];
+	double at[SH2000_AXES];		/* the last target, mm */
+	const char *tmp;		/* where tables go before a load */
+};
+
+/* Open `sim` (cfg NULL: the default plants) with geometry g (NULL: the
+ * default machine's errors, sh2000_geometry_default()), enable every axis
+ * and take the reference (the interferometer zeroed where the machine
+ * stands). */
+int cal_sim_open(struct cal_sim *s, const struct sh2000_sim_config *cfg,
+		 const struct sh2000_geometry *g, const char *tmp, char *msg,
+		 size_t len);
+void cal_sim_close(struct cal_sim *s);
+int cal_move(struct cal_sim *s, const double target[SH2000_AXES], double feed);
+/* At rest: the error (mm) of the tool against the nominal target, both
+ * from the reference; averaged over a few ms. */
+int cal_measure(struct cal_sim *s, double err[SH2000_AXES]);
+/* Load tables (through a file, as a user would) and wait for the switch. */
+int cal_load(struct cal_sim *s, const struct cal_tables *t);
+/* The whole calibration: passes over lines and the grid. */
+int cal_run(struct cal_sim *s, const struct cal_config *c,
+	    struct cal_tables *t);
+
+/* A program's path on the machine (pathcheck.c): a star of moves in X-Y-Z
+ * within +-0.9 half mm of the reference, each point reached at rest. */
+struct cal_path {
+	double geo_max, geo_rms;	/* mm: tool against the card's reported
+					 * (nominal) position, every cycle */
+	double rest_max;		/* mm: tool against the program's
+					 * points, at rest */
+	double lag_max;			/* counts: the servo's following error */
+	double vel_ratio;		/* corrected set-point velocity / vmax */
+	unsigned long cycles;
+};
+
+int cal_path_check(struct cal_sim *s, double half, struct cal_path *out);
+
+#endif /* SH2000_COMP_CALIB_H */

@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: MIT
+/*
+ * The calibration's tables as a table file (docs/compensation.md "The
+ * file"), and a laser system's CSV read into one curve.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "calib.h"
+
+static void write_line(FILE *f, const char *head, const struct cal_line *l)
+{
+	unsigned int i;
+
+	if (!l->n)
+		return;
+	fprintf(f, "%s\n", head);
+	for (i = 0; i < l->n; i++)
+		fprintf(f, "%.4f %.9f\n", l->pos[i], l->corr[i]);
+}
+
+int cal_tables_write(const struct cal_tables *t, FILE *f, const char *comment)
+{
+	char head[32];
+	unsigned int a, i, j;
+
+	fprintf(f, "# SH-2000 compensation tables (mm): %s\n", comment ? comment : "");
+	for (a = 0; a < SH2000_AXES; a++) {
+		snprintf(head, sizeof(head), "pitch %c", SH2000_AXIS_LETTERS[a]);
+		write_line(f, head, &t->pitch[a]);
+	}
+	write_line(f, "cross Y X", &t->cross_yx);
+	write_line(f, "cross X Y", &t->cross_xy);
+	if (t->square_xy != 0.0)
+		fprintf(f, "square X Y %.9g\n", t->square_xy);
+	if (t->gn1 && t->gn2) {
+		fprintf(f, "grid Z X Y %.4f %.4f %u %.4f %.4f %u\n", t->gu0,
+			t->gdu, t->gn1, t->gv0, t->gdv, t->gn2);
+		for (j = 0; j < t->gn2; j++)
+			for (i = 0; i < t->gn1; i++)
+				fprintf(f, "%.9f%c", t->grid[j * t->gn1 + i],
+					i + 1 == t->gn1 ? '\n' : ' ');
+	}
+	return ferror(f) ? -EIO : 0;
+}
+
+int cal_tables_save(const struct cal_tables *t, const char *path,
+		    const char *comment)
+{
+	FILE *f = fopen(path, "w");
+	int r;
+
+	if (!f)
+		return -errno;
+	r = cal_tables_write(t, f, comment);
+	if (fclose(f) && !r)
+		r = -errno;
+	return r;
+}
+
+/* Corrections relative to the first row, and one point more beyond each
+ * end (the card's tables have slope 0 at their ends). */
+static void finish_csv(struct cal_line *l)
+{
+	unsigned int i, n = l->n;
+	double c0 = l->corr[0], h0, h1;
+
+	for (i = 0; i < n; i++)
+		l->corr[i] -= c0;
+	h0 = l->pos[1] - l->pos[0];
+	h1 = l->pos[n - 1] - l->pos[n - 2];
+	memmove(&l->pos[1], &l->pos[0], n * sizeof(l->pos[0]));
+	memmove(&l->corr[1], &l->corr[0], n * sizeof(l->corr[0]));
+	l->pos[0] = l->pos[1] - h0;
+	l->corr[0] = l->corr[1];
+	l->pos[n + 1] = l->pos[n] + h1;
+	l->corr[n + 1] = l->corr[n];
+	l->n = n + 2;
+}
+
+int cal_from_csv(struct cal_line *out, const char *path, int cross,
+		 char *msg, size_t len)
+{
+	char buf[512];
+	unsigned int line = 0;
+	FILE *f = fopen(path, "r");
+
+	out->n = 0;
+	if (!f) {
+		snprintf(msg, len, "%s: %s", path, strerror(errno));
+		return -1;
+	}
+	while (fgets(buf, sizeof(buf), f)) {
+		double nom, meas;
+		char *s = buf;
+
+		line++;
+		while (*s == ' ' || *s == '\t')
+			s++;
+		if (*s == '#' || *s == '\n' || *s == '\r' || !*s)
+			continue;
+		if (sscanf(s, "%lf%*[ \t,;]%lf", &nom, &meas) != 2 ||
+		    !isfinite(nom) || !isfinite(meas)) {
+			if (out->n == 0 && line == 1)
+				continue;	/* a header row */
+			snprintf(msg, len, "%s:%u: want: nominal,measured (mm)", path, line);
+			fclose(f);
+			return -1;
+		}
+		if (out->n + 3 > CAL_MAX_POINTS) {
+			snprintf(msg, len, "%s:%u: more than %u points", path, line,
+				 CAL_MAX_POINTS - 2);
+			fclose(f);
+			return -1;
+		}
+		out->pos[out->n] = nom;
+		out->corr[out->n++] = cross ? -meas : nom - meas;
+	}
+	fclose(f);
+	if (out->n < 2) {
+		snprintf(msg, len, "%s: fewer than 2 points", path);
+		return -1;
+	}
+	finish_csv(out);
+	return 0;
+}

@@ -30,15 +30,7 @@ int hsc_moving(unsigned int state)
 
 int hsc_faulted(const struct sh2000_status *st)
 {
-	unsigned int a;
-
-	if (st->card_faults || st->card_state == SH2000_STATE_FAULT ||
-	    st->card_state == SH2000_STATE_ESTOP)
-		return 1;
-	for (a = 0; a < SH2000_AXES; a++)
-		if (st->axis[a].faults)
-			return 1;
-	return 0;
+	return sh2000_status_faulted(st);
 }
 
 unsigned int hsc_enabled(const struct sh2000_status *st)

@@ -356,6 +356,19 @@ static int ranked_error(struct sh2000 *h, const struct sh2000_status *st)
 	return 0;
 }
 
+int sh2000_status_faulted(const struct sh2000_status *st)
+{
+	unsigned int a;
+
+	if (st->card_faults || st->card_state == SH2000_STATE_FAULT ||
+	    st->card_state == SH2000_STATE_ESTOP)
+		return 1;
+	for (a = 0; a < SH2000_AXES; a++)
+		if (st->axis[a].faults)
+			return 1;
+	return 0;
+}
+
 int sh2000_status_error_locked(struct sh2000 *h,
 			       const struct sh2000_status *st)
 {

@@ -100,6 +100,13 @@ PyObject *sh2k_status_dict(struct sh2000 *h, const struct sh2000_status *st)
 			  "host_time_ns", (unsigned long long)st->host_time_ns,
 			  "retries", st->retries, "axes", axes,
 			  "first_fault", first_fault_dict(&st->first_fault));
+	if (d) {
+		PyObject *b = PyBool_FromLong(sh2000_status_faulted(st));
+
+		if (PyDict_SetItemString(d, "faulted", b) < 0)
+			Py_CLEAR(d);
+		Py_DECREF(b);
+	}
 	if (d && h) {
 		PyObject *f = status_fault(h, st);
 

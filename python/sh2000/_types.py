@@ -63,7 +63,9 @@ class FirstFault:
 @dataclass(frozen=True)
 class Status:
     """struct sh2000_status (one sh2000_poll). fault is the sh2000.Error the
-    latched faults stand for (sh2000_status_error), or None."""
+    latched faults stand for (sh2000_status_error), or None; faulted is
+    whether there is one (sh2000_status_faulted: a latched fault, or the
+    card in FAULT or ESTOP)."""
     card_state: int
     card_state_name: str
     card_faults: int
@@ -79,6 +81,7 @@ class Status:
     axes: Tuple[AxisStatus, ...]
     first_fault: Optional[FirstFault]
     fault: Optional[Error]
+    faulted: bool
 
     @classmethod
     def from_c(cls, d):

@@ -5,7 +5,8 @@
  * record once and sh2000_status_error() names it; a card before 1.4 is
  * never asked for it and gets the old ranking; a torn record is read
  * again (or left unknown by the real-time poll); a command answered
- * since makes the next poll read it again.
+ * since makes the next poll read it again; sh2000_status_faulted() agrees
+ * with sh2000_status_error() on every state and fault.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -194,6 +195,41 @@ static void test_reread_after_command(void **state)
 	fakecard_free(f);
 }
 
+/* sh2000_status_faulted() is true exactly when sh2000_status_error()
+ * names an error: every card state, every card fault bit, every axis
+ * fault bit on every axis. */
+static void test_faulted_agrees(void **state)
+{
+	struct fakecard *f = fakecard_new();
+	struct sh2000_status st;
+	unsigned int s, b, a;
+
+	(void)state;
+	fakecard_boot(f);
+	for (s = 0; s <= SH2000_STATE_ESTOP + 1; s++) {
+		for (b = 0; b <= 16; b++) {
+			memset(&st, 0, sizeof(st));
+			st.card_state = s;
+			st.card_faults = b < 16 ? 1u << b : 0;
+			assert_int_equal(sh2000_status_faulted(&st),
+					 sh2000_status_error_locked(&f->h, &st) != 0);
+		}
+		for (a = 0; a < SH2000_AXES; a++) {
+			for (b = 0; b < 16; b++) {
+				memset(&st, 0, sizeof(st));
+				st.card_state = s;
+				st.axis[a].faults = 1u << b;
+				assert_true(sh2000_status_faulted(&st));
+				assert_int_not_equal(sh2000_status_error_locked(&f->h, &st), 0);
+			}
+		}
+	}
+	memset(&st, 0, sizeof(st));
+	st.card_state = SH2000_STATE_RUNNING;
+	assert_false(sh2000_status_faulted(&st));
+	fakecard_free(f);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -202,6 +238,7 @@ int main(void)
 		cmocka_unit_test(test_older_card_ranks),
 		cmocka_unit_test(test_torn_record),
 		cmocka_unit_test(test_reread_after_command),
+		cmocka_unit_test(test_faulted_agrees),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -32,7 +32,7 @@ def test_status_fields(card):
     st = card.status()
     assert st.card_state == sh2000.STATE_IDLE
     assert st.card_state_name == "idle"
-    assert st.fault is None and st.card_faults == 0
+    assert st.fault is None and st.card_faults == 0 and not st.faulted
     assert st.queue_fill == 0 and st.queue_free == card.queue_size
     assert len(st.axes) == sh2000.AXES
     x = st.axis("x")
@@ -104,6 +104,7 @@ def test_enable_estop_reset(card):
     st = card.status()
     assert st.card_state_name == "estop"
     assert isinstance(st.fault, sh2000.Error) and st.fault.code == sh2000.EESTOP
+    assert st.faulted
     ff = st.first_fault     # protocol 1.4: the card's first-fault record
     assert isinstance(ff, sh2000.FirstFault)
     assert ff.axis is None and ff.bit == st.card_faults     # the only one
@@ -114,7 +115,7 @@ def test_enable_estop_reset(card):
     card.reset()
     st = card.status()
     assert st.card_state == sh2000.STATE_IDLE and st.fault is None
-    assert st.first_fault is None
+    assert not st.faulted and st.first_fault is None
     card.disable("all")
     assert not any(a.enabled for a in card.status().axes)
 

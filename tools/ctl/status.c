@@ -225,6 +225,8 @@ static void status_json(struct ctl *c, const struct sh2000_status *st,
 	json_object_object_add(o, "state_code", json_object_new_int((int)st->card_state));
 	json_object_object_add(o, "faults", bits_json(st->card_faults, sh2000_fault_name));
 	json_object_object_add(o, "fault_bits", json_object_new_int((int)st->card_faults));
+	json_object_object_add(o, "faulted",
+			       json_object_new_boolean(sh2000_status_faulted(st)));
 	json_object_object_add(o, "error", error ? json_object_new_string(error) : NULL);
 	json_object_object_add(o, "first_fault", first_fault_json(&st->first_fault));
 	json_object_object_add(o, "queue_fill", json_object_new_int((int)st->queue_fill));

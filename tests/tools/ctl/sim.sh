@@ -11,7 +11,7 @@ expect 0 "$CTL" "${S[@]}" info && out_has "^device +sim$" &&
 expect 0 "$CTL" "${S[@]}" status && out_has "^state +idle +faults -" &&
 	out_has "^x +0\.000000 +0\.000000 +0\.000000 +0 +- +-$"
 expect 0 "$CTL" "${S[@]}" status --json &&
-	json_check /device = sim /state = idle /faults = '[]' /error = null /queue_free = 64 \
+	json_check /device = sim /state = idle /faults = '[]' /faulted = false /error = null /queue_free = 64 \
 		/axes/0/axis = x /axes/1/axis = y /axes/2/axis = z /axes/3/axis = a
 expect 0 "$CTL" "${S[@]}" status --json --watch 0.01 --count 3 &&
 	{ checks=$((checks + 1)); [ "$(printf '%s\n' "$out" | wc -l)" = 3 ] ||
@@ -77,7 +77,7 @@ expect 1 "$CTL" "${S[@]}" home x && err_has "^sh2000ctl: sim: home: .*axis not e
 # stop, estop, reset
 expect 0 "$CTL" "${S[@]}" enable x + stop + status --json && json_check /state = idle
 expect 4 "$CTL" "${S[@]}" enable x + estop + status --json &&
-	json_check /state = estop /fault_bits = 4 /error != null \
+	json_check /state = estop /fault_bits = 4 /faulted = true /error != null \
 		/first_fault/fault = "emergency stop" /first_fault/bit = 4 \
 		/first_fault/axis = null
 expect 4 "$CTL" "${S[@]}" enable x + estop + status && out_has "^state +estop" &&

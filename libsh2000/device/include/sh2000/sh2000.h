@@ -300,6 +300,11 @@ int sh2000_poll(struct sh2000 *h, struct sh2000_status *st);
  * faults, an emergency stop, then axis faults (axis 0 first), then a
  * rejected record, host timeout, underrun, protocol fault. */
 int sh2000_status_error(struct sh2000 *h, const struct sh2000_status *st);
+/* Whether a status shows the card faulted: a fault latched on the card or
+ * an axis, or the card in FAULT or ESTOP (exactly when
+ * sh2000_status_error() is not 0). A pure function of *st, safe in a
+ * real-time thread; the one definition every front end uses. */
+int sh2000_status_faulted(const struct sh2000_status *st);
 
 /* ---- commands -------------------------------------------------------- */
 

@@ -222,19 +222,24 @@ static inline double sp_path_dist(struct sp_path *g,
 				  int whole)
 {
 	double best = INFINITY;
-	size_t i, k, last = whole ? 2 * g->n : 16;
+	size_t i, k, last = whole ? 2 * g->n : 16, c = g->cur, at = c;
 
 	if (g->n == 0)
 		return 0.0;
 	if (g->n == 1)
 		return sp_dist_seg(x, g->v[0], g->v[0]);
+	/* the walk goes out from where the last query matched, which stays
+	 * put until the walk is over: moved to each better match on the way,
+	 * the walk skipped the segments between the old and the new centre
+	 * (a set-point 6 um from a dense stretch of path was measured 17 um
+	 * from it) */
 	for (k = 0; k <= last; k++) {
-		/* cur, cur + 1, cur - 1, cur + 2, ... */
+		/* c, c + 1, c - 1, c + 2, ... */
 		size_t off = (k + 1) / 2;
 
-		if (k % 2 ? g->cur + off >= g->n : g->cur < off)
+		if (k % 2 ? c + off >= g->n : c < off)
 			continue;
-		i = k % 2 ? g->cur + off : g->cur - off;
+		i = k % 2 ? c + off : c - off;
 		if (i == 0)
 			continue;
 		{
@@ -243,12 +248,13 @@ static inline double sp_path_dist(struct sp_path *g,
 
 			if (d < best) {
 				best = d;
-				g->cur = i;
+				at = i;
 			}
 		}
 		if (best <= tol && k > 8)
 			break;
 	}
+	g->cur = at;
 	return best;
 }
 

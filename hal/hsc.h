@@ -30,14 +30,14 @@
  * stall go out two a tick). */
 #define HSC_MAX_PUSH		2
 /* Ticks the fill must stay beyond its slack, ahead of the schedule,
- * before the card is taken to have slipped and the stream is re-centred
- * (records dropped). Shorter, a stall of the whole machine that the card
- * then catches up (a served card catches up 50 ms in some 17 ms, the
- * thread its ticks back to back) looks like a slip while it lasts, and
- * every record dropped for it would move the card's timeline for good:
- * one servo period of skew against the other cards and a jump of a
- * period's motion in the set-point. */
-#define HSC_SLIP_TICKS		100
+ * before the card is taken to have slipped and the stream is re-centred.
+ * Shorter, a stall of the whole machine that the card then catches up (a
+ * served card catches up a stall of up to 50 ms in as long again, after
+ * the thread has run its missed ticks back to back: some 100 ticks) looks
+ * like a slip while it lasts, and every record dropped for it would move
+ * the card's timeline for good: one servo period of skew against the
+ * other cards and a jump of a period's motion in the set-point. */
+#define HSC_SLIP_TICKS		250
 /* How much faster than the thread's time the records sample the command
  * while the stream catches up a card that slipped: the card plays the
  * motion 5 % faster until the fill is back at the target (a slip of 40

@@ -275,9 +275,14 @@ int sh2000_sim_server_attach(struct sh2000_sim_server **out, uint16_t *ram,
  * over the whole stall, before the host, descheduled by the same load and
  * catching up its own periods, has sent the next ones, and run the queue
  * dry. Paced, a stall of D catches up in D / (PACE - 1), and a host that
- * catches up within that keeps its queue (docs/cardmodel.md).
+ * catches up within that keeps its queue (docs/cardmodel.md). Two, not
+ * four: with two served cards beside LinuxCNC's servo thread and the
+ * whole machine stalled 30 ms every 2 s (linuxcnc_drift), the skew
+ * between the cards grew by some 20 us a stall to 1 ms at four; at two it
+ * stayed under 270 us with the queues at their target. Such stalls still
+ * run a queue dry now and then (after 35 s in that run).
  */
-#define SERVER_CATCH_UP_PACE	4
+#define SERVER_CATCH_UP_PACE	2
 
 /* The schedule of the server's cycles in CLOCK_MONOTONIC ns: when the
  * next cycle is due on the card's oscillator, and when the last began. */

@@ -328,7 +328,7 @@ static void stall_tick(struct rig *r, double *cmd, double v, int late_periods,
  * virtual machine descheduled). Afterwards the thread runs the n ticks it
  * missed back to back, late by n..1 periods, before the card has moved on
  * (no card time passes); then the card catches up its n periods at a
- * served card's pace, four periods a tick, while the thread is on time.
+ * served card's pace, two periods a tick, while the thread is on time.
  * x moves at v mm/s throughout. Returns the largest |card f-error| in mm
  * from the stall to 500 ticks after it.
  */
@@ -343,7 +343,7 @@ static double stall_in_motion(struct rig *r, int n, double v)
 	for (k = 0; k < n; k++)
 		stall_tick(r, cmd, v, n - k, 0);
 	while (behind > 0) {
-		int step = behind < 3 ? behind : 3;
+		int step = behind < 1 ? behind : 1;
 
 		stall_tick(r, cmd, v, 0, step + 1);
 		behind -= step;

@@ -30,7 +30,8 @@ uint16_t sh2000_home_start(struct sh2000_dsp *fw, unsigned int axis,
 		return SH2000_RES_DISABLED;
 	if (fw->state != SH2000_STATE_IDLE && fw->state != SH2000_STATE_HOMING)
 		return SH2000_RES_BUSY;
-	if (ax->home != HOME_NONE)
+	/* the host's index arm has the latch (index.c) */
+	if (ax->home != HOME_NONE || ax->ix.state == SH2000_INDEX_ARMED)
 		return SH2000_RES_BUSY;
 	/* on the switch already: a reference taken here would depend on
 	 * where the axis happened to be, so leave the switch first */

@@ -5,7 +5,8 @@
  *   m dv/dt = k V - b v,
  * integrated exactly over a period with V held (zero-order hold); limit and
  * home switches at fixed positions; an optical scale with index marks
- * every index_period_mm. What the FPGA makes of the scale's pulses (the
+ * every index_period_mm, each of a width (its signal's rising and falling
+ * edges). What the FPGA makes of the scale's pulses (the
  * 28-bit counter, the index latch) is the board's (board.c).
  */
 #include <math.h>
@@ -29,6 +30,8 @@ void sh2000_sim_config_default(struct sh2000_sim_config *cfg)
 		p->index_period_mm = 1.0;
 		p->start_mm = 300.0;
 		p->home_bounce_mm = 0.0;
+		p->index_pos_mm = 0.0;
+		p->index_width_mm = 0.0;
 	}
 }
 
@@ -44,26 +47,61 @@ void sh2000_plant_init(struct sh2000_plant *p,
 	p->x_mm = cfg->start_mm;
 	p->v_mm_s = 0.0;
 	p->jammed = 0;
-	p->index_crossed = 0;
-	p->index_mark = 0;
+	p->rise.crossed = 0;
+	p->fall.crossed = 0;
 	p->cache_T = -1.0;
 	p->cache_e = 0.0;
 	p->steps = 0;
 }
 
-/* Did the carriage pass an index mark between x0 and the new x? */
+/* The home switch at x, without its chatter (what the FPGA's mask input
+ * shows at an index edge). */
+static int home_at(const struct sh2000_plant *p, double x_mm)
+{
+	return x_mm <= p->cfg.home_mm;
+}
+
+/* Edge positions pos + k * per + off that lie in (lo, hi]: the first one
+ * met going from x0 towards x1 (*at), 1 if there is one. */
+static int first_edge(const struct sh2000_plant *p, double off, double x0,
+		      double x1, double *at)
+{
+	double per = p->cfg.index_period_mm, base = p->cfg.index_pos_mm + off;
+	double k;
+
+	if (x1 > x0) {
+		k = floor((x0 - base) / per) + 1.0;	/* first above x0 */
+		*at = base + k * per;
+		return *at <= x1;
+	}
+	k = ceil((x0 - base) / per) - 1.0;		/* first below x0 */
+	*at = base + k * per;
+	return *at >= x1;
+}
+
+static void edge(struct sh2000_plant *p, struct sh2000_index_edge *e,
+		 double off, double x0)
+{
+	double at;
+
+	if (!first_edge(p, off, x0, p->x_mm, &at))
+		return;
+	e->crossed = 1;
+	e->mark = counts_at(p, at);
+	e->home = home_at(p, at);
+}
+
+/* The index signal's edges between x0 and the new x: going up, a mark
+ * rises at its start and falls at its end; going down the other way. */
 static void find_index(struct sh2000_plant *p, double x0)
 {
-	double per = p->cfg.index_period_mm, k0, k1;
+	double w = p->cfg.index_width_mm > 0.0 ? p->cfg.index_width_mm : 0.0;
+	int up = p->x_mm > x0;
 
-	if (per <= 0.0)
+	if (p->cfg.index_period_mm <= 0.0 || p->x_mm == x0)
 		return;
-	k0 = floor(x0 / per);
-	k1 = floor(p->x_mm / per);
-	if (k0 != k1) {
-		p->index_crossed = 1;
-		p->index_mark = counts_at(p, (k1 > k0 ? k1 : k0) * per);
-	}
+	edge(p, &p->rise, up ? 0.0 : w, x0);
+	edge(p, &p->fall, up ? w : 0.0, x0);
 }
 
 void sh2000_plant_step(struct sh2000_plant *p, double volts, double T)
@@ -72,7 +110,8 @@ void sh2000_plant_step(struct sh2000_plant *p, double volts, double T)
 	double F = p->cfg.force_n_per_v * volts;
 	double v0 = p->v_mm_s * 1e-3, x0 = p->x_mm, v1, dx;
 
-	p->index_crossed = 0;
+	p->rise.crossed = 0;
+	p->fall.crossed = 0;
 	p->steps++;
 	if (p->jammed) {
 		p->v_mm_s = 0.0;

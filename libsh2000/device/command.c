@@ -27,6 +27,8 @@ const char *sh2000_cmd_op_name(unsigned int op)
 		[SH2000_CMD_GATHER_STOP] = "gather_stop",
 		[SH2000_CMD_GATHER_INFO] = "gather_info",
 		[SH2000_CMD_GATHER_READ] = "gather_read",
+		[SH2000_CMD_INDEX_ARM] = "index_arm",
+		[SH2000_CMD_INDEX_DISARM] = "index_disarm",
 	};
 
 	return op < sizeof(n) / sizeof(n[0]) && n[op] ? n[op] : "?";
@@ -204,7 +206,8 @@ static int changes_motion(unsigned int op)
 {
 	return op == SH2000_CMD_ENABLE || op == SH2000_CMD_DISABLE ||
 	       op == SH2000_CMD_HOME || op == SH2000_CMD_SET_POSITION ||
-	       op == SH2000_CMD_RESET;
+	       op == SH2000_CMD_RESET || op == SH2000_CMD_INDEX_ARM ||
+	       op == SH2000_CMD_INDEX_DISARM;
 }
 
 static int command(struct sh2000 *h, unsigned int op, unsigned int axis,

@@ -271,13 +271,13 @@ void sh2000_home_cycle(struct sh2000_dsp *fw, double T);
 void sh2000_home_abort(struct sh2000_fw_axis *ax);
 
 /* index.c: INDEX_ARM (value: the arm's number) and INDEX_DISARM; results
- * SH2000_RES_*. sh2000_index_cycle runs for each axis every cycle once
+ * SH2000_RES_*. sh2000_fw_index_cycle runs for each axis every cycle once
  * its inputs are sampled. */
-uint16_t sh2000_index_arm(struct sh2000_dsp *fw, unsigned int axis,
+uint16_t sh2000_fw_index_arm(struct sh2000_dsp *fw, unsigned int axis,
 			  uint16_t flags, uint32_t within, uint32_t *value);
-uint16_t sh2000_index_disarm(struct sh2000_dsp *fw, unsigned int axis);
-void sh2000_index_cycle(struct sh2000_dsp *fw, unsigned int a);
+uint16_t sh2000_fw_index_disarm(struct sh2000_dsp *fw, unsigned int axis);
+void sh2000_fw_index_cycle(struct sh2000_dsp *fw, unsigned int a);
 /* Power-up: every block OFF, every latch in its default mode. */
-void sh2000_index_boot(struct sh2000_dsp *fw);
+void sh2000_fw_index_boot(struct sh2000_dsp *fw);
 
 #endif /* SH2000_CARDMODEL_H */

@@ -59,7 +59,7 @@ static uint32_t hw_mode(uint16_t flags)
 	return m;
 }
 
-uint16_t sh2000_index_arm(struct sh2000_dsp *fw, unsigned int axis,
+uint16_t sh2000_fw_index_arm(struct sh2000_dsp *fw, unsigned int axis,
 			  uint16_t flags, uint32_t within, uint32_t *value)
 {
 	struct sh2000_fw_axis *ax;
@@ -95,7 +95,7 @@ uint16_t sh2000_index_arm(struct sh2000_dsp *fw, unsigned int axis,
 	return SH2000_RES_OK;
 }
 
-void sh2000_index_boot(struct sh2000_dsp *fw)
+void sh2000_fw_index_boot(struct sh2000_dsp *fw)
 {
 	unsigned int a;
 
@@ -106,7 +106,7 @@ void sh2000_index_boot(struct sh2000_dsp *fw)
 	}
 }
 
-uint16_t sh2000_index_disarm(struct sh2000_dsp *fw, unsigned int axis)
+uint16_t sh2000_fw_index_disarm(struct sh2000_dsp *fw, unsigned int axis)
 {
 	if (axis >= SH2000_AXES)
 		return SH2000_RES_BAD_AXIS;
@@ -117,7 +117,7 @@ uint16_t sh2000_index_disarm(struct sh2000_dsp *fw, unsigned int axis)
 
 /* Every cycle, after the inputs are sampled: the mark, the travel limit,
  * or the end of what the arm needs (an enabled axis, no fault). */
-void sh2000_index_cycle(struct sh2000_dsp *fw, unsigned int a)
+void sh2000_fw_index_cycle(struct sh2000_dsp *fw, unsigned int a)
 {
 	struct sh2000_fw_axis *ax = &fw->ax[a];
 	int64_t moved;

@@ -40,6 +40,7 @@ struct pins_axis {
 	hal_bit_t *enable, *amp_fault, *home_sw, *limit_pos, *limit_neg;
 	hal_bit_t *index_enable;
 	hal_float_t position_scale;
+	hal_bit_t index_mask, index_mask_invert, index_invert;
 };
 
 struct pins_card {
@@ -77,8 +78,13 @@ static void pins_in(struct instance *t)
 		t->in.axis[a].position_cmd = *x->position_cmd;
 		t->in.axis[a].enable = *x->enable;
 		t->in.axis[a].index_enable = *x->index_enable;
+		t->in.axis[a].index_mask = x->index_mask;
+		t->in.axis[a].index_mask_invert = x->index_mask_invert;
+		t->in.axis[a].index_invert = x->index_invert;
 		t->in.axis[a].position_scale = x->position_scale;
 	}
+	/* from the index mark on, commands are from it too (index.c) */
+	hsc_index_command(&t->card, &t->in);
 }
 
 static void pins_out(struct instance *t)
@@ -160,6 +166,15 @@ static const char axis_name[SH2000_AXES] = { 'x', 'y', 'z', 'a' };
 		return r; \
 } while (0)
 
+/* hostmot2's encoder parameters of the same names, false by default */
+#define AXIS_PARAM(field, name) do { \
+	r = hal_param_bit_newf(HAL_RW, &x->field, comp_id, \
+			       "sh2000.%d.%c." name, n, axis_name[a]); \
+	if (r < 0) \
+		return r; \
+	x->field = 0; \
+} while (0)
+
 static int export_axis(int n, unsigned int a, struct pins_axis *x,
 		       double scale)
 {
@@ -176,6 +191,9 @@ static int export_axis(int n, unsigned int a, struct pins_axis *x,
 	AXIS_PIN(bit, HAL_OUT, limit_pos, "limit-pos");
 	AXIS_PIN(bit, HAL_OUT, limit_neg, "limit-neg");
 	AXIS_PIN(bit, HAL_IO, index_enable, "index-enable");
+	AXIS_PARAM(index_mask, "index-mask");
+	AXIS_PARAM(index_mask_invert, "index-mask-invert");
+	AXIS_PARAM(index_invert, "index-invert");
 	r = hal_param_float_newf(HAL_RW, &x->position_scale, comp_id,
 				 "sh2000.%d.%c.position-scale", n, axis_name[a]);
 	x->position_scale = scale;

@@ -87,7 +87,7 @@ static void pins_in(struct instance *t)
 	hsc_index_command(&t->card, &t->in);
 }
 
-static void pins_out(struct instance *t)
+static void pins_out(struct instance *t, int read_half)
 {
 	struct pins_card *p = t->p;
 	unsigned int a;
@@ -112,8 +112,11 @@ static void pins_out(struct instance *t)
 		*x->home_sw = o->home_sw;
 		*x->limit_pos = o->limit_pos;
 		*x->limit_neg = o->limit_neg;
-		/* index-enable is LinuxCNC's to set, the driver's to clear */
-		if (*x->index_enable && !o->index_enable)
+		/* index-enable is LinuxCNC's to set, the driver's to clear,
+		 * and only by the read that took the mark: motion sets it
+		 * between the read and the write, which must not see the
+		 * read's answer to the pin as it was before */
+		if (read_half && *x->index_enable && !o->index_enable)
 			*x->index_enable = 0;
 	}
 }
@@ -138,7 +141,7 @@ static void read_funct(void *arg, long period)
 
 	pins_in(t);
 	hsc_read(&t->card, &t->in, &t->out, period, late);
-	pins_out(t);
+	pins_out(t, 1);
 	report(t);
 }
 
@@ -152,7 +155,7 @@ static void write_funct(void *arg, long period)
 	/* the first card is the time master: the thread follows its clock */
 	if (t->card.master)
 		rtapi_task_pll_set_correction(t->out.pll_correction_ns);
-	pins_out(t);
+	pins_out(t, 0);
 	report(t);
 }
 

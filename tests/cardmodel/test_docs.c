@@ -221,7 +221,13 @@ static void first_fault(void **state)
 		 SH2000_W_FIRST_FAULT + SH2000_FF_CYCLE_LO,
 		 SH2000_W_FIRST_FAULT + SH2000_FF_CYCLE_HI);
 	has(row);
-	snprintf(row, sizeof(row), "| %u..%u | reserved |", end, SH2000_W_GATHER_BASE - 1);
+	snprintf(row, sizeof(row), "| %u..%u | reserved |", end, SH2000_W_INDEX(0) - 1);
+	has(row);
+	/* the index blocks (1.6) took reserved words after it */
+	snprintf(row, sizeof(row), "| %u + 7a | `INDEX(a)`+`IX_STATE` |", SH2000_W_INDEX(0));
+	has(row);
+	snprintf(row, sizeof(row), "| %u..%u | reserved |", SH2000_W_INDEX(SH2000_AXES),
+		 SH2000_W_GATHER_BASE - 1);
 	has(row);
 	snprintf(row, sizeof(row), "Version: **%u.%u**", SH2000_PROTO_MAJOR,
 		 SH2000_PROTO_MINOR);

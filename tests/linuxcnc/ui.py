@@ -59,7 +59,9 @@ def path_error(rows):
     WINDOW ms: the card plays them the queue and its B-spline later)."""
     window = 80
     cmd = [r[0:3] for r in rows]
-    enc = [r[3:6] for r in rows]
+    # encoder-position is the card's raw encoder; since homing on the
+    # index the commands are from the mark, which is OFFSET on the card
+    enc = [[r[3 + k] - OFFSET[k] for k in range(3)] for r in rows]
     worst = 0.0
     for i in range(window, len(enc), 3):
         p = enc[i]

@@ -41,6 +41,7 @@ struct pins_axis {
 	hal_bit_t *index_enable;
 	hal_float_t position_scale;
 	hal_bit_t index_mask, index_mask_invert, index_invert;
+	hal_float_t index_within;
 };
 
 struct pins_card {
@@ -81,6 +82,7 @@ static void pins_in(struct instance *t)
 		t->in.axis[a].index_mask = x->index_mask;
 		t->in.axis[a].index_mask_invert = x->index_mask_invert;
 		t->in.axis[a].index_invert = x->index_invert;
+		t->in.axis[a].index_within = x->index_within;
 		t->in.axis[a].position_scale = x->position_scale;
 	}
 	/* from the index mark on, commands are from it too (index.c) */
@@ -169,9 +171,10 @@ static const char axis_name[SH2000_AXES] = { 'x', 'y', 'z', 'a' };
 		return r; \
 } while (0)
 
-/* hostmot2's encoder parameters of the same names, false by default */
-#define AXIS_PARAM(field, name) do { \
-	r = hal_param_bit_newf(HAL_RW, &x->field, comp_id, \
+/* index parameters, 0 by default: hostmot2's encoder ones of the same
+ * names, and index-within (the driver's own) */
+#define AXIS_PARAM(type, field, name) do { \
+	r = hal_param_##type##_newf(HAL_RW, &x->field, comp_id, \
 			       "sh2000.%d.%c." name, n, axis_name[a]); \
 	if (r < 0) \
 		return r; \
@@ -194,9 +197,10 @@ static int export_axis(int n, unsigned int a, struct pins_axis *x,
 	AXIS_PIN(bit, HAL_OUT, limit_pos, "limit-pos");
 	AXIS_PIN(bit, HAL_OUT, limit_neg, "limit-neg");
 	AXIS_PIN(bit, HAL_IO, index_enable, "index-enable");
-	AXIS_PARAM(index_mask, "index-mask");
-	AXIS_PARAM(index_mask_invert, "index-mask-invert");
-	AXIS_PARAM(index_invert, "index-invert");
+	AXIS_PARAM(bit, index_mask, "index-mask");
+	AXIS_PARAM(bit, index_mask_invert, "index-mask-invert");
+	AXIS_PARAM(bit, index_invert, "index-invert");
+	AXIS_PARAM(float, index_within, "index-within");
 	r = hal_param_float_newf(HAL_RW, &x->position_scale, comp_id,
 				 "sh2000.%d.%c.position-scale", n, axis_name[a]);
 	x->position_scale = scale;

@@ -37,6 +37,9 @@ struct hsc_axis_in {
 	int index_enable;
 	/* hostmot2's encoder parameters of the same names (index.c) */
 	int index_mask, index_mask_invert, index_invert;
+	/* index-within: the travel (machine units) an arm allows for the
+	 * mark, 0: no limit (the driver's own; index.c) */
+	double index_within;
 	double position_scale;	/* counts per machine unit */
 };
 

@@ -3,19 +3,22 @@
  * index-enable with hostmot2's encoder semantics (docs/linuxcnc.md
  * "Homing on the index"): LinuxCNC sets it true to arm; the driver arms
  * the card's index latch (INDEX_ARM, protocol 1.6) with index-mask,
- * index-mask-invert and index-invert, while the card runs the stream;
+ * index-mask-invert and index-invert (and index-within, the travel it
+ * allows for the mark: the driver's own), while the card runs the stream;
  * when the card reports the mark, the driver takes the counter at the
  * mark as the axis' new zero and writes index-enable false in the same
  * read: from then on position-fb is zero at the mark, continuous, and the
  * commands are shifted by the same counts, so the card does not move.
  *
  * An arm that cannot be honoured (a card older than 1.6, a refused arm,
- * an arm the card ended without a mark) never clears index-enable: the
- * axis shows amp-fault (LinuxCNC: "joint N amplifier fault", homing
- * aborted) with the reason in the log, until the joint is disabled or
- * fault-reset is raised.
+ * an arm the card ended without a mark, none within index-within) never
+ * clears index-enable: the axis shows amp-fault (LinuxCNC: "joint N
+ * amplifier fault", homing aborted) with the reason in the log, until the
+ * joint is disabled or fault-reset is raised.
  */
 #include <errno.h>
+#include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 
 #include "hsc.h"
@@ -43,15 +46,24 @@ static unsigned int arm_flags(const struct hsc_axis_in *in)
 	return f;
 }
 
+/* index-within in counts of the card (0: no limit; beyond 32 bits, or
+ * not a number: no limit either, the card's ARG is a 32-bit travel). */
+static int32_t within_counts(const struct hsc_axis_in *in)
+{
+	double c = fabs(in->index_within * in->position_scale);
+
+	return isfinite(c) && c < INT32_MAX ? (int32_t)nearbyint(c) : 0;
+}
+
 /* One command through the card's one slot (write.c's commands wait). */
 static int start(struct hsc_card *c, unsigned int op, unsigned int a,
-		 unsigned int flags)
+		 unsigned int flags, int32_t arg)
 {
 	int r;
 
 	if (c->cmd_busy)
 		return -EAGAIN;
-	r = sh2000_command_start(c->h, op, a, flags, 0);
+	r = sh2000_command_start(c->h, op, a, flags, arg);
 	if (r == 0) {
 		c->cmd_busy = 1;
 		c->cmd_op = op;
@@ -71,7 +83,8 @@ static void arm(struct hsc_card *c, const struct hsc_in *in, unsigned int a)
 		fail(c, a, sh2000_last_error(c->h));
 		return;
 	}
-	r = start(c, SH2000_CMD_INDEX_ARM, a, arm_flags(&in->axis[a]));
+	r = start(c, SH2000_CMD_INDEX_ARM, a, arm_flags(&in->axis[a]),
+		  within_counts(&in->axis[a]));
 	if (r == 0)
 		c->ix[a].phase = HSC_IX_ARMING;
 	else if (r != -EAGAIN)
@@ -144,7 +157,7 @@ void hsc_index_read(struct hsc_card *c, const struct hsc_in *in)
 			break;		/* hsc_index_answer */
 		case HSC_IX_ARMED:
 			if (!want) {	/* LinuxCNC withdrew it */
-				if (start(c, SH2000_CMD_INDEX_DISARM, a, 0) != -EAGAIN)
+				if (start(c, SH2000_CMD_INDEX_DISARM, a, 0, 0) != -EAGAIN)
 					ix->phase = HSC_IX_IDLE;
 			} else if (!(c->st.axis[a].state & SH2000_AXIS_INDEX_ARMED)) {
 				ended(c, a);

@@ -8,7 +8,10 @@
  * coordinate. Checks that index-enable is cleared only at the mark, that
  * position-fb is then zero at the mark (the scale's physical mark, not
  * where the card powered up), continuous, and that the card's set-point
- * does not jump.
+ * does not jump. And the requests that cannot be honoured: a card older
+ * than protocol 1.6, a mark that does not come within index-within: the
+ * axis shows amp-fault with the reason, index-enable stays true, until
+ * the axis is disabled.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -21,6 +24,7 @@
 
 #include "hsc.h"
 #include "sh2000/sim.h"
+#include "sh2000_internal.h"	/* the card's protocol version, to age it */
 
 #define PERIOD_NS	1000000L
 #define SCALE		100000.0	/* counts per mm, the card's default */
@@ -130,10 +134,101 @@ static void home_on_index(void **state)
 	free(r);
 }
 
+/* A card streaming with axis x enabled, at rest where it powered up
+ * (300 mm from the switch: no mark on the switch within reach). */
+static struct rig *streaming(void)
+{
+	struct rig *r = calloc(1, sizeof(*r));
+	char msg[256];
+	int n;
+
+	assert_non_null(r);
+	if (hsc_open(&r->c, 0, "sim", msg, sizeof(msg)) < 0)
+		fail_msg("hsc_open: %s", msg);
+	r->pins.axis[0].position_scale = SCALE;
+	r->pins.axis[0].enable = 1;
+	r->t_next = sh2000_now_ns(r->c.h);
+	for (n = 0; n < 100 && !r->c.streaming; n++)
+		tick(r, 0.0);
+	assert_true(r->c.streaming);
+	return r;
+}
+
+static void rig_close(struct rig *r)
+{
+	hsc_close(&r->c);
+	free(r);
+}
+
+/* A fault that LinuxCNC sees: amp-fault, index-enable still true, the
+ * reason in the driver's message; gone once the axis is disabled. */
+static void shows_fault(struct rig *r, const char *reason)
+{
+	int n;
+
+	assert_true(r->out.axis[0].amp_fault);
+	assert_true(r->pins.axis[0].index_enable);
+	assert_true(r->out.axis[0].index_enable);
+	if (!strstr(r->c.err, reason))
+		fail_msg("\"%s\" does not say \"%s\"", r->c.err, reason);
+	assert_non_null(strstr(r->c.err, "x: index-enable: "));
+	r->pins.axis[0].enable = 0;
+	r->pins.axis[0].index_enable = 0;
+	for (n = 0; n < 5; n++)
+		tick(r, 0.0);
+	assert_false(r->out.axis[0].amp_fault);
+}
+
+static void older_card(void **state)
+{
+	struct rig *r = streaming();
+	int n;
+
+	(void)state;
+	/* the card as one that speaks 1.5: no INDEX_ARM */
+	r->c.h->card_version = SH2000_PROTO_VERSION_MAJOR(SH2000_PROTO_VERSION) << 8 | 5u;
+	assert_false(r->out.axis[0].amp_fault);
+	r->pins.axis[0].index_enable = 1;
+	for (n = 0; n < 20; n++)
+		tick(r, 0.0);
+	shows_fault(r, "protocol 1.5: arming the index latch while it runs needs 1.6");
+	rig_close(r);
+}
+
+static void no_mark_within(void **state)
+{
+	struct rig *r = streaming();
+	double cmd = 0.0, step = 1.0 / 1000.0;	/* 1 mm/s */
+	int n;
+
+	(void)state;
+	/* off the switch with index-mask: no mark counts; 0.5 mm allowed */
+	r->pins.axis[0].index_mask = 1;
+	r->pins.axis[0].index_within = 0.5;
+	r->pins.axis[0].index_enable = 1;
+	for (n = 0; n < 400; n++) {	/* 0.4 mm: still armed */
+		cmd -= step;
+		tick(r, cmd);
+	}
+	assert_false(r->out.axis[0].amp_fault);
+	assert_int_equal(r->c.ix[0].phase, HSC_IX_ARMED);
+	/* some 0.5 mm + the queue's delay on: the card gives up */
+	for (n = 0; n < 200 && !r->out.axis[0].amp_fault; n++) {
+		cmd -= step;
+		tick(r, cmd);
+	}
+	assert_true(r->out.axis[0].amp_fault);
+	assert_true(r->out.ok);		/* the card runs on: LinuxCNC stops */
+	shows_fault(r, "no index mark within the arm's travel");
+	rig_close(r);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(home_on_index),
+		cmocka_unit_test(older_card),
+		cmocka_unit_test(no_mark_within),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

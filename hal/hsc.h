@@ -190,6 +190,7 @@ struct hsc_card {
 	int have_cmd;
 
 	struct hsc_index ix[SH2000_AXES];
+	uint64_t ix_fail_tick;	/* tick + 1 of the last index failure */
 
 	uint32_t underruns;
 	struct sh2000_port_counters pc_last;

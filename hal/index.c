@@ -20,17 +20,27 @@
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "hsc.h"
 
+/* The axis faults with the reason in the driver's message; axes failing
+ * in one read share it (homing arms them together), so each is named. */
 static void fail(struct hsc_card *c, unsigned int a, const char *why)
 {
 	struct hsc_index *ix = &c->ix[a];
+	size_t n = strlen(c->err);
+	char letter = (char)(SH2000_AXIS_LETTERS[a] + ('a' - 'A'));
 
 	ix->phase = HSC_IX_IDLE;
 	ix->fault = 1;
-	snprintf(c->err, sizeof(c->err), "%c: index-enable: %s",
-		 SH2000_AXIS_LETTERS[a] + ('a' - 'A'), why);
+	if (c->ix_fail_tick == c->tick + 1 && n + 2 < sizeof(c->err))
+		snprintf(c->err + n, sizeof(c->err) - n, "; %c: index-enable: %s",
+			 letter, why);
+	else
+		snprintf(c->err, sizeof(c->err), "%c: index-enable: %s",
+			 letter, why);
+	c->ix_fail_tick = c->tick + 1;
 }
 
 static unsigned int arm_flags(const struct hsc_axis_in *in)

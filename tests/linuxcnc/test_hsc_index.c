@@ -35,7 +35,23 @@ struct rig {
 	struct hsc_in pins;	/* as LinuxCNC sets the pins */
 	struct hsc_out out;
 	uint64_t t_next;
+	char log[1024];		/* the driver's messages, as it prints them */
 };
+
+/* What hal_sh2000.c's report() prints after a read: the message when it
+ * changed. */
+static void report(struct rig *r)
+{
+	size_t n = strlen(r->log);
+	const char *last = strrchr(r->log, '\n');
+
+	if (!r->c.err[0])
+		return;
+	last = last ? last : r->log;
+	if (n && !strcmp(r->c.err, last == r->log ? r->log : last + 1))
+		return;
+	snprintf(r->log + n, sizeof(r->log) - n, "%s%s", n ? "\n" : "", r->c.err);
+}
 
 /* One servo period as hal_sh2000.c runs it: the pins shifted by the
  * index offset (hsc_index_command), read, motion, write. */
@@ -50,6 +66,7 @@ static void tick(struct rig *r, double cmd)
 	in = r->pins;
 	hsc_index_command(&r->c, &in);
 	hsc_read(&r->c, &in, &r->out, PERIOD_NS, (long)(now - r->t_next));
+	report(r);
 	r->t_next += PERIOD_NS;
 	/* the driver writes index-enable false; LinuxCNC's homing sees it
 	 * in the same period and commands from position-fb, in the mark's
@@ -59,6 +76,8 @@ static void tick(struct rig *r, double cmd)
 		cmd = r->out.axis[0].position_fb;
 	}
 	r->pins.axis[0].position_cmd = cmd;
+	if (r->pins.axis[1].enable)	/* y along with x */
+		r->pins.axis[1].position_cmd = cmd;
 	in = r->pins;
 	hsc_index_command(&r->c, &in);
 	hsc_write(&r->c, &in, &r->out);
@@ -134,8 +153,9 @@ static void home_on_index(void **state)
 	free(r);
 }
 
-/* A card streaming with axis x enabled, at rest where it powered up
- * (300 mm from the switch: no mark on the switch within reach). */
+/* A card streaming with axes x and y enabled (y commanded as x), at rest
+ * where it powered up (300 mm from the switch: no mark on the switch
+ * within reach). */
 static struct rig *streaming(void)
 {
 	struct rig *r = calloc(1, sizeof(*r));
@@ -147,6 +167,8 @@ static struct rig *streaming(void)
 		fail_msg("hsc_open: %s", msg);
 	r->pins.axis[0].position_scale = SCALE;
 	r->pins.axis[0].enable = 1;
+	r->pins.axis[1].position_scale = SCALE;
+	r->pins.axis[1].enable = 1;
 	r->t_next = sh2000_now_ns(r->c.h);
 	for (n = 0; n < 100 && !r->c.streaming; n++)
 		tick(r, 0.0);
@@ -160,18 +182,19 @@ static void rig_close(struct rig *r)
 	free(r);
 }
 
-/* A fault that LinuxCNC sees: amp-fault, index-enable still true, the
- * reason in the driver's message; gone once the axis is disabled. */
+/* A fault of x that LinuxCNC sees: amp-fault, index-enable still true,
+ * the reason in the driver's messages; gone once the axis is disabled. */
 static void shows_fault(struct rig *r, const char *reason)
 {
+	char want[256];
 	int n;
 
 	assert_true(r->out.axis[0].amp_fault);
 	assert_true(r->pins.axis[0].index_enable);
 	assert_true(r->out.axis[0].index_enable);
-	if (!strstr(r->c.err, reason))
-		fail_msg("\"%s\" does not say \"%s\"", r->c.err, reason);
-	assert_non_null(strstr(r->c.err, "x: index-enable: "));
+	snprintf(want, sizeof(want), "x: index-enable: %s", reason);
+	if (!strstr(r->log, "x: index-enable: ") || !strstr(r->log, reason))
+		fail_msg("the driver's messages \"%s\" do not say \"%s\"", r->log, want);
 	r->pins.axis[0].enable = 0;
 	r->pins.axis[0].index_enable = 0;
 	for (n = 0; n < 5; n++)
@@ -202,10 +225,13 @@ static void no_mark_within(void **state)
 	int n;
 
 	(void)state;
-	/* off the switch with index-mask: no mark counts; 0.5 mm allowed */
-	r->pins.axis[0].index_mask = 1;
-	r->pins.axis[0].index_within = 0.5;
-	r->pins.axis[0].index_enable = 1;
+	/* off the switch with index-mask: no mark counts; 0.5 mm allowed;
+	 * x and y together, as LinuxCNC homes joints at once */
+	for (n = 0; n < 2; n++) {
+		r->pins.axis[n].index_mask = 1;
+		r->pins.axis[n].index_within = 0.5;
+		r->pins.axis[n].index_enable = 1;
+	}
 	for (n = 0; n < 400; n++) {	/* 0.4 mm: still armed */
 		cmd -= step;
 		tick(r, cmd);
@@ -218,7 +244,12 @@ static void no_mark_within(void **state)
 		tick(r, cmd);
 	}
 	assert_true(r->out.axis[0].amp_fault);
+	assert_true(r->out.axis[1].amp_fault);
 	assert_true(r->out.ok);		/* the card runs on: LinuxCNC stops */
+	/* the driver's messages name both */
+	if (!strstr(r->log, "x: index-enable: no index mark") ||
+	    !strstr(r->log, "y: index-enable: no index mark"))
+		fail_msg("the messages do not name both axes: %s", r->log);
 	shows_fault(r, "no index mark within the arm's travel");
 	rig_close(r);
 }

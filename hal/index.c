@@ -133,6 +133,10 @@ static void ended(struct hsc_card *c, unsigned int a)
 		return;
 	}
 	switch (r.state) {
+	case SH2000_INDEX_ARMED:
+		/* still armed: the status snapshot is older than the arm
+		 * (the answer comes at once, the snapshot every few cycles) */
+		return;
 	case SH2000_INDEX_LATCHED:
 		c->ix[a].offset = r.counts;
 		c->ix[a].have_offset = 1;

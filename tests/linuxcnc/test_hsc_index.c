@@ -254,12 +254,37 @@ static void no_mark_within(void **state)
 	rig_close(r);
 }
 
+/* The arm's answer comes at once, the status snapshot every few cycles:
+ * a snapshot from before the arm (INDEX_ARMED not yet set) must not read
+ * as an arm the card ended. */
+static void status_older_than_arm(void **state)
+{
+	struct rig *r = streaming();
+	int n;
+
+	(void)state;
+	r->pins.axis[0].index_enable = 1;
+	for (n = 0; n < 20 && r->c.ix[0].phase != HSC_IX_ARMED; n++)
+		tick(r, 0.0);
+	assert_int_equal(r->c.ix[0].phase, HSC_IX_ARMED);
+	r->c.st.axis[0].state &= (uint16_t)~SH2000_AXIS_INDEX_ARMED;
+	hsc_index_read(&r->c, &r->pins);
+	assert_int_equal(r->c.ix[0].phase, HSC_IX_ARMED);
+	assert_false(r->c.ix[0].fault);
+	for (n = 0; n < 20; n++)
+		tick(r, 0.0);
+	assert_false(r->out.axis[0].amp_fault);
+	assert_true(r->out.axis[0].index_enable);
+	rig_close(r);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(home_on_index),
 		cmocka_unit_test(older_card),
 		cmocka_unit_test(no_mark_within),
+		cmocka_unit_test(status_older_than_arm),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

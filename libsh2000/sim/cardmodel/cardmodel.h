@@ -265,6 +265,12 @@ uint16_t sh2000_fw_set_param(struct sh2000_dsp *fw, unsigned int axis,
 void sh2000_fw_default_params(struct sh2000_dsp *fw);
 
 /* homing.c */
+/* What the two commands that take an axis' index latch (HOME, INDEX_ARM)
+ * check first, in this order: the axis (BAD_AXIS), bad_value (BAD_VALUE:
+ * the caller's check of its flags), a latched fault (FAULTED), the axis
+ * enabled (DISABLED); SH2000_RES_OK if all pass. */
+uint16_t sh2000_latch_cmd_check(const struct sh2000_dsp *fw,
+				unsigned int axis, int bad_value);
 uint16_t sh2000_home_start(struct sh2000_dsp *fw, unsigned int axis,
 			   uint32_t flags);
 void sh2000_home_cycle(struct sh2000_dsp *fw, double T);

@@ -63,18 +63,14 @@ uint16_t sh2000_fw_index_arm(struct sh2000_dsp *fw, unsigned int axis,
 			  uint16_t flags, uint32_t within, uint32_t *value)
 {
 	struct sh2000_fw_axis *ax;
+	int bad = (flags & ~SH2000_INDEX_F_ALL) ||
+		  ((flags & SH2000_INDEX_F_MASK_INVERT) && !(flags & SH2000_INDEX_F_MASK)) ||
+		  (int32_t)within < 0;
+	uint16_t r = sh2000_latch_cmd_check(fw, axis, bad);
 
-	if (axis >= SH2000_AXES)
-		return SH2000_RES_BAD_AXIS;
-	if ((flags & ~SH2000_INDEX_F_ALL) ||
-	    ((flags & SH2000_INDEX_F_MASK_INVERT) && !(flags & SH2000_INDEX_F_MASK)) ||
-	    (int32_t)within < 0)
-		return SH2000_RES_BAD_VALUE;
-	if (fw->faults)
-		return SH2000_RES_FAULTED;
+	if (r != SH2000_RES_OK)
+		return r;
 	ax = &fw->ax[axis];
-	if (!sh2000_axis_enabled(ax))
-		return SH2000_RES_DISABLED;
 	/* the card's own homing has the latch */
 	if (ax->home != HOME_NONE || fw->state == SH2000_STATE_STOPPING)
 		return SH2000_RES_BUSY;

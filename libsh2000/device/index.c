@@ -13,13 +13,8 @@
 
 int sh2000_index_supported(struct sh2000 *h)
 {
-	if (SH2000_PROTO_VERSION_MINOR(h->card_version) >= SH2000_PROTO_MINOR_INDEX)
-		return 0;
-	return sh2000_fail(h, -EOPNOTSUPP,
-			   "the card speaks protocol %u.%u: arming the index latch while it runs needs 1.%u",
-			   SH2000_PROTO_VERSION_MAJOR(h->card_version),
-			   SH2000_PROTO_VERSION_MINOR(h->card_version),
-			   SH2000_PROTO_MINOR_INDEX);
+	return sh2000_need_minor(h, SH2000_PROTO_MINOR_INDEX,
+				 "arming the index latch while it runs needs");
 }
 
 static int check_axis(struct sh2000 *h, const char *what, unsigned int axis)

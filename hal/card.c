@@ -138,11 +138,17 @@ static void note_status(struct hsc_card *c, const struct sh2000_status *st)
 
 static void finish_command(struct hsc_card *c)
 {
-	int r = sh2000_command_complete(c->h, NULL);
+	int32_t value = 0;
+	int r = sh2000_command_complete(c->h, &value);
 
 	if (r == -EINPROGRESS || r == -EAGAIN)
 		return;
 	c->cmd_busy = 0;
+	if (c->cmd_op == SH2000_CMD_INDEX_ARM ||
+	    c->cmd_op == SH2000_CMD_INDEX_DISARM) {
+		hsc_index_answer(c, r, value);
+		return;
+	}
 	if (r == 0) {
 		if (c->cmd_op == SH2000_CMD_SET_PARAM && !c->configured)
 			c->cfg_step++;
@@ -172,17 +178,16 @@ static void axis_outputs(struct hsc_card *c, const struct hsc_in *in,
 		o->counts = (int32_t)ax->pos_counts;
 		o->encoder_position = (double)ax->pos_counts / k;
 		o->f_error = (double)ax->ferr_counts / k;
-		/* aligned with the command's delay (feedback.c) */
-		o->position_fb = hsc_feedback_counts(c, a) / k;
-		o->amp_fault = ax->faults != 0;
+		/* aligned with the command's delay (feedback.c), from the
+		 * index mark once one was latched (index.c) */
+		o->position_fb = (hsc_feedback_counts(c, a) -
+				  hsc_index_offset(c, a)) / k;
+		o->amp_fault = ax->faults != 0 || c->ix[a].fault;
 		o->home_sw = !!(ax->state & SH2000_AXIS_HOME_SW);
 		o->limit_pos = !!(ax->state & SH2000_AXIS_LIMIT_POS);
 		o->limit_neg = !!(ax->state & SH2000_AXIS_LIMIT_NEG);
-		/* the card latches the index only while it homes itself:
-		 * an index-enable request is answered when the card's
-		 * INDEX bit shows a mark (docs/linuxcnc.md) */
-		o->index_enable = in->axis[a].index_enable &&
-				  !(ax->state & SH2000_AXIS_INDEX);
+		/* false only in the read that took the mark (index.c) */
+		o->index_enable = in->axis[a].index_enable && !c->ix[a].latched;
 	}
 }
 
@@ -226,6 +231,7 @@ void hsc_read(struct hsc_card *c, const struct hsc_in *in,
 	}
 	if (c->cmd_busy)
 		finish_command(c);
+	hsc_index_read(c, in);
 
 	/* the estop input: ask until the card shows ESTOP */
 	if (in->estop && c->st.card_state != SH2000_STATE_ESTOP &&

@@ -40,6 +40,8 @@ struct pins_axis {
 	hal_bit_t *enable, *amp_fault, *home_sw, *limit_pos, *limit_neg;
 	hal_bit_t *index_enable;
 	hal_float_t position_scale;
+	hal_bit_t index_mask, index_mask_invert, index_invert;
+	hal_float_t index_within;
 };
 
 struct pins_card {
@@ -77,11 +79,17 @@ static void pins_in(struct instance *t)
 		t->in.axis[a].position_cmd = *x->position_cmd;
 		t->in.axis[a].enable = *x->enable;
 		t->in.axis[a].index_enable = *x->index_enable;
+		t->in.axis[a].index_mask = x->index_mask;
+		t->in.axis[a].index_mask_invert = x->index_mask_invert;
+		t->in.axis[a].index_invert = x->index_invert;
+		t->in.axis[a].index_within = x->index_within;
 		t->in.axis[a].position_scale = x->position_scale;
 	}
+	/* from the index mark on, commands are from it too (index.c) */
+	hsc_index_command(&t->card, &t->in);
 }
 
-static void pins_out(struct instance *t)
+static void pins_out(struct instance *t, int read_half)
 {
 	struct pins_card *p = t->p;
 	unsigned int a;
@@ -106,8 +114,11 @@ static void pins_out(struct instance *t)
 		*x->home_sw = o->home_sw;
 		*x->limit_pos = o->limit_pos;
 		*x->limit_neg = o->limit_neg;
-		/* index-enable is LinuxCNC's to set, the driver's to clear */
-		if (*x->index_enable && !o->index_enable)
+		/* index-enable is LinuxCNC's to set, the driver's to clear,
+		 * and only by the read that took the mark: motion sets it
+		 * between the read and the write, which must not see the
+		 * read's answer to the pin as it was before */
+		if (read_half && *x->index_enable && !o->index_enable)
 			*x->index_enable = 0;
 	}
 }
@@ -132,7 +143,7 @@ static void read_funct(void *arg, long period)
 
 	pins_in(t);
 	hsc_read(&t->card, &t->in, &t->out, period, late);
-	pins_out(t);
+	pins_out(t, 1);
 	report(t);
 }
 
@@ -146,7 +157,7 @@ static void write_funct(void *arg, long period)
 	/* the first card is the time master: the thread follows its clock */
 	if (t->card.master)
 		rtapi_task_pll_set_correction(t->out.pll_correction_ns);
-	pins_out(t);
+	pins_out(t, 0);
 	report(t);
 }
 
@@ -158,6 +169,16 @@ static const char axis_name[SH2000_AXES] = { 'x', 'y', 'z', 'a' };
 				  "sh2000.%d.%c." name, n, axis_name[a]); \
 	if (r < 0) \
 		return r; \
+} while (0)
+
+/* index parameters, 0 by default: hostmot2's encoder ones of the same
+ * names, and index-within (the driver's own) */
+#define AXIS_PARAM(type, field, name) do { \
+	r = hal_param_##type##_newf(HAL_RW, &x->field, comp_id, \
+			       "sh2000.%d.%c." name, n, axis_name[a]); \
+	if (r < 0) \
+		return r; \
+	x->field = 0; \
 } while (0)
 
 static int export_axis(int n, unsigned int a, struct pins_axis *x,
@@ -176,6 +197,10 @@ static int export_axis(int n, unsigned int a, struct pins_axis *x,
 	AXIS_PIN(bit, HAL_OUT, limit_pos, "limit-pos");
 	AXIS_PIN(bit, HAL_OUT, limit_neg, "limit-neg");
 	AXIS_PIN(bit, HAL_IO, index_enable, "index-enable");
+	AXIS_PARAM(bit, index_mask, "index-mask");
+	AXIS_PARAM(bit, index_mask_invert, "index-mask-invert");
+	AXIS_PARAM(bit, index_invert, "index-invert");
+	AXIS_PARAM(float, index_within, "index-within");
 	r = hal_param_float_newf(HAL_RW, &x->position_scale, comp_id,
 				 "sh2000.%d.%c.position-scale", n, axis_name[a]);
 	x->position_scale = scale;

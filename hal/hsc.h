@@ -54,6 +54,11 @@ struct hsc_axis_in {
 	double position_cmd;	/* machine units */
 	int enable;
 	int index_enable;
+	/* hostmot2's encoder parameters of the same names (index.c) */
+	int index_mask, index_mask_invert, index_invert;
+	/* index-within: the travel (machine units) an arm allows for the
+	 * mark, 0: no limit (the driver's own; index.c) */
+	double index_within;
 	double position_scale;	/* counts per machine unit */
 };
 
@@ -119,6 +124,23 @@ struct hsc_timebase {
 				 * thread's ticks, or the virtual clock */
 	double step;		/* how far it moved this tick, records */
 	uint64_t tick_last;	/* tick of the last advance */
+};
+
+/* index-enable of one axis (index.c). */
+enum hsc_index_phase {
+	HSC_IX_IDLE = 0,	/* nothing armed by the driver */
+	HSC_IX_ARMING,		/* INDEX_ARM in flight */
+	HSC_IX_ARMED,		/* the card waits for a mark */
+};
+
+struct hsc_index {
+	enum hsc_index_phase phase;
+	unsigned int arm;	/* the card's number of our arm */
+	int want_last;		/* index-enable was already taken */
+	int fault;		/* could not be honoured: amp-fault */
+	int latched;		/* the mark came in this tick's read */
+	int have_offset;	/* a mark has been latched since load */
+	int64_t offset;		/* counts at that mark: position-fb's zero */
 };
 
 #define HSC_HISTORY	256u	/* records of commands kept (power of 2) */
@@ -192,6 +214,9 @@ struct hsc_card {
 	int over_ticks;		/* ticks in a row the fill was too far ahead */
 	int recentring;		/* catching up a card that slipped */
 
+	struct hsc_index ix[SH2000_AXES];
+	uint64_t ix_fail_tick;	/* tick + 1 of the last index failure */
+
 	uint32_t underruns;
 	struct sh2000_port_counters pc_last;
 	uint32_t port_cycles;
@@ -234,6 +259,16 @@ void hsc_clock_offset(struct hsc_card *c, long late_ns);
 void hsc_delay_update(struct hsc_card *c);
 double hsc_feedback_counts(const struct hsc_card *c, unsigned int a);
 double hsc_delay_ms(const struct hsc_card *c);
+
+/* index.c: index-enable. hsc_index_read runs in the read half after the
+ * command answers (hsc_index_answer takes an INDEX_* one); the offset is
+ * the counts position-fb is measured from; hsc_index_command shifts the
+ * commands by it (hal_sh2000.c and the tests call it on the pins' values
+ * before hsc_read and hsc_write). */
+void hsc_index_read(struct hsc_card *c, const struct hsc_in *in);
+void hsc_index_answer(struct hsc_card *c, int r, int32_t value);
+double hsc_index_offset(const struct hsc_card *c, unsigned int a);
+void hsc_index_command(const struct hsc_card *c, struct hsc_in *in);
 
 /* timebase.c */
 void hsc_tb_reset(struct hsc_timebase *tb);

@@ -31,6 +31,8 @@ const char *sh2000_cmd_op_name(unsigned int op)
 		[SH2000_CMD_COMP_PAGE] = "comp_page",
 		[SH2000_CMD_COMP_COMMIT] = "comp_commit",
 		[SH2000_CMD_COMP_CLEAR] = "comp_clear",
+		[SH2000_CMD_INDEX_ARM] = "index_arm",
+		[SH2000_CMD_INDEX_DISARM] = "index_disarm",
 	};
 
 	return op < sizeof(n) / sizeof(n[0]) && n[op] ? n[op] : "?";
@@ -209,7 +211,8 @@ static int changes_motion(unsigned int op)
 {
 	return op == SH2000_CMD_ENABLE || op == SH2000_CMD_DISABLE ||
 	       op == SH2000_CMD_HOME || op == SH2000_CMD_SET_POSITION ||
-	       op == SH2000_CMD_RESET;
+	       op == SH2000_CMD_RESET || op == SH2000_CMD_INDEX_ARM ||
+	       op == SH2000_CMD_INDEX_DISARM;
 }
 
 static int command(struct sh2000 *h, unsigned int op, unsigned int axis,

@@ -20,13 +20,7 @@
 
 static int need_comp(struct sh2000 *h)
 {
-	if (SH2000_PROTO_VERSION_MINOR(h->card_version) >= SH2000_PROTO_MINOR_COMP)
-		return 0;
-	return sh2000_fail(h, -EOPNOTSUPP,
-			   "the card speaks protocol %u.%u: compensation tables need 1.%u",
-			   SH2000_PROTO_VERSION_MAJOR(h->card_version),
-			   SH2000_PROTO_VERSION_MINOR(h->card_version),
-			   SH2000_PROTO_MINOR_COMP);
+	return sh2000_need_minor(h, SH2000_PROTO_MINOR_COMP, "compensation tables need");
 }
 
 static int send_page(struct sh2000 *h, const uint16_t *w, uint32_t first,

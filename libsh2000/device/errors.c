@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* The error rule: negative codes, their names and per-handle details. */
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -79,6 +80,19 @@ int sh2000_fail(struct sh2000 *h, int code, const char *fmt, ...)
 	vsnprintf(h->err + n, sizeof(h->err) - (size_t)n, fmt, ap);
 	va_end(ap);
 	return code;
+}
+
+/* A feature a later protocol minor added, asked of an older card: refused
+ * before a word is written, both versions named. */
+int sh2000_need_minor(struct sh2000 *h, unsigned int minor, const char *what)
+{
+	if (SH2000_PROTO_VERSION_MINOR(h->card_version) >= minor)
+		return 0;
+	return sh2000_fail(h, -EOPNOTSUPP,
+			   "the card speaks protocol %u.%u: %s 1.%u",
+			   SH2000_PROTO_VERSION_MAJOR(h->card_version),
+			   SH2000_PROTO_VERSION_MINOR(h->card_version), what,
+			   minor);
 }
 
 int sh2000_msg(char *msg, size_t len, int code, const char *fmt, ...)

@@ -29,14 +29,7 @@ void sh2000_gather_config_default(struct sh2000_gather_config *c)
 
 static int need_gather(struct sh2000 *h)
 {
-	if (SH2000_PROTO_VERSION_MINOR(h->card_version) >=
-	    SH2000_PROTO_MINOR_GATHER)
-		return 0;
-	return sh2000_fail(h, -EOPNOTSUPP,
-			   "the card speaks protocol %u.%u: data gathering needs 1.%u",
-			   SH2000_PROTO_VERSION_MAJOR(h->card_version),
-			   SH2000_PROTO_VERSION_MINOR(h->card_version),
-			   SH2000_PROTO_MINOR_GATHER);
+	return sh2000_need_minor(h, SH2000_PROTO_MINOR_GATHER, "data gathering needs");
 }
 
 static unsigned int values_of(const unsigned int signals[SH2000_AXES])

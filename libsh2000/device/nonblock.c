@@ -80,7 +80,8 @@ static int nb_changes_motion(unsigned int op)
 {
 	return op == SH2000_CMD_ENABLE || op == SH2000_CMD_DISABLE ||
 	       op == SH2000_CMD_HOME || op == SH2000_CMD_SET_POSITION ||
-	       op == SH2000_CMD_RESET;
+	       op == SH2000_CMD_RESET || op == SH2000_CMD_INDEX_ARM ||
+	       op == SH2000_CMD_INDEX_DISARM;
 }
 
 static int start_locked(struct sh2000 *h, unsigned int op, unsigned int axis,

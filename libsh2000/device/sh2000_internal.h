@@ -140,6 +140,10 @@ int sh2000_fail(struct sh2000 *h, int code, const char *fmt, ...)
 	__attribute__((format(printf, 3, 4)));
 int sh2000_msg(char *msg, size_t len, int code, const char *fmt, ...)
 	__attribute__((format(printf, 4, 5)));
+/* 0 if the card speaks protocol minor `minor` or later; else -EOPNOTSUPP
+ * with "the card speaks protocol M.m: <what> 1.<minor>" (what ends with
+ * its verb: "data gathering needs"). */
+int sh2000_need_minor(struct sh2000 *h, unsigned int minor, const char *what);
 
 /* bus.c: register-level access with lazy increments */
 int sh2000_bus_read(struct sh2000 *h, unsigned int addr, unsigned int n,

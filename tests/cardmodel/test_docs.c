@@ -79,6 +79,12 @@ static void values(void **state)
 		{ "`GATHER_STOP`", SH2000_CMD_GATHER_STOP },
 		{ "`GATHER_INFO`", SH2000_CMD_GATHER_INFO },
 		{ "`GATHER_READ`", SH2000_CMD_GATHER_READ },
+		{ "`COMP_BEGIN`", SH2000_CMD_COMP_BEGIN },
+		{ "`COMP_PAGE`", SH2000_CMD_COMP_PAGE },
+		{ "`COMP_COMMIT`", SH2000_CMD_COMP_COMMIT },
+		{ "`COMP_CLEAR`", SH2000_CMD_COMP_CLEAR },
+		{ "`INDEX_ARM`", SH2000_CMD_INDEX_ARM },
+		{ "`INDEX_DISARM`", SH2000_CMD_INDEX_DISARM },
 		{ "`NOW`", SH2000_GATHER_NOW },
 		{ "`ON_MOTION`", SH2000_GATHER_ON_MOTION },
 		{ "`ON_FAULT`", SH2000_GATHER_ON_FAULT },
@@ -221,9 +227,18 @@ static void first_fault(void **state)
 		 SH2000_W_FIRST_FAULT + SH2000_FF_CYCLE_LO,
 		 SH2000_W_FIRST_FAULT + SH2000_FF_CYCLE_HI);
 	has(row);
-	/* 1.5's compensation status ends the reserved words */
-	snprintf(row, sizeof(row), "| %u..%u | reserved |", end, SH2000_W_COMP_STATUS - 1);
+	snprintf(row, sizeof(row), "| %u..%u | reserved |", end, SH2000_W_INDEX(0) - 1);
 	has(row);
+	/* the index blocks (1.6) took reserved words after it, up to 1.5's
+	 * compensation status, which ends the reserved words: no overlap */
+	assert_true(SH2000_W_INDEX(0) >= end);
+	assert_int_equal(SH2000_W_INDEX(SH2000_AXES), SH2000_W_COMP_STATUS);
+	snprintf(row, sizeof(row), "| %u + 7a | `INDEX(a)`+`IX_STATE` |", SH2000_W_INDEX(0));
+	has(row);
+	snprintf(row, sizeof(row), "| %u + 7a | `INDEX(a)`+`IX_CHECK` |",
+		 SH2000_W_INDEX(0) + SH2000_IX_CHECK);
+	has(row);
+	assert_int_equal(SH2000_W_COMP_STATUS + SH2000_COMP_STATUS_WORDS, SH2000_W_GATHER_BASE);
 	snprintf(row, sizeof(row), "| %u..%u | `COMP_STATUS` |", SH2000_W_COMP_STATUS,
 		 SH2000_W_COMP_STATUS + SH2000_COMP_STATUS_WORDS - 1);
 	has(row);

@@ -4,10 +4,13 @@
  * sh2000-sim NAME does, plus what a test needs from outside the server's
  * process: fault injection on command.
  *
- *   cardserver CONTROL NAME...
+ *   cardserver [--start MM] [--index-period MM] CONTROL NAME...
  *
- * Serves sim:NAME for each NAME (one real-time server thread each) and
- * reads lines from the FIFO CONTROL (created if missing):
+ * Serves sim:NAME for each NAME (one real-time server thread each), every
+ * axis powered up at MM (--start; default the model's 300 mm, 300 mm from
+ * the home switch) with scale marks every --index-period MM (default the
+ * model's 1 mm; 0: a scale without marks), and reads lines from the FIFO
+ * CONTROL (created if missing):
  *
  *   jam N AXIS      card N (0 = first NAME) jams axis AXIS
  *   clear N         undo every injection on card N
@@ -54,18 +57,49 @@ static int command(struct sh2000_sim_server **s, int n, const char *line)
 	return -EINVAL;
 }
 
+/* --start MM, --index-period MM: into every axis of cfg; the count of
+ * arguments taken, -1 on a bad one. */
+static int plant_options(int argc, char **argv, struct sh2000_sim_config *cfg)
+{
+	int i = 1;
+	unsigned int a;
+
+	sh2000_sim_config_default(cfg);
+	while (i + 1 < argc && !strncmp(argv[i], "--", 2)) {
+		char *end;
+		double v = strtod(argv[i + 1], &end);
+
+		if (*end || end == argv[i + 1])
+			return -1;
+		for (a = 0; a < SH2000_AXES; a++) {
+			if (!strcmp(argv[i], "--start"))
+				cfg->axis[a].start_mm = v;
+			else if (!strcmp(argv[i], "--index-period") && v >= 0)
+				cfg->axis[a].index_period_mm = v;
+			else
+				return -1;
+		}
+		i += 2;
+	}
+	return i - 1;
+}
+
 int main(int argc, char **argv)
 {
 	struct sh2000_sim_server *s[MAX_CARDS] = { 0 };
+	struct sh2000_sim_config cfg;
 	char msg[256], line[128];
 	FILE *ctl;
 	int n, i, fd, r = 0;
+	int opts = plant_options(argc, argv, &cfg);
 
-	if (argc < 3 || argc - 2 > MAX_CARDS) {
-		fprintf(stderr, "usage: cardserver CONTROL NAME... (1..%d cards)\n",
+	if (opts < 0 || argc - opts < 3 || argc - opts - 2 > MAX_CARDS) {
+		fprintf(stderr, "usage: cardserver [--start MM] [--index-period MM] CONTROL NAME... (1..%d cards)\n",
 			MAX_CARDS);
 		return 2;
 	}
+	argc -= opts;
+	argv += opts;
 	n = argc - 2;
 	{
 		/* no SA_RESTART: a signal ends the blocking read below */
@@ -86,7 +120,7 @@ int main(int argc, char **argv)
 		return 1;
 	}
 	for (i = 0; i < n; i++) {
-		r = sh2000_sim_server_create(&s[i], argv[i + 2], NULL, 0, msg,
+		r = sh2000_sim_server_create(&s[i], argv[i + 2], &cfg, 0, msg,
 					     sizeof(msg));
 		if (r == 0)
 			r = sh2000_sim_server_start(s[i]);

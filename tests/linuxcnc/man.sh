@@ -18,8 +18,9 @@ if [ -n "$warn" ]; then
 	fail=1
 fi
 text=$(LC_ALL=C.UTF-8 MANWIDTH=200 groff -man -Tutf8 "$page" 2>/dev/null | sed 's/.\x08//g')
-# "sh2000.%d." name and "sh2000.%d.%c." name in the source
-names=$(grep -oE '(AXIS|CARD)_PIN\([a-z0-9]+, HAL_[A-Z]+, [a-z_]+, "[a-z-]+"\)' "$src" |
+# "sh2000.%d." name and "sh2000.%d.%c." name in the source (pins, and the
+# axis parameters of AXIS_PARAM)
+names=$(grep -oE '((AXIS|CARD)_PIN\([a-z0-9]+, HAL_[A-Z]+|AXIS_PARAM\([a-z0-9]+), [a-z_]+, "[a-z-]+"\)' "$src" |
 	sed -E 's/.*"([a-z-]+)"\)/\1/')
 names="$names position-scale queue-target read write"
 for n in $names; do

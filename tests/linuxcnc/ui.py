@@ -59,7 +59,9 @@ def path_error(rows):
     WINDOW ms: the card plays them the queue and its B-spline later)."""
     window = 80
     cmd = [r[0:3] for r in rows]
-    enc = [r[3:6] for r in rows]
+    # encoder-position is the card's raw encoder; since homing on the
+    # index the commands are from the mark, which is OFFSET on the card
+    enc = [[r[3 + k] - OFFSET[k] for k in range(3)] for r in rows]
     worst = 0.0
     for i in range(window, len(enc), 3):
         p = enc[i]
@@ -102,15 +104,15 @@ def run():
     check("homed all joints", homed, "homed %s" % (s.homed[:3],))
     if not homed:
         return
-    # The simulated card powers up 300 mm from its home switch: LinuxCNC's
-    # zero is the card's -300 (LinuxCNC keeps the offset; the card's
-    # counters are not touched). LinuxCNC sees the switch edge against
-    # position-fb, which runs ahead of the encoder by latch velocity x
-    # delay (1 mm/s x ~32 ms here).
+    # The simulated card powers up 300 mm from its home switch and the
+    # sample homes switch then index (HOME_USE_INDEX, index-mask): LinuxCNC's
+    # zero is the first scale mark on the switch, 1 mm past it, the card's
+    # -301 (LinuxCNC and the driver keep the offset; the card's counters
+    # are not touched), to a count: the card latches the mark itself.
     global OFFSET
     pos = card_pos_at_rest()
-    check("card at LinuxCNC's home position", pos and all(abs(p - (5.0 - 300.0)) < 0.05 for p in pos),
-          "card %s, expected -295" % pos)
+    check("card at LinuxCNC's home position", pos and all(abs(p - (5.0 - 301.0)) < 0.00002 for p in pos),
+          "card %s, expected -296" % pos)
     OFFSET = [p - 5.0 for p in pos] if pos else [0.0, 0.0, 0.0]
 
     # MDI moves: the card ends where LinuxCNC says

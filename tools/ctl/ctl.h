@@ -36,6 +36,7 @@ int ctl_disable(struct ctl *c, int argc, char **argv);
 int ctl_jog(struct ctl *c, int argc, char **argv);
 int ctl_move(struct ctl *c, int argc, char **argv);
 int ctl_home(struct ctl *c, int argc, char **argv);
+int ctl_index(struct ctl *c, int argc, char **argv);
 int ctl_stop(struct ctl *c, int argc, char **argv);
 int ctl_estop(struct ctl *c, int argc, char **argv);
 int ctl_reset(struct ctl *c, int argc, char **argv);

@@ -63,6 +63,21 @@ static const struct ctl_cmd cmds[] = {
 	  "encoder index) and wait until it is done, up to --timeout seconds\n"
 	  "(default 120). The card needs a polling host while it homes, so the\n"
 	  "command always waits.\n" },
+	{ "index", ctl_index,
+	  "AXIS [--mask | --mask-invert] [--invert] [--within MM] [--wait]\n"
+	  "       [--timeout SECONDS] | AXIS --wait [--timeout SECONDS]",
+	  "Arm the index latch of one enabled axis (protocol 1.6), whether the\n"
+	  "card runs a motion or idles: the next index mark is latched (as\n"
+	  "LinuxCNC's index-enable through hal_sh2000). Returns at once unless\n"
+	  "--wait; '--wait' alone waits for the arm made before, e.g.\n"
+	  "'index x --mask + jog x --velocity -1 --time 2 + index x --wait'.\n"
+	  "  --mask          only a mark seen while the home switch is active\n"
+	  "  --mask-invert   only one seen while it is inactive\n"
+	  "  --invert        the mark's rising edge (entering it), not its\n"
+	  "                  falling edge (hostmot2's index-invert)\n"
+	  "  --within MM     no mark within MM of travel ends the arm (missed)\n"
+	  "  --wait          wait until a mark is latched (up to --timeout,\n"
+	  "                  default 120 s) and print 'x index at MM mm (cycle N)'\n" },
 	{ "stop", ctl_stop, "[--no-wait]",
 	  "Controlled stop: the card decelerates within amax and discards its\n"
 	  "queue; waits until it is at rest unless --no-wait.\n" },

@@ -133,6 +133,8 @@ static const char *axis_state_name(unsigned int bit)
 	case SH2000_AXIS_LIMIT_NEG: return "limit-";
 	case SH2000_AXIS_HOME_SW: return "home-switch";
 	case SH2000_AXIS_INDEX: return "index";
+	case SH2000_AXIS_INDEX_ARMED: return "index-armed";
+	case SH2000_AXIS_INDEX_LATCHED: return "index-latched";
 	}
 	return "?";
 }

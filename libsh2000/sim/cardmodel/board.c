@@ -18,6 +18,7 @@ struct board_axis {
 	int64_t offset;		/* counter = scale + offset, wrapped */
 	uint32_t latch;		/* index latch */
 	int latched;		/* HWIN_INDEX */
+	uint32_t index_mode;	/* SH2000_HWIDX_* */
 	int16_t dac;		/* DAC7744 output code */
 	unsigned int range;	/* enum sh2000_dac_range */
 	unsigned int forced;	/* injected: limit inputs forced, bit0 -, bit1 + */
@@ -117,6 +118,8 @@ uint32_t sh2000_board_read(struct sh2000_board *b, unsigned int axis,
 		return (uint16_t)x->dac;
 	case SH2000_HWREG_DAC_RANGE:
 		return x->range;
+	case SH2000_HWREG_INDEX_MODE:
+		return x->index_mode;
 	default:	/* write-only or not decoded */
 		return 0;
 	}
@@ -144,6 +147,9 @@ void sh2000_board_write(struct sh2000_board *b, unsigned int axis,
 	case SH2000_HWREG_DAC_RANGE:
 		if (v <= SH2000_DAC_PM10V)
 			x->range = v;
+		break;
+	case SH2000_HWREG_INDEX_MODE:
+		x->index_mode = v & SH2000_HWIDX_ALL;
 		break;
 	default:	/* read-only or not decoded */
 		break;
@@ -199,6 +205,23 @@ static double volts_per_code(unsigned int range)
 	}
 }
 
+/* The index latch: the first edge of the mode's kind after ARM, where the
+ * mask input (the home switch) lets it through; later ones wait. */
+static void index_latch(struct board_axis *x)
+{
+	const struct sh2000_index_edge *e =
+		(x->index_mode & SH2000_HWIDX_FALLING) ? &x->plant.fall :
+							 &x->plant.rise;
+	int want = !(x->index_mode & SH2000_HWIDX_MASK_INV);
+
+	if (x->latched || !e->crossed)
+		return;
+	if ((x->index_mode & SH2000_HWIDX_MASK) && e->home != want)
+		return;
+	x->latch = wrap(e->mark + x->offset);
+	x->latched = 1;
+}
+
 static uint64_t host_ns(struct sh2000_board *b, uint64_t card_ns)
 {
 	double t = (double)card_ns * b->ppm * 1e-6 + b->carry_ns;
@@ -219,11 +242,7 @@ uint64_t sh2000_board_run(struct sh2000_board *b, uint64_t card_ns)
 
 		sh2000_plant_step(&x->plant, x->dac * volts_per_code(x->range),
 				  T);
-		/* the first mark after ARM is latched; later ones wait */
-		if (x->plant.index_crossed && !x->latched) {
-			x->latch = wrap(x->plant.index_mark + x->offset);
-			x->latched = 1;
-		}
+		index_latch(x);
 	}
 	return ns;
 }

@@ -27,7 +27,16 @@ enum sh2000_board_reg {
 					 * next mark */
 	SH2000_HWREG_DAC,		/* R/W: DAC code, int16 in bits 0..15 */
 	SH2000_HWREG_DAC_RANGE,		/* R/W: enum sh2000_dac_range */
+	SH2000_HWREG_INDEX_MODE,	/* R/W: SH2000_HWIDX_* (0 at power-up:
+					 * every rising edge, no mask) */
 };
+
+/* SH2000_HWREG_INDEX_MODE bits: which index edges the latch takes. The
+ * home switch input is the latch's mask input. */
+#define SH2000_HWIDX_FALLING	0x1u	/* the falling edge, not the rising */
+#define SH2000_HWIDX_MASK	0x2u	/* only while the home switch is active */
+#define SH2000_HWIDX_MASK_INV	0x4u	/* (with MASK) only while inactive */
+#define SH2000_HWIDX_ALL	0x7u
 
 /* SH2000_HWREG_INPUTS bits: the switch inputs as the FPGA samples them
  * now, and the index latch's flag. */

@@ -74,6 +74,16 @@ enum sh2000_home_phase {
 	HOME_RETURN,		/* back to the latched point */
 };
 
+/* index.c: the index latch armed by the host (protocol 1.6) */
+struct sh2000_fw_index {
+	uint16_t state;		/* enum sh2000_index_state */
+	uint16_t arm;		/* +1 per INDEX_ARM */
+	int64_t from;		/* the counter (extended) where it was armed */
+	int64_t within;		/* counts it may travel, 0: no limit */
+	uint32_t count;		/* the 28-bit counter at the mark */
+	uint32_t cycle;		/* the servo cycle that found it */
+};
+
 struct sh2000_fw_axis {
 	struct sh2000_fw_params prm;
 	struct sh2000_pid pid;
@@ -99,6 +109,7 @@ struct sh2000_fw_axis {
 	unsigned int home_flags;
 	unsigned int debounce;
 	double home_latch;	/* counter (extended) at the reference */
+	struct sh2000_fw_index ix;
 };
 
 /* ---- gather.c: data gathering (protocol 1.2) ---- */
@@ -256,9 +267,25 @@ uint16_t sh2000_fw_set_param(struct sh2000_dsp *fw, unsigned int axis,
 void sh2000_fw_default_params(struct sh2000_dsp *fw);
 
 /* homing.c */
+/* What the two commands that take an axis' index latch (HOME, INDEX_ARM)
+ * check first, in this order: the axis (BAD_AXIS), bad_value (BAD_VALUE:
+ * the caller's check of its flags), a latched fault (FAULTED), the axis
+ * enabled (DISABLED); SH2000_RES_OK if all pass. */
+uint16_t sh2000_latch_cmd_check(const struct sh2000_dsp *fw,
+				unsigned int axis, int bad_value);
 uint16_t sh2000_home_start(struct sh2000_dsp *fw, unsigned int axis,
 			   uint32_t flags);
 void sh2000_home_cycle(struct sh2000_dsp *fw, double T);
 void sh2000_home_abort(struct sh2000_fw_axis *ax);
+
+/* index.c: INDEX_ARM (value: the arm's number) and INDEX_DISARM; results
+ * SH2000_RES_*. sh2000_fw_index_cycle runs for each axis every cycle once
+ * its inputs are sampled. */
+uint16_t sh2000_fw_index_arm(struct sh2000_dsp *fw, unsigned int axis,
+			  uint16_t flags, uint32_t within, uint32_t *value);
+uint16_t sh2000_fw_index_disarm(struct sh2000_dsp *fw, unsigned int axis);
+void sh2000_fw_index_cycle(struct sh2000_dsp *fw, unsigned int a);
+/* Power-up: every block OFF, every latch in its default mode. */
+void sh2000_fw_index_boot(struct sh2000_dsp *fw);
 
 #endif /* SH2000_CARDMODEL_H */

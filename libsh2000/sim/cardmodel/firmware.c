@@ -222,6 +222,7 @@ static void read_inputs(struct sh2000_dsp *fw)
 		if (ax->index_seen && ax->home != HOME_NONE)
 			st |= SH2000_AXIS_INDEX;
 		ax->state = st;
+		sh2000_fw_index_cycle(fw, a);
 	}
 }
 
@@ -386,6 +387,10 @@ static uint16_t execute(struct sh2000_dsp *fw, uint16_t seq, uint16_t op,
 			return SH2000_RES_BUSY;
 		sh2000_fw_set_position(fw, axis, (int32_t)arg);
 		return SH2000_RES_OK;
+	case SH2000_CMD_INDEX_ARM:
+		return sh2000_fw_index_arm(fw, axis, param, arg, value);
+	case SH2000_CMD_INDEX_DISARM:
+		return sh2000_fw_index_disarm(fw, axis);
 	case SH2000_CMD_GATHER_SET:
 	case SH2000_CMD_GATHER_ARM:
 	case SH2000_CMD_GATHER_STOP:
@@ -855,6 +860,7 @@ void sh2000_dsp_boot(struct sh2000_dsp *fw, struct sh2000_board *hw)
 	WR(fw, SH2000_W_ESTOP_ACK, fw->estop_ack);
 	WR(fw, SH2000_W_CMD_ACK, fw->cmd_ack);
 	sh2000_fw_first_fault_clear(fw);
+	sh2000_fw_index_boot(fw);
 	sh2000_queue_boot(fw);
 	sh2000_comp_boot(fw);
 	fw->state = SH2000_STATE_IDLE;

@@ -14,23 +14,34 @@ void sh2000_home_abort(struct sh2000_fw_axis *ax)
 	ax->state &= (uint16_t)~SH2000_AXIS_HOMING;
 }
 
+uint16_t sh2000_latch_cmd_check(const struct sh2000_dsp *fw,
+				unsigned int axis, int bad_value)
+{
+	if (axis >= SH2000_AXES)
+		return SH2000_RES_BAD_AXIS;
+	if (bad_value)
+		return SH2000_RES_BAD_VALUE;
+	if (fw->faults)
+		return SH2000_RES_FAULTED;
+	if (!sh2000_axis_enabled(&fw->ax[axis]))
+		return SH2000_RES_DISABLED;
+	return SH2000_RES_OK;
+}
+
 uint16_t sh2000_home_start(struct sh2000_dsp *fw, unsigned int axis,
 			   uint32_t flags)
 {
 	struct sh2000_fw_axis *ax;
+	uint16_t r = sh2000_latch_cmd_check(fw, axis,
+					    (flags & ~SH2000_HOME_F_INDEX) != 0);
 
-	if (axis >= SH2000_AXES)
-		return SH2000_RES_BAD_AXIS;
-	if (flags & ~SH2000_HOME_F_INDEX)
-		return SH2000_RES_BAD_VALUE;
-	if (fw->faults)
-		return SH2000_RES_FAULTED;
+	if (r != SH2000_RES_OK)
+		return r;
 	ax = &fw->ax[axis];
-	if (!sh2000_axis_enabled(ax))
-		return SH2000_RES_DISABLED;
 	if (fw->state != SH2000_STATE_IDLE && fw->state != SH2000_STATE_HOMING)
 		return SH2000_RES_BUSY;
-	if (ax->home != HOME_NONE)
+	/* the host's index arm has the latch (index.c) */
+	if (ax->home != HOME_NONE || ax->ix.state == SH2000_INDEX_ARMED)
 		return SH2000_RES_BUSY;
 	/* on the switch already: a reference taken here would depend on
 	 * where the axis happened to be, so leave the switch first */

@@ -5,7 +5,8 @@
  *   m dv/dt = k V - b v,
  * integrated exactly over a period with V held (zero-order hold); limit and
  * home switches at fixed positions; an optical scale with index marks
- * every index_period_mm. What the FPGA makes of the scale's pulses (the
+ * every index_period_mm, each of a width (its signal's rising and falling
+ * edges). What the FPGA makes of the scale's pulses (the
  * 28-bit counter, the index latch) is the board's (board.c).
  */
 #include <math.h>
@@ -29,6 +30,8 @@ void sh2000_sim_config_default(struct sh2000_sim_config *cfg)
 		p->index_period_mm = 1.0;
 		p->start_mm = 300.0;
 		p->home_bounce_mm = 0.0;
+		p->index_pos_mm = 0.0;
+		p->index_width_mm = 0.0;
 	}
 }
 
@@ -59,8 +62,8 @@ void sh2000_plant_init(struct sh2000_plant *p,
 	p->x_mm = cfg->start_mm;
 	p->v_mm_s = 0.0;
 	p->jammed = 0;
-	p->index_crossed = 0;
-	p->index_mark = 0;
+	p->rise.crossed = 0;
+	p->fall.crossed = 0;
 	p->cache_T = -1.0;
 	p->cache_e = 0.0;
 	p->steps = 0;
@@ -68,20 +71,59 @@ void sh2000_plant_init(struct sh2000_plant *p,
 	p->axis = 0;
 }
 
-/* Did the carriage pass an index mark between x0 and the new x? The
- * marks are graduations of the scale: where it reads k * period. */
+/* The home switch at x, without its chatter (what the FPGA's mask input
+ * shows at an index edge). */
+static int home_at(const struct sh2000_plant *p, double x_mm)
+{
+	return x_mm <= p->cfg.home_mm;
+}
+
+/* Edge positions pos + k * per + off that lie in (lo, hi]: the first one
+ * met going from s0 towards s1 (*at), 1 if there is one. All three are
+ * scale readings: the marks are graduations of the scale. */
+static int first_edge(const struct sh2000_plant *p, double off, double s0,
+		      double s1, double *at)
+{
+	double per = p->cfg.index_period_mm, base = p->cfg.index_pos_mm + off;
+	double k;
+
+	if (s1 > s0) {
+		k = floor((s0 - base) / per) + 1.0;	/* first above s0 */
+		*at = base + k * per;
+		return *at <= s1;
+	}
+	k = ceil((s0 - base) / per) - 1.0;		/* first below s0 */
+	*at = base + k * per;
+	return *at >= s1;
+}
+
+/* An edge met in this step: its count, and the home switch where the
+ * carriage was when the scale read the edge (the step is short: the
+ * carriage moved linearly with the reading within it). */
+static void edge(struct sh2000_plant *p, struct sh2000_index_edge *e,
+		 double off, double x0, const double s[2])
+{
+	double at;
+
+	if (!first_edge(p, off, s[0], s[1], &at))
+		return;
+	e->crossed = 1;
+	e->mark = counts_at(p, at);
+	e->home = home_at(p, x0 + (p->x_mm - x0) * (at - s[0]) / (s[1] - s[0]));
+}
+
+/* The index signal's edges between x0 and the new x: going up, a mark
+ * rises at its start and falls at its end; going down the other way. */
 static void find_index(struct sh2000_plant *p, double x0)
 {
-	double per = p->cfg.index_period_mm, k0, k1;
+	double w = p->cfg.index_width_mm > 0.0 ? p->cfg.index_width_mm : 0.0;
+	double s[2] = { scale_mm(p, x0), scale_mm(p, p->x_mm) };
+	int up = s[1] > s[0];
 
-	if (per <= 0.0)
+	if (p->cfg.index_period_mm <= 0.0 || s[1] == s[0])
 		return;
-	k0 = floor(scale_mm(p, x0) / per);
-	k1 = floor(scale_mm(p, p->x_mm) / per);
-	if (k0 != k1) {
-		p->index_crossed = 1;
-		p->index_mark = counts_at(p, (k1 > k0 ? k1 : k0) * per);
-	}
+	edge(p, &p->rise, up ? 0.0 : w, x0, s);
+	edge(p, &p->fall, up ? w : 0.0, x0, s);
 }
 
 void sh2000_plant_step(struct sh2000_plant *p, double volts, double T)
@@ -90,7 +132,8 @@ void sh2000_plant_step(struct sh2000_plant *p, double volts, double T)
 	double F = p->cfg.force_n_per_v * volts;
 	double v0 = p->v_mm_s * 1e-3, x0 = p->x_mm, v1, dx;
 
-	p->index_crossed = 0;
+	p->rise.crossed = 0;
+	p->fall.crossed = 0;
 	p->steps++;
 	if (p->jammed) {
 		p->v_mm_s = 0.0;

@@ -13,13 +13,21 @@
 
 #include "sh2000/sh2000_cardsim.h"
 
+/* One edge of the index signal crossed in a step (the first, if more). */
+struct sh2000_index_edge {
+	int crossed;
+	int64_t mark;		/* the scale's count at the edge */
+	int home;		/* the home switch was active there */
+};
+
 struct sh2000_plant {
 	struct sh2000_plant_config cfg;
 	double x_mm;		/* physical position */
 	double v_mm_s;		/* physical velocity */
 	int jammed;		/* injected: the carriage does not move */
-	int index_crossed;	/* an index mark passed in the last step */
-	int64_t index_mark;	/* the scale's count at that mark */
+	/* the index signal's edges in the last step, in the direction of
+	 * travel: rising (into a mark), falling (out of one) */
+	struct sh2000_index_edge rise, fall;
 	double cache_T, cache_e;	/* exp(-b T / m) for the last T */
 	uint64_t steps;		/* periods integrated (switch chatter) */
 	/* the machine's geometry: the scale's pitch error (the axis is

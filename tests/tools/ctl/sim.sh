@@ -73,6 +73,17 @@ expect 0 "$CTL" "${S[@]}" enable x + move x=-290 + home x + status --json &&
 expect 0 "$CTL" "${S[@]}" enable a + move a=-290 + home a --index + status --json &&
 	json_check /axes/3/state has homed /axes/3/state has index
 expect 1 "$CTL" "${S[@]}" home x && err_has "^sh2000ctl: sim: home: .*axis not enabled"
+# index: the latch armed while the card moves (the mark at the switch,
+# 300 mm below the start), masked by the switch, missed, refused
+expect 0 "$CTL" "${S[@]}" enable x + move x=-299.5 + index x --mask + \
+	jog x --velocity -1 --time 2 + index x --wait + status --json &&
+	out_has "^x index armed \(arm 1\)$" &&
+	out_has "^x index at -300\.000000 mm \(cycle [0-9]+\)$" &&
+	json_check /axes/0/state has index-latched
+expect 1 "$CTL" "${S[@]}" enable x + index x --mask --within 0.5 + jog x -1 + index x --wait &&
+	err_has "^sh2000ctl: x: no index mark within the arm's travel$"
+expect 1 "$CTL" "${S[@]}" index x && err_has "^sh2000ctl: sim: index: .*axis not enabled"
+expect 2 "$CTL" "${S[@]}" index x --within -1 && err_has "not a positive distance"
 
 # stop, estop, reset
 expect 0 "$CTL" "${S[@]}" enable x + stop + status --json && json_check /state = idle

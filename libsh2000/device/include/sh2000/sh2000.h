@@ -332,6 +332,35 @@ int sh2000_set_position(struct sh2000 *h, unsigned int axis, double pos_mm);
  */
 int sh2000_estop(struct sh2000 *h, int timeout_ms);
 
+/* ---- the index latch while a stream runs (protocol 1.6) ------------- */
+
+/* What became of an axis' last INDEX_ARM (docs/library.md "Index"). */
+struct sh2000_index {
+	unsigned int state;	/* enum sh2000_index_state */
+	unsigned int arm;	/* the arm it answers (sh2000_index_arm's) */
+	int64_t counts;		/* LATCHED: the encoder at the mark, as
+				 * sh2000_axis_status.pos_counts counts */
+	double mm;		/* the same in mm (the card's scale) */
+	uint64_t cycle;		/* LATCHED: the servo cycle that found it,
+				 * as sh2000_status.card_cycle counts */
+};
+
+/* 0 when the card has the index arm (protocol 1.6), else -EOPNOTSUPP
+ * with the card's version and the one needed in sh2000_last_error(). */
+int sh2000_index_supported(struct sh2000 *h);
+/* Arms axis' index latch (flags: SH2000_INDEX_F_*), with or without a
+ * stream running; the next mark the flags let through is latched. An
+ * axis that travels more than within_mm (0: no limit) from here without
+ * one ends MISSED. Returns the arm's number (>= 0) or an error. */
+int sh2000_index_arm(struct sh2000 *h, unsigned int axis, unsigned int flags,
+		     double within_mm);
+int sh2000_index_disarm(struct sh2000 *h, unsigned int axis);
+/* The axis' index block, read once (a real-time call: no wait, -EAGAIN
+ * when the read was torn or the handle busy; read again later). st: a
+ * status read just before, which the mark's counter is extended by. */
+int sh2000_index_read(struct sh2000 *h, unsigned int axis,
+		      const struct sh2000_status *st, struct sh2000_index *ix);
+
 /* ---- several programs on one card ----------------------------------- */
 
 /*

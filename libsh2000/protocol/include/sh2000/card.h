@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define SH2000_PROTO_MAJOR		1u
-#define SH2000_PROTO_MINOR		5u
+#define SH2000_PROTO_MINOR		6u
 #define SH2000_PROTO_VERSION		((SH2000_PROTO_MAJOR << 8) | SH2000_PROTO_MINOR)
 #define SH2000_PROTO_VERSION_MAJOR(v)	(((v) >> 8) & 0xffu)
 #define SH2000_PROTO_VERSION_MINOR(v)	((v) & 0xffu)
@@ -30,6 +30,8 @@ extern "C" {
 #define SH2000_PROTO_MINOR_MAILBOX	3u	/* POSTED and the point mailbox */
 #define SH2000_PROTO_MINOR_FIRST_FAULT	4u	/* the first-fault record (FF_*) */
 #define SH2000_PROTO_MINOR_COMP		5u	/* compensation tables (COMP_*) */
+#define SH2000_PROTO_MINOR_INDEX	6u	/* INDEX_ARM while a stream runs,
+						 * the index block (IX_*) */
 
 /* The one definition of the axis count, and of the axes' names (index:
  * axis; the G-code words that move them; tools print them lower case). */
@@ -75,6 +77,11 @@ enum sh2000_card_state {
 #define SH2000_AXIS_LIMIT_NEG		0x0020u	/* - limit switch active */
 #define SH2000_AXIS_HOME_SW		0x0040u	/* home switch active */
 #define SH2000_AXIS_INDEX		0x0080u	/* index seen since homing */
+/* protocol 1.6 (INDEX_ARM): the axis' index latch is armed; the last arm
+ * latched a mark (the index block holds where and when). Neither after an
+ * arm: it ended without a mark (the block's IX_STATE says why). */
+#define SH2000_AXIS_INDEX_ARMED		0x0100u
+#define SH2000_AXIS_INDEX_LATCHED	0x0200u
 
 /* Why a record was rejected (SH2000_W_REJECT_REASON). */
 enum sh2000_reject_reason {
@@ -122,6 +129,13 @@ enum sh2000_cmd_op {
 					 * check, then switch at rest ->
 					 * VALUE = refusal (SH2000_COMP_FAULT) */
 	SH2000_CMD_COMP_CLEAR = 27,	/* no tables (at rest) */
+	/* protocol 1.6: the index latch while a stream runs (docs/protocol.md
+	 * section 13.1), after the compensation commands */
+	SH2000_CMD_INDEX_ARM = 28,	/* AXIS, PARAM = SH2000_INDEX_F_*, ARG =
+					 * counts it may travel without a
+					 * mark (0: no limit) -> VALUE = the
+					 * arm's number (IX_ARM) */
+	SH2000_CMD_INDEX_DISARM = 29,	/* AXIS */
 };
 
 /* SH2000_W_CMD_AXIS value addressing a global parameter. */
@@ -129,6 +143,28 @@ enum sh2000_cmd_op {
 
 /* HOME flags */
 #define SH2000_HOME_F_INDEX		0x0001u	/* finish on the encoder index */
+
+/* INDEX_ARM flags (CMD_PARAM), as hostmot2's encoder names them:
+ * MASK (index-mask): only a mark seen while the home switch is active
+ * counts (the switch is the latch's mask input); MASK_INVERT
+ * (index-mask-invert, with MASK): only one seen while it is inactive;
+ * RISING (index-invert): the latch takes the edge where the mark's
+ * signal rises (the carriage enters the mark), else where it falls
+ * (leaves it). A mark of no width rises and falls at one count. */
+#define SH2000_INDEX_F_MASK		0x0001u
+#define SH2000_INDEX_F_MASK_INVERT	0x0002u
+#define SH2000_INDEX_F_RISING		0x0004u
+#define SH2000_INDEX_F_ALL		0x0007u
+
+/* IX_STATE of an axis' index block: what became of the last INDEX_ARM. */
+enum sh2000_index_state {
+	SH2000_INDEX_OFF = 0,		/* never armed, or disarmed */
+	SH2000_INDEX_ARMED = 1,		/* waiting for a mark */
+	SH2000_INDEX_LATCHED = 2,	/* a mark: IX_COUNT, IX_CYCLE */
+	SH2000_INDEX_MISSED = 3,	/* travelled the arm's limit, no mark */
+	SH2000_INDEX_ABORTED = 4,	/* the axis was disabled, or a fault or
+					 * emergency stop latched, while armed */
+};
 
 /* SH2000_W_CMD_RESULT */
 enum sh2000_cmd_result {

@@ -158,7 +158,32 @@
 #define   SH2000_FF_CHECK		4u	/* sh2000_first_fault_check() */
 #define SH2000_FIRST_FAULT_WORDS	5u
 /* Words SH2000_W_FIRST_FAULT + SH2000_FIRST_FAULT_WORDS ..
- * SH2000_W_GATHER_BASE-1 are reserved: both sides leave them alone. */
+ * SH2000_W_GATHER_BASE-1 are reserved (but for the blocks below): both
+ * sides leave them alone. */
+
+/*
+ * Protocol 1.6 (SH2000_PROTO_MINOR_INDEX): the index blocks, one per
+ * axis, in words 860..887 that were reserved (just below the
+ * compensation status of 1.5). C: what became of the
+ * axis' last INDEX_ARM (enum sh2000_index_state), the arm's number (the
+ * command's VALUE), and for a latched mark the FPGA's 28-bit counter at
+ * the mark and the servo cycle whose sampling found it (the mark passed
+ * in the period before that cycle). The card writes a block when its
+ * state changes, within the cycle, before it publishes the axis'
+ * INDEX_ARMED / INDEX_LATCHED bits: the words, CHECK, then STATE last. A
+ * host reads it once it sees the bits change (not every poll: it is 813
+ * port cycles above the status words) and takes it when CHECK matches
+ * (else read again). docs/protocol.md 13.1.
+ */
+#define SH2000_W_INDEX(a)		(860u + 7u * (a))
+#define   SH2000_IX_STATE		0u	/* enum sh2000_index_state */
+#define   SH2000_IX_ARM			1u	/* +1 per INDEX_ARM (mod 2^16) */
+#define   SH2000_IX_COUNT_LO		2u	/* counter at the mark, 28 bits */
+#define   SH2000_IX_COUNT_HI		3u
+#define   SH2000_IX_CYCLE_LO		4u	/* servo cycle (mod 2^32, as */
+#define   SH2000_IX_CYCLE_HI		5u	/* SNAP_TIME) */
+#define   SH2000_IX_CHECK		6u	/* sh2000_index_check() */
+#define SH2000_INDEX_WORDS		7u
 
 /* Word offsets inside one record. */
 #define SH2000_REC_POS_LO(a)		(2u * (a))	/* int32 counts */
@@ -284,6 +309,12 @@ static inline uint16_t sh2000_gather_check(const uint16_t *w,
 static inline uint16_t sh2000_first_fault_check(const uint16_t *r)
 {
 	return sh2000_check16(r, SH2000_FF_CHECK);
+}
+
+/* Check word of an index block b[0..INDEX_WORDS-1]: over STATE..CYCLE_HI. */
+static inline uint16_t sh2000_index_check(const uint16_t *b)
+{
+	return sh2000_check16(b, SH2000_IX_CHECK);
 }
 
 /* Check word of a mailbox record: over the position words and the SEQ it

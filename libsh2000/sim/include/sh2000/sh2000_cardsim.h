@@ -38,11 +38,17 @@ struct sh2000_plant_config {
 	double counts_per_mm;		/* encoder scale (10 nm = 100000/mm) */
 	double limit_neg_mm, limit_pos_mm;	/* hard limit switch positions */
 	double home_mm;			/* home switch: active at x <= home_mm */
-	double index_period_mm;		/* encoder index spacing */
+	double index_period_mm;		/* encoder index spacing, 0: none */
 	double start_mm;		/* position at power-up */
 	/* Addition: the home switch chatters (toggles every 3 servo
 	 * periods) while |x - home_mm| < home_bounce_mm; 0 = clean. */
 	double home_bounce_mm;
+	/* Addition: the scale's index marks are at index_pos_mm + k *
+	 * index_period_mm, each index_width_mm wide (its signal is active
+	 * from there to there + width; 0: an edge only, rising and falling
+	 * at one count). Distance-coded marks are not modelled. */
+	double index_pos_mm;
+	double index_width_mm;
 };
 
 /*

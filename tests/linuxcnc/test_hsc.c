@@ -359,6 +359,25 @@ static double stall_in_motion(struct rig *r, int n, double v)
 	return worst;
 }
 
+/* A rig streaming x at v mm/s for 400 ticks (the delay measured), queue
+ * target 20 as the sample machine's; cmd holds the last command. */
+static struct rig *moving_rig(double v, double cmd[SH2000_AXES])
+{
+	struct rig *r = rig_open();
+	unsigned int a;
+	int k;
+
+	r->in.queue_target = 20;
+	machine_on(r, 0x1);
+	for (a = 0; a < SH2000_AXES; a++)
+		cmd[a] = r->in.axis[a].position_cmd;
+	for (k = 0; k < 400; k++) {
+		cmd[0] += v * PERIOD_NS * 1e-9;
+		tick(r, cmd);
+	}
+	return r;
+}
+
 /* A stall the card catches up moves neither the card's timeline (the
  * delay from a command to its set-point, the fill) nor its set-point (no
  * record dropped: no jump of a period's motion), with the ring deep
@@ -368,22 +387,13 @@ static void test_stall_caught_up(void **state)
 {
 	static const int stalls[] = { 40, 70 };
 	double v = 100.0, cmd[SH2000_AXES] = { 0 }, before, worst;
-	unsigned int a, fill;
+	unsigned int fill;
 	size_t i;
-	int k;
 
 	(void)state;
 	for (i = 0; i < sizeof(stalls) / sizeof(stalls[0]); i++) {
-		struct rig *r = rig_open();
+		struct rig *r = moving_rig(v, cmd);
 
-		r->in.queue_target = 20;
-		machine_on(r, 0x1);
-		for (a = 0; a < SH2000_AXES; a++)
-			cmd[a] = r->in.axis[a].position_cmd;
-		for (k = 0; k < 400; k++) {
-			cmd[0] += v * PERIOD_NS * 1e-9;
-			tick(r, cmd);
-		}
 		assert_true(r->c.delay_valid);
 		before = r->c.delay;
 		fill = r->c.st.queue_fill;
@@ -407,20 +417,12 @@ static void test_stall_caught_up(void **state)
  * the fill is back at the target. */
 static void test_slip_recentred(void **state)
 {
-	struct rig *r = rig_open();
 	double cmd[SH2000_AXES] = { 0 }, v = 100.0;
-	unsigned int a, fill, most = 0;
+	struct rig *r = moving_rig(v, cmd);
+	unsigned int fill, most = 0;
 	int k;
 
 	(void)state;
-	r->in.queue_target = 20;
-	machine_on(r, 0x1);
-	for (a = 0; a < SH2000_AXES; a++)
-		cmd[a] = r->in.axis[a].position_cmd;
-	for (k = 0; k < 400; k++) {
-		cmd[0] += v * PERIOD_NS * 1e-9;
-		tick(r, cmd);
-	}
 	fill = r->c.st.queue_fill;
 	for (k = 0; k < 40; k++)
 		stall_tick(r, cmd, v, 40 - k, 0);

@@ -133,6 +133,28 @@ uint16_t sh2000_gather_command(struct sh2000_dsp *fw, uint16_t seq,
 /* End of every servo interrupt: trigger, sample. */
 void sh2000_gather_cycle(struct sh2000_dsp *fw);
 
+/* ---- gantry_loop.c: a gantry pair (protocol 1.7) ---- */
+
+struct sh2000_gantry_loop {
+	/* global parameters */
+	int32_t pair;		/* GANTRY_PAIR: the two axes' mask, 0 none */
+	double kp, ti, td;	/* the coupling loop */
+	int32_t skew_limit;	/* counts */
+	int32_t square;		/* counts: side b's switch - side a's */
+	struct sh2000_pid pid;	/* the coupling loop's state */
+	double skew;		/* this cycle's: e_a - e_b, counts */
+	int squaring;		/* homing the pair: square it when done */
+};
+
+/* The pair's axes, a < b; 0 when there is none. */
+int sh2000_gantry_axes(const struct sh2000_dsp *fw, unsigned int *a,
+		       unsigned int *b);
+/* GANTRY_PAIR set: the coupling loop starts from rest. */
+void sh2000_gantry_paired(struct sh2000_dsp *fw);
+/* After every axis' PID: the skew check and the coupling loop's share
+ * of both sides' DAC codes. */
+void sh2000_gantry_servo(struct sh2000_dsp *fw, double T);
+
 /* What the DSP's memory holds: the firmware's whole state. */
 struct sh2000_dsp {
 	struct sh2000_board *hw;	/* registers and RAM (board.h) */
@@ -171,6 +193,7 @@ struct sh2000_dsp {
 	unsigned int status_div;
 	uint64_t cycle;		/* servo interrupts taken */
 	struct sh2000_gather gather;	/* its record lives here */
+	struct sh2000_gantry_loop gantry;	/* protocol 1.7 */
 };
 
 static inline int sh2000_axis_enabled(const struct sh2000_fw_axis *ax)
@@ -236,6 +259,8 @@ void sh2000_fw_publish_words(struct sh2000_dsp *fw);
 double sh2000_fw_servo_s(const struct sh2000_dsp *fw);
 /* Set-point of axis a becomes x, at rest; the window holds x. */
 void sh2000_fw_hold_at(struct sh2000_dsp *fw, unsigned int a, double x);
+/* A card fault (SH2000_FAULT_*) latched: the card stops (controlled). */
+void sh2000_fw_card_fault(struct sh2000_dsp *fw, uint16_t bit);
 /* The FPGA counter preset: the axis reads `pos` here from now on. */
 void sh2000_fw_set_position(struct sh2000_dsp *fw, unsigned int a, int64_t pos);
 

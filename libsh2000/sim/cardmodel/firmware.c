@@ -139,6 +139,11 @@ static void card_fault(struct sh2000_dsp *fw, uint16_t bit)
 		fw->state = SH2000_STATE_FAULT;
 }
 
+void sh2000_fw_card_fault(struct sh2000_dsp *fw, uint16_t bit)
+{
+	card_fault(fw, bit);
+}
+
 static void disable_axis(struct sh2000_dsp *fw, unsigned int a)
 {
 	struct sh2000_fw_axis *ax = &fw->ax[a];
@@ -712,8 +717,11 @@ static void servo(struct sh2000_dsp *fw, double T)
 		    !(ax->faults & SH2000_AXIS_FAULT_SOFT_LIMIT))
 			axis_fault(fw, a, SH2000_AXIS_FAULT_SOFT_LIMIT, 0);
 		e = ax->cmd - (double)ax->act;
+		/* an emergency stop or a gantry's skew fault held the
+		 * set-point where the carriage was: it brakes to there */
 		if (fabs(e) > (double)ax->prm.ferr_limit &&
-		    fw->state != SH2000_STATE_ESTOP) {
+		    fw->state != SH2000_STATE_ESTOP &&
+		    !(ax->faults & SH2000_AXIS_FAULT_SKEW)) {
 			axis_fault(fw, a, SH2000_AXIS_FAULT_FERR, 1);
 			continue;
 		}
@@ -733,6 +741,7 @@ static void servo(struct sh2000_dsp *fw, double T)
 			ax->sat_cycles = 0;
 		}
 	}
+	sh2000_gantry_servo(fw, T);
 }
 
 static void put32(struct sh2000_dsp *fw, unsigned int w, uint32_t v)

@@ -20,7 +20,7 @@ struct sh2000_plant {
 	int jammed;		/* injected: the carriage does not move */
 	int index_crossed;	/* an index mark passed in the last step */
 	int64_t index_mark;	/* the scale's count at that mark */
-	double cache_T, cache_e;	/* exp(-b T / m) for the last T */
+	double cache_T, cache_m, cache_e;	/* exp(-b T / m), last T, m */
 	uint64_t steps;		/* periods integrated (switch chatter) */
 };
 
@@ -28,6 +28,11 @@ void sh2000_plant_init(struct sh2000_plant *p,
 		       const struct sh2000_plant_config *cfg);
 /* Integrates `T` seconds with the amplifier's input `volts` held. */
 void sh2000_plant_step(struct sh2000_plant *p, double volts, double T);
+/* The same with an outside force (N, held over T) and the moving mass of
+ * this step instead of the configured one: a side of a gantry, which the
+ * beam pulls and whose share of the carriage changes (gantry.c). */
+void sh2000_plant_step_with(struct sh2000_plant *p, double volts,
+			    double force_n, double mass_kg, double T);
 /* The scale's count at the carriage: floor(x * counts_per_mm). The FPGA
  * counts its pulses; where its counter starts is the board's business. */
 int64_t sh2000_plant_scale(const struct sh2000_plant *p);

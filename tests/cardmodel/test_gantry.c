@@ -12,6 +12,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <math.h>
+#include <stdlib.h>
 
 #include <cmocka.h>
 
@@ -95,12 +96,98 @@ static void test_jam_skew_fault(void **state)
 	assert_true(r.free_side_travel_mm < 3.0);
 }
 
+/* HOME on one side homes both, each on its own switch; side b's switch
+ * sits 0.3 mm further on: gantry_square says so, and the beam ends
+ * square with both sides reading the same. Without it, 0.3 mm of yaw. */
+static double home_pair(int32_t square, int32_t *act_a, int32_t *act_b)
+{
+	static struct harness h;
+	struct sh2000_sim_config cfg;
+	struct sh2000_gantry_config g;
+	unsigned int i;
+	double yaw;
+
+	sh2000_sim_config_default(&cfg);
+	cfg.axis[GR_A].start_mm = cfg.axis[GR_B].start_mm = 20.0;
+	cfg.axis[GR_B].home_mm = 0.3;
+	h_init(&h, &cfg);
+	sh2000_gantry_config_default(&g);
+	assert_int_equal(sh2000_fw_set_gantry(h.fw, &g), 0);
+	assert_int_equal(h_cmd(&h, SH2000_CMD_ENABLE, 0, 0, 0x7, NULL), 0);
+	assert_int_equal(h_set_i(&h, SH2000_AXIS_GLOBAL, SH2000_GP_GANTRY_PAIR,
+				 (1 << GR_A) | (1 << GR_B)), 0);
+	assert_int_equal(h_set_i(&h, SH2000_AXIS_GLOBAL,
+				 SH2000_GP_GANTRY_SQUARE, square), 0);
+	assert_int_equal(h_set_f(&h, SH2000_AXIS_GLOBAL, SH2000_GP_GANTRY_KP,
+				 GR_GANTRY_KP), 0);
+	/* HOME on side b: both sides home */
+	assert_int_equal(h_cmd(&h, SH2000_CMD_HOME, GR_B, 0, 0, NULL), 0);
+	assert_true(h_word(&h, SH2000_W_AXIS_STATE(GR_A)) & SH2000_AXIS_HOMING);
+	for (i = 0; i < 400000 &&
+		    h_word(&h, SH2000_W_STATE) == SH2000_STATE_HOMING; i++)
+		h_cycles(&h, 1);
+	assert_int_equal(h_word(&h, SH2000_W_STATE), SH2000_STATE_IDLE);
+	assert_true(h_word(&h, SH2000_W_AXIS_STATE(GR_A)) & SH2000_AXIS_HOMED);
+	assert_true(h_word(&h, SH2000_W_AXIS_STATE(GR_B)) & SH2000_AXIS_HOMED);
+	h_cycles(&h, 20000);	/* 2 s: settled */
+	*act_a = (int32_t)h.fw->dsp.ax[GR_A].act;
+	*act_b = (int32_t)h.fw->dsp.ax[GR_B].act;
+	yaw = sh2000_fw_gantry_yaw_mm(h.fw);
+	h_fini(&h);
+	return yaw;
+}
+
+static void test_home_squares(void **state)
+{
+	int32_t a, b;
+	double yaw;
+
+	(void)state;
+	yaw = home_pair(0, &a, &b);
+	print_message("square 0: yaw %.4f mm, sides read %d and %d counts\n",
+		      yaw, a, b);
+	assert_true(fabs(yaw + 0.3) < 0.0025);
+	yaw = home_pair(30000, &a, &b);
+	print_message("square 30000: yaw %.4f mm, sides read %d and %d counts\n",
+		      yaw, a, b);
+	/* each side's switch edge is sampled once a servo cycle: at the
+	 * default home_vel (20 mm/s) that is 2 um of travel per side */
+	assert_true(fabs(yaw) < 0.0025);
+	assert_true(abs(a - b) <= 5 && abs(a) <= 200);
+}
+
+/* The pair is 0 or two axes; older cards do not know the parameters. */
+static void test_pair_rule(void **state)
+{
+	static struct harness h;
+	const struct sh2000_param_info *p =
+		sh2000_param_lookup(SH2000_GP_GANTRY_PAIR);
+
+	(void)state;
+	assert_int_equal(sh2000_param_in_range(p, 0), 0);
+	assert_int_equal(sh2000_param_in_range(p, 6), 0);
+	assert_int_equal(sh2000_param_in_range(p, 12), 0);
+	assert_int_not_equal(sh2000_param_in_range(p, 2), 0);
+	assert_int_not_equal(sh2000_param_in_range(p, 7), 0);
+	assert_int_equal(sh2000_param_since_minor(SH2000_GP_GANTRY_KP),
+			 SH2000_PROTO_MINOR_GANTRY);
+	assert_int_equal(sh2000_param_since_minor(SH2000_P_KP), 0);
+	h_init(&h, NULL);
+	assert_int_equal(h_set_i(&h, SH2000_AXIS_GLOBAL, SH2000_GP_GANTRY_PAIR,
+				 7), SH2000_RES_BAD_VALUE);
+	assert_int_equal(h_set_i(&h, 1, SH2000_GP_GANTRY_PAIR, 6),
+			 SH2000_RES_BAD_AXIS);
+	h_fini(&h);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_coupling_cuts_yaw),
 		cmocka_unit_test(test_centred_carriage),
 		cmocka_unit_test(test_jam_skew_fault),
+		cmocka_unit_test(test_home_squares),
+		cmocka_unit_test(test_pair_rule),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -143,7 +143,14 @@ struct sh2000_gantry_loop {
 	int32_t square;		/* counts: side b's switch - side a's */
 	struct sh2000_pid pid;	/* the coupling loop's state */
 	double skew;		/* this cycle's: e_a - e_b, counts */
-	int squaring;		/* homing the pair: square it when done */
+	int squaring;		/* homing the pair: enum gantry_squaring */
+	uint64_t sq_cycle;	/* the last HOMING cycle it was looked at */
+};
+
+enum gantry_squaring {
+	GANTRY_SQ_NONE = 0,
+	GANTRY_SQ_HOMING,	/* both sides on their own switches */
+	GANTRY_SQ_MOVE,		/* side b to side a's position */
 };
 
 /* The pair's axes, a < b; 0 when there is none. */
@@ -154,6 +161,11 @@ void sh2000_gantry_paired(struct sh2000_dsp *fw);
 /* After every axis' PID: the skew check and the coupling loop's share
  * of both sides' DAC codes. */
 void sh2000_gantry_servo(struct sh2000_dsp *fw, double T);
+/* HOME: an axis of the pair homes both; others home alone. */
+uint16_t sh2000_gantry_home(struct sh2000_dsp *fw, unsigned int axis,
+			    uint32_t flags);
+/* While HOMING, after sh2000_home_cycle(): the pair's squaring. */
+void sh2000_gantry_home_cycle(struct sh2000_dsp *fw, double T);
 
 /* What the DSP's memory holds: the firmware's whole state. */
 struct sh2000_dsp {
@@ -283,5 +295,9 @@ uint16_t sh2000_home_start(struct sh2000_dsp *fw, unsigned int axis,
 			   uint32_t flags);
 void sh2000_home_cycle(struct sh2000_dsp *fw, double T);
 void sh2000_home_abort(struct sh2000_fw_axis *ax);
+/* The set-point towards target within AMAX and |v| <= vcap; 1 when
+ * there (the gantry's squaring move). */
+int sh2000_home_move_to(struct sh2000_fw_axis *ax, double target,
+			double vcap, double T);
 
 #endif /* SH2000_CARDMODEL_H */

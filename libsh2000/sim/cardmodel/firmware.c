@@ -372,7 +372,7 @@ static uint16_t execute(struct sh2000_dsp *fw, uint16_t seq, uint16_t op,
 	case SH2000_CMD_GET_PARAM:
 		return sh2000_fw_get_param(fw, axis, param, value);
 	case SH2000_CMD_HOME:
-		return sh2000_home_start(fw, axis, arg);
+		return sh2000_gantry_home(fw, axis, arg);
 	case SH2000_CMD_STOP:
 		if (in_motion(fw))
 			begin_stop(fw);
@@ -680,6 +680,7 @@ static void motion(struct sh2000_dsp *fw, double T)
 		break;
 	case SH2000_STATE_HOMING:
 		sh2000_home_cycle(fw, T);
+		sh2000_gantry_home_cycle(fw, T);
 		break;
 	case SH2000_STATE_FAULT:
 	case SH2000_STATE_ESTOP:

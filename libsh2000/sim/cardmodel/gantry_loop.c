@@ -14,6 +14,10 @@
  * A skew beyond gantry_skew_limit latches AXIS_FAULT_SKEW on both sides
  * in the cycle that sees it: both set-points stop at once where the
  * sides are, as an emergency stop holds them, and the card stops.
+ * HOME on either side homes both, each on its own switch; then side b's
+ * count is shifted by gantry_square (where its switch is, relative to
+ * side a's, on a square beam) and side b moves to side a's position: the
+ * beam ends square, both sides reading the same.
  */
 #include <math.h>
 
@@ -117,4 +121,69 @@ void sh2000_gantry_servo(struct sh2000_dsp *fw, double T)
 	u = g->pid.u;
 	xa->dac = add_dac(xa, 0.5 * u);
 	xb->dac = add_dac(xb, -0.5 * u);
+}
+
+uint16_t sh2000_gantry_home(struct sh2000_dsp *fw, unsigned int axis,
+			    uint32_t flags)
+{
+	unsigned int a, b;
+	uint16_t r;
+
+	if (!sh2000_gantry_axes(fw, &a, &b) || (axis != a && axis != b))
+		return sh2000_home_start(fw, axis, flags);
+	if (!sh2000_axis_enabled(&fw->ax[a]) || !sh2000_axis_enabled(&fw->ax[b]))
+		return SH2000_RES_DISABLED;
+	if (fw->ax[a].home != HOME_NONE || fw->ax[b].home != HOME_NONE ||
+	    (fw->gantry.squaring != GANTRY_SQ_NONE &&
+	     fw->state == SH2000_STATE_HOMING))
+		return SH2000_RES_BUSY;
+	r = sh2000_home_start(fw, a, flags);
+	if (r != SH2000_RES_OK)
+		return r;
+	r = sh2000_home_start(fw, b, flags);
+	if (r != SH2000_RES_OK) {
+		sh2000_home_abort(&fw->ax[a]);
+		return r;
+	}
+	fw->gantry.squaring = GANTRY_SQ_HOMING;
+	fw->gantry.sq_cycle = fw->cycle - 1u;	/* motion() runs this cycle */
+	return SH2000_RES_OK;
+}
+
+void sh2000_gantry_home_cycle(struct sh2000_dsp *fw, double T)
+{
+	struct sh2000_gantry_loop *g = &fw->gantry;
+	struct sh2000_fw_axis *xa, *xb;
+	unsigned int a, b;
+
+	if (g->squaring == GANTRY_SQ_NONE || !sh2000_gantry_axes(fw, &a, &b))
+		return;
+	/* a cycle not HOMING since the last (STOP, RESET, a fault, an
+	 * emergency stop): the squaring was abandoned with the homing */
+	if (fw->cycle != g->sq_cycle + 1u) {
+		g->squaring = GANTRY_SQ_NONE;
+		return;
+	}
+	g->sq_cycle = fw->cycle;
+	xa = &fw->ax[a];
+	xb = &fw->ax[b];
+	if (xa->home != HOME_NONE || xb->home != HOME_NONE)
+		return;		/* still on the way to the switches */
+	if (!(xa->state & xb->state & SH2000_AXIS_HOMED)) {
+		g->squaring = GANTRY_SQ_NONE;	/* aborted */
+		return;
+	}
+	if (g->squaring == GANTRY_SQ_HOMING) {
+		double cmd = xb->cmd + (double)g->square;
+
+		sh2000_fw_set_position(fw, b, xb->act + g->square);
+		sh2000_fw_hold_at(fw, b, cmd);
+		g->squaring = GANTRY_SQ_MOVE;
+	}
+	fw->state = SH2000_STATE_HOMING;
+	if (sh2000_home_move_to(xb, xa->cmd, fabs(xb->prm.home_vel), T)) {
+		sh2000_interp_hold(&fw->ip, b, xb->cmd);
+		g->squaring = GANTRY_SQ_NONE;
+		fw->state = SH2000_STATE_IDLE;
+	}
 }

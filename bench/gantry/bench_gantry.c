@@ -50,16 +50,12 @@ static int jam_row(void)
 		.jam_at_s = 0.15,
 	};
 	struct gantry_result r;
+	char t[256];
 
 	if (gantry_run(&m, &r))
 		return 1;
-	printf("jam of side b at 0.15 s, skew limit 50 um: crossed in cycle %llu, "
-	       "SKEW latched in %llu, both set-points held from %llu; side a "
-	       "%.1f mm/s to rest in %.1f ms, %.3f mm\n",
-	       (unsigned long long)r.cross_cycle,
-	       (unsigned long long)r.fault_cycle,
-	       (unsigned long long)r.held_cycle, r.fault_v_mm_s,
-	       r.free_side_stop_ms, r.free_side_travel_mm);
+	printf("jam of side b at 0.15 s, skew limit 50 um: %s\n",
+	       gantry_jam_text(&r, t, sizeof(t)));
 	return r.fault_cycle == r.cross_cycle ? 0 : 1;
 }
 

@@ -6,6 +6,7 @@
  * both sides get, as LinuxCNC's two joints of one axis get one position.
  */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -181,4 +182,18 @@ int gantry_run(const struct gantry_move *m, struct gantry_result *r)
 	r->cycles = k + 1;
 	h_fini(&h);
 	return 0;
+}
+
+const char *gantry_jam_text(const struct gantry_result *r, char *buf,
+			    unsigned int len)
+{
+	snprintf(buf, len,
+		 "skew limit crossed in cycle %llu, SKEW latched in %llu, both "
+		 "set-points held from %llu; side a from %.1f mm/s to rest in "
+		 "%.1f ms, %.3f mm",
+		 (unsigned long long)r->cross_cycle,
+		 (unsigned long long)r->fault_cycle,
+		 (unsigned long long)r->held_cycle, r->fault_v_mm_s,
+		 r->free_side_stop_ms, r->free_side_travel_mm);
+	return buf;
 }

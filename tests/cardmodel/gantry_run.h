@@ -50,5 +50,8 @@ struct gantry_result {
 /* Runs the move on a fresh card; 0, or -1 when the card refused a
  * command or parameter on the way. */
 int gantry_run(const struct gantry_move *m, struct gantry_result *r);
+/* The skew fault's figures in words (test and benchmark print them). */
+const char *gantry_jam_text(const struct gantry_result *r, char *buf,
+			    unsigned int len);
 
 #endif

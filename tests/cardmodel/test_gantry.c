@@ -72,19 +72,14 @@ static void test_jam_skew_fault(void **state)
 {
 	struct gantry_move m = beam;
 	struct gantry_result r;
+	char t[256];
 
 	(void)state;
 	m.couple = 1;
 	m.skew_limit = 5000;	/* 50 um */
 	m.jam_at_s = 0.15;	/* side b stops dead while accelerating */
 	assert_int_equal(gantry_run(&m, &r), 0);
-	print_message("skew limit crossed in cycle %llu, fault %llu, both "
-		      "set-points held from %llu; side a from %.1f mm/s to rest "
-		      "in %.1f ms, %.3f mm\n",
-		      (unsigned long long)r.cross_cycle,
-		      (unsigned long long)r.fault_cycle,
-		      (unsigned long long)r.held_cycle, r.fault_v_mm_s,
-		      r.free_side_stop_ms, r.free_side_travel_mm);
+	print_message("%s\n", gantry_jam_text(&r, t, sizeof(t)));
 	assert_true(r.cross_cycle > 0);
 	/* the cycle that sees the crossing latches and holds both */
 	assert_int_equal(r.fault_cycle, r.cross_cycle);

@@ -175,6 +175,54 @@ static void test_pair_rule(void **state)
 	h_fini(&h);
 }
 
+/* A DAC at its limit counts towards DAC_SAT whichever loop put it there:
+ * side a's own loop holds 60 % of the DAC (its gains 0, its output
+ * kept), the coupling's integral the other half of it (gains 0, output
+ * kept at the limit: +50 % on side a); the sum, clipped at the limit,
+ * latches DAC_SAT on side a in the 200th cycle, as an axis' own
+ * saturation does. Side b gets -50 % and its own loop: not saturated.
+ * (Before the count included the coupling, side a's 60 % never counted.) */
+static void test_dac_sat_counts_coupling(void **state)
+{
+	static struct harness h;
+	const unsigned int G = SH2000_AXIS_GLOBAL;
+	static const unsigned int zero[] = {
+		SH2000_P_KP, SH2000_P_TI, SH2000_P_TD, SH2000_P_KVFF,
+		SH2000_P_KAFF,
+	};
+	struct sh2000_sim_config cfg;
+	struct sh2000_dsp *d;
+	unsigned int s, i;
+	double lim;
+
+	(void)state;
+	/* a heavy side a: full DAC takes it to 0.5 m/s in the 200 cycles,
+	 * well within the counter's plausibility check */
+	sh2000_sim_config_default(&cfg);
+	cfg.axis[GR_A].mass_kg = 50.0;
+	h_init(&h, &cfg);
+	d = &h.fw->dsp;
+	assert_int_equal(h_cmd(&h, SH2000_CMD_ENABLE, 0, 0,
+			       (1 << GR_A) | (1 << GR_B), NULL), 0);
+	assert_int_equal(h_set_i(&h, G, SH2000_GP_GANTRY_PAIR,
+				 (1 << GR_A) | (1 << GR_B)), 0);
+	assert_int_equal(h_set_i(&h, G, SH2000_GP_GANTRY_SKEW_LIMIT, 134217727), 0);
+	for (s = GR_A; s <= GR_B; s++)
+		assert_int_equal(h_set_i(&h, s, SH2000_P_FERR_LIMIT, 134217727), 0);
+	for (i = 0; i < sizeof(zero) / sizeof(zero[0]); i++)
+		assert_int_equal(h_set_f(&h, GR_A, zero[i], 0.0), 0);
+	lim = (double)d->ax[GR_A].prm.dac_limit;
+	d->ax[GR_A].pid.u = 0.6 * lim;
+	d->gantry.pid.u = lim;
+	h_cycles(&h, SH2000_FW_DAC_SAT_CYCLES - 1);
+	assert_int_equal(d->ax[GR_A].dac, (int16_t)lim);
+	assert_int_equal(d->ax[GR_A].faults & SH2000_AXIS_FAULT_DAC_SAT, 0);
+	h_cycles(&h, 1);
+	assert_true(d->ax[GR_A].faults & SH2000_AXIS_FAULT_DAC_SAT);
+	assert_int_equal(d->ax[GR_B].faults & SH2000_AXIS_FAULT_DAC_SAT, 0);
+	h_fini(&h);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -183,6 +231,7 @@ int main(void)
 		cmocka_unit_test(test_jam_skew_fault),
 		cmocka_unit_test(test_home_squares),
 		cmocka_unit_test(test_pair_rule),
+		cmocka_unit_test(test_dac_sat_counts_coupling),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

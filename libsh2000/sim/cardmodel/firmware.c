@@ -694,9 +694,31 @@ static void motion(struct sh2000_dsp *fw, double T)
 
 /* ---- the servo loop ---- */
 
-static void servo(struct sh2000_dsp *fw, double T)
+/* The axes whose loops ran this cycle (ran: a bit each): a DAC at its
+ * limit counts towards DAC_SAT, whichever loop put it there (a gantry
+ * pair's coupling adds its share after the axis' own PID). */
+static void count_saturation(struct sh2000_dsp *fw, unsigned int ran)
 {
 	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		struct sh2000_fw_axis *ax = &fw->ax[a];
+
+		if (!(ran & (1u << a)))
+			continue;
+		if (ax->dac >= ax->prm.dac_limit ||
+		    ax->dac <= -ax->prm.dac_limit) {
+			if (++ax->sat_cycles >= SH2000_FW_DAC_SAT_CYCLES)
+				axis_fault(fw, a, SH2000_AXIS_FAULT_DAC_SAT, 1);
+		} else {
+			ax->sat_cycles = 0;
+		}
+	}
+}
+
+static void servo(struct sh2000_dsp *fw, double T)
+{
+	unsigned int a, ran = 0;
 
 	for (a = 0; a < SH2000_AXES; a++) {
 		struct sh2000_fw_axis *ax = &fw->ax[a];
@@ -734,15 +756,10 @@ static void servo(struct sh2000_dsp *fw, double T)
 		g.dac_limit = ax->prm.dac_limit;
 		ax->dac = sh2000_pid_step(&ax->pid, &g, e, ax->cmd_v,
 					  ax->cmd_a, T);
-		if (ax->dac >= ax->prm.dac_limit ||
-		    ax->dac <= -ax->prm.dac_limit) {
-			if (++ax->sat_cycles >= SH2000_FW_DAC_SAT_CYCLES)
-				axis_fault(fw, a, SH2000_AXIS_FAULT_DAC_SAT, 1);
-		} else {
-			ax->sat_cycles = 0;
-		}
+		ran |= 1u << a;
 	}
 	sh2000_gantry_servo(fw, T);
+	count_saturation(fw, ran);
 }
 
 static void put32(struct sh2000_dsp *fw, unsigned int w, uint32_t v)

@@ -91,24 +91,59 @@ static int ramp_with(struct sh2000 *h, const struct tune_opts *o,
 	return r;
 }
 
+/* --enable: the sides enabled once for both runs (a side disabled
+ * between them would sag, its set-point following it); without it the
+ * first run's preparation says which side is not enabled. Then the
+ * sides' set-points: an exit code. */
+static int enable_pair(struct sh2000 *h, const struct tune_opts *o,
+		       struct tune_gantry *p)
+{
+	struct sh2000_status st;
+	unsigned int off = 0;
+	int r = sh2000_poll(h, &st);
+
+	for (unsigned int i = 0; r >= 0 && i < 2; i++) {
+		unsigned int s = i ? p->b : p->a;
+
+		if (!(st.axis[s].state & SH2000_AXIS_ENABLED))
+			off |= 1u << s;
+	}
+	if (r >= 0 && off && o->enable && st.card_state == SH2000_STATE_IDLE) {
+		r = sh2000_enable(h, off);
+		if (r >= 0)
+			p->enabled_by_us = off;
+		if (r >= 0)
+			r = sh2000_poll(h, &st);
+	}
+	if (r < 0)
+		return sh2000_tool_fail(h, r, "enable");
+	p->start[0] = (double)st.axis[p->a].cmd_counts;
+	p->start[1] = (double)st.axis[p->b].cmd_counts;
+	return 0;
+}
+
+void tune_gantry_end(struct sh2000 *h, struct tune_gantry *p)
+{
+	if (p->enabled_by_us)
+		sh2000_disable(h, p->enabled_by_us);
+	p->enabled_by_us = 0;
+}
+
 int tune_gantry(struct sh2000 *h, const struct tune_opts *o,
 		struct tune_gantry *p)
 {
 	static const double none[3] = { 0, 0, 0 };
 	struct tune_opts g = *o;
-	struct sh2000_status st;
 	int r;
 
 	p->coupled = p->uncoupled = NAN;
 	p->start[0] = p->start[1] = NAN;
-	if ((r = read_pair(h, o, p)))
+	p->enabled_by_us = 0;
+	if ((r = read_pair(h, o, p)) || (r = enable_pair(h, o, p)))
 		return r;
-	if ((r = sh2000_poll(h, &st)) < 0)
-		return sh2000_tool_fail(h, r, "status");
-	p->start[0] = (double)st.axis[p->a].cmd_counts;
-	p->start[1] = (double)st.axis[p->b].cmd_counts;
 	g.axis = p->a;
 	g.follow = 1u << p->b;
+	g.enable = 0;	/* enable_pair's */
 	p->speed_mms = g.ramp_mms = o->ramp_mms ? o->ramp_mms : GANTRY_SPEED;
 	if (p->gains[0] > 0)
 		r = ramp_with(h, &g, p, p->gains, &p->coupled);
@@ -146,11 +181,11 @@ int tune_run_gantry(struct sh2000 *h, const struct tune_opts *o)
 
 	if (!r)
 		report(&p);
-	if (r && (r != SH2000_EXIT_ABORTED || isnan(p.start[0])))
-		return r;
 	/* also after an abort: both sides back where they were */
-	if (tune_check_back(h, p.a, p.start[0]) ||
-	    tune_check_back(h, p.b, p.start[1]))
-		return SH2000_EXIT_CARD;
+	if ((!r || r == SH2000_EXIT_ABORTED) &&
+	    (tune_check_back(h, p.a, p.start[0]) ||
+	     tune_check_back(h, p.b, p.start[1])))
+		r = SH2000_EXIT_CARD;
+	tune_gantry_end(h, &p);
 	return r;
 }

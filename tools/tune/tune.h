@@ -225,13 +225,16 @@ struct tune_gantry {
 	 * gantry_kp is 0) and with none */
 	double coupled, uncoupled;
 	double speed_mms, travel_mm, accel_mms2, counts_per_mm;
+	unsigned int enabled_by_us;	/* sides --enable enabled */
 };
 
 /* The pair of which o->axis is a side ramps (o->ramp_mms, default 100
  * mm/s; o->travel_mm) coupled, then uncoupled, the gains put back: an
- * exit code as tune_ramp's; *p filled on 0. */
+ * exit code as tune_ramp's; *p filled on 0. The sides --enable enabled
+ * stay enabled until tune_gantry_end (always call it). */
 int tune_gantry(struct sh2000 *h, const struct tune_opts *o,
 		struct tune_gantry *p);
+void tune_gantry_end(struct sh2000 *h, struct tune_gantry *p);
 /* tune_gantry, reported, both sides checked back at their start. */
 int tune_run_gantry(struct sh2000 *h, const struct tune_opts *o);
 

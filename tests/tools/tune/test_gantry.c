@@ -114,6 +114,7 @@ static void coupling_cuts_the_yaw(void **state)
 	assert_int_equal(sh2000_sim_set_observer(h, log_yaw, &l), 0);
 	assert_int_equal(tune_gantry(h, &o, &p), 0);
 	sh2000_sim_set_observer(h, NULL, NULL);
+	tune_gantry_end(h, &p);
 	card_state(h, after);
 	printf("# gantry ramp %g mm/s over %g mm at %g mm/s^2: peak skew coupled %.1f counts, uncoupled %.1f counts (the machine's peak yaw %.1f counts): %.1fx\n",
 	       p.speed_mms, p.travel_mm, p.accel_mms2, p.coupled, p.uncoupled,
@@ -143,6 +144,7 @@ static void uncoupled_only(void **state)
 	(void)state;
 	assert_int_equal(sh2000_param_set(h, G, SH2000_GP_GANTRY_KP, 0), 0);
 	assert_int_equal(tune_gantry(h, &o, &p), 0);
+	tune_gantry_end(h, &p);
 	assert_true(isnan(p.coupled));
 	assert_true(p.uncoupled > 10);
 	assert_true(p.speed_mms == -50);
@@ -160,9 +162,11 @@ static void refused(void **state)
 
 	(void)state;
 	assert_int_equal(tune_gantry(h, &o, &p), SH2000_EXIT_CARD);
+	tune_gantry_end(h, &p);
 	assert_int_equal(sh2000_param_set(h, G, SH2000_GP_GANTRY_PAIR, 6), 0);
 	o.axis = 0;
 	assert_int_equal(tune_gantry(h, &o, &p), SH2000_EXIT_CARD);
+	tune_gantry_end(h, &p);
 	assert_int_equal(sh2000_poll(h, &st), 0);
 	assert_int_equal(st.axis[SIDE_A].state & SH2000_AXIS_ENABLED, 0);
 	assert_int_equal(st.axis[0].state & SH2000_AXIS_ENABLED, 0);

@@ -25,8 +25,8 @@ import sys
 
 import linuxcnc
 
-from lcnc import (CTL, DEVICE, c, card_pos_at_rest, card_status, check, errors,
-                  halget, machine_on, mdi, results, s, wait)
+from lcnc import (c, card_pos_at_rest, card_status, check, errors, halget,
+                  home_all, machine_off, machine_on, mdi, s, session, wait)
 
 BEAM_MOVE = 200.0   # mm of Y, at LinuxCNC's 200 mm/s and 2000 mm/s^2
 
@@ -55,16 +55,6 @@ def explain():
           flush=True)
 
 
-def home():
-    c.mode(linuxcnc.MODE_MANUAL)
-    c.wait_complete()
-    c.teleop_enable(0)
-    c.wait_complete()
-    c.home(-1)
-    return wait(lambda: all(s.homed[:4]) or s.task_state != linuxcnc.STATE_ON, 120) \
-        and all(s.homed[:4])
-
-
 def beam_move(y):
     """G0 of the beam to Y y; the move's peak skew in mm (minmax.0, reset
     just before), or None when the move did not end with the machine on."""
@@ -84,7 +74,7 @@ def run():
           "" if g and g["axes"] == ["y", "z"] else json.dumps(g))
     limit_mm = g["skew_limit_counts"] / 1e5 if g else 0.2
     check("machine on", machine_on())
-    if not check("homed all four joints (the pair together)", home(),
+    if not check("homed all four joints (the pair together)", home_all(4, 120),
                  "homed %s, task state %d" % (s.homed[:4], s.task_state)):
         explain()
         return
@@ -115,17 +105,8 @@ def run():
     pos = card_pos_at_rest()
     check("both sides back together (within 5 um)",
           pos is not None and abs(pos[1] - pos[2]) < 0.005, "card x y z %s" % pos)
-    c.state(linuxcnc.STATE_OFF)
-    wait(lambda: s.task_state == linuxcnc.STATE_OFF, 2)
-
-
-def main():
-    try:
-        run()
-    finally:
-        print("%d passed, %d failed" % (results["passed"], results["failed"]), flush=True)
-    return 1 if results["failed"] else 0
+    machine_off()
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(session(run))

@@ -226,6 +226,15 @@ static inline int sh2000_axis_enabled(const struct sh2000_fw_axis *ax)
 	return (ax->state & SH2000_AXIS_ENABLED) != 0;
 }
 
+/* Axis a's following error as its loop closes it: the set-point with the
+ * compensation tables' correction, less the counter (the PID's error,
+ * gathered FERR, the gantry's skew; docs/protocol.md 18.3). */
+static inline double sh2000_fw_ferr(const struct sh2000_dsp *fw,
+				    unsigned int a)
+{
+	return fw->ax[a].cmd + fw->comp.off[a] - (double)fw->ax[a].act;
+}
+
 /* The set-point as the host sees it (snapshot CMD, gathered SETPOINT):
  * rounded to a count, within int32. */
 static inline int32_t sh2000_fw_cmd_counts(const struct sh2000_fw_axis *ax)

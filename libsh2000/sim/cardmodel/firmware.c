@@ -754,7 +754,7 @@ static void servo(struct sh2000_dsp *fw, double T)
 		     ax->cmd > (double)ax->prm.soft_max) &&
 		    !(ax->faults & SH2000_AXIS_FAULT_SOFT_LIMIT))
 			axis_fault(fw, a, SH2000_AXIS_FAULT_SOFT_LIMIT, 0);
-		e = ax->cmd + fw->comp.off[a] - (double)ax->act;
+		e = sh2000_fw_ferr(fw, a);
 		/* an emergency stop or a gantry's skew fault held the
 		 * set-point where the carriage was: it brakes to there */
 		if (fabs(e) > (double)ax->prm.ferr_limit &&

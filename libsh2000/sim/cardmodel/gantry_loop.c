@@ -6,6 +6,7 @@
  * cross-coupling loop on the pair's skew, the difference of the two
  * following errors,
  *   s = (cmd_a - act_a) - (cmd_b - act_b),
+ * cmd the set-point with the compensation tables' correction (1.5),
  * which is the beam's yaw (act_b - act_a) when both take one set-point,
  * as LinuxCNC's two joints of one axis do, and which does not fight two
  * set-points that differ on purpose (each side homing on its own switch).
@@ -44,11 +45,6 @@ void sh2000_gantry_paired(struct sh2000_dsp *fw)
 	sh2000_pid_reset(&fw->gantry.pid);
 	fw->gantry.skew = 0.0;
 	fw->gantry.squaring = 0;
-}
-
-static double err(const struct sh2000_fw_axis *ax)
-{
-	return ax->cmd - (double)ax->act;
 }
 
 /* Both sides stop where they are, now: set-points held at the encoders,
@@ -104,7 +100,9 @@ void sh2000_gantry_servo(struct sh2000_dsp *fw, double T)
 		g->skew = 0.0;
 		return;
 	}
-	g->skew = err(xa) - err(xb);
+	/* the loops' errors: a compensation table's correction of one side
+	 * is what that side is meant to do, not skew */
+	g->skew = sh2000_fw_ferr(fw, a) - sh2000_fw_ferr(fw, b);
 	if (fabs(g->skew) > (double)g->skew_limit) {
 		if (!((xa->faults | xb->faults) & SH2000_AXIS_FAULT_SKEW))
 			skew_fault(fw, a, b);

@@ -115,15 +115,13 @@ static const struct sh2000_param_info *check_id(struct sh2000 *h, int axis,
 				 "parameter %s: %s", p->name,
 				 is_global(id) ? "is global (use SH2000_GLOBAL)" :
 				 "needs an axis 0..3");
-	} else if (SH2000_PROTO_VERSION_MINOR(h->card_version) <
-		   sh2000_param_since_minor(id)) {
-		/* an older card would answer "unknown parameter": say why */
-		*r = sh2000_fail(h, -EOPNOTSUPP,
-				 "parameter %s: the card speaks protocol %u.%u, the parameter needs 1.%u",
-				 p->name,
-				 SH2000_PROTO_VERSION_MAJOR(h->card_version),
-				 SH2000_PROTO_VERSION_MINOR(h->card_version),
-				 sh2000_param_since_minor(id));
+	} else {
+		/* an older card would answer "unknown parameter": say why,
+		 * as every feature of a later minor is refused */
+		char what[64];
+
+		snprintf(what, sizeof(what), "parameter %s needs", p->name);
+		*r = sh2000_need_minor(h, sh2000_param_since_minor(id), what);
 	}
 	return *r ? NULL : p;
 }

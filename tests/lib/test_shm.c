@@ -151,7 +151,7 @@ static void test_gantry_needs_1_7(void **state)
 			 -EOPNOTSUPP);
 	print_message("%s\n", sh2000_last_error(h));
 	assert_non_null(strstr(sh2000_last_error(h),
-			       "gantry_pair: the card speaks protocol 1.4, the parameter needs 1.7"));
+			       "the card speaks protocol 1.4: parameter gantry_pair needs 1.7"));
 	assert_int_equal(sh2000_param_get(h, SH2000_GLOBAL, SH2000_GP_GANTRY_KP, &v),
 			 -EOPNOTSUPP);
 	CHECK(sh2000_param_get(h, SH2000_GLOBAL, SH2000_GP_TIME_SCALE, &v));

@@ -1,17 +1,24 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
+# shellcheck shell=bash disable=SC2034  # sets variables for the sourcing script
 # What a LinuxCNC test script needs before it runs LinuxCNC (sourced by
-# tests/linuxcnc/gantry; tests/linuxcnc/run does the same itself): LinuxCNC
-# installed (else exit 77, skipped), the built hal_sh2000.so where
-# rtapi_app loads modules from, and as root the test user sh2000-test that
-# runs LinuxCNC (rtapi_app refuses root), allowed real-time priority, with
-# rtapi_app's threads and the user's card servers boosted to SCHED_FIFO as
-# they appear (this kernel is not PREEMPT_RT: a busy machine would starve
-# the 1 ms servo thread). tests/linuxcnc/run's header says why each step.
+# tests/linuxcnc/run and tests/linuxcnc/gantry): its turn on the machine
+# (take-turn.sh: one LinuxCNC per machine), LinuxCNC installed (else exit
+# 77, skipped), the built hal_sh2000.so where rtapi_app loads modules
+# from, and as root the test user sh2000-test that runs LinuxCNC
+# (rtapi_app refuses root), allowed real-time priority, with rtapi_app's
+# threads and the user's card servers boosted to SCHED_FIFO as they appear
+# (this kernel is not PREEMPT_RT: a busy machine would starve the 1 ms
+# servo thread). tests/linuxcnc/run's header says why each step.
 #
-#   . stage.sh; stage_setup BUILD_DIR     sets here, repo, build, work,
-#                                         as_user (a command prefix), user
+#   . stage.sh; stage_setup BUILD_DIR [SERVER...]
+#       sets here, repo, build, work, as_user (a command prefix), user;
+#       SERVER: the command names (as pgrep -x sees them) of the card
+#       servers the script starts as the user, boosted beside rtapi_app
 # Cleans up on exit: the module found before put back, the boost stopped,
 # $work removed, and every pid in $stage_pids killed.
+
+# shellcheck source=tests/linuxcnc/take-turn.sh
+. "$(dirname "${BASH_SOURCE[0]}")/take-turn.sh"
 
 stage_skip() { echo "SKIP: $*"; exit 77; }
 stage_fail() { echo "FAIL $*"; echo "0 passed, 1 failed"; exit 1; }
@@ -25,13 +32,20 @@ stage_cleanup() {
 	[ -n "${work:-}" ] && rm -rf "$work"
 }
 
-# stage_boost UID: SCHED_FIFO 70 for rtapi_app's threads (LinuxCNC's own
-# take the top priorities on PREEMPT_RT), 60 for the user's card servers
-# (sh2000-sim's own), as they appear; all sleep most of the time.
+# stage_boost UID [SERVER...]: SCHED_FIFO 70 for rtapi_app's threads
+# (LinuxCNC's own take the top priorities on PREEMPT_RT), 60 for the
+# user's card servers named SERVER (sh2000-sim's own priority), as they
+# appear; all sleep most of the time. rtapi_app is setuid root and keeps
+# the user only as its file-system uid.
 stage_boost() {
-	local uid=$1 p t prio
+	local uid=$1 p t prio name servers
+	shift
 	while :; do
-		for p in $(pgrep -x rtapi_app) $(pgrep -u "$uid" -x sh2000-sim); do
+		servers=
+		for name in "$@"; do
+			servers="$servers $(pgrep -u "$uid" -x "$name")"
+		done
+		for p in $(pgrep -x rtapi_app) $servers; do
 			[ "$(awk '/^Uid:/ { print $5 }' /proc/"$p"/status 2>/dev/null)" = "$uid" ] ||
 				continue
 			prio=60
@@ -53,6 +67,8 @@ stage_setup() {
 	user=sh2000-test
 	stage_modules=/usr/lib/linuxcnc/modules
 	local module=$build/hal/hal_sh2000.so
+	shift
+	take_turn || { echo "0 passed, 1 failed"; exit 1; }
 	"$here/install-deps" ||
 		stage_skip "linuxcnc-uspace and linuxcnc-uspace-dev cannot be installed (apt-get failed): no LinuxCNC to test hal_sh2000 with"
 	[ -f "$module" ] ||
@@ -79,6 +95,6 @@ stage_setup() {
 	as_user=(setpriv --reuid="$user" --regid="$user" --init-groups
 		--inh-caps=+sys_nice --ambient-caps=+sys_nice --
 		env HOME="/var/lib/$user" USER="$user" LOGNAME="$user")
-	stage_boost "$(id -u "$user")" &
+	stage_boost "$(id -u "$user")" "$@" &
 	stage_pids="${stage_pids:-} $!"
 }

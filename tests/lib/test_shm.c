@@ -120,10 +120,10 @@ static void test_version_mismatch(void **state)
 	assert_non_null(strstr(msg, "library speaks 1.x, card reports 2.3"));
 	assert_non_null(strstr(msg, dev));
 	/* a newer minor of the same major is fine */
-	m->ram[SH2000_W_VERSION] = 0x0107;
+	m->ram[SH2000_W_VERSION] = SH2000_PROTO_VERSION + 1u;
 	CHECK(sh2000_sim_server_start(s));
 	CHECK(sh2000_open(&h, dev, msg, sizeof(msg)));
-	assert_int_equal(sh2000_card_version(h), 0x0107);
+	assert_int_equal(sh2000_card_version(h), SH2000_PROTO_VERSION + 1u);
 	sh2000_close(h);
 	munmap(m, sizeof(*m));
 	sh2000_sim_server_destroy(s);

@@ -38,6 +38,7 @@ static const char *const sh2000_errnames[SH2000_E_LAST - SH2000_E_BASE + 1] = {
 	[SH2000_EDAC_SAT - SH2000_E_BASE] = "axis DAC saturated",
 	[SH2000_ECOUNTER - SH2000_E_BASE] = "axis encoder counter fault",
 	[SH2000_EHOME - SH2000_E_BASE] = "axis homing failed",
+	[SH2000_ESKEW - SH2000_E_BASE] = "gantry pair skew limit exceeded",
 	[SH2000_EPROGRAM - SH2000_E_BASE] = "the program has errors",
 	[SH2000_EFORMAT - SH2000_E_BASE] = "unknown program format",
 	[SH2000_ELIMIT - SH2000_E_BASE] = "planned motion beyond a soft limit",

@@ -38,6 +38,12 @@ static const char *const units[SH2000_GP_END] = {
 	[SH2000_GP_STATUS_PERIOD] = "servo cycles",
 	[SH2000_GP_TIME_SCALE] = "1/10000 of full rate",
 	[SH2000_GP_TIME_RAMP_MS] = "ms",
+	[SH2000_GP_GANTRY_PAIR] = "axis mask",
+	[SH2000_GP_GANTRY_KP] = "DAC/count",
+	[SH2000_GP_GANTRY_TI] = "s",
+	[SH2000_GP_GANTRY_TD] = "s",
+	[SH2000_GP_GANTRY_SKEW_LIMIT] = "counts",
+	[SH2000_GP_GANTRY_SQUARE] = "counts",
 };
 
 /* Parameters the library scales from mm to counts (x counts/mm). */
@@ -109,6 +115,13 @@ static const struct sh2000_param_info *check_id(struct sh2000 *h, int axis,
 				 "parameter %s: %s", p->name,
 				 is_global(id) ? "is global (use SH2000_GLOBAL)" :
 				 "needs an axis 0..3");
+	} else {
+		/* an older card would answer "unknown parameter": say why,
+		 * as every feature of a later minor is refused */
+		char what[64];
+
+		snprintf(what, sizeof(what), "parameter %s needs", p->name);
+		*r = sh2000_need_minor(h, sh2000_param_since_minor(id), what);
 	}
 	return *r ? NULL : p;
 }
@@ -155,6 +168,8 @@ int sh2000_param_value_check(unsigned int id, double v, double scale,
 					  v, u, p->type == SH2000_PT_F32 ?
 					  "not a normal 32-bit float" :
 					  id == SH2000_P_HOME_VEL ? "must not be 0" :
+					  id == SH2000_GP_GANTRY_PAIR ?
+					  "0 or the mask of two axes" :
 					  "not an integer");
 		return sh2000_msg(why, len, -SH2000_EPARAM,
 				  "%g %s is outside %s%g..%g %s", v, u,

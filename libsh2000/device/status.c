@@ -263,6 +263,7 @@ static const struct {
 	{ SH2000_AXIS_FAULT_DAC_SAT, SH2000_EDAC_SAT, "DAC saturation" },
 	{ SH2000_AXIS_FAULT_COUNTER, SH2000_ECOUNTER, "counter fault" },
 	{ SH2000_AXIS_FAULT_HOME, SH2000_EHOME, "homing failed" },
+	{ SH2000_AXIS_FAULT_SKEW, SH2000_ESKEW, "gantry skew limit" },
 };
 
 /* Axis a's fault: the first bit of `bits` in the table's order. */

@@ -60,6 +60,20 @@ static const struct sh2000_param_info global_params[SH2000_GP_END -
 	  SH2000_TIME_SCALE_FULL, 0, SH2000_TIME_SCALE_FULL, LIVE },
 	{ SH2000_GP_TIME_RAMP_MS, "time_ramp_ms", SH2000_PT_I32, 1.0,
 	  60000.0, 0, 100.0, LIVE },
+	/* protocol 1.7: the gantry pair. Pair and squaring change what the
+	 * axes are: at rest only; the loop's gains and the limit are live. */
+	{ SH2000_GP_GANTRY_PAIR, "gantry_pair", SH2000_PT_I32, 0.0,
+	  0xc, 0, 0.0, FIXED },	/* the largest pair: the top two axes */
+	{ SH2000_GP_GANTRY_KP, "gantry_kp", SH2000_PT_F32, 0.0, 1000.0, 0,
+	  0.0, LIVE },
+	{ SH2000_GP_GANTRY_TI, "gantry_ti", SH2000_PT_F32, 0.0, 100.0, 0,
+	  0.0, LIVE },
+	{ SH2000_GP_GANTRY_TD, "gantry_td", SH2000_PT_F32, 0.0, 10.0, 0,
+	  0.0, LIVE },
+	{ SH2000_GP_GANTRY_SKEW_LIMIT, "gantry_skew_limit", SH2000_PT_I32,
+	  0.0, 134217727.0, 1, 10000.0, LIVE },
+	{ SH2000_GP_GANTRY_SQUARE, "gantry_square", SH2000_PT_I32, -134217727.0,
+	  134217727.0, 0, 0.0, FIXED },
 };
 
 const struct sh2000_param_info *sh2000_param_lookup(unsigned int id)
@@ -69,6 +83,15 @@ const struct sh2000_param_info *sh2000_param_lookup(unsigned int id)
 	if (id >= SH2000_GP_FIRST && id < SH2000_GP_END)
 		return &global_params[id - SH2000_GP_FIRST];
 	return NULL;
+}
+
+unsigned int sh2000_param_since_minor(unsigned int id)
+{
+	if (id == SH2000_GP_TIME_SCALE || id == SH2000_GP_TIME_RAMP_MS)
+		return SH2000_PROTO_MINOR_TIME_BASE;
+	if (id >= SH2000_GP_GANTRY_PAIR && id <= SH2000_GP_GANTRY_SQUARE)
+		return SH2000_PROTO_MINOR_GANTRY;
+	return 0;
 }
 
 const struct sh2000_param_info *sh2000_param_by_name(const char *name)
@@ -137,6 +160,10 @@ int sh2000_param_in_range(const struct sh2000_param_info *p, double v)
 	if (!(v <= p->max))
 		return -1;
 	if (p->id == SH2000_P_HOME_VEL && v == 0.0)
+		return -1;
+	/* a pair is two axes: no axis (0), or exactly two bits */
+	if (p->id == SH2000_GP_GANTRY_PAIR && v != 0.0 &&
+	    __builtin_popcount((unsigned int)v) != 2)
 		return -1;
 	return 0;
 }
@@ -229,6 +256,7 @@ const char *sh2000_axis_fault_name(unsigned int bit)
 	case SH2000_AXIS_FAULT_DAC_SAT: return "DAC saturated";
 	case SH2000_AXIS_FAULT_COUNTER: return "encoder counter jump";
 	case SH2000_AXIS_FAULT_HOME: return "homing failed";
+	case SH2000_AXIS_FAULT_SKEW: return "gantry skew";
 	default: return "unknown axis fault";
 	}
 }

@@ -424,6 +424,17 @@ int sh2000_sim_server_set_clock_ppm(struct sh2000_sim_server *s, double ppm)
 	return r < 0 ? -EINVAL : 0;
 }
 
+int sh2000_sim_server_set_gantry(struct sh2000_sim_server *s,
+				 const struct sh2000_gantry_config *g)
+{
+	int r;
+
+	pthread_mutex_lock(&s->lock);
+	r = sh2000_fw_set_gantry(s->fw, g);
+	pthread_mutex_unlock(&s->lock);
+	return r < 0 ? -EINVAL : 0;
+}
+
 const char *sh2000_sim_server_shm_name(const struct sh2000_sim_server *s)
 {
 	return s->shm_name;

@@ -111,6 +111,7 @@ static void values(void **state)
 		{ "`DAC_SAT`", SH2000_AXIS_FAULT_DAC_SAT },
 		{ "`COUNTER`", SH2000_AXIS_FAULT_COUNTER },
 		{ "`HOME`", SH2000_AXIS_FAULT_HOME },
+		{ "`SKEW`", SH2000_AXIS_FAULT_SKEW },
 	};
 	char row[128];
 	unsigned int i;

@@ -120,10 +120,41 @@ static void test_version_mismatch(void **state)
 	assert_non_null(strstr(msg, "library speaks 1.x, card reports 2.3"));
 	assert_non_null(strstr(msg, dev));
 	/* a newer minor of the same major is fine */
-	m->ram[SH2000_W_VERSION] = 0x0107;
+	m->ram[SH2000_W_VERSION] = SH2000_PROTO_VERSION + 1u;
 	CHECK(sh2000_sim_server_start(s));
 	CHECK(sh2000_open(&h, dev, msg, sizeof(msg)));
-	assert_int_equal(sh2000_card_version(h), 0x0107);
+	assert_int_equal(sh2000_card_version(h), SH2000_PROTO_VERSION + 1u);
+	sh2000_close(h);
+	munmap(m, sizeof(*m));
+	sh2000_sim_server_destroy(s);
+}
+
+/* A card before protocol 1.7 has no gantry pair: the library says so
+ * instead of sending the parameter, and the other parameters still work. */
+static void test_gantry_needs_1_7(void **state)
+{
+	struct sh2000_sim_server *s;
+	struct sh2000_shm *m;
+	struct sh2000 *h = NULL;
+	char n[64], dev[80], msg[256];
+	double v;
+
+	(void)state;
+	name(n, sizeof(n), "old");
+	s = serve(n, 0);
+	m = peek(s);
+	m->ram[SH2000_W_VERSION] = 0x0104;
+	snprintf(dev, sizeof(dev), "sim:%s", n);
+	CHECK(sh2000_sim_server_start(s));
+	CHECK(sh2000_open(&h, dev, msg, sizeof(msg)));
+	assert_int_equal(sh2000_param_set(h, SH2000_GLOBAL, SH2000_GP_GANTRY_PAIR, 6),
+			 -EOPNOTSUPP);
+	print_message("%s\n", sh2000_last_error(h));
+	assert_non_null(strstr(sh2000_last_error(h),
+			       "the card speaks protocol 1.4: parameter gantry_pair needs 1.7"));
+	assert_int_equal(sh2000_param_get(h, SH2000_GLOBAL, SH2000_GP_GANTRY_KP, &v),
+			 -EOPNOTSUPP);
+	CHECK(sh2000_param_get(h, SH2000_GLOBAL, SH2000_GP_TIME_SCALE, &v));
 	sh2000_close(h);
 	munmap(m, sizeof(*m));
 	sh2000_sim_server_destroy(s);
@@ -248,6 +279,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_served_card),
 		cmocka_unit_test(test_version_mismatch),
+		cmocka_unit_test(test_gantry_needs_1_7),
 		cmocka_unit_test(test_bad_magic),
 		cmocka_unit_test(test_not_running),
 		cmocka_unit_test(test_torn_stress),

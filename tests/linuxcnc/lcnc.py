@@ -113,3 +113,31 @@ def mdi(cmd, timeout=60):
     return wait(lambda: s.task_state != linuxcnc.STATE_ON or
                 (s.interp_state == linuxcnc.INTERP_IDLE and
                  s.state == linuxcnc.RCS_DONE), timeout) and s.task_state == linuxcnc.STATE_ON
+
+
+def home_all(joints, timeout):
+    """LinuxCNC homes every joint (in its HOME_SEQUENCE order): whether
+    the first `joints` joints are homed within timeout seconds, the
+    machine on."""
+    c.mode(linuxcnc.MODE_MANUAL)
+    c.wait_complete()
+    c.teleop_enable(0)
+    c.wait_complete()
+    c.home(-1)
+    return wait(lambda: all(s.homed[:joints]) or s.task_state != linuxcnc.STATE_ON,
+                timeout) and all(s.homed[:joints])
+
+
+def machine_off():
+    c.state(linuxcnc.STATE_OFF)
+    wait(lambda: s.task_state == linuxcnc.STATE_OFF, 2)
+
+
+def session(run):
+    """Runs a session's checks (run), then prints the tally, also when a
+    check raised; the session's exit code."""
+    try:
+        run()
+    finally:
+        print("%d passed, %d failed" % (results["passed"], results["failed"]), flush=True)
+    return 1 if results["failed"] else 0

@@ -24,7 +24,7 @@ import time
 import linuxcnc
 
 from lcnc import (CTL, DEVICE, c, card_pos_at_rest, check, errors, halget,
-                  machine_on, mdi, results, s, wait)
+                  home_all, machine_off, machine_on, mdi, s, session, wait)
 
 PROGRAM = os.environ["SH2000_TEST_PROGRAM"]
 FEED = float(os.environ.get("SH2000_TEST_FEED", "1"))
@@ -49,16 +49,6 @@ def program_end():
                 last[axis] = float(v)
     unit = 25.4 if inch else 1.0
     return [last.get(a, 0.0) * unit for a in "xyz"]
-
-
-def home():
-    c.mode(linuxcnc.MODE_MANUAL)
-    c.wait_complete()
-    c.teleop_enable(0)
-    c.wait_complete()
-    c.home(-1)
-    return wait(lambda: all(s.homed[:3]) or s.task_state != linuxcnc.STATE_ON, 60) \
-        and all(s.homed[:3])
 
 
 def run_program():
@@ -106,7 +96,7 @@ def explain():
 def run():
     check("LinuxCNC up", wait(lambda: s.task_state != 0, 30))
     check("machine on", machine_on())
-    if not check("homed all joints", home(), "homed %s" % (s.homed[:3],)):
+    if not check("homed all joints", home_all(3, 60), "homed %s" % (s.homed[:3],)):
         return
     # the card at LinuxCNC's HOME (5 mm in every joint): the offset
     # between the card's coordinates and LinuxCNC's, which homing made
@@ -133,17 +123,8 @@ def run():
           got is not None and all(abs(a - b) < 0.001 for a, b in zip(got, want)),
           "card %s, expected %s (card at home %s)" % (got, want, home_card))
     c.feedrate(1.0)
-    c.state(linuxcnc.STATE_OFF)
-    wait(lambda: s.task_state == linuxcnc.STATE_OFF, 2)
-
-
-def main():
-    try:
-        run()
-    finally:
-        print("%d passed, %d failed" % (results["passed"], results["failed"]), flush=True)
-    return 1 if results["failed"] else 0
+    machine_off()
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(session(run))

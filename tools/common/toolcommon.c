@@ -91,7 +91,7 @@ int sh2000_tool_exit_code(int code)
 {
 	if (code >= 0)
 		return SH2000_EXIT_OK;
-	if ((code <= -SH2000_EESTOP && code >= -SH2000_EHOME) ||
+	if ((code <= -SH2000_EESTOP && code >= -SH2000_ESKEW) ||
 	    code == -SH2000_ECMD_FAULTED)
 		return SH2000_EXIT_FAULT;
 	return SH2000_EXIT_CARD;

@@ -84,7 +84,7 @@ const char *sh2000_tool_device(const char *arg);
 int sh2000_tool_open(struct sh2000 **h, const char *device_arg);
 
 /* The exit code for a library error: SH2000_EXIT_FAULT for latched faults
- * and emergency stop (-SH2000_EESTOP..-SH2000_EHOME, ECMD_FAULTED),
+ * and emergency stop (-SH2000_EESTOP..-SH2000_ESKEW, ECMD_FAULTED),
  * SH2000_EXIT_CARD for every other negative code, 0 for code >= 0. */
 int sh2000_tool_exit_code(int code);
 

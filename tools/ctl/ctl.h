@@ -58,6 +58,29 @@ int ctl_is_option(const char *arg);
 int ctl_opt_value(int argc, char **argv, int *i, const char *lng, char shrt,
 		  const char **val);
 
+/* pair.c: 1 when the card's protocol has parameter id. */
+int ctl_card_has(struct ctl *c, unsigned int id);
+
+/* The card's gantry pair (protocol 1.7) as status shows it. */
+struct ctl_pair {
+	int on;			/* a pair is configured */
+	unsigned int axis[2];	/* side a, side b */
+	double kp, ti, td;	/* the coupling loop */
+	long long limit_counts, square_counts;
+	long long skew_counts;	/* e_a - e_b from this status */
+	double skew_mm;
+	int fault;		/* SKEW latched on a side */
+};
+
+struct json_object;
+/* p->on = 0 on a card without a pair or before 1.7; an exit code when a
+ * parameter cannot be read. */
+int ctl_pair_get(struct ctl *c, const struct sh2000_status *st,
+		 struct ctl_pair *p);
+void ctl_pair_print(const struct ctl_pair *p);
+/* NULL (JSON null) without a pair. */
+struct json_object *ctl_pair_json(const struct ctl_pair *p);
+
 /* Axis parameters in user units that are lengths (mm, mm/s, mm/s^2). */
 int ctl_param_is_mm(unsigned int id);
 

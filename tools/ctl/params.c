@@ -60,6 +60,11 @@ static int plan_check(struct ctl *c, struct ctl_plan *p,
 		if (!any)
 			continue;
 		for (unsigned int id = lo; id < hi; id++) {
+			if (!sh2000_param_lookup(id) || !ctl_card_has(c, id)) {
+				/* an older card: only a set names it (refused) */
+				cur[s][id] = 0.0;
+				continue;
+			}
 			r = sh2000_param_get(c->h, s == CTL_SECT_GLOBAL ? SH2000_GLOBAL : (int)s,
 					     id, &cur[s][id]);
 			if (r < 0)
@@ -209,8 +214,8 @@ static int print_section(struct ctl *c, FILE *f, unsigned int s)
 		double v;
 		int r;
 
-		if (!sh2000_param_lookup(id))
-			continue;
+		if (!sh2000_param_lookup(id) || !ctl_card_has(c, id))
+			continue;	/* not on this card's protocol */
 		r = sh2000_param_get(c->h, s == CTL_SECT_GLOBAL ? SH2000_GLOBAL : (int)s,
 				     id, &v);
 		if (r < 0)

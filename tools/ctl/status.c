@@ -161,7 +161,8 @@ static void first_fault_text(char *buf, size_t n,
 		snprintf(buf, n, "%s", sh2000_fault_name(ff->bit));
 }
 
-static void status_table(struct ctl *c, const struct sh2000_status *st)
+static void status_table(struct ctl *c, const struct sh2000_status *st,
+			 const struct ctl_pair *pair)
 {
 	char f[256], s[256];
 
@@ -192,6 +193,7 @@ static void status_table(struct ctl *c, const struct sh2000_status *st)
 		       sh2000_tool_axis_name(a), ax->pos_mm, ax->cmd_mm,
 		       ax->ferr_mm, ax->dac, s, f);
 	}
+	ctl_pair_print(pair);
 }
 
 /* null when none is known (nothing latched, or a card before 1.4) */
@@ -215,7 +217,7 @@ static json_object *first_fault_json(const struct sh2000_first_fault *ff)
 }
 
 static void status_json(struct ctl *c, const struct sh2000_status *st,
-			const char *error)
+			const struct ctl_pair *pair, const char *error)
 {
 	json_object *o = json_object_new_object();
 	json_object *axes = json_object_new_array();
@@ -263,6 +265,7 @@ static void status_json(struct ctl *c, const struct sh2000_status *st,
 		json_object_array_add(axes, x);
 	}
 	json_object_object_add(o, "axes", axes);
+	json_object_object_add(o, "gantry", ctl_pair_json(pair));
 	printf("%s\n", json_object_to_json_string_ext(o, JSON_C_TO_STRING_PLAIN |
 						      JSON_C_TO_STRING_NOSLASHESCAPE));
 	json_object_put(o);
@@ -317,20 +320,24 @@ int ctl_status(struct ctl *c, int argc, char **argv)
 		sh2000_tool_catch_stop(SH2000_SECOND_COUNTS);
 	for (long n = 0; !(watch && sh2000_tool_stop_asked()); n++) {
 		struct sh2000_status st;
+		struct ctl_pair pair;
 		char err[512] = "";
 		int r = sh2000_poll(c->h, &st), e;
 
 		if (r < 0)
 			return sh2000_tool_fail(c->h, r, "status");
+		r = ctl_pair_get(c, &st, &pair);
+		if (r)
+			return r;
 		e = sh2000_status_error(c->h, &st);
 		if (e < 0)
 			sh2000_last_error_copy(c->h, err, sizeof(err));
 		if (json) {
-			status_json(c, &st, e < 0 ? err : NULL);
+			status_json(c, &st, &pair, e < 0 ? err : NULL);
 		} else {
 			if (n)
 				printf("\n");
-			status_table(c, &st);
+			status_table(c, &st, &pair);
 			if (e < 0)
 				printf("error   %s: %s\n", sh2000_strerror(e), err);
 		}

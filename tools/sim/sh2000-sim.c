@@ -101,6 +101,11 @@ static void usage(FILE *f)
 "  -q, --quiet        print nothing on stdout (errors still go to stderr)\n"
 "  --mass KG          every axis' moving mass (default 2)\n"
 "  --friction NS_PER_M  every axis' viscous friction, N/(m/s) (default 20)\n"
+"  -g, --gantry A+B[:C]  axes A and B drive one beam (a gantry: its yaw\n"
+"                     stiffness, the beam's and the carriage's mass as\n"
+"                     docs/cardmodel.md gives them), the carriage on axis C\n"
+"                     along it (default: the first other axis; '-': none,\n"
+"                     it stays at side A); e.g. y+z\n"
 "  -h, --help         this help\n"
 "  -V, --version      versions of the tool, the library and the protocol\n"
 "\n"
@@ -134,6 +139,8 @@ struct serve_opts {
 	int priority;		/* SCHED_FIFO priority to take, 0 none */
 	/* the machine behind the card: every axis' plant */
 	struct sh2000_sim_config cfg;
+	int gantry_on;			/* --gantry: two axes on one beam */
+	struct sh2000_gantry_config gantry;
 };
 
 /* The card model's documented plant, for what differs from it. */
@@ -169,6 +176,51 @@ static void print_mode(const struct serve_opts *o)
 	    o->cfg.axis[0].friction_ns_per_m != PLANT_DEFAULT.friction_ns_per_m)
 		printf(", plant %g kg, %g N/(m/s)", o->cfg.axis[0].mass_kg,
 		       o->cfg.axis[0].friction_ns_per_m);
+	if (o->gantry_on) {
+		printf(", gantry %c+%c", sh2000_tool_axis_name(o->gantry.side_a),
+		       sh2000_tool_axis_name(o->gantry.side_b));
+		if (o->gantry.carriage_axis >= 0)
+			printf(" carriage %c", sh2000_tool_axis_name(
+				       (unsigned int)o->gantry.carriage_axis));
+	}
+}
+
+/* --gantry A+B[:C]: the sides, and the carriage's axis (default the
+ * first axis that is not a side; '-' none). -1, or exit 2 worded. */
+static int gantry_option(const char *arg, struct serve_opts *o)
+{
+	struct sh2000_gantry_config *g = &o->gantry;
+	char a[2] = { 0, 0 }, b[2] = { 0, 0 }, c[2] = { 0, 0 };
+	int ia, ib, ic = -1;
+	size_t n = strlen(arg);
+
+	if ((n != 3 && n != 5) || arg[1] != '+' || (n == 5 && arg[3] != ':'))
+		return sh2000_tool_usage(NULL,
+			"--gantry: '%s' is not A+B or A+B:C (axes, e.g. y+z)", arg);
+	a[0] = arg[0];
+	b[0] = arg[2];
+	ia = sh2000_tool_axis(a);
+	ib = sh2000_tool_axis(b);
+	if (n == 5 && arg[4] != '-') {
+		c[0] = arg[4];
+		ic = sh2000_tool_axis(c);
+		if (ic < 0 || ic == ia || ic == ib)
+			return sh2000_tool_usage(NULL,
+				"--gantry %s: the carriage's axis '%s' is not an axis other than the sides",
+				arg, c);
+	}
+	if (ia < 0 || ib < 0 || ia == ib)
+		return sh2000_tool_usage(NULL,
+			"--gantry %s: the sides are not two different axes (x y z a)", arg);
+	for (unsigned int i = 0; n == 3 && ic < 0 && i < SH2000_AXES; i++)
+		if ((int)i != ia && (int)i != ib)
+			ic = (int)i;	/* the loop ends at the first */
+	sh2000_gantry_config_default(g);
+	g->side_a = (unsigned int)ia;
+	g->side_b = (unsigned int)ib;
+	g->carriage_axis = ic;
+	o->gantry_on = 1;
+	return -1;
 }
 
 /*
@@ -211,6 +263,8 @@ static int serve_name(const char *name, const struct serve_opts *o)
 	}
 	/* checked when parsed: cannot fail */
 	(void)sh2000_sim_server_set_clock_ppm(s, o->ppm);
+	if (o->gantry_on)
+		(void)sh2000_sim_server_set_gantry(s, &o->gantry);
 	take_priority(o);
 	served = s;
 	if (stale)
@@ -290,6 +344,8 @@ static int serve_attach(const char *path, const struct serve_opts *o)
 		return SH2000_EXIT_CARD;
 	}
 	(void)sh2000_sim_server_set_clock_ppm(s, o->ppm);
+	if (o->gantry_on)
+		(void)sh2000_sim_server_set_gantry(s, &o->gantry);
 	take_priority(o);
 	served = s;
 	if (!o->quiet) {
@@ -364,6 +420,8 @@ static int option(int c, const char *arg, const char **attach,
 		for (unsigned int a = 0; r < 0 && a < SH2000_AXES; a++)
 			o->cfg.axis[a].friction_ns_per_m = v;
 		return r;
+	case 'g':
+		return gantry_option(arg, o);
 	case 'h':
 		usage(stdout);
 		return SH2000_EXIT_OK;
@@ -406,6 +464,7 @@ int main(int argc, char **argv)
 		{ "quiet", no_argument, NULL, 'q' },
 		{ "mass", required_argument, NULL, 'm' },
 		{ "friction", required_argument, NULL, 'f' },
+		{ "gantry", required_argument, NULL, 'g' },
 		{ "help", no_argument, NULL, 'h' },
 		{ "version", no_argument, NULL, 'V' },
 		{ NULL, 0, NULL, 0 },
@@ -418,7 +477,7 @@ int main(int argc, char **argv)
 	sh2000_sim_config_default(&o.cfg);
 	sh2000_tool_init("sh2000-sim");
 	opterr = 0;
-	while ((c = getopt_long(argc, argv, "+a:Fc:r:p:qhV", opts, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, "+a:Fc:r:p:qg:hV", opts, NULL)) != -1) {
 		r = option(c, optarg, &attach, &o);
 		if (r == -2 && optopt && optopt != '?')
 			return sh2000_tool_usage(NULL,

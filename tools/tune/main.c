@@ -31,6 +31,7 @@ static void usage(FILE *f)
 "       sh2000-tune [-d DEVICE] AXIS --auto [--apply] [--save FILE] [--dry-run]\n"
 "                   [--bandwidth HZ] [--margin DEG] [--gain-margin DB]\n"
 "                   [--travel MM] [OPTIONS]\n"
+"       sh2000-tune [-d DEVICE] AXIS --gantry [--ramp MM/S] [OPTIONS]\n"
 "Tests of one axis' servo loop, gathered on the card every servo cycle;\n"
 "the axis ends where it started.\n"
 "  step:  the set-point steps by MM and holds, then steps back. Prints rise\n"
@@ -93,6 +94,13 @@ static void usage(FILE *f)
 "                       sweeps a chirp with them and draws its Bode plot\n"
 "                       to FILE-bode.png (or .svg), and prints the\n"
 "                       measured margins beside the predicted ones\n"
+"\n"
+"Gantry pairs (--gantry, protocol 1.7): AXIS is a side of the card's\n"
+"gantry pair; both sides ramp together (--ramp, default 100 mm/s, --travel)\n"
+"twice, with the card's coupling gains and with none (put back after);\n"
+"prints each run's peak skew (the difference of the sides' following\n"
+"errors) and how much the coupling cuts it.\n"
+"  --gantry             the pair's test\n"
 "  -h, --help           this help\n"
 "  -V, --version        versions\n"
 "\n"
@@ -101,7 +109,9 @@ static void usage(FILE *f)
 "latched, 6 gnuplot missing or failed, 7 stopped by SIGINT or SIGTERM\n"
 "(the motion stopped on its way, the card's limits and timing put back),\n"
 "8 aborted on the following-error limit (axis back at its start);\n"
-"--auto: 1 also when the design is refused (nothing written).\n");
+"--auto: 1 also when the design is refused (nothing written); --gantry: 1\n"
+"also when the card has no pair or AXIS is not a side of it (nothing moved),\n"
+"4 also when the skew limit latched SKEW.\n");
 }
 
 static int number(const char *opt, const char *v, double lo, double *out)
@@ -139,6 +149,19 @@ static int check_auto(struct tune_opts *o, int auto_only, int tests)
 	return 0;
 }
 
+/* --gantry's options together: a ramp, nothing of --auto, no pictures. */
+static int check_gantry(struct tune_opts *o, int tests)
+{
+	if (o->autotune || o->apply || o->save || o->dry_run)
+		return sh2000_tool_usage(NULL, "--gantry: not with --auto, --apply, --save or --dry-run");
+	if (tests > 1 || (tests && o->test != TUNE_TEST_RAMP))
+		return sh2000_tool_usage(NULL, "--gantry ramps the pair (--ramp MM/S): not with --step or --chirp");
+	if (o->csv || o->plot)
+		return sh2000_tool_usage(NULL, "--gantry: not with --csv or --plot");
+	o->test = TUNE_TEST_RAMP;
+	return 0;
+}
+
 static int parse(int argc, char **argv, struct tune_opts *o)
 {
 	static const struct option lo[] = {
@@ -164,6 +187,7 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 		{ "margin", required_argument, NULL, 'M' },
 		{ "gain-margin", required_argument, NULL, 'G' },
 		{ "enable", no_argument, NULL, 'e' },
+		{ "gantry", no_argument, NULL, 'g' },
 		{ "csv", required_argument, NULL, 'c' },
 		{ "plot", required_argument, NULL, 'p' },
 		{ "help", no_argument, NULL, 'h' },
@@ -211,6 +235,7 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 		case 'M': auto_only = 1; r = number("--margin", optarg, 0, &o->margin_deg); break;
 		case 'G': auto_only = 1; r = number("--gain-margin", optarg, 0, &o->gm_db); break;
 		case 'e': o->enable = 1; break;
+		case 'g': o->gantry = 1; break;
 		case 'c': o->csv = optarg; break;
 		case 'p': o->plot = optarg; break;
 		case 'h': usage(stdout); return -1;
@@ -227,6 +252,8 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 	if (ax < 0)
 		return sh2000_tool_usage(NULL, "'%s' is not an axis (x y z a)", argv[optind]);
 	o->axis = (unsigned int)ax;
+	if (o->gantry)
+		return check_gantry(o, tests);
 	if (o->autotune || o->apply || o->save || o->dry_run || auto_only)
 		return check_auto(o, auto_only, tests);
 	if (tests != 1)
@@ -298,6 +325,11 @@ int main(int argc, char **argv)
 	 * does (as --enable: disabled again after). */
 	if (sh2000_backend(h) == SH2000_BACKEND_SIM)
 		o.enable = 1;
+	if (o.gantry) {
+		r = tune_run_gantry(h, &o);
+		sh2000_close(h);
+		return r;
+	}
 	/* ramp and chirp tests */
 	if (o.test != TUNE_TEST_STEP) {
 		r = o.test == TUNE_TEST_RAMP ? tune_run_ramp(h, &o) : tune_run_chirp(h, &o, NULL);

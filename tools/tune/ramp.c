@@ -132,17 +132,29 @@ static void mark_cruise(struct tune_ramp *rp, double ts)
 	}
 }
 
+/* Where the axis' signals and the follower's begin in a sample of the
+ * record (the card's layout: axis 0..3, each in ascending signal order). */
+static void columns(const struct tune_move *m, size_t *oa, size_t *ob)
+{
+	unsigned int f = m->o->follow;
+
+	*oa = f && (unsigned int)__builtin_ctz(f) < m->a ? NSIG : 0;
+	*ob = f ? NSIG - *oa : 0;
+}
+
 static int to_ramp(struct ramp_ctx *c, unsigned int rec, struct tune_ramp *rp)
 {
 	struct sh2000_gather_info gi;
 	double *v, **col[NSIG] = { &rp->sp, &rp->enc, &rp->ferr, &rp->dac };
-	size_t n;
+	size_t n, oa, ob, w;
 	int r;
 
 	if ((r = tune_move_read(&c->m, rec, &gi, &v)))
 		return r;
 	n = gi.samples;
-	rp->t = malloc(sizeof(double) * (NSIG + 1) * n);
+	w = gi.values;
+	columns(&c->m, &oa, &ob);
+	rp->t = malloc(sizeof(double) * (NSIG + 2) * n);
 	rp->cruise = malloc(n + 1);
 	if (!rp->t || !rp->cruise || gi.trigger_index >= n) {
 		free(v);
@@ -152,10 +164,15 @@ static int to_ramp(struct ramp_ctx *c, unsigned int rec, struct tune_ramp *rp)
 	rp->n = n;
 	for (int k = 0; k < NSIG; k++)
 		*col[k] = rp->t + (size_t)(k + 1) * n;
+	if (c->m.o->follow)
+		rp->skew = rp->t + (size_t)(NSIG + 1) * n;
 	for (size_t i = 0; i < n; i++) {
 		rp->t[i] = ((double)i - (double)gi.trigger_index) * gi.sample_s;
 		for (int k = 0; k < NSIG; k++)
-			(*col[k])[i] = v[NSIG * i + k];
+			(*col[k])[i] = v[w * i + oa + k];
+		/* the third signal is the following error */
+		if (rp->skew)
+			rp->skew[i] = v[w * i + oa + 2] - v[w * i + ob + 2];
 	}
 	free(v);
 	mark_cruise(rp, gi.sample_s);
@@ -169,10 +186,13 @@ void tune_ramp_figures(struct tune_ramp *rp)
 
 	rp->cruise_peak = rp->cruise_rms = rp->accel_peak = rp->peak_dac = 0;
 	rp->cruise_n = 0;
+	rp->skew_peak = 0;
 	for (size_t i = 0; i < rp->n; i++) {
 		double e = fabs(rp->ferr[i]);
 		int moving = i && rp->sp[i] != rp->sp[i - 1];
 
+		if (rp->skew && fabs(rp->skew[i]) > rp->skew_peak)
+			rp->skew_peak = fabs(rp->skew[i]);
 		if (fabs(rp->dac[i]) > rp->peak_dac)
 			rp->peak_dac = fabs(rp->dac[i]);
 		if (rp->cruise[i]) {

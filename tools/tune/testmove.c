@@ -38,6 +38,20 @@ int tune_move_fail(struct tune_move *s, int r, const char *what)
 	return sh2000_tool_fail(s->h, r, what);
 }
 
+/* The axes that move: the axis and those that follow it. */
+static unsigned int moving(const struct tune_move *s)
+{
+	return 1u << s->a | s->o->follow;
+}
+
+/* The followers take the axis' moves from their own set-points. */
+static void follow(const struct tune_move *s, int32_t *pt, int32_t v)
+{
+	for (unsigned int b = 0; b < SH2000_AXES; b++)
+		if (s->o->follow & (1u << b))
+			pt[b] = s->p[b] + (v - s->start);
+}
+
 int tune_move_push(struct tune_move *s, const int32_t *v, unsigned int n,
 		   unsigned int flags)
 {
@@ -52,6 +66,7 @@ int tune_move_push(struct tune_move *s, const int32_t *v, unsigned int n,
 		for (unsigned int i = 0; i < k; i++) {
 			memcpy(pts[i], s->p, sizeof(pts[i]));
 			pts[i][s->a] = v[i];
+			follow(s, pts[i], v[i]);
 		}
 		r = sh2000_wait_space(s->h, k, 5000);
 		if (r >= 0)
@@ -86,6 +101,7 @@ int tune_move_prepare(struct tune_move *s)
 {
 	char an = sh2000_tool_axis_name(s->a);
 	struct sh2000_status st;
+	unsigned int off = 0;
 	int r;
 
 	if ((r = sh2000_poll(s->h, &st)) < 0)
@@ -101,15 +117,20 @@ int tune_move_prepare(struct tune_move *s)
 				sh2000_device(s->h), sh2000_state_name(st.card_state));
 		return SH2000_EXIT_CARD;
 	}
-	if (!(st.axis[s->a].state & SH2000_AXIS_ENABLED)) {
+	for (unsigned int b = 0; b < SH2000_AXES; b++)
+		if ((moving(s) & (1u << b)) && !(st.axis[b].state & SH2000_AXIS_ENABLED))
+			off |= 1u << b;
+	if (off) {
 		if (!s->o->enable) {
+			an = sh2000_tool_axis_name(off & (1u << s->a) ? s->a :
+						   (unsigned int)__builtin_ctz(off));
 			sh2000_tool_msg("%s: axis %c is not enabled (sh2000ctl enable %c, or --enable): nothing moved",
 					sh2000_device(s->h), an, an);
 			return SH2000_EXIT_CARD;
 		}
-		if ((r = sh2000_enable(s->h, 1u << s->a)) < 0)
+		if ((r = sh2000_enable(s->h, off)) < 0)
 			return tune_move_fail(s, r, "enable");
-		s->enabled_by_us = 1;
+		s->enabled_by_us = off;
 		if ((r = sh2000_poll(s->h, &st)) < 0)
 			return tune_move_fail(s, r, "status");
 	}
@@ -119,37 +140,74 @@ int tune_move_prepare(struct tune_move *s)
 		s->p[a] = (int32_t)st.axis[a].cmd_counts;
 	s->start = s->p[s->a];
 	s->vlim = s->pc.vmax[s->a];
+	for (unsigned int b = 0; b < SH2000_AXES; b++)
+		if ((s->o->follow & (1u << b)) && s->pc.vmax[b] < s->vlim)
+			s->vlim = s->pc.vmax[b];
 	if (s->o->vmax > 0 && s->o->vmax < s->vlim)
 		s->vlim = s->o->vmax;
 	return 0;
 }
 
-int tune_move_lower_limits(struct tune_move *s)
+/* The limits of the moving axes below b back as they were (a library
+ * code: the first failure). */
+static int put_limits(struct tune_move *s, unsigned int below)
+{
+	int r = 0, e;
+
+	for (unsigned int b = 0; b < below; b++) {
+		if (!(moving(s) & (1u << b)))
+			continue;
+		e = sh2000_param_set(s->h, b, SH2000_P_FERR_LIMIT, s->ferr0s[b]);
+		if (e >= 0)
+			e = sh2000_param_set(s->h, b, SH2000_P_DAC_LIMIT, s->dac0s[b]);
+		if (e < 0 && r >= 0)
+			r = e;
+	}
+	return r;
+}
+
+/* Axis b's limits read and lowered to the user's bounds: a library code. */
+static int lower_axis(struct tune_move *s, unsigned int b)
 {
 	double ferr, dac;
 	int r;
 
-	if ((r = sh2000_param_get(s->h, s->a, SH2000_P_FERR_LIMIT, &s->ferr0)) < 0 ||
-	    (r = sh2000_param_get(s->h, s->a, SH2000_P_DAC_LIMIT, &s->dac0)) < 0)
-		return tune_move_fail(s, r, "get parameter");
-	ferr = s->o->ferr_max_mm < s->ferr0 ? s->o->ferr_max_mm : s->ferr0;
-	dac = s->o->dac_max > 0 && s->o->dac_max < s->dac0 ? s->o->dac_max : s->dac0;
-	s->dac_bound = dac;
-	r = sh2000_param_set(s->h, s->a, SH2000_P_FERR_LIMIT, ferr);
+	if ((r = sh2000_param_get(s->h, b, SH2000_P_FERR_LIMIT, &s->ferr0s[b])) < 0 ||
+	    (r = sh2000_param_get(s->h, b, SH2000_P_DAC_LIMIT, &s->dac0s[b])) < 0)
+		return r;
+	ferr = s->o->ferr_max_mm < s->ferr0s[b] ? s->o->ferr_max_mm : s->ferr0s[b];
+	dac = s->o->dac_max > 0 && s->o->dac_max < s->dac0s[b] ? s->o->dac_max : s->dac0s[b];
+	if (b == s->a)
+		s->dac_bound = dac;
+	r = sh2000_param_set(s->h, b, SH2000_P_FERR_LIMIT, ferr);
 	if (r >= 0) {
-		r = sh2000_param_set(s->h, s->a, SH2000_P_DAC_LIMIT, dac);
+		r = sh2000_param_set(s->h, b, SH2000_P_DAC_LIMIT, dac);
 		if (r < 0)
-			sh2000_param_set(s->h, s->a, SH2000_P_FERR_LIMIT, s->ferr0);
+			sh2000_param_set(s->h, b, SH2000_P_FERR_LIMIT, s->ferr0s[b]);
 	}
+	return r;
+}
+
+int tune_move_lower_limits(struct tune_move *s)
+{
+	int r = 0;
+
+	for (unsigned int b = 0; b < SH2000_AXES && r >= 0; b++) {
+		if (!(moving(s) & (1u << b)))
+			continue;
+		r = lower_axis(s, b);
+		if (r < 0)
+			put_limits(s, b);
+	}
+	s->ferr0 = s->ferr0s[s->a];
+	s->dac0 = s->dac0s[s->a];
 	return r < 0 ? tune_move_fail(s, r, "set parameter") : 0;
 }
 
 int tune_move_restore(struct tune_move *s)
 {
-	int r = sh2000_param_set(s->h, s->a, SH2000_P_FERR_LIMIT, s->ferr0);
+	int r = put_limits(s, SH2000_AXES);
 
-	if (r >= 0)
-		r = sh2000_param_set(s->h, s->a, SH2000_P_DAC_LIMIT, s->dac0);
 	return r < 0 ? tune_move_fail(s, r, "restoring the limits") : 0;
 }
 
@@ -164,10 +222,8 @@ int tune_move_recover(struct tune_move *s, int fault)
 	sh2000_tool_msg("%s: %s test aborted: %s (limit %g mm during the test); returning to the start",
 			sh2000_device(s->h), s->name, sh2000_strerror(fault),
 			s->o->ferr_max_mm < s->ferr0 ? s->o->ferr_max_mm : s->ferr0);
-	if ((r = sh2000_reset(s->h)) < 0 ||
-	    (r = sh2000_param_set(s->h, s->a, SH2000_P_FERR_LIMIT, s->ferr0)) < 0 ||
-	    (r = sh2000_param_set(s->h, s->a, SH2000_P_DAC_LIMIT, s->dac0)) < 0 ||
-	    (r = sh2000_enable(s->h, 1u << s->a)) < 0)
+	if ((r = sh2000_reset(s->h)) < 0 || (r = put_limits(s, SH2000_AXES)) < 0 ||
+	    (r = sh2000_enable(s->h, moving(s))) < 0)
 		return tune_move_fail(s, r, "recovering");
 	if (s->undo && (r = s->undo(s)))
 		return r;
@@ -182,6 +238,9 @@ int tune_move_recover(struct tune_move *s, int fault)
 	}
 	memcpy(target, s->pc.start, sizeof(target));
 	target[s->a] = s->start / s->pc.counts_per_mm[s->a];
+	for (unsigned int b = 0; b < SH2000_AXES; b++)
+		if (s->o->follow & (1u << b))
+			target[b] = s->p[b] / s->pc.counts_per_mm[b];
 	r = sh2000_path_move_abs(sh2000_run_path(run), target,
 				 s->vlim * RECOVER_SLOWER);
 	if (r >= 0)
@@ -197,12 +256,15 @@ int tune_move_arm(struct tune_move *s, unsigned int signals, double span_s,
 {
 	struct sh2000_gather_config gc;
 	double servo = s->pc.period_s / s->pc.fine_steps;
-	unsigned int nsig = (unsigned int)__builtin_popcount(signals);
+	unsigned int nsig = (unsigned int)(__builtin_popcount(signals) *
+					   __builtin_popcount(moving(s)));
 	unsigned int max = SH2000_GATHER_BUFFER_VALUES / nsig - PRETRIGGER;
 	int r;
 
 	sh2000_gather_config_default(&gc);
-	gc.signals[s->a] = signals;
+	for (unsigned int b = 0; b < SH2000_AXES; b++)
+		if (moving(s) & (1u << b))
+			gc.signals[b] = signals;
 	gc.period = (unsigned int)ceil(span_s / servo / max);
 	gc.samples = (uint32_t)ceil(span_s / (servo * gc.period)) + PRETRIGGER;
 	gc.trigger = SH2000_GATHER_ON_MOTION;
@@ -305,8 +367,25 @@ int tune_move_run(struct tune_move *s, unsigned int signals, double span_s,
 	return put_back(s);
 }
 
+int tune_check_back(struct sh2000 *h, unsigned int axis, double start)
+{
+	struct sh2000_status st;
+	int r = sh2000_poll(h, &st);
+
+	if (r < 0)
+		return sh2000_tool_fail(h, r, "status");
+	if ((double)st.axis[axis].cmd_counts != start) {
+		sh2000_tool_msg("%s: axis %c is at %lld counts, not back at %.0f",
+				sh2000_device(h), sh2000_tool_axis_name(axis),
+				(long long)st.axis[axis].cmd_counts, start);
+		return SH2000_EXIT_CARD;
+	}
+	printf("back at the start       %.6f mm\n", st.axis[axis].cmd_mm);
+	return 0;
+}
+
 void tune_move_end(struct tune_move *s)
 {
 	if (s->enabled_by_us)
-		sh2000_disable(s->h, 1u << s->a);
+		sh2000_disable(s->h, s->enabled_by_us);
 }

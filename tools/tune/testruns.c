@@ -77,23 +77,6 @@ int tune_check_options(struct tune_opts *o)
 	return 0;
 }
 
-int tune_check_back(struct sh2000 *h, unsigned int axis, double start)
-{
-	struct sh2000_status st;
-	int r = sh2000_poll(h, &st);
-
-	if (r < 0)
-		return sh2000_tool_fail(h, r, "status");
-	if ((double)st.axis[axis].cmd_counts != start) {
-		sh2000_tool_msg("%s: axis %c is at %lld counts, not back at %.0f",
-				sh2000_device(h), sh2000_tool_axis_name(axis),
-				(long long)st.axis[axis].cmd_counts, start);
-		return SH2000_EXIT_CARD;
-	}
-	printf("back at the start       %.6f mm\n", st.axis[axis].cmd_mm);
-	return 0;
-}
-
 /* The test's exit code, the axis checked back at start (also after an
  * abort). */
 static int after(struct sh2000 *h, unsigned int axis, int r, double start)

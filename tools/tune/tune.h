@@ -37,6 +37,11 @@ struct tune_opts {
 	double ferr_max_mm;	/* following-error limit during the test */
 	double hold_s;		/* time at the step before going back */
 	int enable;		/* enable the axis for the test, disable after */
+	/* axes that take the axis' test moves too, each from its own
+	 * set-point, with the same bounds (the gantry test: the pair's other
+	 * side); 0 none */
+	unsigned int follow;
+	int gantry;		/* --gantry: the pair's ramp, coupled or not */
 	const char *csv;	/* the record as CSV, or NULL */
 	const char *plot;	/* PNG or SVG, or NULL */
 	/* --auto (autotune.h): identify, design, then write or not; its
@@ -98,8 +103,6 @@ int tune_parse_option(int c, const char *v, struct tune_opts *o);
 /* The checks of the options together that need no card (the chirp's
  * amplitude within its travel window, its duration): 0 or exit 2. */
 int tune_check_options(struct tune_opts *o);
-/* The axis' set-point is back at start (printed): an exit code. */
-int tune_check_back(struct sh2000 *h, unsigned int axis, double start);
 /* What fn prints, written to path whole (through a memory stream, so a
  * failure leaves no half file): an exit code. */
 int tune_write_csv(const char *path, void (*fn)(FILE *m, const void *ctx),
@@ -129,8 +132,10 @@ struct tune_move {
 	int32_t start;		/* the axis' set-point before the test */
 	double vlim;		/* mm/s: the user's bound and the card's */
 	double ferr0, dac0;	/* the card's limits before the test */
+	/* and every moving axis' (the axis' and o->follow's) */
+	double ferr0s[SH2000_AXES], dac0s[SH2000_AXES];
 	double dac_bound;	/* |DAC| on the card during the test */
-	int enabled_by_us;
+	unsigned int enabled_by_us;	/* the axes the test enabled */
 	/* what the test changed on the card beyond the limits, undone after
 	 * it (after a following-error fault before the way back; NULL:
 	 * nothing): an exit code */
@@ -167,6 +172,8 @@ int tune_move_read(struct tune_move *s, unsigned int rec,
  * an exit code. */
 int tune_move_run(struct tune_move *s, unsigned int signals, double span_s,
 		  unsigned int *rec, int (*move)(struct tune_move *s));
+/* The axis' set-point is back at start (printed): an exit code. */
+int tune_check_back(struct sh2000 *h, unsigned int axis, double start);
 /* The axis disabled again if the test enabled it. */
 void tune_move_end(struct tune_move *s);
 
@@ -178,6 +185,9 @@ void tune_move_end(struct tune_move *s);
 struct tune_ramp {
 	size_t n;
 	double *t, *sp, *enc, *ferr, *dac;
+	/* with a follower (o->follow, one axis): the axis' following error
+	 * minus the follower's, as the card's gantry loop has it; else NULL */
+	double *skew;
 	unsigned char *cruise;	/* 1: the set-point at the ramp's speed */
 	double start;		/* counts */
 	double counts_per_mm;
@@ -187,6 +197,7 @@ struct tune_ramp {
 	double cruise_peak, cruise_rms, accel_peak;
 	size_t cruise_n;
 	double peak_dac;
+	double skew_peak;	/* max |skew| over the record, counts */
 };
 
 /* The default travel of a ramp at v mm/s accelerating at a mm/s^2: room
@@ -201,6 +212,31 @@ void tune_ramp_free(struct tune_ramp *rp);
 /* Following error and set-point speed of a ramp as PNG or SVG. */
 int tune_plot_ramp(const struct tune_ramp *rp, const char *out,
 		   const char *title);
+
+/* ---- the gantry test (gantry.c) ---- */
+
+/* The card's gantry pair and what its ramps measured. */
+struct tune_gantry {
+	unsigned int a, b;	/* the sides, a < b */
+	double gains[3];	/* gantry_kp, _ti, _td as the card has them */
+	double limit;		/* gantry_skew_limit, counts */
+	double start[2];	/* the sides' set-points before, counts */
+	/* the peak skew (counts) with the card's gains (NAN when its
+	 * gantry_kp is 0) and with none */
+	double coupled, uncoupled;
+	double speed_mms, travel_mm, accel_mms2, counts_per_mm;
+	unsigned int enabled_by_us;	/* sides --enable enabled */
+};
+
+/* The pair of which o->axis is a side ramps (o->ramp_mms, default 100
+ * mm/s; o->travel_mm) coupled, then uncoupled, the gains put back: an
+ * exit code as tune_ramp's; *p filled on 0. The sides --enable enabled
+ * stay enabled until tune_gantry_end (always call it). */
+int tune_gantry(struct sh2000 *h, const struct tune_opts *o,
+		struct tune_gantry *p);
+void tune_gantry_end(struct sh2000 *h, struct tune_gantry *p);
+/* tune_gantry, reported, both sides checked back at their start. */
+int tune_run_gantry(struct sh2000 *h, const struct tune_opts *o);
 
 /* ---- the swept sine and the frequency response (chirp.c, freqresp.c,
  * margins.c) ---- */

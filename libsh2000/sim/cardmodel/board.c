@@ -11,6 +11,7 @@
 #include <stdlib.h>
 
 #include "board_sim.h"
+#include "gantry.h"
 #include "sh2000/sh2000_protocol.h"
 
 struct board_axis {
@@ -42,6 +43,7 @@ struct sh2000_board {
 	int stuck;		/* RAM word the DSP cannot write, or -1 */
 	struct record_drop drop;
 	struct sh2000_geometry geom;	/* the machine's (the plants') */
+	struct sh2000_gantry gantry;	/* two axes on one beam, if on */
 };
 
 static uint32_t wrap(int64_t c)
@@ -231,17 +233,37 @@ static uint64_t host_ns(struct sh2000_board *b, uint64_t card_ns)
 	return (uint64_t)((int64_t)card_ns + (int64_t)whole);
 }
 
+static double volts(const struct board_axis *x)
+{
+	return x->dac * volts_per_code(x->range);
+}
+
+/* The beam's two sides move together, the carriage where it was at the
+ * start of the period (it moves some um in one). */
+static void step_gantry(struct sh2000_board *b, double T)
+{
+	const struct sh2000_gantry_config *g = &b->gantry.cfg;
+	struct board_axis *xa = &b->ax[g->side_a], *xb = &b->ax[g->side_b];
+
+	sh2000_gantry_step(&b->gantry, &xa->plant, &xb->plant,
+			   g->carriage_axis >= 0 ?
+				   &b->ax[g->carriage_axis].plant : NULL,
+			   volts(xa), volts(xb), T);
+}
+
 uint64_t sh2000_board_run(struct sh2000_board *b, uint64_t card_ns)
 {
 	uint64_t ns = host_ns(b, card_ns);
 	double T = (double)ns * 1e-9;
 	unsigned int a;
 
+	if (b->gantry.on)
+		step_gantry(b, T);
 	for (a = 0; a < SH2000_AXES; a++) {
 		struct board_axis *x = &b->ax[a];
 
-		sh2000_plant_step(&x->plant, x->dac * volts_per_code(x->range),
-				  T);
+		if (!sh2000_gantry_side(&b->gantry, a))
+			sh2000_plant_step(&x->plant, volts(x), T);
 		index_latch(x);
 	}
 	return ns;
@@ -310,6 +332,29 @@ void sh2000_board_tool(const struct sh2000_board *b, double tool[SH2000_AXES])
 	for (a = 0; a < SH2000_AXES; a++)
 		x[a] = b->ax[a].plant.x_mm;
 	sh2000_geometry_tool(&b->geom, x, tool);
+}
+
+int sh2000_board_set_gantry(struct sh2000_board *b,
+			    const struct sh2000_gantry_config *g)
+{
+	if (!g) {
+		b->gantry.on = 0;
+		return 0;
+	}
+	if (sh2000_gantry_check(g))
+		return -22;
+	b->gantry.cfg = *g;
+	b->gantry.on = 1;
+	return 0;
+}
+
+double sh2000_board_gantry_yaw_mm(const struct sh2000_board *b)
+{
+	const struct sh2000_gantry_config *g = &b->gantry.cfg;
+
+	if (!b->gantry.on)
+		return 0.0;
+	return b->ax[g->side_a].plant.x_mm - b->ax[g->side_b].plant.x_mm;
 }
 
 /* ---- injected faults ---- */

@@ -58,6 +58,12 @@ void sh2000_board_drop_record(struct sh2000_board *b);
 /* Undo jam, forced limits, stuck word and a pending drop. */
 void sh2000_board_clear_faults(struct sh2000_board *b);
 
+/* The machine becomes a gantry (gantry.c; NULL: axes alone again); -22
+ * when g is not one. The beam's yaw, side a - side b in mm (0 without). */
+int sh2000_board_set_gantry(struct sh2000_board *b,
+			    const struct sh2000_gantry_config *g);
+double sh2000_board_gantry_yaw_mm(const struct sh2000_board *b);
+
 /* The machine itself (probes, tests). */
 const struct sh2000_plant *sh2000_board_plant(const struct sh2000_board *b,
 					      unsigned int axis);

@@ -133,3 +133,16 @@ double sh2000_fw_clock_ppm(const struct sh2000_fw *fw)
 {
 	return sh2000_board_clock_ppm(fw->hw);
 }
+
+int sh2000_fw_set_gantry(struct sh2000_fw *fw,
+			 const struct sh2000_gantry_config *g)
+{
+	if (!fw)
+		return -22;
+	return sh2000_board_set_gantry(fw->hw, g);
+}
+
+double sh2000_fw_gantry_yaw_mm(const struct sh2000_fw *fw)
+{
+	return sh2000_board_gantry_yaw_mm(fw->hw);
+}

@@ -145,6 +145,40 @@ uint16_t sh2000_gather_command(struct sh2000_dsp *fw, uint16_t seq,
 /* End of every servo interrupt: trigger, sample. */
 void sh2000_gather_cycle(struct sh2000_dsp *fw);
 
+/* ---- gantry_loop.c: a gantry pair (protocol 1.7) ---- */
+
+struct sh2000_gantry_loop {
+	/* global parameters */
+	int32_t pair;		/* GANTRY_PAIR: the two axes' mask, 0 none */
+	double kp, ti, td;	/* the coupling loop */
+	int32_t skew_limit;	/* counts */
+	int32_t square;		/* counts: side b's switch - side a's */
+	struct sh2000_pid pid;	/* the coupling loop's state */
+	double skew;		/* this cycle's: e_a - e_b, counts */
+	int squaring;		/* homing the pair: enum gantry_squaring */
+	uint64_t sq_cycle;	/* the last HOMING cycle it was looked at */
+};
+
+enum gantry_squaring {
+	GANTRY_SQ_NONE = 0,
+	GANTRY_SQ_HOMING,	/* both sides on their own switches */
+	GANTRY_SQ_MOVE,		/* side b to side a's position */
+};
+
+/* The pair's axes, a < b; 0 when there is none. */
+int sh2000_gantry_axes(const struct sh2000_dsp *fw, unsigned int *a,
+		       unsigned int *b);
+/* GANTRY_PAIR set: the coupling loop starts from rest. */
+void sh2000_gantry_paired(struct sh2000_dsp *fw);
+/* After every axis' PID: the skew check and the coupling loop's share
+ * of both sides' DAC codes. */
+void sh2000_gantry_servo(struct sh2000_dsp *fw, double T);
+/* HOME: an axis of the pair homes both; others home alone. */
+uint16_t sh2000_gantry_home(struct sh2000_dsp *fw, unsigned int axis,
+			    uint32_t flags);
+/* While HOMING, after sh2000_home_cycle(): the pair's squaring. */
+void sh2000_gantry_home_cycle(struct sh2000_dsp *fw, double T);
+
 /* What the DSP's memory holds: the firmware's whole state. */
 struct sh2000_dsp {
 	struct sh2000_board *hw;	/* registers and RAM (board.h) */
@@ -184,11 +218,21 @@ struct sh2000_dsp {
 	uint64_t cycle;		/* servo interrupts taken */
 	struct sh2000_gather gather;	/* its record lives here */
 	struct sh2000_fw_comp comp;	/* compensation tables (comp.c) */
+	struct sh2000_gantry_loop gantry;	/* protocol 1.7 */
 };
 
 static inline int sh2000_axis_enabled(const struct sh2000_fw_axis *ax)
 {
 	return (ax->state & SH2000_AXIS_ENABLED) != 0;
+}
+
+/* Axis a's following error as its loop closes it: the set-point with the
+ * compensation tables' correction, less the counter (the PID's error,
+ * gathered FERR, the gantry's skew; docs/protocol.md 18.3). */
+static inline double sh2000_fw_ferr(const struct sh2000_dsp *fw,
+				    unsigned int a)
+{
+	return fw->ax[a].cmd + fw->comp.off[a] - (double)fw->ax[a].act;
 }
 
 /* The set-point as the host sees it (snapshot CMD, gathered SETPOINT):
@@ -249,6 +293,8 @@ void sh2000_fw_publish_words(struct sh2000_dsp *fw);
 double sh2000_fw_servo_s(const struct sh2000_dsp *fw);
 /* Set-point of axis a becomes x, at rest; the window holds x. */
 void sh2000_fw_hold_at(struct sh2000_dsp *fw, unsigned int a, double x);
+/* A card fault (SH2000_FAULT_*) latched: the card stops (controlled). */
+void sh2000_fw_card_fault(struct sh2000_dsp *fw, uint16_t bit);
 /* The FPGA counter preset: the axis reads `pos` here from now on. */
 void sh2000_fw_set_position(struct sh2000_dsp *fw, unsigned int a, int64_t pos);
 
@@ -277,6 +323,10 @@ uint16_t sh2000_home_start(struct sh2000_dsp *fw, unsigned int axis,
 			   uint32_t flags);
 void sh2000_home_cycle(struct sh2000_dsp *fw, double T);
 void sh2000_home_abort(struct sh2000_fw_axis *ax);
+/* The set-point towards target within AMAX and |v| <= vcap; 1 when
+ * there (the gantry's squaring move). */
+int sh2000_home_move_to(struct sh2000_fw_axis *ax, double target,
+			double vcap, double T);
 
 /* index.c: INDEX_ARM (value: the arm's number) and INDEX_DISARM; results
  * SH2000_RES_*. sh2000_fw_index_cycle runs for each axis every cycle once

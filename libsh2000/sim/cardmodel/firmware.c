@@ -139,6 +139,11 @@ static void card_fault(struct sh2000_dsp *fw, uint16_t bit)
 		fw->state = SH2000_STATE_FAULT;
 }
 
+void sh2000_fw_card_fault(struct sh2000_dsp *fw, uint16_t bit)
+{
+	card_fault(fw, bit);
+}
+
 static void disable_axis(struct sh2000_dsp *fw, unsigned int a)
 {
 	struct sh2000_fw_axis *ax = &fw->ax[a];
@@ -370,7 +375,7 @@ static uint16_t execute(struct sh2000_dsp *fw, uint16_t seq, uint16_t op,
 	case SH2000_CMD_GET_PARAM:
 		return sh2000_fw_get_param(fw, axis, param, value);
 	case SH2000_CMD_HOME:
-		return sh2000_home_start(fw, axis, arg);
+		return sh2000_gantry_home(fw, axis, arg);
 	case SH2000_CMD_STOP:
 		if (in_motion(fw))
 			begin_stop(fw);
@@ -687,6 +692,7 @@ static void motion(struct sh2000_dsp *fw, double T)
 		break;
 	case SH2000_STATE_HOMING:
 		sh2000_home_cycle(fw, T);
+		sh2000_gantry_home_cycle(fw, T);
 		break;
 	case SH2000_STATE_FAULT:
 	case SH2000_STATE_ESTOP:
@@ -700,9 +706,31 @@ static void motion(struct sh2000_dsp *fw, double T)
 
 /* ---- the servo loop ---- */
 
-static void servo(struct sh2000_dsp *fw, double T)
+/* The axes whose loops ran this cycle (ran: a bit each): a DAC at its
+ * limit counts towards DAC_SAT, whichever loop put it there (a gantry
+ * pair's coupling adds its share after the axis' own PID). */
+static void count_saturation(struct sh2000_dsp *fw, unsigned int ran)
 {
 	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		struct sh2000_fw_axis *ax = &fw->ax[a];
+
+		if (!(ran & (1u << a)))
+			continue;
+		if (ax->dac >= ax->prm.dac_limit ||
+		    ax->dac <= -ax->prm.dac_limit) {
+			if (++ax->sat_cycles >= SH2000_FW_DAC_SAT_CYCLES)
+				axis_fault(fw, a, SH2000_AXIS_FAULT_DAC_SAT, 1);
+		} else {
+			ax->sat_cycles = 0;
+		}
+	}
+}
+
+static void servo(struct sh2000_dsp *fw, double T)
+{
+	unsigned int a, ran = 0;
 
 	/* the tables' corrections at the nominal set-points: the loop closes
 	 * on the corrected one, everything else stays nominal */
@@ -726,9 +754,12 @@ static void servo(struct sh2000_dsp *fw, double T)
 		     ax->cmd > (double)ax->prm.soft_max) &&
 		    !(ax->faults & SH2000_AXIS_FAULT_SOFT_LIMIT))
 			axis_fault(fw, a, SH2000_AXIS_FAULT_SOFT_LIMIT, 0);
-		e = ax->cmd + fw->comp.off[a] - (double)ax->act;
+		e = sh2000_fw_ferr(fw, a);
+		/* an emergency stop or a gantry's skew fault held the
+		 * set-point where the carriage was: it brakes to there */
 		if (fabs(e) > (double)ax->prm.ferr_limit &&
-		    fw->state != SH2000_STATE_ESTOP) {
+		    fw->state != SH2000_STATE_ESTOP &&
+		    !(ax->faults & SH2000_AXIS_FAULT_SKEW)) {
 			axis_fault(fw, a, SH2000_AXIS_FAULT_FERR, 1);
 			continue;
 		}
@@ -741,14 +772,10 @@ static void servo(struct sh2000_dsp *fw, double T)
 		ax->dac = sh2000_pid_step(&ax->pid, &g, e,
 					  ax->cmd_v + fw->comp.v[a],
 					  ax->cmd_a + fw->comp.a[a], T);
-		if (ax->dac >= ax->prm.dac_limit ||
-		    ax->dac <= -ax->prm.dac_limit) {
-			if (++ax->sat_cycles >= SH2000_FW_DAC_SAT_CYCLES)
-				axis_fault(fw, a, SH2000_AXIS_FAULT_DAC_SAT, 1);
-		} else {
-			ax->sat_cycles = 0;
-		}
+		ran |= 1u << a;
 	}
+	sh2000_gantry_servo(fw, T);
+	count_saturation(fw, ran);
 }
 
 static void put32(struct sh2000_dsp *fw, unsigned int w, uint32_t v)

@@ -137,7 +137,7 @@ static uint32_t signal(const struct sh2000_dsp *fw, unsigned int a,
 	case SH2000_GS_ENCODER:
 		return (uint32_t)(uint64_t)ax->act;
 	case SH2000_GS_FERR:
-		return f32(ax->cmd + fw->comp.off[a] - (double)ax->act);
+		return f32(sh2000_fw_ferr(fw, a));
 	case SH2000_GS_DAC:
 		return (uint32_t)(int32_t)ax->dac;
 	case SH2000_GS_PID_P:

@@ -174,3 +174,9 @@ void sh2000_home_cycle(struct sh2000_dsp *fw, double T)
 	if (!busy && fw->state == SH2000_STATE_HOMING)
 		fw->state = SH2000_STATE_IDLE;
 }
+
+int sh2000_home_move_to(struct sh2000_fw_axis *ax, double target,
+			double vcap, double T)
+{
+	return move_to(ax, target, vcap, T);
+}

@@ -47,8 +47,39 @@ static int32_t *global_i(struct sh2000_dsp *fw, unsigned int id)
 	case SH2000_GP_STATUS_PERIOD: return &fw->status_period;
 	case SH2000_GP_TIME_SCALE: return &fw->time_scale;
 	case SH2000_GP_TIME_RAMP_MS: return &fw->time_ramp_ms;
+	case SH2000_GP_GANTRY_PAIR: return &fw->gantry.pair;
+	case SH2000_GP_GANTRY_SKEW_LIMIT: return &fw->gantry.skew_limit;
+	case SH2000_GP_GANTRY_SQUARE: return &fw->gantry.square;
 	default: return NULL;
 	}
+}
+
+static double *global_f(struct sh2000_dsp *fw, unsigned int id)
+{
+	switch (id) {
+	case SH2000_GP_GANTRY_KP: return &fw->gantry.kp;
+	case SH2000_GP_GANTRY_TI: return &fw->gantry.ti;
+	case SH2000_GP_GANTRY_TD: return &fw->gantry.td;
+	default: return NULL;
+	}
+}
+
+/* A global parameter's word and its value, whatever its type. */
+static uint32_t global_bits(struct sh2000_dsp *fw, unsigned int id)
+{
+	double *f = global_f(fw, id);
+
+	return f ? sh2000_f32_bits(*f) : (uint32_t)*global_i(fw, id);
+}
+
+static void global_store(struct sh2000_dsp *fw, unsigned int id, double v)
+{
+	double *f = global_f(fw, id);
+
+	if (f)
+		*f = v;
+	else
+		*global_i(fw, id) = (int32_t)v;
 }
 
 uint16_t sh2000_fw_get_param(struct sh2000_dsp *fw, unsigned int axis,
@@ -61,7 +92,7 @@ uint16_t sh2000_fw_get_param(struct sh2000_dsp *fw, unsigned int axis,
 	if (id >= SH2000_GP_FIRST) {
 		if (axis != SH2000_AXIS_GLOBAL)
 			return SH2000_RES_BAD_AXIS;
-		*out = (uint32_t)*global_i(fw, id);
+		*out = global_bits(fw, id);
 		return SH2000_RES_OK;
 	}
 	if (axis >= SH2000_AXES)
@@ -97,7 +128,9 @@ uint16_t sh2000_fw_set_param(struct sh2000_dsp *fw, unsigned int axis,
 		if (id == SH2000_GP_FINE_STEPS &&
 		    !sh2000_timing_ok(fw->coarse_us, (long long)v))
 			return SH2000_RES_BAD_VALUE;
-		*global_i(fw, id) = (int32_t)v;
+		if (id == SH2000_GP_GANTRY_PAIR)
+			sh2000_gantry_paired(fw);	/* a new pair: no history */
+		global_store(fw, id, v);
 		return SH2000_RES_OK;
 	}
 	if (id == SH2000_P_SOFT_MIN && !(v < fw->ax[axis].prm.soft_max))
@@ -130,7 +163,7 @@ void sh2000_fw_default_params(struct sh2000_dsp *fw)
 				*axis_i(&fw->ax[a].prm, id) = (int32_t)pi->def;
 		}
 	for (id = SH2000_GP_FIRST; id < SH2000_GP_END; id++)
-		*global_i(fw, id) = (int32_t)sh2000_param_lookup(id)->def;
+		global_store(fw, id, sh2000_param_lookup(id)->def);
 	for (a = 0; a < SH2000_AXES; a++)
 		sh2000_board_write(fw->hw, a, SH2000_HWREG_DAC_RANGE,
 				   (uint32_t)fw->ax[a].prm.dac_range);

@@ -65,6 +65,7 @@ void sh2000_plant_init(struct sh2000_plant *p,
 	p->rise.crossed = 0;
 	p->fall.crossed = 0;
 	p->cache_T = -1.0;
+	p->cache_m = -1.0;
 	p->cache_e = 0.0;
 	p->steps = 0;
 	p->geom = NULL;
@@ -128,8 +129,14 @@ static void find_index(struct sh2000_plant *p, double x0)
 
 void sh2000_plant_step(struct sh2000_plant *p, double volts, double T)
 {
-	double m = p->cfg.mass_kg, b = p->cfg.friction_ns_per_m;
-	double F = p->cfg.force_n_per_v * volts;
+	sh2000_plant_step_with(p, volts, 0.0, p->cfg.mass_kg, T);
+}
+
+void sh2000_plant_step_with(struct sh2000_plant *p, double volts,
+			    double force_n, double mass_kg, double T)
+{
+	double m = mass_kg, b = p->cfg.friction_ns_per_m;
+	double F = p->cfg.force_n_per_v * volts + force_n;
 	double v0 = p->v_mm_s * 1e-3, x0 = p->x_mm, v1, dx;
 
 	p->rise.crossed = 0;
@@ -142,8 +149,9 @@ void sh2000_plant_step(struct sh2000_plant *p, double volts, double T)
 	if (b > 0.0) {
 		double vss = F / b;
 
-		if (T != p->cache_T) {
+		if (T != p->cache_T || m != p->cache_m) {
 			p->cache_T = T;
+			p->cache_m = m;
 			p->cache_e = exp(-b * T / m);
 		}
 		v1 = vss + (v0 - vss) * p->cache_e;

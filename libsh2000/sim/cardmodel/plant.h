@@ -28,7 +28,7 @@ struct sh2000_plant {
 	/* the index signal's edges in the last step, in the direction of
 	 * travel: rising (into a mark), falling (out of one) */
 	struct sh2000_index_edge rise, fall;
-	double cache_T, cache_e;	/* exp(-b T / m) for the last T */
+	double cache_T, cache_m, cache_e;	/* exp(-b T / m), last T, m */
 	uint64_t steps;		/* periods integrated (switch chatter) */
 	/* the machine's geometry: the scale's pitch error (the axis is
 	 * p->axis of it) */
@@ -45,6 +45,11 @@ void sh2000_plant_set_geometry(struct sh2000_plant *p,
 			       unsigned int axis);
 /* Integrates `T` seconds with the amplifier's input `volts` held. */
 void sh2000_plant_step(struct sh2000_plant *p, double volts, double T);
+/* The same with an outside force (N, held over T) and the moving mass of
+ * this step instead of the configured one: a side of a gantry, which the
+ * beam pulls and whose share of the carriage changes (gantry.c). */
+void sh2000_plant_step_with(struct sh2000_plant *p, double volts,
+			    double force_n, double mass_kg, double T);
 /* The scale's count at the carriage: floor(scale(x) * counts_per_mm),
  * scale(x) the reading with the pitch error. The FPGA
  * counts its pulses; where its counter starts is the board's business. */

@@ -26,7 +26,7 @@ expect 0 "${CTL_RT[@]}" "${D[@]}" params global time_scale && out_has "^time_sca
 # not live: refused with the table's reason, nothing set
 expect 0 "${CTL_RT[@]}" "${D[@]}" params x vmax && vmax_before=$out
 expect 1 "${CTL_RT[@]}" "${D[@]}" params x vmax=100 &&
-	err_has "^sh2000ctl: sim:$NAME: card is running: vmax cannot change while the card moves; only live parameters \(kp ti td kvff kaff ferr_limit host_timeout_ms status_period time_scale time_ramp_ms\) may change now; nothing set$"
+	err_has "^sh2000ctl: sim:$NAME: card is running: vmax cannot change while the card moves; only live parameters \(kp ti td kvff kaff ferr_limit host_timeout_ms status_period time_scale time_ramp_ms gantry_kp gantry_ti gantry_td gantry_skew_limit\) may change now; nothing set$"
 expect 0 "${CTL_RT[@]}" "${D[@]}" params x vmax && [ "$out" = "$vmax_before" ] ||
 	fail "vmax changed after a refusal: '$vmax_before' -> '$out'"
 wait $UP

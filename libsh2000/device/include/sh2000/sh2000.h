@@ -72,6 +72,8 @@ enum sh2000_error {
 	SH2000_EDAC_SAT = 1033,		/* DAC saturated too long */
 	SH2000_ECOUNTER = 1034,		/* implausible encoder counter jump */
 	SH2000_EHOME = 1035,		/* homing failed */
+	SH2000_ESKEW = 1036,		/* a gantry pair's skew beyond its
+					   limit (protocol 1.7) */
 	/* programs and motion (libsh2000-motion) */
 	SH2000_EPROGRAM = 1040,		/* error in an NC program (the message
 					   gives file:line:column) */

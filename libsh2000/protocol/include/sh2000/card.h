@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define SH2000_PROTO_MAJOR		1u
-#define SH2000_PROTO_MINOR		6u
+#define SH2000_PROTO_MINOR		7u
 #define SH2000_PROTO_VERSION		((SH2000_PROTO_MAJOR << 8) | SH2000_PROTO_MINOR)
 #define SH2000_PROTO_VERSION_MAJOR(v)	(((v) >> 8) & 0xffu)
 #define SH2000_PROTO_VERSION_MINOR(v)	((v) & 0xffu)
@@ -32,6 +32,7 @@ extern "C" {
 #define SH2000_PROTO_MINOR_COMP		5u	/* compensation tables (COMP_*) */
 #define SH2000_PROTO_MINOR_INDEX	6u	/* INDEX_ARM while a stream runs,
 						 * the index block (IX_*) */
+#define SH2000_PROTO_MINOR_GANTRY	7u	/* gantry_* parameters, AXIS_FAULT_SKEW */
 
 /* The one definition of the axis count, and of the axes' names (index:
  * axis; the G-code words that move them; tools print them lower case). */
@@ -67,6 +68,9 @@ enum sh2000_card_state {
 #define SH2000_AXIS_FAULT_DAC_SAT	0x0008u	/* DAC saturated too long */
 #define SH2000_AXIS_FAULT_COUNTER	0x0010u	/* implausible counter jump */
 #define SH2000_AXIS_FAULT_HOME		0x0020u	/* homing failed */
+/* protocol 1.7: the gantry pair's skew beyond gantry_skew_limit (both
+ * sides latch it) */
+#define SH2000_AXIS_FAULT_SKEW		0x0040u
 
 /* Axis state bits (SH2000_W_AXIS_STATE), live. */
 #define SH2000_AXIS_ENABLED		0x0001u
@@ -214,8 +218,15 @@ enum sh2000_param {
 	/* protocol 1.1: the card's time base (docs/protocol.md 8.4) */
 	SH2000_GP_TIME_SCALE = 36,		/* I32 0..SH2000_TIME_SCALE_FULL */
 	SH2000_GP_TIME_RAMP_MS = 37,		/* I32 ms for a 0..1 ramp, 1..60000 */
+	/* protocol 1.7: a gantry pair (docs/protocol.md "Gantry pairs") */
+	SH2000_GP_GANTRY_PAIR = 38,		/* I32 axis mask: 0 or two bits */
+	SH2000_GP_GANTRY_KP = 39,		/* F32 DAC codes per count of skew */
+	SH2000_GP_GANTRY_TI = 40,		/* F32 integral time s, 0 = none */
+	SH2000_GP_GANTRY_TD = 41,		/* F32 derivative time s */
+	SH2000_GP_GANTRY_SKEW_LIMIT = 42,	/* I32 counts, > 0 */
+	SH2000_GP_GANTRY_SQUARE = 43,		/* I32 counts: b's switch - a's */
 	SH2000_GP_FIRST = SH2000_GP_COARSE_PERIOD_US,
-	SH2000_GP_END = 38,
+	SH2000_GP_END = 44,
 };
 
 /* TIME_SCALE at full rate: the rate is TIME_SCALE / FULL (0.01 % steps). */
@@ -252,10 +263,14 @@ struct sh2000_param_info {
 const struct sh2000_param_info *sh2000_param_lookup(unsigned int id);
 /* Range check shared by host validation and card acceptance: 0 if ok.
  * Also refuses NaN/infinity, non-integers for I32, values that are not a
- * normal binary32 for F32, and HOME_VEL == 0. Cross-parameter rules
+ * normal binary32 for F32, HOME_VEL == 0 and a GANTRY_PAIR that is not
+ * 0 or two axes. Cross-parameter rules
  * (SOFT_MIN < SOFT_MAX, coarse period divisible into fine steps) are the
  * card's: see SH2000_FW_* below and docs/protocol.md. */
 int sh2000_param_in_range(const struct sh2000_param_info *p, double v);
+/* The protocol minor version that brought parameter id (0: every 1.x
+ * card has it). A host refuses it on a card that reports an older one. */
+unsigned int sh2000_param_since_minor(unsigned int id);
 /* Lookup by the user-visible name; NULL when unknown. */
 const struct sh2000_param_info *sh2000_param_by_name(const char *name);
 /* The names of the live parameters, space separated, in table order, for

@@ -102,6 +102,31 @@ void sh2000_geometry_tool(const struct sh2000_geometry *g,
 double sh2000_geometry_scale(const struct sh2000_geometry *g, unsigned int a,
 			     double x);
 
+/* ---- a gantry (addition): two axes drive one beam ---- */
+
+/* Two axes' motors (sides a and b) carry one beam, joined to it with a
+ * finite yaw stiffness: a difference of their positions is a yaw of the
+ * beam that the joints resist with a spring and a damper. A carriage (the
+ * load) runs along the beam on a third axis; where it is decides how much
+ * of its mass each side carries. Uncoupled loops on the two sides then
+ * leave a yaw under acceleration and under an asymmetric load. */
+struct sh2000_gantry_config {
+	unsigned int side_a, side_b;	/* the two motors' axes, a != b */
+	int carriage_axis;		/* the axis along the beam, or -1 */
+	double beam_kg;			/* the beam, half on each side */
+	double carriage_kg;		/* the carriage and its load */
+	double span_mm;			/* from side a to side b, > 0 */
+	/* the carriage's distance from side a when its axis is at 0 mm;
+	 * without a carriage axis, where it stays */
+	double carriage_at0_mm;
+	double stiffness_n_per_m;	/* yaw: force per m of a - b, >= 0 */
+	double damping_ns_per_m;	/* and per m/s of it, >= 0 */
+};
+
+/* The documented defaults (docs/cardmodel.md "Gantry"): sides y and z
+ * (axes 1 and 2), the carriage on x over 600 mm. */
+void sh2000_gantry_config_default(struct sh2000_gantry_config *g);
+
 /* ---- fault injection ---- */
 
 /* Each acts on the hardware or on the firmware's scheduling, never on the
@@ -191,6 +216,16 @@ void sh2000_fw_comp_offset(const struct sh2000_fw *fw,
 typedef void (*sh2000_fw_observer)(void *ctx, const struct sh2000_probe *p);
 void sh2000_fw_set_observer(struct sh2000_fw *fw, sh2000_fw_observer fn,
 			    void *ctx);
+
+/* Addition: the card's machine becomes a gantry (NULL: independent axes
+ * again). Positions are kept. -22 when the configuration is not one
+ * (sides equal or beyond the axes, a carriage axis that is a side, a span
+ * <= 0, negative masses or stiffness). */
+int sh2000_fw_set_gantry(struct sh2000_fw *fw,
+			 const struct sh2000_gantry_config *g);
+/* The beam's yaw as the machine has it: side a minus side b, mm (0
+ * without a gantry). Tests and benchmarks; a host sees the encoders. */
+double sh2000_fw_gantry_yaw_mm(const struct sh2000_fw *fw);
 
 /* ---- a whole card in virtual time ---- */
 

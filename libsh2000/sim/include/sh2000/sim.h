@@ -101,6 +101,11 @@ uint64_t sh2000_sim_server_cycles(struct sh2000_sim_server *s);
  * cycle every period * (1 + ppm * 1e-6) of CLOCK_MONOTONIC. Applied
  * between two cycles. -EINVAL beyond +-100000. */
 int sh2000_sim_server_set_clock_ppm(struct sh2000_sim_server *s, double ppm);
+/* Addition: the served card's machine becomes a gantry
+ * (sh2000_fw_set_gantry; NULL: independent axes again). Applied between
+ * two cycles. -EINVAL when g is not a gantry the model can run. */
+int sh2000_sim_server_set_gantry(struct sh2000_sim_server *s,
+				 const struct sh2000_gantry_config *g);
 /* The shared-memory object's name ("/sh2000-NAME"; "" when attached). */
 const char *sh2000_sim_server_shm_name(const struct sh2000_sim_server *s);
 

@@ -1,0 +1,187 @@
+// SPDX-License-Identifier: MIT
+/*
+ * A gantry pair on the card (protocol 1.7, docs/protocol.md "Gantry
+ * pairs"): two axes that drive one beam. Each keeps its own set-point and
+ * PID; the DSP sees both encoders every servo cycle, so it also closes a
+ * cross-coupling loop on the pair's skew, the difference of the two
+ * following errors,
+ *   s = (cmd_a - act_a) - (cmd_b - act_b),
+ * cmd the set-point with the compensation tables' correction (1.5),
+ * which is the beam's yaw (act_b - act_a) when both take one set-point,
+ * as LinuxCNC's two joints of one axis do, and which does not fight two
+ * set-points that differ on purpose (each side homing on its own switch).
+ * The loop is the axes' incremental PID (pid.c) with its own gains; its
+ * output u pushes side a by u/2 and side b by -u/2, within the DAC limit.
+ * A skew beyond gantry_skew_limit latches AXIS_FAULT_SKEW on both sides
+ * in the cycle that sees it: both set-points stop at once where the
+ * sides are, as an emergency stop holds them, and the card stops.
+ * HOME on either side homes both, each on its own switch; then side b's
+ * count is shifted by gantry_square (where its switch is, relative to
+ * side a's, on a square beam) and side b moves to side a's position: the
+ * beam ends square, both sides reading the same.
+ */
+#include <math.h>
+
+#include "cardmodel.h"
+
+int sh2000_gantry_axes(const struct sh2000_dsp *fw, unsigned int *a,
+		       unsigned int *b)
+{
+	unsigned int m = (unsigned int)fw->gantry.pair, i, n = 0;
+	unsigned int ax[2] = { 0, 0 };
+
+	for (i = 0; i < SH2000_AXES && n < 2; i++)
+		if (m & (1u << i))
+			ax[n++] = i;
+	if (n != 2)
+		return 0;
+	*a = ax[0];
+	*b = ax[1];
+	return 1;
+}
+
+void sh2000_gantry_paired(struct sh2000_dsp *fw)
+{
+	sh2000_pid_reset(&fw->gantry.pid);
+	fw->gantry.skew = 0.0;
+	fw->gantry.squaring = 0;
+}
+
+/* Both sides stop where they are, now: set-points held at the encoders,
+ * no feed-forward, the PID keeps its output and forgets its errors (no
+ * derivative kick), as the emergency stop does. */
+static void skew_fault(struct sh2000_dsp *fw, unsigned int a, unsigned int b)
+{
+	unsigned int s[2] = { a, b }, i;
+
+	for (i = 0; i < 2; i++) {
+		struct sh2000_fw_axis *ax = &fw->ax[s[i]];
+
+		sh2000_home_abort(ax);
+		sh2000_fw_hold_at(fw, s[i], (double)ax->act);
+		ax->stop_a = 0.0;
+		ax->pid.e1 = 0.0;
+		ax->pid.e2 = 0.0;
+		ax->pid.ff = 0.0;
+		ax->dac = (int16_t)lrint(ax->pid.u);
+		sh2000_fw_latch(fw, s[i], SH2000_AXIS_FAULT_SKEW);
+	}
+	sh2000_pid_reset(&fw->gantry.pid);
+	fw->gantry.squaring = 0;
+	sh2000_fw_card_fault(fw, SH2000_FAULT_AXIS);
+}
+
+static int16_t add_dac(const struct sh2000_fw_axis *ax, double du)
+{
+	double lim = (double)ax->prm.dac_limit, v = (double)ax->dac + du;
+
+	if (v > lim)
+		v = lim;
+	if (v < -lim)
+		v = -lim;
+	return (int16_t)lrint(v);
+}
+
+void sh2000_gantry_servo(struct sh2000_dsp *fw, double T)
+{
+	struct sh2000_gantry_loop *g = &fw->gantry;
+	struct sh2000_fw_axis *xa, *xb;
+	struct sh2000_pid_gains k;
+	unsigned int a, b;
+	double u;
+
+	if (!sh2000_gantry_axes(fw, &a, &b))
+		return;
+	xa = &fw->ax[a];
+	xb = &fw->ax[b];
+	if (!sh2000_axis_enabled(xa) || !sh2000_axis_enabled(xb) ||
+	    fw->state == SH2000_STATE_ESTOP) {
+		sh2000_pid_reset(&g->pid);
+		g->skew = 0.0;
+		return;
+	}
+	/* the loops' errors: a compensation table's correction of one side
+	 * is what that side is meant to do, not skew */
+	g->skew = sh2000_fw_ferr(fw, a) - sh2000_fw_ferr(fw, b);
+	if (fabs(g->skew) > (double)g->skew_limit) {
+		if (!((xa->faults | xb->faults) & SH2000_AXIS_FAULT_SKEW))
+			skew_fault(fw, a, b);
+		return;
+	}
+	k.kp = g->kp;
+	k.ti = g->ti;
+	k.td = g->td;
+	k.kvff = 0.0;
+	k.kaff = 0.0;
+	k.dac_limit = xa->prm.dac_limit < xb->prm.dac_limit ?
+			      xa->prm.dac_limit : xb->prm.dac_limit;
+	(void)sh2000_pid_step(&g->pid, &k, g->skew, 0.0, 0.0, T);
+	u = g->pid.u;
+	xa->dac = add_dac(xa, 0.5 * u);
+	xb->dac = add_dac(xb, -0.5 * u);
+}
+
+uint16_t sh2000_gantry_home(struct sh2000_dsp *fw, unsigned int axis,
+			    uint32_t flags)
+{
+	unsigned int a, b;
+	uint16_t r;
+
+	if (!sh2000_gantry_axes(fw, &a, &b) || (axis != a && axis != b))
+		return sh2000_home_start(fw, axis, flags);
+	if (!sh2000_axis_enabled(&fw->ax[a]) || !sh2000_axis_enabled(&fw->ax[b]))
+		return SH2000_RES_DISABLED;
+	if (fw->ax[a].home != HOME_NONE || fw->ax[b].home != HOME_NONE ||
+	    (fw->gantry.squaring != GANTRY_SQ_NONE &&
+	     fw->state == SH2000_STATE_HOMING))
+		return SH2000_RES_BUSY;
+	r = sh2000_home_start(fw, a, flags);
+	if (r != SH2000_RES_OK)
+		return r;
+	r = sh2000_home_start(fw, b, flags);
+	if (r != SH2000_RES_OK) {
+		sh2000_home_abort(&fw->ax[a]);
+		return r;
+	}
+	fw->gantry.squaring = GANTRY_SQ_HOMING;
+	fw->gantry.sq_cycle = fw->cycle - 1u;	/* motion() runs this cycle */
+	return SH2000_RES_OK;
+}
+
+void sh2000_gantry_home_cycle(struct sh2000_dsp *fw, double T)
+{
+	struct sh2000_gantry_loop *g = &fw->gantry;
+	struct sh2000_fw_axis *xa, *xb;
+	unsigned int a, b;
+
+	if (g->squaring == GANTRY_SQ_NONE || !sh2000_gantry_axes(fw, &a, &b))
+		return;
+	/* a cycle not HOMING since the last (STOP, RESET, a fault, an
+	 * emergency stop): the squaring was abandoned with the homing */
+	if (fw->cycle != g->sq_cycle + 1u) {
+		g->squaring = GANTRY_SQ_NONE;
+		return;
+	}
+	g->sq_cycle = fw->cycle;
+	xa = &fw->ax[a];
+	xb = &fw->ax[b];
+	if (xa->home != HOME_NONE || xb->home != HOME_NONE)
+		return;		/* still on the way to the switches */
+	if (!(xa->state & xb->state & SH2000_AXIS_HOMED)) {
+		g->squaring = GANTRY_SQ_NONE;	/* aborted */
+		return;
+	}
+	if (g->squaring == GANTRY_SQ_HOMING) {
+		double cmd = xb->cmd + (double)g->square;
+
+		sh2000_fw_set_position(fw, b, xb->act + g->square);
+		sh2000_fw_hold_at(fw, b, cmd);
+		g->squaring = GANTRY_SQ_MOVE;
+	}
+	fw->state = SH2000_STATE_HOMING;
+	if (sh2000_home_move_to(xb, xa->cmd, fabs(xb->prm.home_vel), T)) {
+		sh2000_interp_hold(&fw->ip, b, xb->cmd);
+		g->squaring = GANTRY_SQ_NONE;
+		fw->state = SH2000_STATE_IDLE;
+	}
+}

@@ -1,0 +1,185 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * sh2000-tune --gantry's measurement (tune_gantry) on the in-process card
+ * made a gantry (sh2000_fw_set_gantry: sides y and z, the carriage on x
+ * near side y) with the pair of configs/sh2000-gantry: the skew the
+ * uncoupled ramp gathers is the beam's yaw the card model had, the
+ * coupling cuts it at least tenfold, and the card is left as it was (the
+ * coupling's gains, both sides' limits, set-points and enables). A card
+ * without a pair, or an axis that is not a side, moves nothing.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include <cmocka.h>
+
+#include <sh2000/sim.h>
+
+#include "tune.h"
+
+#define G	SH2000_GLOBAL
+#define SIDE_A	1u
+#define SIDE_B	2u
+
+/* configs/sh2000-gantry/gantry.params */
+static const double pair_params[][2] = {
+	{ SH2000_GP_GANTRY_PAIR, 6 },
+	{ SH2000_GP_GANTRY_KP, 5 },
+	{ SH2000_GP_GANTRY_TI, 0.005 },
+	{ SH2000_GP_GANTRY_TD, 0.002 },
+	{ SH2000_GP_GANTRY_SKEW_LIMIT, 20000 },
+};
+
+/* The largest |yaw| of the machine, counts, over every servo cycle. */
+struct yaw_log {
+	struct sh2000_fw *fw;
+	double peak;
+};
+
+static void log_yaw(void *ctx, const struct sh2000_probe *p)
+{
+	struct yaw_log *l = ctx;
+	double y = fabs(sh2000_fw_gantry_yaw_mm(l->fw)) * 1e5;
+
+	(void)p;
+	if (y > l->peak)
+		l->peak = y;
+}
+
+/* The in-process card as a gantry, the carriage 20 mm from side a. */
+static struct sh2000 *open_gantry(int pair, struct sh2000_fw **fw)
+{
+	struct sh2000_sim_config cfg;
+	struct sh2000_gantry_config g;
+	struct sh2000 *h = NULL;
+	char msg[256];
+
+	sh2000_tool_init("test_gantry");
+	sh2000_sim_config_default(&cfg);
+	cfg.axis[0].start_mm = 20;
+	assert_int_equal(sh2000_sim_open(&h, &cfg, msg, sizeof(msg)), 0);
+	*fw = sh2000_cardsim_fw(sh2000_sim_card(h));
+	sh2000_gantry_config_default(&g);
+	assert_int_equal(sh2000_fw_set_gantry(*fw, &g), 0);
+	/* the sides tuned for what they carry, as the card model's gantry
+	 * test tunes them: the acceleration feed-forward for 9 kg (the
+	 * default is for 2), 2000 mm/s^2 (configs/sh2000-gantry's) */
+	for (unsigned int s = SIDE_A; s <= SIDE_B; s++) {
+		assert_int_equal(sh2000_param_set(h, s, SH2000_P_KAFF,
+			sh2000_param_lookup(SH2000_P_KAFF)->def * 9 / 2), 0);
+		assert_int_equal(sh2000_param_set(h, s, SH2000_P_AMAX, 2000), 0);
+	}
+	for (size_t i = 0; pair && i < sizeof(pair_params) / sizeof(pair_params[0]); i++)
+		assert_int_equal(sh2000_param_set(h, G, (unsigned int)pair_params[i][0],
+						  pair_params[i][1]), 0);
+	return h;
+}
+
+/* What the test must leave as it was: the sides' limits and set-points,
+ * their enables, the coupling's gains. */
+static void card_state(struct sh2000 *h, double v[10])
+{
+	struct sh2000_status st;
+	unsigned int k = 0;
+
+	for (unsigned int s = SIDE_A; s <= SIDE_B; s++) {
+		assert_int_equal(sh2000_param_get(h, s, SH2000_P_FERR_LIMIT, &v[k++]), 0);
+		assert_int_equal(sh2000_param_get(h, s, SH2000_P_DAC_LIMIT, &v[k++]), 0);
+	}
+	for (unsigned int i = 1; i <= 3; i++)
+		assert_int_equal(sh2000_param_get(h, G, (unsigned int)pair_params[i][0],
+						  &v[k++]), 0);
+	assert_int_equal(sh2000_poll(h, &st), 0);
+	v[k++] = (double)st.axis[SIDE_A].cmd_counts;
+	v[k++] = (double)st.axis[SIDE_B].cmd_counts;
+	v[k] = (double)(st.axis[SIDE_A].state & st.axis[SIDE_B].state & SH2000_AXIS_ENABLED);
+}
+
+static void coupling_cuts_the_yaw(void **state)
+{
+	struct tune_opts o = { .axis = SIDE_B, .ferr_max_mm = 0.1, .enable = 1 };
+	struct sh2000_fw *fw;
+	struct sh2000 *h = open_gantry(1, &fw);
+	struct yaw_log l = { .fw = fw };
+	struct tune_gantry p;
+	double before[10], after[10];
+
+	(void)state;
+	card_state(h, before);
+	assert_int_equal(sh2000_sim_set_observer(h, log_yaw, &l), 0);
+	assert_int_equal(tune_gantry(h, &o, &p), 0);
+	sh2000_sim_set_observer(h, NULL, NULL);
+	tune_gantry_end(h, &p);
+	card_state(h, after);
+	printf("# gantry ramp %g mm/s over %g mm at %g mm/s^2: peak skew coupled %.1f counts, uncoupled %.1f counts (the machine's peak yaw %.1f counts): %.1fx\n",
+	       p.speed_mms, p.travel_mm, p.accel_mms2, p.coupled, p.uncoupled,
+	       l.peak, p.uncoupled / p.coupled);
+	assert_int_equal(p.a, SIDE_A);
+	assert_int_equal(p.b, SIDE_B);
+	assert_true(p.speed_mms == 100);
+	/* the uncoupled ramp has the largest yaw of both: the record's skew
+	 * is that yaw, to the encoder's quantisation */
+	assert_true(p.uncoupled > 100);
+	assert_true(fabs(p.uncoupled - l.peak) <= 2);
+	assert_true(p.coupled * 10 <= p.uncoupled);
+	for (int i = 0; i < 10; i++)
+		assert_true(after[i] == before[i]);
+	sh2000_close(h);
+}
+
+/* gantry_kp 0: the uncoupled ramp only. */
+static void uncoupled_only(void **state)
+{
+	struct tune_opts o = { .axis = SIDE_A, .ferr_max_mm = 0.1, .enable = 1,
+			       .ramp_mms = -50 };
+	struct sh2000_fw *fw;
+	struct sh2000 *h = open_gantry(1, &fw);
+	struct tune_gantry p;
+
+	(void)state;
+	assert_int_equal(sh2000_param_set(h, G, SH2000_GP_GANTRY_KP, 0), 0);
+	assert_int_equal(tune_gantry(h, &o, &p), 0);
+	tune_gantry_end(h, &p);
+	assert_true(isnan(p.coupled));
+	assert_true(p.uncoupled > 10);
+	assert_true(p.speed_mms == -50);
+	sh2000_close(h);
+}
+
+/* No pair, or not a side: refused before anything moves. */
+static void refused(void **state)
+{
+	struct tune_opts o = { .axis = SIDE_A, .ferr_max_mm = 0.1, .enable = 1 };
+	struct sh2000_fw *fw;
+	struct sh2000 *h = open_gantry(0, &fw);
+	struct sh2000_status st;
+	struct tune_gantry p;
+
+	(void)state;
+	assert_int_equal(tune_gantry(h, &o, &p), SH2000_EXIT_CARD);
+	tune_gantry_end(h, &p);
+	assert_int_equal(sh2000_param_set(h, G, SH2000_GP_GANTRY_PAIR, 6), 0);
+	o.axis = 0;
+	assert_int_equal(tune_gantry(h, &o, &p), SH2000_EXIT_CARD);
+	tune_gantry_end(h, &p);
+	assert_int_equal(sh2000_poll(h, &st), 0);
+	assert_int_equal(st.axis[SIDE_A].state & SH2000_AXIS_ENABLED, 0);
+	assert_int_equal(st.axis[0].state & SH2000_AXIS_ENABLED, 0);
+	sh2000_close(h);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(coupling_cuts_the_yaw),
+		cmocka_unit_test(uncoupled_only),
+		cmocka_unit_test(refused),
+	};
+
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -44,6 +44,20 @@
  * periods takes 800 ticks), rather than jump over what it missed (a
  * step of 40 periods' motion, which the card refuses). */
 #define HSC_SLIP_RATE		0.05
+/* The fill's natural centre is target - 1 records (this tick's record is
+ * pushed half a tick ahead of a card that takes one a period). When the
+ * median over HSC_SLIP_TICKS fresh readings sits this far below it, the
+ * stream lost records it will not get back (the card played them while
+ * the thread was away and nothing owes them), and the queue guards the
+ * card against the thread's lateness by that much less: the stream is
+ * re-centred upwards at HSC_SLIP_RATE. The first card's fill sits on its
+ * centre (the thread follows its clock); a further card's moves within a
+ * record with the phase of its clock against the thread's, so its
+ * allowance is a record wider. */
+#define HSC_LOW_SLACK		2
+/* Readings of the fill kept per window (a fill beyond counts as the last
+ * bin: only a low median is judged). */
+#define HSC_FILL_BINS		128
 /* Ticks of the pins' commands kept, for records pushed late (owed while
  * the ring was full): they hold the command of their own time. */
 #define HSC_CMD_HISTORY		128u
@@ -213,6 +227,11 @@ struct hsc_card {
 	uint64_t cmd_hist_from;
 	int over_ticks;		/* ticks in a row the fill was too far ahead */
 	int recentring;		/* catching up a card that slipped */
+	/* the fill's readings of this window of HSC_SLIP_TICKS (the low
+	 * side's judge), and what the stream still has to add back */
+	uint16_t fill_hist[HSC_FILL_BINS];
+	int fill_n;
+	double raise_left;	/* records */
 
 	struct hsc_index ix[SH2000_AXES];
 	uint64_t ix_fail_tick;	/* tick + 1 of the last index failure */

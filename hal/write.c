@@ -274,8 +274,60 @@ static void start_stream(struct hsc_card *c, int target)
 	c->seen_running = 0;
 	c->over_ticks = 0;
 	c->recentring = 0;
+	memset(c->fill_hist, 0, sizeof(c->fill_hist));
+	c->fill_n = 0;
+	c->raise_left = 0.0;
 	c->delay_valid = 0;
 	c->stream_ticks = -1;	/* this tick's point is in the batch */
+}
+
+/*
+ * The low side of the re-centring: a window of HSC_SLIP_TICKS readings of
+ * how far the stream is ahead; when its median sits HSC_LOW_SLACK (a
+ * further card: one more) below the natural centre, target - 1, the
+ * stream owes the queue the difference, measured as the mean of the
+ * readings within a record or two of the median (a stall's short dip
+ * does not move a median, nor a mean that leaves it out). It is added
+ * back HSC_SLIP_RATE a tick: the card plays the motion that much slower a
+ * while, and its delay is what it was. Returns how far to move the
+ * schedule this tick.
+ */
+static double low_fill(struct hsc_card *c, int ahead, int target)
+{
+	int b, seen = 0, med = -1, slack = HSC_LOW_SLACK + c->tb.follow;
+	long sum = 0, n = 0;
+	double d;
+
+	if (c->recentring)
+		c->fill_n = 0;
+	else if (c->raise_left <= 0.0) {
+		b = ahead < 0 ? 0 : ahead >= HSC_FILL_BINS ?
+		    HSC_FILL_BINS - 1 : ahead;
+		c->fill_hist[b]++;
+		c->fill_n++;
+	}
+	if (c->fill_n >= HSC_SLIP_TICKS) {
+		for (b = 0; b < HSC_FILL_BINS && med < 0; b++) {
+			seen += c->fill_hist[b];
+			if (2 * seen > c->fill_n)
+				med = b;
+		}
+		for (b = med - 2; b <= med + 2; b++)
+			if (b >= 0 && b < HSC_FILL_BINS) {
+				sum += (long)b * c->fill_hist[b];
+				n += c->fill_hist[b];
+			}
+		if (med <= target - 1 - slack && n)
+			c->raise_left = (double)(target - 1) -
+					(double)sum / (double)n;
+		memset(c->fill_hist, 0, sizeof(c->fill_hist));
+		c->fill_n = 0;
+	}
+	if (c->raise_left <= 0.0)
+		return 0.0;
+	d = c->raise_left < HSC_SLIP_RATE ? c->raise_left : HSC_SLIP_RATE;
+	c->raise_left -= d;
+	return d;
 }
 
 /*
@@ -292,7 +344,8 @@ static void start_stream(struct hsc_card *c, int target)
  *
  * Only when that fails does the stream move the card's timeline: a card
  * that slipped for HSC_SLIP_TICKS is caught up gradually (faster
- * records), and a thread that fell so far behind that the ring nearly
+ * records), a stream that lost records for good is filled back as
+ * gradually (slower records), and a thread that fell so far behind that the ring nearly
  * ran dry adds a record (the measured delay is void then). A tick that runs late sees the card ahead by its
  * lateness; a stall of the whole machine, which the card and the thread
  * both catch up, moves nothing.
@@ -328,6 +381,7 @@ static void stream(struct hsc_card *c, int target)
 			c->recentring = 0;
 		if (c->recentring)
 			c->due -= HSC_SLIP_RATE * step;
+		c->due += low_fill(c, ahead, target) * step;
 		/* the ring nearly dry and nothing owed to it but this
 		 * tick's record: the thread fell behind the card, which
 		 * holds this point a period (a record owed from earlier

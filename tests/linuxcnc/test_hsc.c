@@ -444,6 +444,44 @@ static void test_slip_recentred(void **state)
 	rig_close(r);
 }
 
+/* The thread skips four ticks and never runs them (nothing owes the card
+ * the records it played meanwhile): the stream is four records short for
+ * good, which no stall rule restores. The low side of the re-centring
+ * fills them back gradually, and the card's delay is what it was. */
+static void test_lost_refilled(void **state)
+{
+	double cmd[SH2000_AXES] = { 0 }, v = 100.0, delay;
+	struct rig *r = moving_rig(v, cmd);
+	unsigned int fill, low = 1000, fill_end;
+	int k;
+
+	(void)state;
+	for (k = 0; k < 50; k++) {
+		cmd[0] += v * PERIOD_NS * 1e-9;
+		tick(r, cmd);
+	}
+	fill = r->c.st.queue_fill;
+	delay = r->out.delay_ms;
+	r->t_next += 4 * PERIOD_NS;	/* LinuxCNC's time skips nothing */
+	for (k = 0; k < 3 * HSC_SLIP_TICKS + (int)(4 / HSC_SLIP_RATE); k++) {
+		cmd[0] += v * PERIOD_NS * 1e-9;
+		tick(r, cmd);
+		if (!r->out.ok)
+			fail_msg("tick %d: %s (fill %u)", k, r->c.err,
+				 r->c.st.queue_fill);
+		if (k > 5 && k < HSC_SLIP_TICKS && r->c.st.queue_fill < low)
+			low = r->c.st.queue_fill;
+	}
+	fill_end = r->c.st.queue_fill;
+	print_message("four records lost: fill %u, then %u, at the end %u; delay %.3f ms, then %.3f ms\n",
+		      fill, low, fill_end, delay, r->out.delay_ms);
+	assert_true(low + 3 <= fill);
+	assert_true(abs((int)fill_end - (int)fill) <= 1);
+	assert_true(fabs(r->out.delay_ms - delay) < 0.5);
+	assert_int_equal(r->out.underruns, 0);
+	rig_close(r);
+}
+
 /* ---- two cards on their own clocks (the drift test) ---- */
 
 #define DRIFT_PPM	100.0
@@ -625,6 +663,7 @@ int main(void)
 		cmocka_unit_test(test_stopped_by_another_program),
 		cmocka_unit_test(test_stall_caught_up),
 		cmocka_unit_test(test_slip_recentred),
+		cmocka_unit_test(test_lost_refilled),
 		cmocka_unit_test(test_two_cards_drift),
 	};
 

@@ -75,9 +75,14 @@ static int setup(struct harness *h, const struct gantry_move *m)
 	if (m->skew_limit)
 		bad |= h_set_i(h, G, SH2000_GP_GANTRY_SKEW_LIMIT, m->skew_limit);
 	if (m->couple) {
-		bad |= h_set_f(h, G, SH2000_GP_GANTRY_KP, GR_GANTRY_KP);
-		bad |= h_set_f(h, G, SH2000_GP_GANTRY_TI, GR_GANTRY_TI);
-		bad |= h_set_f(h, G, SH2000_GP_GANTRY_TD, GR_GANTRY_TD);
+		static const double def[3] = {
+			GR_GANTRY_KP, GR_GANTRY_TI, GR_GANTRY_TD,
+		};
+		const double *k = m->gains ? m->gains : def;
+
+		bad |= h_set_f(h, G, SH2000_GP_GANTRY_KP, k[0]);
+		bad |= h_set_f(h, G, SH2000_GP_GANTRY_TI, k[1]);
+		bad |= h_set_f(h, G, SH2000_GP_GANTRY_TD, k[2]);
 	}
 	return bad ? -1 : 0;
 }

@@ -19,6 +19,8 @@ struct gantry_move {
 	double dist_mm;		/* the beam's move, both sides */
 	double v_mm_s, a_mm_s2;	/* its top speed and acceleration */
 	int couple;		/* the card's cross-coupling loop on */
+	/* with couple: its gains kp, ti, td; NULL: GR_GANTRY_KP, _TI, _TD */
+	const double *gains;
 	int32_t skew_limit;	/* counts; 0: the table's default */
 	double jam_at_s;	/* side b jams this far into the move; < 0 no */
 };

@@ -128,6 +128,12 @@ void sh2000_gantry_servo(struct sh2000_dsp *fw, double T)
 			skew_fault(fw, a, b);
 		return;
 	}
+	if (g->kp == 0.0) {
+		/* uncoupled: no output left over from gains before (the
+		 * incremental law would hold its last u for ever) */
+		sh2000_pid_reset(&g->pid);
+		return;
+	}
 	k.kp = g->kp;
 	k.ti = g->ti;
 	k.td = g->td;

@@ -75,6 +75,14 @@ int tune_gantry_undo(struct tune_move *s)
 	return r < 0 ? tune_move_fail(s, r, "restoring the coupling's gains") : 0;
 }
 
+int tune_gantry_calm(struct tune_move *s)
+{
+	static const double none[3] = { 0, 0, 0 };
+	int r = tune_gantry_set_gains(s->h, none);
+
+	return r < 0 ? tune_move_fail(s, r, "uncoupling the pair") : 0;
+}
+
 /* The largest |skew| over the record's last GANTRY_TAIL_S: how far the
  * pair is from settled when the ramp's record ends. */
 static double tail_peak(const struct tune_ramp *rp)

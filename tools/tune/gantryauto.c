@@ -13,12 +13,13 @@
  *    half the skew limit, so a loop that does not hold trips it before
  *    the skew fault, and the pair goes back to its start with the
  *    card's gains, ramp.c's undo);
- *  - the same ramp with gantry_kp raised by the gain margin asked
- *    (--gain-margin, default 8 dB) ends without it too, and its skew at
+ *  - the ramp at a tenth of the speed with gantry_kp raised by the gain
+ *    margin asked (--gain-margin, default 8 dB) ends without it too, and its skew at
  *    rest after the ramp is within a quarter of its peak (or the settling
  *    band): the loop is stable with that much more gain, a gain margin
  *    measured on the machine.
- * Nothing acceptable (every candidate tripped or lacked the margin, or
+ * The integral time stays at one servo period or more. Nothing
+ * acceptable (every candidate tripped or lacked the margin, or
  * none cut the uncoupled peak): refused, with which. --apply writes the
  * three gains, all or none.
  */
@@ -35,6 +36,11 @@ static const double seed[3] = { 1.0, 0.01, 0.001 };
 #define GA_MAX_RAMPS	80
 /* A candidate must cut the best peak to this share. */
 #define GA_BETTER	0.98
+/* The raised-gain ramp's speed: the search's divided by this. Whether a
+ * loop holds does not depend on the speed, and one that does not trips
+ * the bound while the pair is slow: disabled by the fault, it coasts
+ * little, and the way back to the start can take it. */
+#define GA_MARGIN_SLOWER	10.0
 /* The raised-gain ramp's skew at rest, at most this share of its peak. */
 #define GA_SETTLED	0.25
 /* The following-error bound of the search's ramps, this share of half
@@ -46,6 +52,7 @@ struct ga_search {
 	struct tune_opts g;	/* the pair's ramps (tune_gantry_measure) */
 	struct tune_gantry *p;
 	double raise;		/* gantry_kp's factor for the margin */
+	double servo_s;		/* the card's servo period */
 	unsigned int ramps;
 	double best[3], best_peak;
 	unsigned int tripped, no_margin, worse;
@@ -56,13 +63,16 @@ struct ga_search {
 static int margin_holds(struct ga_search *s, const double k[3], int *ok)
 {
 	double up[3] = { k[0] * s->raise, k[1], k[2] }, peak, tail;
+	struct tune_opts slow = s->g;
 	int r;
 
 	*ok = 0;
 	if (sh2000_param_in_range(sh2000_param_lookup(SH2000_GP_GANTRY_KP), up[0]))
 		up[0] = sh2000_param_lookup(SH2000_GP_GANTRY_KP)->max;
+	slow.ramp_mms /= GA_MARGIN_SLOWER;
+	slow.travel_mm = 0;	/* the slow ramp's own */
 	s->ramps++;
-	r = tune_gantry_ramp(s->h, &s->g, s->p, up, &peak, &tail);
+	r = tune_gantry_ramp(s->h, &slow, s->p, up, &peak, &tail);
 	if (r == SH2000_EXIT_ABORTED)
 		return 0;
 	if (r)
@@ -82,6 +92,10 @@ static int try_gains(struct ga_search *s, const double k[3], int *ok)
 	for (unsigned int i = 0; i < 3; i++)
 		if (sh2000_param_in_range(sh2000_param_lookup(tune_gantry_gain_ids[i]), k[i]))
 			return 0;
+	/* an integral faster than a servo period steps more per cycle than
+	 * the proportional part: the discrete law is no PID any more */
+	if (k[1] > 0 && k[1] < s->servo_s)
+		return 0;
 	if (s->ramps + 2 > GA_MAX_RAMPS)
 		return 0;
 	s->ramps++;
@@ -196,6 +210,20 @@ static int refuse(const struct ga_search *s)
 	return SH2000_EXIT_CARD;
 }
 
+/* The card's servo period into s->servo_s: an exit code. */
+static int servo_period(struct ga_search *s)
+{
+	double us, fine;
+	int r = sh2000_param_get(s->h, SH2000_GLOBAL, SH2000_GP_COARSE_PERIOD_US, &us);
+
+	if (r >= 0)
+		r = sh2000_param_get(s->h, SH2000_GLOBAL, SH2000_GP_FINE_STEPS, &fine);
+	if (r < 0)
+		return sh2000_tool_fail(s->h, r, "servo period");
+	s->servo_s = us * 1e-6 / fine;
+	return 0;
+}
+
 /* Search, report, write: an exit code (the pair enabled, its baseline
  * measured). */
 static int choose(struct ga_search *s, const struct tune_opts *o)
@@ -203,6 +231,8 @@ static int choose(struct ga_search *s, const struct tune_opts *o)
 	double half = 0.5 * s->p->limit / s->p->counts_per_mm * GA_FERR_SHARE;
 	int r;
 
+	if ((r = servo_period(s)))
+		return r;
 	s->g.gantry_safe = s->p->gains;
 	if (half < s->g.ferr_max_mm)
 		s->g.ferr_max_mm = half;

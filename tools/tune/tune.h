@@ -264,6 +264,10 @@ int tune_gantry_set_gains(struct sh2000 *h, const double g[3]);
 int tune_run_gantry_auto(struct sh2000 *h, const struct tune_opts *o);
 /* The undo of a ramp with o->gantry_safe: those gains on the card. */
 int tune_gantry_undo(struct tune_move *s);
+/* Its calm after a fault: the pair uncoupled (gantry_kp 0 also drops
+ * the coupling's held output), the undo after the reset couples it
+ * again. */
+int tune_gantry_calm(struct tune_move *s);
 /* tune_gantry's figures printed. */
 void tune_gantry_report(const struct tune_gantry *p);
 /* tune_gantry, reported, both sides checked back at their start. */

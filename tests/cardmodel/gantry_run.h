@@ -49,6 +49,12 @@ struct gantry_result {
 #define GR_GANTRY_TI	0.005
 #define GR_GANTRY_TD	0.002
 
+/* A fresh card in h from cfg made a gantry (the model's default beam),
+ * axes x, y, z enabled, y+z the pair with gantry_square square and
+ * gantry_kp GR_GANTRY_KP, ready to HOME: 0, or -1 when the card refused
+ * a command or parameter. */
+int gantry_home_card(struct harness *h, const struct sh2000_sim_config *cfg,
+		     int32_t square);
 /* Runs the move on a fresh card; 0, or -1 when the card refused a
  * command or parameter on the way. */
 int gantry_run(const struct gantry_move *m, struct gantry_result *r);

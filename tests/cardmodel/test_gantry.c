@@ -98,23 +98,13 @@ static double home_pair(int32_t square, int32_t *act_a, int32_t *act_b)
 {
 	static struct harness h;
 	struct sh2000_sim_config cfg;
-	struct sh2000_gantry_config g;
 	unsigned int i;
 	double yaw;
 
 	sh2000_sim_config_default(&cfg);
 	cfg.axis[GR_A].start_mm = cfg.axis[GR_B].start_mm = 20.0;
 	cfg.axis[GR_B].home_mm = 0.3;
-	h_init(&h, &cfg);
-	sh2000_gantry_config_default(&g);
-	assert_int_equal(sh2000_fw_set_gantry(h.fw, &g), 0);
-	assert_int_equal(h_cmd(&h, SH2000_CMD_ENABLE, 0, 0, 0x7, NULL), 0);
-	assert_int_equal(h_set_i(&h, SH2000_AXIS_GLOBAL, SH2000_GP_GANTRY_PAIR,
-				 (1 << GR_A) | (1 << GR_B)), 0);
-	assert_int_equal(h_set_i(&h, SH2000_AXIS_GLOBAL,
-				 SH2000_GP_GANTRY_SQUARE, square), 0);
-	assert_int_equal(h_set_f(&h, SH2000_AXIS_GLOBAL, SH2000_GP_GANTRY_KP,
-				 GR_GANTRY_KP), 0);
+	assert_int_equal(gantry_home_card(&h, &cfg, square), 0);
 	/* HOME on side b: both sides home */
 	assert_int_equal(h_cmd(&h, SH2000_CMD_HOME, GR_B, 0, 0, NULL), 0);
 	assert_true(h_word(&h, SH2000_W_AXIS_STATE(GR_A)) & SH2000_AXIS_HOMING);

@@ -36,7 +36,6 @@ static void home_pair(double start_a, double start_b, double index_b,
 {
 	static struct harness h;
 	struct sh2000_sim_config cfg;
-	struct sh2000_gantry_config g;
 	unsigned int i;
 
 	sh2000_sim_config_default(&cfg);
@@ -46,16 +45,7 @@ static void home_pair(double start_a, double start_b, double index_b,
 	cfg.axis[GR_B].home_mm = 0.3;
 	cfg.axis[GR_B].index_pos_mm = 0.8;
 	cfg.axis[GR_B].index_period_mm = index_b;
-	h_init(&h, &cfg);
-	sh2000_gantry_config_default(&g);
-	assert_int_equal(sh2000_fw_set_gantry(h.fw, &g), 0);
-	assert_int_equal(h_cmd(&h, SH2000_CMD_ENABLE, 0, 0, 0x7, NULL), 0);
-	assert_int_equal(h_set_i(&h, SH2000_AXIS_GLOBAL, SH2000_GP_GANTRY_PAIR,
-				 (1 << GR_A) | (1 << GR_B)), 0);
-	assert_int_equal(h_set_i(&h, SH2000_AXIS_GLOBAL,
-				 SH2000_GP_GANTRY_SQUARE, SQUARE_COUNTS), 0);
-	assert_int_equal(h_set_f(&h, SH2000_AXIS_GLOBAL, SH2000_GP_GANTRY_KP,
-				 GR_GANTRY_KP), 0);
+	assert_int_equal(gantry_home_card(&h, &cfg, SQUARE_COUNTS), 0);
 	assert_int_equal(h_set_f(&h, SH2000_AXIS_GLOBAL, SH2000_GP_GANTRY_TI,
 				 GR_GANTRY_TI), 0);
 	assert_int_equal(h_set_f(&h, SH2000_AXIS_GLOBAL, SH2000_GP_GANTRY_TD,

@@ -75,9 +75,14 @@ static int setup(struct harness *h, const struct gantry_move *m)
 	if (m->skew_limit)
 		bad |= h_set_i(h, G, SH2000_GP_GANTRY_SKEW_LIMIT, m->skew_limit);
 	if (m->couple) {
-		bad |= h_set_f(h, G, SH2000_GP_GANTRY_KP, GR_GANTRY_KP);
-		bad |= h_set_f(h, G, SH2000_GP_GANTRY_TI, GR_GANTRY_TI);
-		bad |= h_set_f(h, G, SH2000_GP_GANTRY_TD, GR_GANTRY_TD);
+		static const double def[3] = {
+			GR_GANTRY_KP, GR_GANTRY_TI, GR_GANTRY_TD,
+		};
+		const double *k = m->gains ? m->gains : def;
+
+		bad |= h_set_f(h, G, SH2000_GP_GANTRY_KP, k[0]);
+		bad |= h_set_f(h, G, SH2000_GP_GANTRY_TI, k[1]);
+		bad |= h_set_f(h, G, SH2000_GP_GANTRY_TD, k[2]);
 	}
 	return bad ? -1 : 0;
 }
@@ -196,4 +201,22 @@ const char *gantry_jam_text(const struct gantry_result *r, char *buf,
 		 (unsigned long long)r->held_cycle, r->fault_v_mm_s,
 		 r->free_side_stop_ms, r->free_side_travel_mm);
 	return buf;
+}
+
+int gantry_home_card(struct harness *h, const struct sh2000_sim_config *cfg,
+		     int32_t square)
+{
+	const unsigned int G = SH2000_AXIS_GLOBAL;
+	struct sh2000_gantry_config g;
+	int bad = 0;
+
+	h_init(h, cfg);
+	sh2000_gantry_config_default(&g);
+	if (sh2000_fw_set_gantry(h->fw, &g))
+		return -1;
+	bad |= h_cmd(h, SH2000_CMD_ENABLE, 0, 0, 0x7, NULL);
+	bad |= h_set_i(h, G, SH2000_GP_GANTRY_PAIR, (1 << GR_A) | (1 << GR_B));
+	bad |= h_set_i(h, G, SH2000_GP_GANTRY_SQUARE, square);
+	bad |= h_set_f(h, G, SH2000_GP_GANTRY_KP, GR_GANTRY_KP);
+	return bad ? -1 : 0;
 }

@@ -19,6 +19,8 @@ struct gantry_move {
 	double dist_mm;		/* the beam's move, both sides */
 	double v_mm_s, a_mm_s2;	/* its top speed and acceleration */
 	int couple;		/* the card's cross-coupling loop on */
+	/* with couple: its gains kp, ti, td; NULL: GR_GANTRY_KP, _TI, _TD */
+	const double *gains;
 	int32_t skew_limit;	/* counts; 0: the table's default */
 	double jam_at_s;	/* side b jams this far into the move; < 0 no */
 };
@@ -47,6 +49,12 @@ struct gantry_result {
 #define GR_GANTRY_TI	0.005
 #define GR_GANTRY_TD	0.002
 
+/* A fresh card in h from cfg made a gantry (the model's default beam),
+ * axes x, y, z enabled, y+z the pair with gantry_square square and
+ * gantry_kp GR_GANTRY_KP, ready to HOME: 0, or -1 when the card refused
+ * a command or parameter. */
+int gantry_home_card(struct harness *h, const struct sh2000_sim_config *cfg,
+		     int32_t square);
 /* Runs the move on a fresh card; 0, or -1 when the card refused a
  * command or parameter on the way. */
 int gantry_run(const struct gantry_move *m, struct gantry_result *r);

@@ -98,23 +98,13 @@ static double home_pair(int32_t square, int32_t *act_a, int32_t *act_b)
 {
 	static struct harness h;
 	struct sh2000_sim_config cfg;
-	struct sh2000_gantry_config g;
 	unsigned int i;
 	double yaw;
 
 	sh2000_sim_config_default(&cfg);
 	cfg.axis[GR_A].start_mm = cfg.axis[GR_B].start_mm = 20.0;
 	cfg.axis[GR_B].home_mm = 0.3;
-	h_init(&h, &cfg);
-	sh2000_gantry_config_default(&g);
-	assert_int_equal(sh2000_fw_set_gantry(h.fw, &g), 0);
-	assert_int_equal(h_cmd(&h, SH2000_CMD_ENABLE, 0, 0, 0x7, NULL), 0);
-	assert_int_equal(h_set_i(&h, SH2000_AXIS_GLOBAL, SH2000_GP_GANTRY_PAIR,
-				 (1 << GR_A) | (1 << GR_B)), 0);
-	assert_int_equal(h_set_i(&h, SH2000_AXIS_GLOBAL,
-				 SH2000_GP_GANTRY_SQUARE, square), 0);
-	assert_int_equal(h_set_f(&h, SH2000_AXIS_GLOBAL, SH2000_GP_GANTRY_KP,
-				 GR_GANTRY_KP), 0);
+	assert_int_equal(gantry_home_card(&h, &cfg, square), 0);
 	/* HOME on side b: both sides home */
 	assert_int_equal(h_cmd(&h, SH2000_CMD_HOME, GR_B, 0, 0, NULL), 0);
 	assert_true(h_word(&h, SH2000_W_AXIS_STATE(GR_A)) & SH2000_AXIS_HOMING);
@@ -177,8 +167,9 @@ static void test_pair_rule(void **state)
 
 /* A DAC at its limit counts towards DAC_SAT whichever loop put it there:
  * side a's own loop holds 60 % of the DAC (its gains 0, its output
- * kept), the coupling's integral the other half of it (gains 0, output
- * kept at the limit: +50 % on side a); the sum, clipped at the limit,
+ * kept), the coupling's integral the other half of it (a kp too small to
+ * move it, no integral or derivative, output kept at the limit: +50 % on
+ * side a; gantry_kp 0 would uncouple and drop it); the sum, clipped at the limit,
  * latches DAC_SAT on side a in the 200th cycle, as an axis' own
  * saturation does. Side b gets -50 % and its own loop: not saturated.
  * (Before the count included the coupling, side a's 60 % never counted.) */
@@ -207,6 +198,7 @@ static void test_dac_sat_counts_coupling(void **state)
 	assert_int_equal(h_set_i(&h, G, SH2000_GP_GANTRY_PAIR,
 				 (1 << GR_A) | (1 << GR_B)), 0);
 	assert_int_equal(h_set_i(&h, G, SH2000_GP_GANTRY_SKEW_LIMIT, 134217727), 0);
+	assert_int_equal(h_set_f(&h, G, SH2000_GP_GANTRY_KP, 1e-9), 0);
 	for (s = GR_A; s <= GR_B; s++)
 		assert_int_equal(h_set_i(&h, s, SH2000_P_FERR_LIMIT, 134217727), 0);
 	for (i = 0; i < sizeof(zero) / sizeof(zero[0]); i++)

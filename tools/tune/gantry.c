@@ -17,8 +17,11 @@
 
 /* The ramp's speed without --ramp, mm/s (within the velocity bound). */
 #define GANTRY_SPEED	100.0
+/* The end of the ramp's record whose skew says whether the pair settled
+ * (the record holds 50 ms at rest after the ramp, ramp.c), s. */
+#define GANTRY_TAIL_S	0.025
 
-static const unsigned int gain_ids[3] = {
+const unsigned int tune_gantry_gain_ids[3] = {
 	SH2000_GP_GANTRY_KP, SH2000_GP_GANTRY_TI, SH2000_GP_GANTRY_TD,
 };
 
@@ -33,7 +36,7 @@ static int read_pair(struct sh2000 *h, const struct tune_opts *o,
 	int r = sh2000_param_get(h, SH2000_GLOBAL, SH2000_GP_GANTRY_PAIR, &mask);
 
 	for (unsigned int i = 0; r >= 0 && i < 3; i++)
-		r = sh2000_param_get(h, SH2000_GLOBAL, gain_ids[i], &p->gains[i]);
+		r = sh2000_param_get(h, SH2000_GLOBAL, tune_gantry_gain_ids[i], &p->gains[i]);
 	if (r >= 0)
 		r = sh2000_param_get(h, SH2000_GLOBAL,
 				     SH2000_GP_GANTRY_SKEW_LIMIT, &p->limit);
@@ -56,36 +59,62 @@ static int read_pair(struct sh2000 *h, const struct tune_opts *o,
 	return 0;
 }
 
-/* The coupling's gains on the card: a library code. */
-static int set_gains(struct sh2000 *h, const double g[3])
+int tune_gantry_set_gains(struct sh2000 *h, const double g[3])
 {
 	int r = 0;
 
 	for (unsigned int i = 0; r >= 0 && i < 3; i++)
-		r = sh2000_param_set(h, SH2000_GLOBAL, gain_ids[i], g[i]);
+		r = sh2000_param_set(h, SH2000_GLOBAL, tune_gantry_gain_ids[i], g[i]);
 	return r;
 }
 
-/* One ramp of the pair with the coupling gains g: its peak skew into
- * *peak (counts), the ramp's figures into p: an exit code, the card's
- * gains put back whatever happened. */
-static int ramp_with(struct sh2000 *h, const struct tune_opts *o,
-		     struct tune_gantry *p, const double g[3], double *peak)
+int tune_gantry_undo(struct tune_move *s)
+{
+	int r = tune_gantry_set_gains(s->h, s->o->gantry_safe);
+
+	return r < 0 ? tune_move_fail(s, r, "restoring the coupling's gains") : 0;
+}
+
+int tune_gantry_calm(struct tune_move *s)
+{
+	static const double none[3] = { 0, 0, 0 };
+	int r = tune_gantry_set_gains(s->h, none);
+
+	return r < 0 ? tune_move_fail(s, r, "uncoupling the pair") : 0;
+}
+
+/* The largest |skew| over the record's last GANTRY_TAIL_S: how far the
+ * pair is from settled when the ramp's record ends. */
+static double tail_peak(const struct tune_ramp *rp)
+{
+	double end = rp->n ? rp->t[rp->n - 1] : 0, m = 0;
+
+	for (size_t i = 0; i < rp->n; i++)
+		if (rp->t[i] >= end - GANTRY_TAIL_S && fabs(rp->skew[i]) > m)
+			m = fabs(rp->skew[i]);
+	return m;
+}
+
+int tune_gantry_ramp(struct sh2000 *h, const struct tune_opts *o,
+		     struct tune_gantry *p, const double g[3], double *peak,
+		     double *tail)
 {
 	struct tune_ramp rp;
-	int r = set_gains(h, g), put;
+	int r = tune_gantry_set_gains(h, g), put;
 
 	if (r < 0)
 		return sh2000_tool_fail(h, r, "set parameter");
 	r = tune_ramp(h, o, &rp);
 	if (!r) {
 		*peak = rp.skew_peak;
+		if (tail)
+			*tail = tail_peak(&rp);
 		p->travel_mm = rp.travel_mm;
 		p->accel_mms2 = rp.accel_mms2;
 		p->counts_per_mm = rp.counts_per_mm;
 	}
 	tune_ramp_free(&rp);
-	put = set_gains(h, p->gains);
+	put = tune_gantry_set_gains(h, p->gains);
 	if (put < 0 && !r)
 		r = sh2000_tool_fail(h, put, "restoring the coupling's gains");
 	return r;
@@ -129,11 +158,9 @@ void tune_gantry_end(struct sh2000 *h, struct tune_gantry *p)
 	p->enabled_by_us = 0;
 }
 
-int tune_gantry(struct sh2000 *h, const struct tune_opts *o,
-		struct tune_gantry *p)
+static int gantry_begin(struct sh2000 *h, const struct tune_opts *o,
+			     struct tune_gantry *p, struct tune_opts *g)
 {
-	static const double none[3] = { 0, 0, 0 };
-	struct tune_opts g = *o;
 	int r;
 
 	p->coupled = p->uncoupled = NAN;
@@ -141,18 +168,36 @@ int tune_gantry(struct sh2000 *h, const struct tune_opts *o,
 	p->enabled_by_us = 0;
 	if ((r = read_pair(h, o, p)) || (r = enable_pair(h, o, p)))
 		return r;
-	g.axis = p->a;
-	g.follow = 1u << p->b;
-	g.enable = 0;	/* enable_pair's */
-	p->speed_mms = g.ramp_mms = o->ramp_mms ? o->ramp_mms : GANTRY_SPEED;
-	if (p->gains[0] > 0)
-		r = ramp_with(h, &g, p, p->gains, &p->coupled);
+	*g = *o;
+	g->axis = p->a;
+	g->follow = 1u << p->b;
+	g->enable = 0;	/* enable_pair's */
+	p->speed_mms = g->ramp_mms = o->ramp_mms ? o->ramp_mms : GANTRY_SPEED;
+	return 0;
+}
+
+int tune_gantry_measure(struct sh2000 *h, const struct tune_opts *o,
+			struct tune_gantry *p, struct tune_opts *g)
+{
+	static const double none[3] = { 0, 0, 0 };
+	int r = gantry_begin(h, o, p, g);
+
+	if (!r && p->gains[0] > 0)
+		r = tune_gantry_ramp(h, g, p, p->gains, &p->coupled, NULL);
 	if (!r)
-		r = ramp_with(h, &g, p, none, &p->uncoupled);
+		r = tune_gantry_ramp(h, g, p, none, &p->uncoupled, NULL);
 	return r;
 }
 
-static void report(const struct tune_gantry *p)
+int tune_gantry(struct sh2000 *h, const struct tune_opts *o,
+		struct tune_gantry *p)
+{
+	struct tune_opts g;
+
+	return tune_gantry_measure(h, o, p, &g);
+}
+
+void tune_gantry_report(const struct tune_gantry *p)
 {
 	double um = 1e3 / p->counts_per_mm;
 
@@ -180,7 +225,7 @@ int tune_run_gantry(struct sh2000 *h, const struct tune_opts *o)
 	int r = tune_gantry(h, o, &p);
 
 	if (!r)
-		report(&p);
+		tune_gantry_report(&p);
 	/* also after an abort: both sides back where they were */
 	if ((!r || r == SH2000_EXIT_ABORTED) &&
 	    (tune_check_back(h, p.a, p.start[0]) ||

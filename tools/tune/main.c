@@ -32,6 +32,8 @@ static void usage(FILE *f)
 "                   [--bandwidth HZ] [--margin DEG] [--gain-margin DB]\n"
 "                   [--travel MM] [OPTIONS]\n"
 "       sh2000-tune [-d DEVICE] AXIS --gantry [--ramp MM/S] [OPTIONS]\n"
+"       sh2000-tune [-d DEVICE] AXIS --gantry --auto [--apply | --dry-run]\n"
+"                   [--gain-margin DB] [--ramp MM/S] [OPTIONS]\n"
 "Tests of one axis' servo loop, gathered on the card every servo cycle;\n"
 "the axis ends where it started.\n"
 "  step:  the set-point steps by MM and holds, then steps back. Prints rise\n"
@@ -101,6 +103,12 @@ static void usage(FILE *f)
 "prints each run's peak skew (the difference of the sides' following\n"
 "errors) and how much the coupling cuts it.\n"
 "  --gantry             the pair's test\n"
+"  --gantry --auto      choose gantry_kp, _ti, _td: ramps of the pair with\n"
+"                       candidate gains, each kept when it cuts the peak\n"
+"                       skew and holds with gantry_kp raised by the gain\n"
+"                       margin (--gain-margin, default 8 dB); prints the\n"
+"                       peak skew with the chosen gains, none and the\n"
+"                       card's; --apply writes the three (all or none)\n"
 "  -h, --help           this help\n"
 "  -V, --version        versions\n"
 "\n"
@@ -110,6 +118,7 @@ static void usage(FILE *f)
 "(the motion stopped on its way, the card's limits and timing put back),\n"
 "8 aborted on the following-error limit (axis back at its start);\n"
 "--auto: 1 also when the design is refused (nothing written); --gantry: 1\n"
+"(--auto: also when no gains are acceptable, nothing written)\n"
 "also when the card has no pair or AXIS is not a side of it (nothing moved),\n"
 "4 also when the skew limit latched SKEW.\n");
 }
@@ -149,11 +158,23 @@ static int check_auto(struct tune_opts *o, int auto_only, int tests)
 	return 0;
 }
 
-/* --gantry's options together: a ramp, nothing of --auto, no pictures. */
-static int check_gantry(struct tune_opts *o, int tests)
+/* --gantry's options together: a ramp, no pictures; with --auto,
+ * --apply or --dry-run and --gain-margin (the search measures a gain
+ * margin, not a phase margin or a bandwidth). */
+static int check_gantry(struct tune_opts *o, int tests, int auto_only)
 {
-	if (o->autotune || o->apply || o->save || o->dry_run)
-		return sh2000_tool_usage(NULL, "--gantry: not with --auto, --apply, --save or --dry-run");
+	if (!o->autotune && (o->apply || o->dry_run || auto_only))
+		return sh2000_tool_usage(NULL, "--gantry: --%s needs --auto",
+					 o->apply ? "apply" : o->dry_run ? "dry-run" : "gain-margin");
+	if (o->save)
+		return sh2000_tool_usage(NULL, "--gantry: not with --save (sh2000ctl params save keeps the card's gains)");
+	if (o->bandwidth_hz || o->margin_deg != TUNE_DEFAULT_MARGIN)
+		return sh2000_tool_usage(NULL, "--gantry --auto: not with --bandwidth or --margin (it measures a gain margin: --gain-margin)");
+	if (o->apply && o->dry_run)
+		return sh2000_tool_usage(NULL, "--dry-run writes nothing: not with --apply");
+	if (o->gm_db < 3 || o->gm_db > 30)
+		return sh2000_tool_usage(NULL, "--gain-margin: %g is not a gain margin 3..30 dB",
+					 o->gm_db);
 	if (tests > 1 || (tests && o->test != TUNE_TEST_RAMP))
 		return sh2000_tool_usage(NULL, "--gantry ramps the pair (--ramp MM/S): not with --step or --chirp");
 	if (o->csv || o->plot)
@@ -253,7 +274,7 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 		return sh2000_tool_usage(NULL, "'%s' is not an axis (x y z a)", argv[optind]);
 	o->axis = (unsigned int)ax;
 	if (o->gantry)
-		return check_gantry(o, tests);
+		return check_gantry(o, tests, auto_only);
 	if (o->autotune || o->apply || o->save || o->dry_run || auto_only)
 		return check_auto(o, auto_only, tests);
 	if (tests != 1)
@@ -326,7 +347,7 @@ int main(int argc, char **argv)
 	if (sh2000_backend(h) == SH2000_BACKEND_SIM)
 		o.enable = 1;
 	if (o.gantry) {
-		r = tune_run_gantry(h, &o);
+		r = o.autotune ? tune_run_gantry_auto(h, &o) : tune_run_gantry(h, &o);
 		sh2000_close(h);
 		return r;
 	}

@@ -215,6 +215,10 @@ int tune_ramp(struct sh2000 *h, const struct tune_opts *o,
 	int r;
 
 	memset(rp, 0, sizeof(*rp));
+	if (o->gantry_safe) {
+		c.m.undo = tune_gantry_undo;
+		c.m.calm = tune_gantry_calm;
+	}
 	if ((r = tune_move_prepare(&c.m)) || (r = check_ramp(&c)))
 		goto out;
 	rp->start = c.m.start;

@@ -222,6 +222,8 @@ int tune_move_recover(struct tune_move *s, int fault)
 	sh2000_tool_msg("%s: %s test aborted: %s (limit %g mm during the test); returning to the start",
 			sh2000_device(s->h), s->name, sh2000_strerror(fault),
 			s->o->ferr_max_mm < s->ferr0 ? s->o->ferr_max_mm : s->ferr0);
+	if (s->calm && (r = s->calm(s)))
+		return r;
 	if ((r = sh2000_reset(s->h)) < 0 || (r = put_limits(s, SH2000_AXES)) < 0 ||
 	    (r = sh2000_enable(s->h, moving(s))) < 0)
 		return tune_move_fail(s, r, "recovering");

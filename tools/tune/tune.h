@@ -42,6 +42,10 @@ struct tune_opts {
 	 * side); 0 none */
 	unsigned int follow;
 	int gantry;		/* --gantry: the pair's ramp, coupled or not */
+	/* the coupling's gains (kp, ti, td) put on the card after a fault,
+	 * before the way back, when a ramp tries gains that may not hold
+	 * (--gantry --auto); NULL: none changed */
+	const double *gantry_safe;
 	const char *csv;	/* the record as CSV, or NULL */
 	const char *plot;	/* PNG or SVG, or NULL */
 	/* --auto (autotune.h): identify, design, then write or not; its
@@ -140,6 +144,10 @@ struct tune_move {
 	 * it (after a following-error fault before the way back; NULL:
 	 * nothing): an exit code */
 	int (*undo)(struct tune_move *s);
+	/* after a fault, before the reset: what keeps the card's own loops
+	 * from going on as the test set them (the gantry search's gains
+	 * that may not hold); NULL: nothing. An exit code. */
+	int (*calm)(struct tune_move *s);
 };
 
 int tune_move_fail(struct tune_move *s, int r, const char *what);
@@ -235,6 +243,33 @@ struct tune_gantry {
 int tune_gantry(struct sh2000 *h, const struct tune_opts *o,
 		struct tune_gantry *p);
 void tune_gantry_end(struct sh2000 *h, struct tune_gantry *p);
+/* tune_gantry, and *g the options of the pair's ramps it took (side a
+ * ramping, side b following) for more of them. */
+int tune_gantry_measure(struct sh2000 *h, const struct tune_opts *o,
+			struct tune_gantry *p, struct tune_opts *g);
+/* One ramp of the pair (g from tune_gantry_measure) with the coupling gains
+ * gains (kp, ti, td): its peak skew into *peak, the largest over the
+ * record's last 25 ms (at rest) into *tail when not NULL (counts), the
+ * ramp's figures into p; p->gains put back on the card whatever
+ * happened: an exit code as tune_ramp's. */
+int tune_gantry_ramp(struct sh2000 *h, const struct tune_opts *g,
+		     struct tune_gantry *p, const double gains[3],
+		     double *peak, double *tail);
+/* The coupling's gains' parameters: gantry_kp, _ti, _td. */
+extern const unsigned int tune_gantry_gain_ids[3];
+/* The coupling's gains (kp, ti, td) on the card: a library code. */
+int tune_gantry_set_gains(struct sh2000 *h, const double g[3]);
+/* --gantry --auto (gantryauto.c): the coupling's gains chosen on the
+ * pair by its ramps, reported, written with --apply: an exit code. */
+int tune_run_gantry_auto(struct sh2000 *h, const struct tune_opts *o);
+/* The undo of a ramp with o->gantry_safe: those gains on the card. */
+int tune_gantry_undo(struct tune_move *s);
+/* Its calm after a fault: the pair uncoupled (gantry_kp 0 also drops
+ * the coupling's held output), the undo after the reset couples it
+ * again. */
+int tune_gantry_calm(struct tune_move *s);
+/* tune_gantry's figures printed. */
+void tune_gantry_report(const struct tune_gantry *p);
 /* tune_gantry, reported, both sides checked back at their start. */
 int tune_run_gantry(struct sh2000 *h, const struct tune_opts *o);
 

@@ -157,6 +157,11 @@ struct sh2000_gantry_loop {
 	double skew;		/* this cycle's: e_a - e_b, counts */
 	int squaring;		/* homing the pair: enum gantry_squaring */
 	uint64_t sq_cycle;	/* the last HOMING cycle it was looked at */
+	/* homing with the index: where each side started creeping towards
+	 * its mark (the counter), how far it crept (counts, kept when it
+	 * left the creep: its count is preset at home), whether it has */
+	int64_t creep_from[2], creep_travel[2];
+	int creeping[2];
 };
 
 enum gantry_squaring {

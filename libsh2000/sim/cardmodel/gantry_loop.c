@@ -15,12 +15,20 @@
  * A skew beyond gantry_skew_limit latches AXIS_FAULT_SKEW on both sides
  * in the cycle that sees it: both set-points stop at once where the
  * sides are, as an emergency stop holds them, and the card stops.
- * HOME on either side homes both, each on its own switch; then side b's
- * count is shifted by gantry_square (where its switch is, relative to
- * side a's, on a square beam) and side b moves to side a's position: the
- * beam ends square, both sides reading the same.
+ * HOME on either side homes both, each on its own switch, and with
+ * HOME_F_INDEX then on its own scale's index mark; then side b's count is
+ * shifted by gantry_square (where its reference, switch or mark, is
+ * relative to side a's on a square beam) and side b moves to side a's
+ * position: the beam ends square, both sides reading the same. While the
+ * sides creep to their marks, what they travel may differ by at most
+ * gantry_skew_limit (a side whose mark does not come would otherwise
+ * drag the beam askew behind the other): beyond it the sides still
+ * creeping latch AXIS_FAULT_HOME, both stop, and neither reads HOMED.
+ * The pair is homed only as a pair: an abandoned squaring clears HOMED
+ * on both sides.
  */
 #include <math.h>
+#include <stdlib.h>
 
 #include "cardmodel.h"
 
@@ -49,8 +57,10 @@ void sh2000_gantry_paired(struct sh2000_dsp *fw)
 
 /* Both sides stop where they are, now: set-points held at the encoders,
  * no feed-forward, the PID keeps its output and forgets its errors (no
- * derivative kick), as the emergency stop does. */
-static void skew_fault(struct sh2000_dsp *fw, unsigned int a, unsigned int b)
+ * derivative kick), as the emergency stop does; the axis fault bits[i]
+ * latched on side i (0: none), the card faulted. */
+static void pair_fault(struct sh2000_dsp *fw, unsigned int a, unsigned int b,
+		       const uint16_t bits[2])
 {
 	unsigned int s[2] = { a, b }, i;
 
@@ -64,11 +74,21 @@ static void skew_fault(struct sh2000_dsp *fw, unsigned int a, unsigned int b)
 		ax->pid.e2 = 0.0;
 		ax->pid.ff = 0.0;
 		ax->dac = (int16_t)lrint(ax->pid.u);
-		sh2000_fw_latch(fw, s[i], SH2000_AXIS_FAULT_SKEW);
+		if (bits[i])
+			sh2000_fw_latch(fw, s[i], bits[i]);
 	}
 	sh2000_pid_reset(&fw->gantry.pid);
 	fw->gantry.squaring = 0;
 	sh2000_fw_card_fault(fw, SH2000_FAULT_AXIS);
+}
+
+static void skew_fault(struct sh2000_dsp *fw, unsigned int a, unsigned int b)
+{
+	static const uint16_t skew[2] = {
+		SH2000_AXIS_FAULT_SKEW, SH2000_AXIS_FAULT_SKEW,
+	};
+
+	pair_fault(fw, a, b, skew);
 }
 
 static int16_t add_dac(const struct sh2000_fw_axis *ax, double du)
@@ -108,6 +128,12 @@ void sh2000_gantry_servo(struct sh2000_dsp *fw, double T)
 			skew_fault(fw, a, b);
 		return;
 	}
+	if (g->kp == 0.0) {
+		/* uncoupled: no output left over from gains before (the
+		 * incremental law would hold its last u for ever) */
+		sh2000_pid_reset(&g->pid);
+		return;
+	}
 	k.kp = g->kp;
 	k.ti = g->ti;
 	k.td = g->td;
@@ -145,7 +171,47 @@ uint16_t sh2000_gantry_home(struct sh2000_dsp *fw, unsigned int axis,
 	}
 	fw->gantry.squaring = GANTRY_SQ_HOMING;
 	fw->gantry.sq_cycle = fw->cycle - 1u;	/* motion() runs this cycle */
+	fw->gantry.creeping[0] = fw->gantry.creeping[1] = 0;
 	return SH2000_RES_OK;
+}
+
+/* The squaring is over without a square pair: neither side is homed. */
+static void abandon(struct sh2000_dsp *fw, unsigned int a, unsigned int b)
+{
+	fw->ax[a].state &= (uint16_t)~SH2000_AXIS_HOMED;
+	fw->ax[b].state &= (uint16_t)~SH2000_AXIS_HOMED;
+	fw->gantry.squaring = GANTRY_SQ_NONE;
+}
+
+/* Homing with the index: the sides' travel since each began creeping to
+ * its mark may differ by gantry_skew_limit at most; beyond it the sides
+ * still creeping latch AXIS_FAULT_HOME and the pair stops. 1 on a
+ * fault. */
+static int creep_check(struct sh2000_dsp *fw, unsigned int a, unsigned int b)
+{
+	struct sh2000_gantry_loop *g = &fw->gantry;
+	unsigned int s[2] = { a, b }, i;
+	uint16_t bits[2] = { 0, 0 };
+
+	for (i = 0; i < 2; i++) {
+		struct sh2000_fw_axis *ax = &fw->ax[s[i]];
+
+		if (ax->home != HOME_CREEP)
+			continue;
+		if (!g->creeping[i]) {
+			g->creeping[i] = 1;
+			g->creep_from[i] = ax->act;
+		}
+		bits[i] = SH2000_AXIS_FAULT_HOME;
+		g->creep_travel[i] = ax->act - g->creep_from[i];
+	}
+	if (!g->creeping[0] || !g->creeping[1] || (!bits[0] && !bits[1]) ||
+	    llabs(g->creep_travel[0] - g->creep_travel[1]) <=
+		    (long long)g->skew_limit)
+		return 0;
+	pair_fault(fw, a, b, bits);
+	abandon(fw, a, b);
+	return 1;
 }
 
 void sh2000_gantry_home_cycle(struct sh2000_dsp *fw, double T)
@@ -159,16 +225,18 @@ void sh2000_gantry_home_cycle(struct sh2000_dsp *fw, double T)
 	/* a cycle not HOMING since the last (STOP, RESET, a fault, an
 	 * emergency stop): the squaring was abandoned with the homing */
 	if (fw->cycle != g->sq_cycle + 1u) {
-		g->squaring = GANTRY_SQ_NONE;
+		abandon(fw, a, b);
 		return;
 	}
 	g->sq_cycle = fw->cycle;
 	xa = &fw->ax[a];
 	xb = &fw->ax[b];
+	if (g->squaring == GANTRY_SQ_HOMING && creep_check(fw, a, b))
+		return;
 	if (xa->home != HOME_NONE || xb->home != HOME_NONE)
-		return;		/* still on the way to the switches */
+		return;		/* still on the way to the references */
 	if (!(xa->state & xb->state & SH2000_AXIS_HOMED)) {
-		g->squaring = GANTRY_SQ_NONE;	/* aborted */
+		abandon(fw, a, b);	/* aborted */
 		return;
 	}
 	if (g->squaring == GANTRY_SQ_HOMING) {

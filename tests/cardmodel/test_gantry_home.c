@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: MIT
+/*
+ * HOME with the index flag on a gantry pair, in virtual time: each side
+ * homes on its own switch, then on its own scale's index mark, and the
+ * squaring moves side b by gantry_square, the offset of the two sides'
+ * marks on a square beam. Wherever the pair starts (two places, and
+ * skewed within what the beam takes) it ends at the same physical place,
+ * square, to a count; a side whose mark never comes is a fault the host
+ * sees, and neither side reads HOMED.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include <cmocka.h>
+
+#include "gantry_run.h"
+
+/* The scales: marks every mm, side a's at -0.5 mm past its switch (at 0),
+ * side b's switch 0.3 mm further on and its marks too, at -0.2 mm: on a
+ * square beam side b's mark is 0.3 mm (30000 counts) above side a's. */
+#define SQUARE_COUNTS	30000
+#define COUNTS_PER_MM	100000.0
+
+struct homed {
+	double xa_mm, xb_mm;	/* the sides' physical places (the plant) */
+	int32_t act_a, act_b;	/* what they read */
+	uint16_t state_a, state_b, faults_b, card_state;
+};
+
+static void home_pair(double start_a, double start_b, double index_b,
+		      struct homed *out)
+{
+	static struct harness h;
+	struct sh2000_sim_config cfg;
+	unsigned int i;
+
+	sh2000_sim_config_default(&cfg);
+	cfg.axis[GR_A].start_mm = start_a;
+	cfg.axis[GR_B].start_mm = start_b;
+	cfg.axis[GR_A].index_pos_mm = 0.5;
+	cfg.axis[GR_B].home_mm = 0.3;
+	cfg.axis[GR_B].index_pos_mm = 0.8;
+	cfg.axis[GR_B].index_period_mm = index_b;
+	assert_int_equal(gantry_home_card(&h, &cfg, SQUARE_COUNTS), 0);
+	assert_int_equal(h_set_f(&h, SH2000_AXIS_GLOBAL, SH2000_GP_GANTRY_TI,
+				 GR_GANTRY_TI), 0);
+	assert_int_equal(h_set_f(&h, SH2000_AXIS_GLOBAL, SH2000_GP_GANTRY_TD,
+				 GR_GANTRY_TD), 0);
+	assert_int_equal(h_cmd(&h, SH2000_CMD_HOME, GR_A, 0,
+			       SH2000_HOME_F_INDEX, NULL), 0);
+	for (i = 0; i < 2000000 &&
+		    h_word(&h, SH2000_W_STATE) == SH2000_STATE_HOMING; i++)
+		h_cycles(&h, 1);
+	h_cycles(&h, 20000);	/* 2 s: settled */
+	out->xa_mm = sh2000_board_plant(h.fw->hw, GR_A)->x_mm;
+	out->xb_mm = sh2000_board_plant(h.fw->hw, GR_B)->x_mm;
+	out->act_a = (int32_t)h.fw->dsp.ax[GR_A].act;
+	out->act_b = (int32_t)h.fw->dsp.ax[GR_B].act;
+	out->state_a = h_word(&h, SH2000_W_AXIS_STATE(GR_A));
+	out->state_b = h_word(&h, SH2000_W_AXIS_STATE(GR_B));
+	out->faults_b = h_word(&h, SH2000_W_AXIS_FAULTS(GR_B));
+	out->card_state = h_word(&h, SH2000_W_STATE);
+	h_fini(&h);
+}
+
+static void print_homed(const char *what, const struct homed *r)
+{
+	print_message("%s: sides at %.6f and %.6f mm (yaw %.1f counts), reading %d and %d\n",
+		      what, r->xa_mm, r->xb_mm,
+		      (r->xa_mm - r->xb_mm) * COUNTS_PER_MM, r->act_a, r->act_b);
+}
+
+static void assert_homed_square(const struct homed *r)
+{
+	const uint16_t both = SH2000_AXIS_HOMED | SH2000_AXIS_INDEX;
+
+	assert_int_equal(r->card_state, SH2000_STATE_IDLE);
+	assert_int_equal(r->state_a & both, both);
+	assert_int_equal(r->state_b & both, both);
+	/* square to a count, both sides reading home_offset (0) */
+	assert_true(fabs(r->xa_mm - r->xb_mm) * COUNTS_PER_MM <= 1.0);
+	assert_true(abs(r->act_a) <= 1 && abs(r->act_b) <= 1);
+	/* at side a's mark: the first past its switch */
+	assert_true(fabs(r->xa_mm + 0.5) * COUNTS_PER_MM <= 1.0);
+}
+
+/* Two starts, one of them skewed by 0.2 mm: the same physical home. */
+static void test_index_home_repeats(void **state)
+{
+	struct homed r[3];
+	unsigned int i;
+
+	(void)state;
+	home_pair(20.0, 20.0, 1.0, &r[0]);
+	home_pair(57.3, 57.3, 1.0, &r[1]);
+	home_pair(33.0, 33.2, 1.0, &r[2]);
+	print_homed("from 20 / 20 mm", &r[0]);
+	print_homed("from 57.3 / 57.3 mm", &r[1]);
+	print_homed("from 33 / 33.2 mm (skewed)", &r[2]);
+	for (i = 0; i < 3; i++) {
+		assert_homed_square(&r[i]);
+		assert_true(fabs(r[i].xa_mm - r[0].xa_mm) * COUNTS_PER_MM <= 1.0);
+		assert_true(fabs(r[i].xb_mm - r[0].xb_mm) * COUNTS_PER_MM <= 1.0);
+	}
+}
+
+/* Side b's scale has no mark: it creeps on to its limit switch, homing
+ * fails with AXIS_FAULT_HOME, and the pair is not homed (side a's mark
+ * alone does not square the beam). */
+static void test_index_never_seen(void **state)
+{
+	struct homed r;
+
+	(void)state;
+	home_pair(20.0, 20.0, 0.0, &r);
+	print_homed("side b without marks", &r);
+	assert_int_equal(r.card_state, SH2000_STATE_FAULT);
+	assert_true(r.faults_b & SH2000_AXIS_FAULT_HOME);
+	assert_int_equal(r.state_a & SH2000_AXIS_HOMED, 0);
+	assert_int_equal(r.state_b & SH2000_AXIS_HOMED, 0);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_index_home_repeats),
+		cmocka_unit_test(test_index_never_seen),
+	};
+
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -20,21 +20,38 @@
 
 #include "calib.h"
 
+static void row(const char *what, double a, double b)
+{
+	printf("  %-52s %9.1f nm %9.1f nm\n", what, 1e6 * a, 1e6 * b);
+}
+
 static void report(const struct cal_config *c, double travel,
 		   const struct cal_path p[2])
 {
-	printf("bench_comp: default machine, program within +-%.0f mm, calibration %u pass(es), step %.1f mm, grid %.1f mm\n",
+	printf("bench_comp: default machine, program within +-%.0f mm, calibration %u pass(es), step %.2f mm, grid %.1f mm\n",
 	       0.45 * travel, c->passes, c->step_mm, c->grid_mm);
-	printf("%-44s %14s %14s\n", "", "without tables", "with tables");
-	printf("%-44s %11.1f nm %11.1f nm\n", "geometric error, largest (every cycle)",
-	       1e6 * p[0].geo_max, 1e6 * p[1].geo_max);
-	printf("%-44s %11.1f nm %11.1f nm\n", "geometric error, rms",
-	       1e6 * p[0].geo_rms, 1e6 * p[1].geo_rms);
-	printf("%-44s %11.1f nm %11.1f nm\n", "at rest at the program's points, largest",
-	       1e6 * p[0].rest_max, 1e6 * p[1].rest_max);
-	printf("%-44s %8.1f counts %8.1f counts\n", "following error, largest (the servo's lag)",
+	printf("%-54s %12s %12s\n", "", "no tables", "tables");
+	printf("the tool against the programmed path, every servo cycle:\n");
+	row("largest", p[0].path_max, p[1].path_max);
+	row("rms", p[0].path_rms, p[1].path_rms);
+	printf("the same square to the path (contour error; the along-path lag\n"
+	       "and a corner's overshoot, the servo's, left out):\n");
+	row("largest", p[0].contour_max, p[1].contour_max);
+	row("rms", p[0].contour_rms, p[1].contour_rms);
+	printf("the tool at rest at the program's points:\n");
+	row("largest", p[0].rest_max, p[1].rest_max);
+	printf("what the path's error is made of (each largest):\n");
+	row("nominal set-point off the path (planner)", p[0].plan_max, p[1].plan_max);
+	row("tables: perfect servo, unquantised scale", p[0].table_max, p[1].table_max);
+	row("servo, moving: tool off that, square to the path", p[0].servo_perp_max,
+	    p[1].servo_perp_max);
+	row("at rest: dither within the counter's count", p[0].quant_max, p[1].quant_max);
+	printf("apart: the tool against the card's reported position (ACT):\n");
+	row("largest (includes the count and its rounding)", p[0].geo_max, p[1].geo_max);
+	row("rms", p[0].geo_rms, p[1].geo_rms);
+	printf("  %-52s %6.1f counts %6.1f counts\n", "following error along the path, largest",
 	       p[0].lag_max, p[1].lag_max);
-	printf("%-44s %13.3f %14.3f\n", "set-point velocity / vmax, largest",
+	printf("  %-52s %12.3f %12.3f\n", "corrected set-point velocity / vmax, largest",
 	       p[0].vel_ratio, p[1].vel_ratio);
 	printf("one count is 10 nm; servo cycles watched: %lu, %lu\n",
 	       p[0].cycles, p[1].cycles);

@@ -103,7 +103,8 @@ int cal_sim_open(struct cal_sim *s, const struct sh2000_sim_config *cfg,
 		return r;
 	s->fw = sh2000_cardsim_fw(sh2000_sim_card(s->h));
 	sh2000_geometry_default(&def);
-	r = sh2000_sim_set_geometry(s->h, g ? g : &def);
+	s->geom = g ? *g : def;
+	r = sh2000_sim_set_geometry(s->h, &s->geom);
 	if (!r)
 		r = sh2000_enable(s->h, (1u << SH2000_AXES) - 1u);
 	if (!r)

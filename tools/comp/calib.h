@@ -70,6 +70,8 @@ struct cal_sim {
 	double scale[SH2000_AXES];
 	double ref_nom[SH2000_AXES], ref_tool[SH2000_AXES];
 	double at[SH2000_AXES];		/* the last target, mm */
+	struct sh2000_geometry geom;	/* the machine's, for the path's
+					 * breakdown (pathmodel.c) */
 	const char *tmp;		/* where tables go before a load */
 };
 
@@ -91,17 +93,48 @@ int cal_load(struct cal_sim *s, const struct cal_tables *t);
 int cal_run(struct cal_sim *s, const struct cal_config *c,
 	    struct cal_tables *t);
 
-/* A program's path on the machine (pathcheck.c): a star of moves in X-Y-Z
- * within +-0.9 half mm of the reference, each point reached at rest. */
+/* A program's path on the machine (pathcheck.c): a star of straight moves
+ * in X-Y-Z within +-0.9 half mm of the reference, each point reached at
+ * rest. Distances in mm over X, Y, Z; "largest" over every servo cycle. */
 struct cal_path {
-	double geo_max, geo_rms;	/* mm: tool against the card's reported
-					 * (nominal) position, every cycle */
-	double rest_max;		/* mm: tool against the program's
-					 * points, at rest */
+	/* what the user sees: the tool (interferometer) against the
+	 * programmed path's exact geometry (its segments) */
+	double path_max, path_rms;
+	/* the same square to the segment's line: the contour error, the
+	 * along-path lead or lag (and a corner's overshoot) left out */
+	double contour_max, contour_rms;
+	double rest_max;		/* tool against the program's points,
+					 * at rest (averaged) */
+	/* what it is made of (each largest over the run) */
+	double plan_max;		/* the nominal set-point off the path */
+	double table_max;		/* the tables: the tool a perfect servo
+					 * on an unquantised scale would give
+					 * for the corrected set-point, against
+					 * the nominal one */
+	double servo_perp_max;		/* moving: the tool against that, square
+					 * to the path (the servo's lag leaving
+					 * the path) */
+	double quant_max;		/* at rest: the same, the dither within
+					 * the counter's count */
+	/* a different question: the tool against the position the card
+	 * reports (its counter, nominal): what a user comparing the laser
+	 * with ACT sees; includes the counter's count and the rounding of
+	 * the correction to counts */
+	double geo_max, geo_rms;
 	double lag_max;			/* counts: the servo's following error */
 	double vel_ratio;		/* corrected set-point velocity / vmax */
 	unsigned long cycles;
 };
+
+/* The model (pathmodel.c). */
+void cal_model_carriage(const struct sh2000_geometry *g,
+			const double tool[SH2000_AXES], double x[SH2000_AXES]);
+void cal_model_offset(const struct cal_sim *s, const double counter[SH2000_AXES],
+		      const double tool[SH2000_AXES], double k[SH2000_AXES]);
+void cal_model_tool(const struct cal_sim *s, const double k[SH2000_AXES],
+		    const double sp[SH2000_AXES], double tool[SH2000_AXES]);
+double cal_model_segment(const double a[3], const double b[3],
+			 const double p[3], const double d[3], double *perp);
 
 int cal_path_check(struct cal_sim *s, double half, struct cal_path *out);
 

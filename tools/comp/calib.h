@@ -69,6 +69,8 @@ struct cal_sim {
 	struct sh2000_fw *fw;
 	double scale[SH2000_AXES];
 	double ref_nom[SH2000_AXES], ref_tool[SH2000_AXES];
+	double ref_sp[SH2000_AXES];	/* counts: the corrected set-point
+					 * the reference was taken at */
 	double at[SH2000_AXES];		/* the last target, mm */
 	struct sh2000_geometry geom;	/* the machine's, for the path's
 					 * breakdown (pathmodel.c) */
@@ -89,6 +91,17 @@ int cal_move(struct cal_sim *s, const double target[SH2000_AXES], double feed);
 int cal_measure(struct cal_sim *s, double err[SH2000_AXES]);
 /* Load tables (through a file, as a user would) and wait for the switch. */
 int cal_load(struct cal_sim *s, const struct cal_tables *t);
+int cal_wait_switch(struct cal_sim *s);
+/* The tool averaged at rest (mm, machine frame). */
+int cal_tool_avg(struct cal_sim *s, double tool[SH2000_AXES]);
+/* Centring on the counter's count (calcentre.c): a table of half a count
+ * on every axis; the reference taken under it; the error at rest moved to
+ * the middle of the corrected set-point's count, with in *loose the axes
+ * (a bit each) whose set-point stood too near a whole count for that. */
+void cal_half_count(struct cal_tables *t, const struct cal_sim *s);
+int cal_reference(struct cal_sim *s);
+int cal_measure_centred(struct cal_sim *s, double err[SH2000_AXES],
+			unsigned int *loose);
 /* The whole calibration: passes over lines and the grid. */
 int cal_run(struct cal_sim *s, const struct cal_config *c,
 	    struct cal_tables *t);

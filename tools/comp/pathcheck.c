@@ -13,8 +13,6 @@
  */
 #include <math.h>
 #include <string.h>
-#include <stdlib.h>
-#include <stdio.h>
 
 #include "calib.h"
 
@@ -57,8 +55,6 @@ static void against_path(struct watch *w, const double pt[3])
 	for (a = 0; a < 3; a++)
 		rel[a] = pt[a] - w->seg_a[a];
 	dist = cal_model_segment(w->seg_a, w->seg_b, pt, rel, &line);
-	if (getenv("DBG") && line > o->contour_max && line > 8e-6)
-		fprintf(stderr, "contour %.1f still %.4f\n", line * 1e6, w->still_s);
 	o->path_max = fmax(o->path_max, dist);
 	w->sq += dist * dist;
 	o->contour_max = fmax(o->contour_max, line);
@@ -138,9 +134,7 @@ static void observe(void *ctx, const struct sh2000_probe *p)
 			c[a] = p->axis[a].actual;
 		cal_model_offset(s, c, w->prev_tool, k);
 		if (!w->have_ref) {
-			for (a = 0; a < SH2000_AXES; a++)
-				c[a] = s->ref_nom[a] * s->scale[a];
-			cal_model_tool(s, k, c, w->ref_ideal);
+			cal_model_tool(s, k, s->ref_sp, w->ref_ideal);
 			w->have_ref = 1;
 		}
 		breakdown(w, p, off, k);

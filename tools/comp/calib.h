@@ -118,6 +118,10 @@ struct cal_path {
 	double contour_max, contour_rms;
 	double rest_max;		/* tool against the program's points,
 					 * at rest (averaged) */
+	/* the path the corrected set-points describe: the tool a perfect
+	 * servo on an unquantised scale would give, against the segments
+	 * (the planner's and the tables' parts together, the servo's out) */
+	double setpoint_max;
 	/* what it is made of (each largest over the run) */
 	double plan_max;		/* the nominal set-point off the path */
 	double table_max;		/* the tables: the tool a perfect servo

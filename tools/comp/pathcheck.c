@@ -93,6 +93,10 @@ static void breakdown(struct watch *w, const struct sh2000_probe *p,
 		o->quant_max = fmax(o->quant_max, norm3(d));
 	o->plan_max = fmax(o->plan_max,
 			   cal_model_segment(w->seg_a, w->seg_b, nom, d, &perp));
+	for (a = 0; a < 3; a++)
+		et[a] += nom[a];	/* the model's tool, from the reference */
+	o->setpoint_max = fmax(o->setpoint_max,
+			       cal_model_segment(w->seg_a, w->seg_b, et, d, &perp));
 }
 
 /* The tool against the card's reported (nominal) counter; the servo's

@@ -54,6 +54,7 @@ static void report(const struct cal_config *c, double travel,
 	       "and a corner's overshoot, the servo's, left out):\n");
 	ROW("largest", contour_max);
 	ROW("rms", contour_rms);
+	ROW("largest along one axis", contour_axis_max);
 	printf("the corrected set-points' path (a perfect servo's tool):\n");
 	ROW("largest", setpoint_max);
 	printf("the tool at rest at the program's points (averaged):\n");
@@ -70,6 +71,10 @@ static void report(const struct cal_config *c, double travel,
 	       p[0].lag_max, p[1].lag_max, p[2].lag_max);
 	printf("  %-50s %11.3f %11.3f %11.3f\n", "corrected set-point velocity / vmax, largest",
 	       p[0].vel_ratio, p[1].vel_ratio, p[2].vel_ratio);
+	printf("  %-50s %11.3f %11.3f %11.3f\n", "corrected set-point acceleration / amax, largest",
+	       p[0].acc_ratio, p[1].acc_ratio, p[2].acc_ratio);
+	printf("  %-50s %11lu %11lu %11lu\n", "cycles with a set-point outside the soft limits",
+	       p[0].outside, p[1].outside, p[2].outside);
 	printf("one count is 10 nm; servo cycles watched: %lu, %lu, %lu\n",
 	       p[0].cycles, p[1].cycles, p[2].cycles);
 }

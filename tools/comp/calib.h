@@ -116,6 +116,7 @@ struct cal_path {
 	/* the same square to the segment's line: the contour error, the
 	 * along-path lead or lag (and a corner's overshoot) left out */
 	double contour_max, contour_rms;
+	double contour_axis_max;	/* its largest part along one axis */
 	double rest_max;		/* tool against the program's points,
 					 * at rest (averaged) */
 	/* the path the corrected set-points describe: the tool a perfect
@@ -140,6 +141,9 @@ struct cal_path {
 	double geo_max, geo_rms;
 	double lag_max;			/* counts: the servo's following error */
 	double vel_ratio;		/* corrected set-point velocity / vmax */
+	double acc_ratio;		/* its acceleration / amax */
+	unsigned long outside;		/* cycles with a set-point outside the
+					 * axis' soft limits */
 	unsigned long cycles;
 };
 
@@ -151,7 +155,7 @@ void cal_model_offset(const struct cal_sim *s, const double counter[SH2000_AXES]
 void cal_model_tool(const struct cal_sim *s, const double k[SH2000_AXES],
 		    const double sp[SH2000_AXES], double tool[SH2000_AXES]);
 double cal_model_segment(const double a[3], const double b[3],
-			 const double p[3], const double d[3], double *perp);
+			 const double p[3], const double d[3], double perp[3]);
 
 int cal_path_check(struct cal_sim *s, double half, struct cal_path *out);
 

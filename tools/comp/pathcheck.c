@@ -22,6 +22,10 @@ struct watch {
 	double prev_sp[SH2000_AXES], prev_tool[SH2000_AXES];
 	double prev_nom[SH2000_AXES];
 	double vmax[SH2000_AXES];	/* counts/s */
+	double amax[SH2000_AXES];	/* counts/s^2 */
+	double soft_lo[SH2000_AXES], soft_hi[SH2000_AXES];	/* counts */
+	double prev_v[SH2000_AXES];	/* the set-point's velocity, counts/s */
+	unsigned long cycles_seen;
 	double ref_ideal[SH2000_AXES];	/* the model's tool at the reference */
 	double seg_a[3], seg_b[3];	/* the segment being run, mm from the
 					 * reference */
@@ -49,12 +53,15 @@ static double norm3(const double v[3])
 static void against_path(struct watch *w, const double pt[3])
 {
 	struct cal_path *o = w->out;
-	double rel[3], line, dist;
+	double rel[3], v[3], line, dist;
 	unsigned int a;
 
 	for (a = 0; a < 3; a++)
 		rel[a] = pt[a] - w->seg_a[a];
-	dist = cal_model_segment(w->seg_a, w->seg_b, pt, rel, &line);
+	dist = cal_model_segment(w->seg_a, w->seg_b, pt, rel, v);
+	line = norm3(v);
+	for (a = 0; a < 3; a++)
+		o->contour_axis_max = fmax(o->contour_axis_max, fabs(v[a]));
 	o->path_max = fmax(o->path_max, dist);
 	w->sq += dist * dist;
 	o->contour_max = fmax(o->contour_max, line);
@@ -67,7 +74,7 @@ static void breakdown(struct watch *w, const struct sh2000_probe *p,
 	struct cal_sim *s = w->s;
 	struct cal_path *o = w->out;
 	double sp[SH2000_AXES], ideal[SH2000_AXES], tool[SH2000_AXES];
-	double pt[3], nom[3], d[3], et[3], perp;
+	double pt[3], nom[3], d[3], et[3], perp[3];
 	double T = 1e-9 * (double)sh2000_fw_servo_period_ns(s->fw);
 	unsigned int a;
 	int moving = 0;
@@ -86,21 +93,22 @@ static void breakdown(struct watch *w, const struct sh2000_probe *p,
 	w->still_s = moving ? 0.0 : w->still_s + T;
 	against_path(w, pt);
 	o->table_max = fmax(o->table_max, norm3(et));
-	cal_model_segment(w->seg_a, w->seg_b, pt, d, &perp);
+	cal_model_segment(w->seg_a, w->seg_b, pt, d, perp);
 	if (w->still_s < SETTLED_S)
-		o->servo_perp_max = fmax(o->servo_perp_max, perp);
+		o->servo_perp_max = fmax(o->servo_perp_max, norm3(perp));
 	else
 		o->quant_max = fmax(o->quant_max, norm3(d));
 	o->plan_max = fmax(o->plan_max,
-			   cal_model_segment(w->seg_a, w->seg_b, nom, d, &perp));
+			   cal_model_segment(w->seg_a, w->seg_b, nom, d, perp));
 	for (a = 0; a < 3; a++)
 		et[a] += nom[a];	/* the model's tool, from the reference */
 	o->setpoint_max = fmax(o->setpoint_max,
-			       cal_model_segment(w->seg_a, w->seg_b, et, d, &perp));
+			       cal_model_segment(w->seg_a, w->seg_b, et, d, perp));
 }
 
-/* The tool against the card's reported (nominal) counter; the servo's
- * lag and the set-point's velocity. */
+/* The corrected set-points against the axes' limits (vmax, amax, the soft
+ * limits); the tool against the card's reported (nominal) counter; the
+ * servo's lag. */
 static void reported(struct watch *w, const struct sh2000_probe *p,
 		     const double off[SH2000_AXES])
 {
@@ -109,6 +117,19 @@ static void reported(struct watch *w, const struct sh2000_probe *p,
 	double T = 1e-9 * (double)sh2000_fw_servo_period_ns(s->fw);
 	unsigned int a;
 
+	for (a = 0; a < SH2000_AXES; a++) {
+		double sp = p->axis[a].fine_cmd + off[a];
+		double v = (sp - w->prev_sp[a]) / T;
+
+		o->vel_ratio = fmax(o->vel_ratio, fabs(v) / w->vmax[a]);
+		if (w->cycles_seen > 1)
+			o->acc_ratio = fmax(o->acc_ratio, fabs(v - w->prev_v[a]) /
+					    T / w->amax[a]);
+		w->prev_v[a] = v;
+		if (sp < w->soft_lo[a] || sp > w->soft_hi[a])
+			o->outside++;
+	}
+	w->cycles_seen++;
 	for (a = 0; a < 3; a++) {
 		/* the counter was read at the cycle's start: where the last
 		 * cycle left the tool */
@@ -120,8 +141,6 @@ static void reported(struct watch *w, const struct sh2000_probe *p,
 		o->geo_max = fmax(o->geo_max, fabs(e));
 		w->geo_sq += e * e;
 		o->lag_max = fmax(o->lag_max, fabs(sp - p->axis[a].actual));
-		o->vel_ratio = fmax(o->vel_ratio, fabs(sp - w->prev_sp[a]) /
-				    T / w->vmax[a]);
 	}
 }
 
@@ -194,8 +213,20 @@ int cal_path_check(struct cal_sim *s, double half, struct cal_path *out)
 	w.s = s;
 	w.out = out;
 	for (a = 0; !r && a < SH2000_AXES; a++) {
+		/* user units (mm) to the card's counts */
 		r = sh2000_param_get(s->h, (int)a, SH2000_P_VMAX, &w.vmax[a]);
-		w.vmax[a] *= s->scale[a];	/* mm/s to counts/s */
+		if (!r)
+			r = sh2000_param_get(s->h, (int)a, SH2000_P_AMAX, &w.amax[a]);
+		if (!r)
+			r = sh2000_param_get(s->h, (int)a, SH2000_P_SOFT_MIN,
+					     &w.soft_lo[a]);
+		if (!r)
+			r = sh2000_param_get(s->h, (int)a, SH2000_P_SOFT_MAX,
+					     &w.soft_hi[a]);
+		w.vmax[a] *= s->scale[a];
+		w.amax[a] *= s->scale[a];
+		w.soft_lo[a] *= s->scale[a];
+		w.soft_hi[a] *= s->scale[a];
 	}
 	if (!r)
 		r = sh2000_sim_set_observer(s->h, observe, &w);

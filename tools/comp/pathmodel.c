@@ -72,10 +72,9 @@ void cal_model_tool(const struct cal_sim *s, const double k[SH2000_AXES],
 /* The distance of p from the segment a-b (X, Y, Z) and, in perp, the part
  * of d that is square to the segment. */
 double cal_model_segment(const double a[3], const double b[3],
-			 const double p[3], const double d[3], double *perp)
+			 const double p[3], const double d[3], double perp[3])
 {
 	double u[3], q[3], len2 = 0.0, t = 0.0, along = 0.0, dist = 0.0;
-	double dd = 0.0;
 	unsigned int i;
 
 	for (i = 0; i < 3; i++) {
@@ -89,8 +88,7 @@ double cal_model_segment(const double a[3], const double b[3],
 	for (i = 0; i < 3; i++) {
 		q[i] = p[i] - (a[i] + t * u[i]);
 		dist += q[i] * q[i];
-		dd += (d[i] - along * u[i]) * (d[i] - along * u[i]);
+		perp[i] = d[i] - along * u[i];
 	}
-	*perp = sqrt(dd);
 	return sqrt(dist);
 }

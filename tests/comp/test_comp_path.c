@@ -111,19 +111,32 @@ static void corrected_path(void **state)
 	assert_within_limits(&after);
 }
 
+/* The calibration's tables go through a file, as a user's would. */
+static int make_file(void **state)
+{
+	int fd;
+
+	(void)state;
+	snprintf(path, sizeof(path), "/tmp/test-comp-path-XXXXXX");
+	fd = mkstemp(path);
+	if (fd < 0)
+		return -1;
+	close(fd);
+	return 0;
+}
+
+static int remove_file(void **state)
+{
+	(void)state;
+	unlink(path);
+	return 0;
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(corrected_path),
 	};
-	int fd, r;
 
-	snprintf(path, sizeof(path), "/tmp/test-comp-XXXXXX");
-	fd = mkstemp(path);
-	if (fd < 0)
-		return 1;
-	close(fd);
-	r = cmocka_run_group_tests(tests, NULL, NULL);
-	unlink(path);
-	return r;
+	return cmocka_run_group_tests(tests, make_file, remove_file);
 }

@@ -80,7 +80,8 @@ struct cal_sim {
 /* Open `sim` (cfg NULL: the default plants) with geometry g (NULL: the
  * default machine's errors, sh2000_geometry_default()), enable every axis
  * and take the reference (the interferometer zeroed where the machine
- * stands). */
+ * stands, under a half-count table, centred on the count: cal_reference();
+ * no tables are loaded after). */
 int cal_sim_open(struct cal_sim *s, const struct sh2000_sim_config *cfg,
 		 const struct sh2000_geometry *g, const char *tmp, char *msg,
 		 size_t len);

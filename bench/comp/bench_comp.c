@@ -55,6 +55,8 @@ static void report(const struct cal_config *c, double travel,
 	ROW("largest", contour_max);
 	ROW("rms", contour_rms);
 	ROW("largest along one axis", contour_axis_max);
+	printf("  %-50s %11lu %11lu %11lu\n", "cycles over one count",
+	       p[0].contour_over, p[1].contour_over, p[2].contour_over);
 	printf("the corrected set-points' path (a perfect servo's tool):\n");
 	ROW("largest", setpoint_max);
 	printf("the tool at rest at the program's points (averaged):\n");

@@ -26,9 +26,10 @@ static char path[64];
 
 static void show(const char *what, const struct cal_path *p)
 {
-	print_message("%s: path %.1f nm, contour %.1f nm (axis %.1f), set-points %.1f nm, tables %.1f nm, rest %.1f nm, v/vmax %.3f, a/amax %.3f\n",
+	print_message("%s: path %.1f nm, contour %.1f nm (axis %.1f, %lu of %lu cycles over a count), set-points %.1f nm, tables %.1f nm, rest %.1f nm, v/vmax %.3f, a/amax %.3f\n",
 		      what, 1e6 * p->path_max, 1e6 * p->contour_max,
-		      1e6 * p->contour_axis_max, 1e6 * p->setpoint_max,
+		      1e6 * p->contour_axis_max, p->contour_over, p->cycles,
+		      1e6 * p->setpoint_max,
 		      1e6 * p->table_max, 1e6 * p->rest_max, p->vel_ratio,
 		      p->acc_ratio);
 }

@@ -118,6 +118,8 @@ struct cal_path {
 	 * along-path lead or lag (and a corner's overshoot) left out */
 	double contour_max, contour_rms;
 	double contour_axis_max;	/* its largest part along one axis */
+	unsigned long contour_over;	/* cycles with it over one count (the
+					 * largest of X's, Y's and Z's) */
 	double rest_max;		/* tool against the program's points,
 					 * at rest (averaged) */
 	/* the path the corrected set-points describe: the tool a perfect

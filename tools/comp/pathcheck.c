@@ -31,6 +31,7 @@ struct watch {
 					 * reference */
 	double sq, contour_sq, geo_sq;
 	double still_s;			/* how long the set-point has stood */
+	double count_mm;		/* the largest count of X, Y, Z */
 	int have_prev, have_ref;
 };
 
@@ -65,6 +66,8 @@ static void against_path(struct watch *w, const double pt[3])
 	o->path_max = fmax(o->path_max, dist);
 	w->sq += dist * dist;
 	o->contour_max = fmax(o->contour_max, line);
+	if (line > w->count_mm)
+		o->contour_over++;
 	w->contour_sq += line * line;
 }
 
@@ -227,6 +230,8 @@ int cal_path_check(struct cal_sim *s, double half, struct cal_path *out)
 		w.amax[a] *= s->scale[a];
 		w.soft_lo[a] *= s->scale[a];
 		w.soft_hi[a] *= s->scale[a];
+		if (a < 3)
+			w.count_mm = fmax(w.count_mm, 1.0 / s->scale[a]);
 	}
 	if (!r)
 		r = sh2000_sim_set_observer(s->h, observe, &w);

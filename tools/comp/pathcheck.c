@@ -5,11 +5,12 @@
  * interferometer) against the program's segment being run, and what that
  * is made of, from the machine's model (pathmodel.c): the nominal
  * set-point off the segment, the tables' own error, the servo's deviation
- * square to the path while it moves and the dither within a count at
+ * square to the path while it moves and its hunting across a count at
  * rest. At rest at each of the program's points the tool against the
  * point. Apart: the tool against the position the card reports, the
- * servo's following error and the corrected set-point's velocity against
- * vmax. The benchmark prints it, the tests bound it.
+ * servo's following error and the corrected set-points against every
+ * axis' vmax, amax and soft limits. The benchmark prints it, the tests
+ * bound it.
  */
 #include <math.h>
 #include <string.h>
@@ -39,10 +40,6 @@ struct watch {
  * as long before it measures). */
 #define SETTLED_S	0.03
 
-/* What the user sees and what it is made of (calib.h): tool against the
- * segment; the nominal set-point against it; the model's tool for the
- * corrected set-point against the nominal one; the tool against the
- * model's, square to the path (moving) or whole (at rest). */
 static double norm3(const double v[3])
 {
 	return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -71,6 +68,10 @@ static void against_path(struct watch *w, const double pt[3])
 	w->contour_sq += line * line;
 }
 
+/* What the user sees and what it is made of (calib.h): tool against the
+ * segment; the nominal set-point against it; the model's tool for the
+ * corrected set-point against the nominal one; the tool against the
+ * model's, square to the path (moving) or whole (at rest). */
 static void breakdown(struct watch *w, const struct sh2000_probe *p,
 		      const double off[SH2000_AXES], const double k[SH2000_AXES])
 {

@@ -1,57 +1,152 @@
 // SPDX-License-Identifier: MIT
 /*
- * bench_comp: how far the simulated machine's tool is from where it was
- * programmed, along a program's path, without and with compensation tables
- * calibrated on the machine itself (sh2000-comp's calibration; the path
- * and what is measured: tools/comp/pathcheck.c). Prints:
- *  - the geometric error every servo cycle: the tool (the interferometer)
- *    against the position the card reports (nominal counter), which is
- *    what the tables correct; the servo's lag is not in it;
- *  - the error at rest at each of the program's points;
- *  - the servo's largest following error and the corrected set-point's
- *    largest velocity against each axis' vmax (the tables stay inside it).
+ * bench_comp: how far the simulated machine's tool is from the path it
+ * was programmed on, without and with compensation tables calibrated on
+ * the machine itself (sh2000-comp's calibration), beside a machine
+ * without geometric errors held half a count off whole counts as the
+ * calibrated one is: its figures are the servo's and the counter's own,
+ * what no table can take out. The path
+ * and what is measured: tools/comp/pathcheck.c. Prints, every servo cycle:
+ *  - the tool (interferometer) against the program's segments, and square
+ *    to them (the contour error; the along-path lag left out);
+ *  - the path the corrected set-points describe (the tool a perfect servo
+ *    on an unquantised scale would give): the tables' and the planner's
+ *    part, the servo's out;
+ *  - what the error is made of;
+ * then the tool at rest at each of the program's points, and apart the
+ * tool against the position the card reports, the servo's following
+ * error and the corrected set-point's velocity against vmax.
  *
  *   bench_comp [TRAVEL_MM [PASSES]]   (default 100: the path and the
  *                                      calibration within +-TRAVEL/2)
  */
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <unistd.h>
 
 #include "calib.h"
 
-static void report(const struct cal_config *c, double travel,
-		   const struct cal_path p[2])
+#define RUNS	3	/* without tables, with, a perfect machine */
+
+static void row(const char *what, const struct cal_path p[RUNS], size_t off)
 {
-	printf("bench_comp: default machine, program within +-%.0f mm, calibration %u pass(es), step %.1f mm, grid %.1f mm\n",
+	unsigned int i;
+
+	printf("  %-50s", what);
+	for (i = 0; i < RUNS; i++)
+		printf(" %8.1f nm", 1e6 * *(const double *)((const char *)&p[i] + off));
+	printf("\n");
+}
+
+#define ROW(what, field)	row(what, p, offsetof(struct cal_path, field))
+
+static void report(const struct cal_config *c, double travel,
+		   const struct cal_path p[RUNS])
+{
+	printf("bench_comp: default machine, program within +-%.0f mm, calibration %u pass(es), step %.2f mm, grid %.1f mm\n",
 	       0.45 * travel, c->passes, c->step_mm, c->grid_mm);
-	printf("%-44s %14s %14s\n", "", "without tables", "with tables");
-	printf("%-44s %11.1f nm %11.1f nm\n", "geometric error, largest (every cycle)",
-	       1e6 * p[0].geo_max, 1e6 * p[1].geo_max);
-	printf("%-44s %11.1f nm %11.1f nm\n", "geometric error, rms",
-	       1e6 * p[0].geo_rms, 1e6 * p[1].geo_rms);
-	printf("%-44s %11.1f nm %11.1f nm\n", "at rest at the program's points, largest",
-	       1e6 * p[0].rest_max, 1e6 * p[1].rest_max);
-	printf("%-44s %8.1f counts %8.1f counts\n", "following error, largest (the servo's lag)",
-	       p[0].lag_max, p[1].lag_max);
-	printf("%-44s %13.3f %14.3f\n", "set-point velocity / vmax, largest",
-	       p[0].vel_ratio, p[1].vel_ratio);
-	printf("one count is 10 nm; servo cycles watched: %lu, %lu\n",
-	       p[0].cycles, p[1].cycles);
+	printf("%-52s %11s %11s %11s\n", "", "no tables", "tables", "perfect");
+	printf("the tool against the programmed path, every servo cycle:\n");
+	ROW("largest", path_max);
+	ROW("rms", path_rms);
+	printf("the same square to the path (contour error; the along-path lag\n"
+	       "and a corner's overshoot, the servo's, left out):\n");
+	ROW("largest", contour_max);
+	ROW("rms", contour_rms);
+	ROW("largest along one axis", contour_axis_max);
+	printf("  %-50s %11lu %11lu %11lu\n", "cycles over one count",
+	       p[0].contour_over, p[1].contour_over, p[2].contour_over);
+	printf("the corrected set-points' path (a perfect servo's tool):\n");
+	ROW("largest", setpoint_max);
+	printf("the tool at rest at the program's points (averaged):\n");
+	ROW("largest", rest_max);
+	printf("what the path's error is made of (each largest):\n");
+	ROW("nominal set-point off the path (whole counts)", plan_max);
+	ROW("tables: perfect servo, unquantised scale", table_max);
+	ROW("servo, moving: the tool off that, square to the path", servo_perp_max);
+	ROW("servo, at rest: hunting across the counter's count", quant_max);
+	printf("apart: the tool against the card's reported position (ACT):\n");
+	ROW("largest (includes the count and its rounding)", geo_max);
+	ROW("rms", geo_rms);
+	printf("  %-50s %8.1f ct %8.1f ct %8.1f ct\n", "following error along the path, largest",
+	       p[0].lag_max, p[1].lag_max, p[2].lag_max);
+	printf("  %-50s %11.3f %11.3f %11.3f\n", "corrected set-point velocity / vmax, largest",
+	       p[0].vel_ratio, p[1].vel_ratio, p[2].vel_ratio);
+	printf("  %-50s %11.3f %11.3f %11.3f\n", "corrected set-point acceleration / amax, largest",
+	       p[0].acc_ratio, p[1].acc_ratio, p[2].acc_ratio);
+	printf("  %-50s %11lu %11lu %11lu\n", "cycles with a set-point outside the soft limits",
+	       p[0].outside, p[1].outside, p[2].outside);
+	printf("one count is 10 nm; servo cycles watched: %lu, %lu, %lu\n",
+	       p[0].cycles, p[1].cycles, p[2].cycles);
+}
+
+/* The same program on a machine without geometric errors, its set-points
+ * half a count from a whole one as the calibration's are (calcentre.c):
+ * the best the tables could do. */
+static int perfect(double half, const char *tmp, struct cal_path *out)
+{
+	struct sh2000_geometry none;
+	struct cal_tables *t = calloc(1, sizeof(*t));
+	struct cal_sim s;
+	char msg[256];
+	int r;
+
+	if (!t)
+		return -1;
+	sh2000_geometry_none(&none);
+	r = cal_sim_open(&s, NULL, &none, tmp, msg, sizeof(msg));
+	if (r < 0) {
+		fprintf(stderr, "bench_comp: %s\n", msg);
+		free(t);
+		return r;
+	}
+	cal_half_count(t, &s);
+	r = cal_load(&s, t);
+	if (!r)
+		r = cal_path_check(&s, half, out);
+	if (r < 0)
+		fprintf(stderr, "bench_comp: %s\n", sh2000_last_error(s.h));
+	cal_sim_close(&s);
+	free(t);
+	return r;
+}
+
+static int calibrated(const struct cal_config *c, double half, const char *tmp,
+		      struct cal_path p[2])
+{
+	struct cal_tables *t = calloc(1, sizeof(*t));
+	struct cal_sim s;
+	char msg[256];
+	int r = t ? cal_sim_open(&s, NULL, NULL, tmp, msg, sizeof(msg)) : -1;
+
+	if (r < 0) {
+		fprintf(stderr, "bench_comp: %s\n", t ? msg : "out of memory");
+		free(t);
+		return -1;
+	}
+	r = cal_path_check(&s, half, &p[0]);
+	if (!r)
+		r = cal_run(&s, c, t);
+	if (!r)
+		r = cal_path_check(&s, half, &p[1]);
+	if (r < 0)
+		fprintf(stderr, "bench_comp: %s\n", sh2000_last_error(s.h));
+	cal_sim_close(&s);
+	free(t);
+	return r;
 }
 
 int main(int argc, char **argv)
 {
 	double travel = argc > 1 ? atof(argv[1]) : 100.0;
-	char tmp[] = "/tmp/bench-comp-XXXXXX", msg[256];
-	struct cal_tables *t = calloc(1, sizeof(*t));
-	struct cal_path p[2];
+	char tmp[] = "/tmp/bench-comp-XXXXXX";
+	struct cal_path p[RUNS];
 	struct cal_config c;
-	struct cal_sim s;
 	int fd = mkstemp(tmp), r;
 	unsigned int a;
 
-	if (fd < 0 || !t || !(travel > 0))
+	if (fd < 0 || !(travel > 0))
 		return 1;
 	close(fd);
 	cal_config_default(&c);
@@ -62,22 +157,11 @@ int main(int argc, char **argv)
 	c.grid_mm = travel / 10;
 	if (argc > 2)
 		c.passes = (unsigned int)atoi(argv[2]);
-	r = cal_sim_open(&s, NULL, NULL, tmp, msg, sizeof(msg));
-	if (r < 0) {
-		fprintf(stderr, "bench_comp: %s\n", msg);
-		return 1;
-	}
-	r = cal_path_check(&s, travel / 2, &p[0]);
+	r = calibrated(&c, travel / 2, tmp, p);
 	if (!r)
-		r = cal_run(&s, &c, t);
+		r = perfect(travel / 2, tmp, &p[2]);
 	if (!r)
-		r = cal_path_check(&s, travel / 2, &p[1]);
-	if (r < 0)
-		fprintf(stderr, "bench_comp: %s\n", sh2000_last_error(s.h));
-	else
 		report(&c, travel, p);
-	cal_sim_close(&s);
 	unlink(tmp);
-	free(t);
 	return r < 0;
 }

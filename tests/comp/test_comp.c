@@ -6,8 +6,9 @@
  * of bad table refused with FILE:LINE and nothing changed on the card, by
  * the host and by the card itself (a page's check word, the image's sum,
  * a table the host did not check, a switch while moving); no step in the
- * set-point when a switch blends or a point is crossed; the corrected
- * path after a calibration; a table on one side of a gantry pair.
+ * set-point when a switch blends or a point is crossed; a table on one
+ * side of a gantry pair. The corrected path after a calibration:
+ * test_comp_path.c.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -393,48 +394,6 @@ static void switch_blends(void **state)
 	sh2000_close(h);
 }
 
-/* ---- the corrected path ---- */
-
-static void corrected_path(void **state)
-{
-	struct cal_tables *t = calloc(1, sizeof(*t));
-	struct cal_path before, after;
-	struct cal_config c;
-	struct sh2000_status st;
-	struct cal_sim s;
-	char msg[256];
-	unsigned int a;
-
-	(void)state;
-	assert_non_null(t);
-	cal_config_default(&c);
-	for (a = 0; a < SH2000_AXES; a++) {
-		c.lo[a] = -10.0;
-		c.hi[a] = 10.0;
-	}
-	c.grid_mm = 5.0;
-	if (cal_sim_open(&s, NULL, NULL, path, msg, sizeof(msg)) < 0)
-		fail_msg("%s", msg);
-	assert_int_equal(cal_path_check(&s, 10.0, &before), 0);
-	assert_int_equal(cal_run(&s, &c, t), 0);
-	assert_int_equal(cal_path_check(&s, 10.0, &after), 0);
-	print_message("rest %.1f -> %.1f nm, path largest %.1f -> %.1f nm, rms %.1f -> %.1f nm\n",
-		      1e6 * before.rest_max, 1e6 * after.rest_max, 1e6 * before.geo_max,
-		      1e6 * after.geo_max, 1e6 * before.geo_rms, 1e6 * after.geo_rms);
-	/* the default machine is microns off; calibrated, within a count at
-	 * rest and on average along the path, two counts at worst (the
-	 * counter's own count comes into every cycle's figure) */
-	assert_true(before.rest_max > 500e-6);
-	assert_true(after.rest_max <= 10e-6);
-	assert_true(after.geo_rms <= 10e-6);
-	assert_true(after.geo_max <= 20e-6);
-	assert_true(after.vel_ratio < 1.0);
-	assert_int_equal(sh2000_poll(s.h, &st), 0);
-	assert_int_equal(st.card_faults, 0);
-	cal_sim_close(&s);
-	free(t);
-}
-
 /* ---- beside a gantry pair (protocol 1.7) ---- */
 
 /* A table that corrects one side of a gantry pair is what that side is
@@ -478,7 +437,6 @@ int main(void)
 		cmocka_unit_test(host_refusals),
 		cmocka_unit_test(card_refusals),
 		cmocka_unit_test(switch_blends),
-		cmocka_unit_test(corrected_path),
 		cmocka_unit_test(gantry_side_table),
 	};
 	int fd, r;

@@ -59,7 +59,7 @@ int cal_move(struct cal_sim *s, const double target[SH2000_AXES], double feed)
 	return r < 0 ? r : 0;
 }
 
-static int tool_avg(struct cal_sim *s, double tool[SH2000_AXES])
+int cal_tool_avg(struct cal_sim *s, double tool[SH2000_AXES])
 {
 	double t[SH2000_AXES];
 	unsigned int a, k;
@@ -80,7 +80,7 @@ int cal_measure(struct cal_sim *s, double err[SH2000_AXES])
 {
 	double tool[SH2000_AXES];
 	unsigned int a;
-	int r = tool_avg(s, tool);
+	int r = cal_tool_avg(s, tool);
 
 	for (a = 0; !r && a < SH2000_AXES; a++)
 		err[a] = (tool[a] - s->ref_tool[a]) - (s->at[a] - s->ref_nom[a]);
@@ -103,7 +103,8 @@ int cal_sim_open(struct cal_sim *s, const struct sh2000_sim_config *cfg,
 		return r;
 	s->fw = sh2000_cardsim_fw(sh2000_sim_card(s->h));
 	sh2000_geometry_default(&def);
-	r = sh2000_sim_set_geometry(s->h, g ? g : &def);
+	s->geom = g ? *g : def;
+	r = sh2000_sim_set_geometry(s->h, &s->geom);
 	if (!r)
 		r = sh2000_enable(s->h, (1u << SH2000_AXES) - 1u);
 	if (!r)
@@ -113,7 +114,7 @@ int cal_sim_open(struct cal_sim *s, const struct sh2000_sim_config *cfg,
 		s->ref_nom[a] = s->at[a] = pc.start[a];
 	}
 	if (!r)
-		r = tool_avg(s, s->ref_tool);
+		r = cal_reference(s);
 	if (r < 0) {
 		snprintf(msg, len, "sim: %s", sh2000_last_error(s->h));
 		cal_sim_close(s);
@@ -129,11 +130,18 @@ void cal_sim_close(struct cal_sim *s)
 
 int cal_load(struct cal_sim *s, const struct cal_tables *t)
 {
-	struct sh2000_comp_status st;
-	int r = cal_tables_save(t, s->tmp, "calibration pass"), waited;
+	int r = cal_tables_save(t, s->tmp, "calibration pass");
 
 	if (!r)
 		r = sh2000_comp_load_file(s->h, s->tmp);
+	return r ? r : cal_wait_switch(s);
+}
+
+int cal_wait_switch(struct cal_sim *s)
+{
+	struct sh2000_comp_status st;
+	int r = 0, waited;
+
 	for (waited = 0; !r && waited < SWITCH_WAIT_MS; waited += 10) {
 		r = sh2000_comp_status(s->h, &st);
 		if (r || st.state != SH2000_COMP_SWITCHING)

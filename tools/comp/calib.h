@@ -69,14 +69,19 @@ struct cal_sim {
 	struct sh2000_fw *fw;
 	double scale[SH2000_AXES];
 	double ref_nom[SH2000_AXES], ref_tool[SH2000_AXES];
+	double ref_sp[SH2000_AXES];	/* counts: the corrected set-point
+					 * the reference was taken at */
 	double at[SH2000_AXES];		/* the last target, mm */
+	struct sh2000_geometry geom;	/* the machine's, for the path's
+					 * breakdown (pathmodel.c) */
 	const char *tmp;		/* where tables go before a load */
 };
 
 /* Open `sim` (cfg NULL: the default plants) with geometry g (NULL: the
  * default machine's errors, sh2000_geometry_default()), enable every axis
  * and take the reference (the interferometer zeroed where the machine
- * stands). */
+ * stands, under a half-count table, centred on the count: cal_reference();
+ * no tables are loaded after). */
 int cal_sim_open(struct cal_sim *s, const struct sh2000_sim_config *cfg,
 		 const struct sh2000_geometry *g, const char *tmp, char *msg,
 		 size_t len);
@@ -87,21 +92,73 @@ int cal_move(struct cal_sim *s, const double target[SH2000_AXES], double feed);
 int cal_measure(struct cal_sim *s, double err[SH2000_AXES]);
 /* Load tables (through a file, as a user would) and wait for the switch. */
 int cal_load(struct cal_sim *s, const struct cal_tables *t);
+int cal_wait_switch(struct cal_sim *s);
+/* The tool averaged at rest (mm, machine frame). */
+int cal_tool_avg(struct cal_sim *s, double tool[SH2000_AXES]);
+/* Centring on the counter's count (calcentre.c): a table of half a count
+ * on every axis; the reference taken under it; the error at rest moved to
+ * the middle of the corrected set-point's count, with in *loose the axes
+ * (a bit each) whose set-point stood too near a whole count for that. */
+void cal_half_count(struct cal_tables *t, const struct cal_sim *s);
+int cal_reference(struct cal_sim *s);
+int cal_measure_centred(struct cal_sim *s, double err[SH2000_AXES],
+			unsigned int *loose);
 /* The whole calibration: passes over lines and the grid. */
 int cal_run(struct cal_sim *s, const struct cal_config *c,
 	    struct cal_tables *t);
 
-/* A program's path on the machine (pathcheck.c): a star of moves in X-Y-Z
- * within +-0.9 half mm of the reference, each point reached at rest. */
+/* A program's path on the machine (pathcheck.c): a star of straight moves
+ * in X-Y-Z within +-0.9 half mm of the reference, each point reached at
+ * rest. Distances in mm over X, Y, Z; "largest" over every servo cycle. */
 struct cal_path {
-	double geo_max, geo_rms;	/* mm: tool against the card's reported
-					 * (nominal) position, every cycle */
-	double rest_max;		/* mm: tool against the program's
-					 * points, at rest */
+	/* what the user sees: the tool (interferometer) against the
+	 * programmed path's exact geometry (its segments) */
+	double path_max, path_rms;
+	/* the same square to the segment's line: the contour error, the
+	 * along-path lead or lag (and a corner's overshoot) left out */
+	double contour_max, contour_rms;
+	double contour_axis_max;	/* its largest part along one axis */
+	unsigned long contour_over;	/* cycles with it over one count (the
+					 * largest of X's, Y's and Z's) */
+	double rest_max;		/* tool against the program's points,
+					 * at rest (averaged) */
+	/* the path the corrected set-points describe: the tool a perfect
+	 * servo on an unquantised scale would give, against the segments
+	 * (the planner's and the tables' parts together, the servo's out) */
+	double setpoint_max;
+	/* what it is made of (each largest over the run) */
+	double plan_max;		/* the nominal set-point off the path */
+	double table_max;		/* the tables: the tool a perfect servo
+					 * on an unquantised scale would give
+					 * for the corrected set-point, against
+					 * the nominal one */
+	double servo_perp_max;		/* moving: the tool against that, square
+					 * to the path (the servo's lag leaving
+					 * the path) */
+	double quant_max;		/* at rest: the same, the dither within
+					 * the counter's count */
+	/* a different question: the tool against the position the card
+	 * reports (its counter, nominal): what a user comparing the laser
+	 * with ACT sees; includes the counter's count and the rounding of
+	 * the correction to counts */
+	double geo_max, geo_rms;
 	double lag_max;			/* counts: the servo's following error */
 	double vel_ratio;		/* corrected set-point velocity / vmax */
+	double acc_ratio;		/* its acceleration / amax */
+	unsigned long outside;		/* cycles with a set-point outside the
+					 * axis' soft limits */
 	unsigned long cycles;
 };
+
+/* The model (pathmodel.c). */
+void cal_model_carriage(const struct sh2000_geometry *g,
+			const double tool[SH2000_AXES], double x[SH2000_AXES]);
+void cal_model_offset(const struct cal_sim *s, const double counter[SH2000_AXES],
+		      const double tool[SH2000_AXES], double k[SH2000_AXES]);
+void cal_model_tool(const struct cal_sim *s, const double k[SH2000_AXES],
+		    const double sp[SH2000_AXES], double tool[SH2000_AXES]);
+double cal_model_segment(const double a[3], const double b[3],
+			 const double p[3], const double d[3], double perp[3]);
 
 int cal_path_check(struct cal_sim *s, double half, struct cal_path *out);
 

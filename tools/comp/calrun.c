@@ -28,11 +28,21 @@ static double worst(const double *e, unsigned int n)
 	return m;
 }
 
+/* The share of this measurement a table takes: none for an axis whose
+ * set-point stood too near a whole count to be centred (calcentre.c): its
+ * point keeps what the earlier passes found. */
+static double share(unsigned int loose, unsigned int a, double w)
+{
+	return (loose & (1u << a)) ? 0.0 : w;
+}
+
 static int line_pass(struct cal_sim *s, const struct cal_config *c,
-		     unsigned int a, struct cal_tables *t)
+		     unsigned int a, double w, double base,
+		     struct cal_tables *t)
 {
 	unsigned int n = points(c->lo[a], c->hi[a], c->step_mm), i;
 	double target[SH2000_AXES], e[SH2000_AXES], ea[CAL_MAX_POINTS];
+	unsigned int loose = 0;
 	int r = n > CAL_MAX_POINTS ? -E2BIG : 0;
 
 	memcpy(target, s->ref_nom, sizeof(target));
@@ -40,18 +50,18 @@ static int line_pass(struct cal_sim *s, const struct cal_config *c,
 		target[a] = c->lo[a] - c->step_mm + i * c->step_mm;
 		r = cal_move(s, target, c->feed);
 		if (!r)
-			r = cal_measure(s, e);
+			r = cal_measure_centred(s, e, &loose);
 		if (r)
 			break;
 		ea[i] = e[a];
 		t->pitch[a].pos[i] = target[a];
-		t->pitch[a].corr[i] -= e[a];
+		t->pitch[a].corr[i] += share(loose, a, w) * (base - e[a]);
 		if (a == 0) {
 			t->cross_yx.pos[i] = target[a];
-			t->cross_yx.corr[i] -= e[1];
+			t->cross_yx.corr[i] -= share(loose, 1, w) * e[1];
 		} else if (a == 1) {
 			t->raw_xy.pos[i] = target[a];
-			t->raw_xy.corr[i] -= e[0];
+			t->raw_xy.corr[i] -= share(loose, 0, w) * e[0];
 		}
 	}
 	t->pitch[a].n = n;
@@ -66,11 +76,12 @@ static int line_pass(struct cal_sim *s, const struct cal_config *c,
 }
 
 static int grid_pass(struct cal_sim *s, const struct cal_config *c,
-		     struct cal_tables *t)
+		     double w, struct cal_tables *t)
 {
 	unsigned int n1 = points(c->lo[0], c->hi[0], c->grid_mm);
 	unsigned int n2 = points(c->lo[1], c->hi[1], c->grid_mm), i, j;
 	double target[SH2000_AXES], e[SH2000_AXES], big = 0.0;
+	unsigned int loose = 0;
 	int r = (n1 > CAL_MAX_GRID || n2 > CAL_MAX_GRID) ? -E2BIG : 0;
 
 	memcpy(target, s->ref_nom, sizeof(target));
@@ -88,9 +99,9 @@ static int grid_pass(struct cal_sim *s, const struct cal_config *c,
 			target[1] = t->gv0 + j * t->gdv;
 			r = cal_move(s, target, c->feed);
 			if (!r)
-				r = cal_measure(s, e);
+				r = cal_measure_centred(s, e, &loose);
 			if (!r) {
-				t->grid[j * n1 + k] -= e[2];
+				t->grid[j * n1 + k] -= share(loose, 2, w) * e[2];
 				big = fmax(big, fabs(e[2]));
 			}
 		}
@@ -127,17 +138,28 @@ int cal_run(struct cal_sim *s, const struct cal_config *c,
 	    struct cal_tables *t)
 {
 	unsigned int pass, a;
-	int r = 0;
+	int r;
 
+	/* the first pass under half a count on every axis, which its
+	 * pitch tables keep (calcentre.c) */
+	cal_half_count(t, s);
+	r = cal_load(s, t);
 	memset(t, 0, sizeof(*t));
 	for (pass = 0; !r && pass < c->passes; pass++) {
+		/* each pass measures what the tables so far leave, with the
+		 * counter's own noise (where in its count the servo holds
+		 * each point); taking 1/(pass+1) of it keeps the tables the
+		 * mean of every pass' estimate instead of the last one's */
+		double w = 1.0 / (pass + 1.0);
+
 		if (c->verbose)
 			fprintf(stderr, "sh2000-comp: pass %u of %u\n", pass + 1,
 				c->passes);
 		for (a = 0; !r && a < SH2000_AXES; a++)
-			r = line_pass(s, c, a, t);
+			r = line_pass(s, c, a, w,
+				      pass ? 0.0 : 0.5 / s->scale[a], t);
 		if (!r)
-			r = grid_pass(s, c, t);
+			r = grid_pass(s, c, w, t);
 		if (!r) {
 			split_square(t);
 			r = cal_load(s, t);

@@ -374,6 +374,32 @@ t_moved_axes() {
 	stop_sim
 }
 
+# The guard between the two passes: the card moves after sh2000-upload
+# read where it stands and before the run (here rs274's stand-in jogs Y
+# on the served card while sh2000-upload waits for its output): the run is
+# refused, naming the axis and how far, and nothing moves.
+t_moved_since_check() {
+	[ -n "${CTL:-}" ] && [ -x "$CTL" ] || { echo "sh2000ctl not built: skipped"; exit 77; }
+	local name=upload-guard-$$
+	start_sim $name
+	"${RT_HOST[@]}" "$CTL" -d sim:$name enable y >ctl.out 2>&1 && enabled_is $name 2 ||
+		{ fail "sh2000ctl: Y enabled"; cat ctl.out; }
+	mkdir -p bin
+	cat >bin/rs274 <<EOS
+#!/bin/sh
+"$CTL" -d sim:$name move y=0.5 --feed 100 >/dev/null 2>&1 || { echo "stand-in: jog refused" >&2; exit 1; }
+cat "$DATA/arc.canon"
+EOS
+	chmod +x bin/rs274
+	expect 1 "a card moved between the check and the run" -- env PATH="$WORK/bin:$PATH" "${UPLOAD_RT[@]}" -d sim:$name --rs274 --trace m.csv "$DATA/arc.ngc"
+	has "sim:$name: axis y moved by 0\.5000 mm since the program was checked; nothing moved" err
+	# the trace was opened (its path checked) before the guard: no row
+	[ "$(wc -l <m.csv)" -le 1 ] || fail "m.csv has rows: the run started"
+	"$PROBE" sim:$name >p
+	has "state=1 fill=0 .*cmd=0\.0000,0\.5000,0\.0000,0\.0000" p
+	stop_sim
+}
+
 # Starts sh2000-upload on long.ngc on sim:NAME in the background with its
 # stderr in FILE; UPLOAD_PID is its pid. Returns once the first progress
 # line is there (the signal handlers are in by then) and the card runs the
@@ -542,7 +568,7 @@ t_tool_pause() {
 }
 
 case ${1:-} in
-geometry|raw|override|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop|shm_hold|shm_other_stop|moved_axes|tool_table|tool_rs274|tool_pause)
+geometry|raw|override|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop|shm_hold|shm_other_stop|moved_axes|tool_table|tool_rs274|tool_pause|moved_since_check)
 	"t_$1" ;;
 *) echo "usage: upload_tests.sh TEST"; exit 2 ;;
 esac

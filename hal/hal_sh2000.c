@@ -2,7 +2,7 @@
 /*
  * hal_sh2000: SH-2000TH cards as LinuxCNC joints (LinuxCNC 2.9 uspace).
  *
- *   loadrt hal_sh2000 device=/dev/sh2000-0[,sim:NAME,...]
+ *   loadrt hal_sh2000 device=/dev/sh2000-0[,sim:NAME,...] [comp=FILE[,FILE...]]
  *
  * One instance sh2000.N per device string (up to 4), with the functions
  * sh2000.N.read (first in the servo thread) and sh2000.N.write (last).
@@ -34,6 +34,11 @@ static char *device[MAX_CARDS];
 RTAPI_MP_ARRAY_STRING(device, MAX_CARDS,
 		      "cards: /dev/sh2000-N, io:0xNNN or sim:NAME, comma-separated");
 
+/* a compensation table file per card, loaded before the card runs */
+static char *comp[MAX_CARDS];
+RTAPI_MP_ARRAY_STRING(comp, MAX_CARDS,
+		      "compensation table file per card (docs/compensation.md), comma-separated; - for none");
+
 struct pins_axis {
 	hal_float_t *position_cmd, *position_fb, *f_error, *encoder_position;
 	hal_s32_t *counts;
@@ -50,6 +55,8 @@ struct pins_card {
 	hal_float_t *delay_ms;
 	hal_u32_t *underruns, *port_cycles;
 	hal_s32_t queue_target;
+	/* the tables loaded at start: identity, checksum, how many */
+	hal_u32_t comp_id, comp_sum, comp_tables;
 	struct pins_axis axis[SH2000_AXES];
 };
 
@@ -214,6 +221,21 @@ static int export_axis(int n, unsigned int a, struct pins_axis *x,
 		return r; \
 } while (0)
 
+/* zero until load_tables() loads a table */
+static int export_comp(int n, struct pins_card *p)
+{
+	int r = hal_param_u32_newf(HAL_RO, &p->comp_id, comp_id,
+				   "sh2000.%d.comp-id", n);
+
+	if (r == 0)
+		r = hal_param_u32_newf(HAL_RO, &p->comp_sum, comp_id,
+				       "sh2000.%d.comp-sum", n);
+	if (r == 0)
+		r = hal_param_u32_newf(HAL_RO, &p->comp_tables, comp_id,
+				       "sh2000.%d.comp-tables", n);
+	return r;
+}
+
 static int export_card(int n, struct instance *t)
 {
 	struct pins_card *p = hal_malloc(sizeof(*p));
@@ -240,6 +262,9 @@ static int export_card(int n, struct instance *t)
 	if (r < 0)
 		return r;
 	p->queue_target = HSC_QUEUE_TARGET;
+	r = export_comp(n, p);
+	if (r < 0)
+		return r;
 	for (a = 0; a < SH2000_AXES; a++) {
 		r = export_axis(n, a, &p->axis[a], hsc_default_scale(&t->card, a));
 		if (r < 0)
@@ -260,6 +285,43 @@ static void close_all(void)
 	for (i = 0; i < ncards; i++)
 		hsc_close(&inst[i].card);
 	ncards = 0;
+}
+
+/* comp=: every file checked against its card first, so a bad table on
+ * any card changes no card's tables; then each loaded (the card at rest,
+ * before the servo thread starts); its sh2000.N.comp-* say what is active. */
+static int load_tables(void)
+{
+	char msg[512];
+	int i, r, pass;
+
+	for (pass = 0; pass < 2; pass++)
+		for (i = 0; i < MAX_CARDS && comp[i]; i++) {
+			if (!hsc_comp_wanted(comp[i]))
+				continue;
+			if (i >= ncards) {
+				rtapi_print_msg(RTAPI_MSG_ERR,
+						"hal_sh2000: comp: %s: no card sh2000.%d (device=)\n",
+						comp[i], i);
+				return -EINVAL;
+			}
+			r = pass ? hsc_comp_load(&inst[i].card, comp[i], msg, sizeof(msg)) :
+				   hsc_comp_check(&inst[i].card, comp[i], msg, sizeof(msg));
+			if (r < 0) {
+				rtapi_print_msg(RTAPI_MSG_ERR,
+						"hal_sh2000: sh2000.%d: comp: %s\n", i, msg);
+				return r;
+			}
+			if (pass) {
+				inst[i].p->comp_id = inst[i].card.comp.id;
+				inst[i].p->comp_sum = inst[i].card.comp.sum;
+				inst[i].p->comp_tables = inst[i].card.comp.tables;
+			}
+			rtapi_print_msg(RTAPI_MSG_INFO, pass ?
+					"hal_sh2000: sh2000.%d: tables of %s active\n" :
+					"hal_sh2000: sh2000.%d: %s checked\n", i, comp[i]);
+		}
+	return 0;
 }
 
 int rtapi_app_main(void)
@@ -293,6 +355,9 @@ int rtapi_app_main(void)
 			goto fail;
 		}
 	}
+	r = load_tables();
+	if (r < 0)
+		goto fail;
 	if (!ncards) {
 		rtapi_print_msg(RTAPI_MSG_ERR,
 				"hal_sh2000: no card: give device=/dev/sh2000-0[,sim:NAME,...]\n");

@@ -241,6 +241,8 @@ struct hsc_card {
 	uint32_t port_cycles;
 	struct hsc_timebase tb;
 	char err[256];
+	/* the tables hsc_comp_load() made active at start (zero: none) */
+	struct sh2000_comp_status comp;
 };
 
 /* Open and check the card (not real-time: at module load). msg gets the
@@ -250,6 +252,14 @@ int hsc_open(struct hsc_card *c, int index, const char *device, char *msg,
 void hsc_close(struct hsc_card *c);
 /* Default position-scale of an axis: the card's own scale (counts/mm). */
 double hsc_default_scale(struct hsc_card *c, unsigned int axis);
+/* comp.c: a table file for the card at start (not real-time). wanted: a
+ * path was given ("" and "-": none). check: read and checked against the
+ * card's scales and limits, nothing sent; load: through libsh2000's loader,
+ * c->comp then holds the card's status of its tables. Both 0 or a
+ * negative code with the library's message (FILE:LINE: why) in msg. */
+int hsc_comp_wanted(const char *path);
+int hsc_comp_check(struct hsc_card *c, const char *path, char *msg, size_t len);
+int hsc_comp_load(struct hsc_card *c, const char *path, char *msg, size_t len);
 
 /*
  * One servo tick, in two halves: read first in the thread (status,

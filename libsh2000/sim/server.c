@@ -435,6 +435,26 @@ int sh2000_sim_server_set_gantry(struct sh2000_sim_server *s,
 	return r < 0 ? -EINVAL : 0;
 }
 
+int sh2000_sim_server_set_geometry(struct sh2000_sim_server *s,
+				   const struct sh2000_geometry *g)
+{
+	int r;
+
+	pthread_mutex_lock(&s->lock);
+	r = sh2000_fw_set_geometry(s->fw, g);
+	pthread_mutex_unlock(&s->lock);
+	return r < 0 ? -EINVAL : 0;
+}
+
+int sh2000_sim_server_tool_position(struct sh2000_sim_server *s,
+				    double tool_mm[SH2000_AXES])
+{
+	pthread_mutex_lock(&s->lock);
+	sh2000_fw_tool_position(s->fw, tool_mm);
+	pthread_mutex_unlock(&s->lock);
+	return 0;
+}
+
 const char *sh2000_sim_server_shm_name(const struct sh2000_sim_server *s)
 {
 	return s->shm_name;

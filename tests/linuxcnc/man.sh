@@ -22,7 +22,7 @@ text=$(LC_ALL=C.UTF-8 MANWIDTH=200 groff -man -Tutf8 "$page" 2>/dev/null | sed '
 # axis parameters of AXIS_PARAM)
 names=$(grep -oE '((AXIS|CARD)_PIN\([a-z0-9]+, HAL_[A-Z]+|AXIS_PARAM\([a-z0-9]+), [a-z_]+, "[a-z-]+"\)' "$src" |
 	sed -E 's/.*"([a-z-]+)"\)/\1/')
-names="$names position-scale queue-target read write"
+names="$names position-scale queue-target comp-id comp-sum comp-tables read write"
 for n in $names; do
 	if ! printf '%s\n' "$text" | grep -qE "sh2000\.N\.(A\.)?$n( |$)"; then
 		echo "FAIL: $page does not describe sh2000.N[.A].$n" >&2

@@ -13,7 +13,10 @@ seen (program.hal). The helpers shared with ui.py are in lcnc.py.
 
 Environment: SH2000_TEST_DEVICE (sim:NAME), SH2000_TEST_CTL (sh2000ctl),
 SH2000_TEST_PROGRAM (the G-code file), SH2000_TEST_FEED (feed override,
-default 1), SH2000_TEST_TIMEOUT (seconds the program may take, default 120).
+default 1), SH2000_TEST_TIMEOUT (seconds the program may take, default 120),
+SH2000_TEST_COMP (the table file hal_sh2000 loaded at start, if any: the
+card's status shows those tables active, before and after the program, and
+hal_sh2000's sh2000.0.comp-sum is their sum).
 """
 import os
 import re
@@ -29,6 +32,7 @@ from lcnc import (CTL, DEVICE, c, card_pos_at_rest, check, errors, halget,
 PROGRAM = os.environ["SH2000_TEST_PROGRAM"]
 FEED = float(os.environ.get("SH2000_TEST_FEED", "1"))
 TIMEOUT = float(os.environ.get("SH2000_TEST_TIMEOUT", "120"))
+COMP = os.environ.get("SH2000_TEST_COMP", "")
 # where the program runs: mid-travel (the card's axes travel 0..600 mm)
 ORIGIN = (300.0, 300.0, 300.0)
 
@@ -93,8 +97,25 @@ def explain():
         print("--   " + line, flush=True)
 
 
+def comp_active(when):
+    """The card's tables are COMP's (sh2000ctl comp show FILE), with the
+    sum hal_sh2000 shows."""
+    r = subprocess.run([CTL, "-d", DEVICE, "comp", "show", COMP],
+                       capture_output=True, text=True)
+    out = (r.stdout + r.stderr).strip()
+    m = re.search(r": sum (0x[0-9a-f]+): the active tables", out)
+    check("%s: the card's tables are %s" % (when, os.path.basename(COMP)),
+          r.returncode == 0 and m is not None, out.replace("\n", "; "))
+    if m:
+        hal = int(halget("sh2000.0.comp-sum"), 0)
+        check("%s: sh2000.0.comp-sum is their sum" % when, hal == int(m.group(1), 16),
+              "%#x, card %s" % (hal, m.group(1)))
+
+
 def run():
     check("LinuxCNC up", wait(lambda: s.task_state != 0, 30))
+    if COMP:
+        comp_active("at start")
     check("machine on", machine_on())
     if not check("homed all joints", home_all(3, 60), "homed %s" % (s.homed[:3],)):
         return
@@ -122,6 +143,11 @@ def run():
     check("the card ends where %s does" % name,
           got is not None and all(abs(a - b) < 0.001 for a, b in zip(got, want)),
           "card %s, expected %s (card at home %s)" % (got, want, home_card))
+    if COMP:
+        comp_active("after the program")
+        pins = ["sh2000.0.fault"] + ["sh2000.0.%s.amp-fault" % a for a in "xyz"]
+        bad = [p for p in pins if halget(p) != "FALSE"]
+        check("no card fault, no axis fault", not bad, " ".join(bad))
     c.feedrate(1.0)
     machine_off()
 

@@ -106,6 +106,13 @@ static void usage(FILE *f)
 "                     docs/cardmodel.md gives them), the carriage on axis C\n"
 "                     along it (default: the first other axis; '-': none,\n"
 "                     it stays at side A); e.g. y+z\n"
+"  --geometry KIND    the machine's geometric errors (docs/cardmodel.md\n"
+"                     \"Geometry\"): none (a perfect machine, the default)\n"
+"                     or default (the card model's default errors: about\n"
+"                     10 um of pitch error over 300 mm, 50 urad squareness)\n"
+"  --tool-file PATH   when stopped, write the tool's true position (the\n"
+"                     simulated interferometer, mm, machine frame) to PATH:\n"
+"                     one line \"tool X Y Z A\"\n"
 "  -h, --help         this help\n"
 "  -V, --version      versions of the tool, the library and the protocol\n"
 "\n"
@@ -141,6 +148,8 @@ struct serve_opts {
 	struct sh2000_sim_config cfg;
 	int gantry_on;			/* --gantry: two axes on one beam */
 	struct sh2000_gantry_config gantry;
+	int geometry_on;		/* --geometry default */
+	const char *tool_file;		/* --tool-file */
 };
 
 /* The card model's documented plant, for what differs from it. */
@@ -176,6 +185,8 @@ static void print_mode(const struct serve_opts *o)
 	    o->cfg.axis[0].friction_ns_per_m != PLANT_DEFAULT.friction_ns_per_m)
 		printf(", plant %g kg, %g N/(m/s)", o->cfg.axis[0].mass_kg,
 		       o->cfg.axis[0].friction_ns_per_m);
+	if (o->geometry_on)
+		printf(", geometry default");
 	if (o->gantry_on) {
 		printf(", gantry %c+%c", sh2000_tool_axis_name(o->gantry.side_a),
 		       sh2000_tool_axis_name(o->gantry.side_b));
@@ -244,6 +255,42 @@ static void take_priority(const struct serve_opts *o)
 			o->priority, strerror(errno));
 }
 
+/* The machine behind the card, before it runs: its clock, a gantry, and
+ * with --geometry default the card model's default errors. All checked
+ * when parsed (the default geometry by the model's own tests): cannot
+ * fail. */
+static void configure(struct sh2000_sim_server *s, const struct serve_opts *o)
+{
+	struct sh2000_geometry g;
+
+	(void)sh2000_sim_server_set_clock_ppm(s, o->ppm);
+	if (o->gantry_on)
+		(void)sh2000_sim_server_set_gantry(s, &o->gantry);
+	if (!o->geometry_on)
+		return;
+	sh2000_geometry_default(&g);
+	(void)sh2000_sim_server_set_geometry(s, &g);
+}
+
+/* --tool-file: the interferometer's reading after the last cycle */
+static int write_tool(struct sh2000_sim_server *s, const struct serve_opts *o)
+{
+	double t[SH2000_AXES];
+	FILE *f;
+
+	if (!o->tool_file)
+		return 0;
+	sh2000_sim_server_tool_position(s, t);
+	f = fopen(o->tool_file, "w");
+	if (f) {
+		fprintf(f, "tool %.6f %.6f %.6f %.6f\n", t[0], t[1], t[2], t[3]);
+		if (fclose(f) == 0)
+			return 0;
+	}
+	sh2000_tool_msg("--tool-file %s: %s", o->tool_file, strerror(errno));
+	return -1;
+}
+
 static int serve_name(const char *name, const struct serve_opts *o)
 {
 	struct sh2000_sim_server *s;
@@ -262,9 +309,7 @@ static int serve_name(const char *name, const struct serve_opts *o)
 		return SH2000_EXIT_DEVICE;
 	}
 	/* checked when parsed: cannot fail */
-	(void)sh2000_sim_server_set_clock_ppm(s, o->ppm);
-	if (o->gantry_on)
-		(void)sh2000_sim_server_set_gantry(s, &o->gantry);
+	configure(s, o);
 	take_priority(o);
 	served = s;
 	if (stale)
@@ -287,6 +332,8 @@ static int serve_name(const char *name, const struct serve_opts *o)
 		fflush(stdout);
 	}
 	served = NULL;
+	if (write_tool(s, o) < 0 && r >= 0)
+		r = -EIO;
 	sh2000_sim_server_destroy(s);
 	return r < 0 ? SH2000_EXIT_CARD : SH2000_EXIT_OK;
 }
@@ -343,9 +390,7 @@ static int serve_attach(const char *path, const struct serve_opts *o)
 		munmap(ram, maplen);
 		return SH2000_EXIT_CARD;
 	}
-	(void)sh2000_sim_server_set_clock_ppm(s, o->ppm);
-	if (o->gantry_on)
-		(void)sh2000_sim_server_set_gantry(s, &o->gantry);
+	configure(s, o);
 	take_priority(o);
 	served = s;
 	if (!o->quiet) {
@@ -364,6 +409,8 @@ static int serve_attach(const char *path, const struct serve_opts *o)
 		fflush(stdout);
 	}
 	served = NULL;
+	if (write_tool(s, o) < 0 && r >= 0)
+		r = -EIO;
 	sh2000_sim_server_destroy(s);
 	munmap(ram, maplen);
 	return r < 0 ? SH2000_EXIT_CARD : SH2000_EXIT_OK;
@@ -422,6 +469,15 @@ static int option(int c, const char *arg, const char **attach,
 		return r;
 	case 'g':
 		return gantry_option(arg, o);
+	case 'G':
+		if (strcmp(arg, "none") && strcmp(arg, "default"))
+			return sh2000_tool_usage(NULL,
+				"--geometry: '%s' is not none or default", arg);
+		o->geometry_on = !strcmp(arg, "default");
+		return -1;
+	case 'T':
+		o->tool_file = arg;
+		return -1;
 	case 'h':
 		usage(stdout);
 		return SH2000_EXIT_OK;
@@ -465,6 +521,8 @@ int main(int argc, char **argv)
 		{ "mass", required_argument, NULL, 'm' },
 		{ "friction", required_argument, NULL, 'f' },
 		{ "gantry", required_argument, NULL, 'g' },
+		{ "geometry", required_argument, NULL, 'G' },
+		{ "tool-file", required_argument, NULL, 'T' },
 		{ "help", no_argument, NULL, 'h' },
 		{ "version", no_argument, NULL, 'V' },
 		{ NULL, 0, NULL, 0 },

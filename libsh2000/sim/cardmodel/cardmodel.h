@@ -298,6 +298,9 @@ void sh2000_fw_publish_words(struct sh2000_dsp *fw);
 double sh2000_fw_servo_s(const struct sh2000_dsp *fw);
 /* Set-point of axis a becomes x, at rest; the window holds x. */
 void sh2000_fw_hold_at(struct sh2000_dsp *fw, unsigned int a, double x);
+/* Axis a holds where its carriage is (its corrected set-point at the
+ * counter), at rest: the stops, disable, enable and RESET. */
+void sh2000_fw_hold_here(struct sh2000_dsp *fw, unsigned int a);
 /* A card fault (SH2000_FAULT_*) latched: the card stops (controlled). */
 void sh2000_fw_card_fault(struct sh2000_dsp *fw, uint16_t bit);
 /* The FPGA counter preset: the axis reads `pos` here from now on. */

@@ -177,34 +177,77 @@ static void set_offsets(const struct sh2000_fw_comp *c, unsigned int set,
 		off[a] = 0.0;
 }
 
+/* The blended corrections at the nominal positions pos: the active set,
+ * or during a switch the smoothstep from the set before (no step in the
+ * set-point or its velocity). */
+static void offsets_at(const struct sh2000_fw_comp *c,
+		       const double pos[SH2000_AXES], double off[SH2000_AXES])
+{
+	double before[SH2000_AXES], s;
+	unsigned int a;
+
+	set_offsets(c, c->cur, pos, off);
+	if (c->blend >= 1.0)
+		return;
+	s = c->blend * c->blend * (3.0 - 2.0 * c->blend);
+	set_offsets(c, 1u - c->cur, pos, before);
+	for (a = 0; a < SH2000_AXES; a++)
+		off[a] = before[a] + s * (off[a] - before[a]);
+}
+
 void sh2000_comp_cycle(struct sh2000_dsp *fw, double T)
 {
 	struct sh2000_fw_comp *c = &fw->comp;
-	double pos[SH2000_AXES], now[SH2000_AXES], before[SH2000_AXES];
-	double s = 1.0, blend_s = SH2000_COMP_BLEND_MS * 1e-3;
+	double pos[SH2000_AXES], now[SH2000_AXES];
+	double blend_s = SH2000_COMP_BLEND_MS * 1e-3;
 	unsigned int a;
 
 	if (!c->has[0] && !c->has[1])
 		return;		/* never loaded: nothing to do */
 	for (a = 0; a < SH2000_AXES; a++)
 		pos[a] = fw->ax[a].cmd;
-	set_offsets(c, c->cur, pos, now);
 	if (c->blend < 1.0) {
-		/* smoothstep: no step in the set-point or its velocity */
 		c->blend = fmin(1.0, c->blend + T / blend_s);
-		s = c->blend * c->blend * (3.0 - 2.0 * c->blend);
-		set_offsets(c, 1u - c->cur, pos, before);
 		if (c->blend >= 1.0)
 			publish(fw);
 	}
+	offsets_at(c, pos, now);
 	for (a = 0; a < SH2000_AXES; a++) {
-		double o = s < 1.0 ? before[a] + s * (now[a] - before[a]) : now[a];
-		double v = (o - c->off[a]) / T;
+		double v = (now[a] - c->off[a]) / T;
 
 		c->a[a] = (v - c->v[a]) / T;
 		c->v[a] = v;
-		c->off[a] = o;
+		c->off[a] = now[a];
 	}
+}
+
+/*
+ * The correction is a function of the nominal position, so the nominal
+ * set-point x whose corrected set-point x + off(x) is sp is found by
+ * fixed-point iteration x = sp - off(x): it contracts by the table's
+ * slope (a few 1e-5 for a scale, far below 1 for any table the check
+ * against the axes' limits admits), so a few steps are exact to far
+ * below a count. The other axes stay at their nominal set-points.
+ */
+#define NOMINAL_STEPS 4
+
+double sh2000_comp_nominal_at(const struct sh2000_dsp *fw, unsigned int a,
+			      double sp)
+{
+	const struct sh2000_fw_comp *c = &fw->comp;
+	double pos[SH2000_AXES], off[SH2000_AXES];
+	unsigned int i;
+
+	if (!c->has[0] && !c->has[1])
+		return sp;
+	for (i = 0; i < SH2000_AXES; i++)
+		pos[i] = fw->ax[i].cmd;
+	pos[a] = sp - c->off[a];
+	for (i = 0; i < NOMINAL_STEPS; i++) {
+		offsets_at(c, pos, off);
+		pos[a] = sp - off[a];
+	}
+	return pos[a];
 }
 
 uint32_t sh2000_comp_nominal_counter(const struct sh2000_dsp *fw,

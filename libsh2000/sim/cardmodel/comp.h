@@ -37,6 +37,11 @@ uint16_t sh2000_comp_command(struct sh2000_dsp *fw, uint16_t op,
 /* Every servo cycle, after the set-points are computed and before the
  * loops are closed: the corrections at the nominal set-points. */
 void sh2000_comp_cycle(struct sh2000_dsp *fw, double T);
+/* The nominal set-point of axis a whose corrected set-point is sp (both
+ * in counts; the other axes at their nominal set-points): what a hold
+ * that keeps the motor where it is holds. */
+double sh2000_comp_nominal_at(const struct sh2000_dsp *fw, unsigned int a,
+			      double sp);
 /* The counter as the host sees it in the snapshot: in nominal counts
  * (the correction taken out), 28 bits. */
 uint32_t sh2000_comp_nominal_counter(const struct sh2000_dsp *fw,

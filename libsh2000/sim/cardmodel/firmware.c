@@ -53,6 +53,22 @@ void sh2000_fw_hold_at(struct sh2000_dsp *fw, unsigned int a, double x)
 	sh2000_interp_hold(&fw->ip, a, x);
 }
 
+/*
+ * Axis a holds where its carriage is: the set-point the loop closes on
+ * (the nominal set-point plus the tables' correction) is the counter.
+ * Holding the nominal set-point at the counter would move the motor by
+ * the correction as soon as the loop adds it; holding the corrected value
+ * and not correcting it would need a second kind of set-point the snapshot,
+ * the soft limits and the next motion would all have to know about. The
+ * held nominal set-point is the one whose correction brings it to the
+ * counter, so every later cycle corrects it as any other.
+ */
+void sh2000_fw_hold_here(struct sh2000_dsp *fw, unsigned int a)
+{
+	sh2000_fw_hold_at(fw, a,
+			  sh2000_comp_nominal_at(fw, a, (double)fw->ax[a].act));
+}
+
 static void discard_ring(struct sh2000_dsp *fw)
 {
 	sh2000_queue_discard(fw);
@@ -153,7 +169,7 @@ static void disable_axis(struct sh2000_dsp *fw, unsigned int a)
 	ax->dac = 0;
 	ax->have_rec_hold = 0;
 	sh2000_pid_reset(&ax->pid);
-	sh2000_fw_hold_at(fw, a, (double)ax->act);
+	sh2000_fw_hold_here(fw, a);
 }
 
 static void axis_fault(struct sh2000_dsp *fw, unsigned int a, uint16_t bit,
@@ -175,7 +191,7 @@ static void estop(struct sh2000_dsp *fw)
 		struct sh2000_fw_axis *ax = &fw->ax[a];
 
 		sh2000_home_abort(ax);
-		sh2000_fw_hold_at(fw, a, (double)ax->act);
+		sh2000_fw_hold_here(fw, a);
 		/* keep the accumulated output, forget the error history:
 		 * no derivative kick from the jump of the set-point */
 		ax->pid.e1 = 0.0;
@@ -310,7 +326,7 @@ static uint16_t cmd_enable(struct sh2000_dsp *fw, uint32_t mask, int on)
 		if (!(mask & (1u << a)) || is_enabled(ax))
 			continue;
 		sh2000_pid_reset(&ax->pid);
-		sh2000_fw_hold_at(fw, a, (double)ax->act);
+		sh2000_fw_hold_here(fw, a);
 		ax->sat_cycles = 0;
 		ax->state |= SH2000_AXIS_ENABLED;
 	}
@@ -328,7 +344,7 @@ static void reset(struct sh2000_dsp *fw)
 		ax->sat_cycles = 0;
 		sh2000_home_abort(ax);
 		sh2000_pid_reset(&ax->pid);
-		sh2000_fw_hold_at(fw, a, (double)ax->act);
+		sh2000_fw_hold_here(fw, a);
 	}
 	fw->faults = 0;
 	sh2000_fw_first_fault_clear(fw);
@@ -353,9 +369,9 @@ void sh2000_fw_set_position(struct sh2000_dsp *fw, unsigned int a, int64_t pos)
 	ax->act = pos;
 	ax->pid.e1 = 0.0;
 	ax->pid.e2 = 0.0;
-	/* the carriage stays: its nominal position is the count less the
-	 * correction there */
-	sh2000_fw_hold_at(fw, a, (double)pos - fw->comp.off[a]);
+	/* the carriage stays: held at the nominal position whose corrected
+	 * set-point is the new count */
+	sh2000_fw_hold_here(fw, a);
 }
 
 static uint16_t execute(struct sh2000_dsp *fw, uint16_t seq, uint16_t op,
@@ -742,7 +758,7 @@ static void servo(struct sh2000_dsp *fw, double T)
 
 		if (!is_enabled(ax)) {
 			ax->dac = 0;
-			sh2000_fw_hold_at(fw, a, (double)ax->act - fw->comp.off[a]);
+			sh2000_fw_hold_here(fw, a);
 			continue;
 		}
 		if (ax->cmd_v != 0.0)

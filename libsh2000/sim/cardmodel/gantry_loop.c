@@ -68,7 +68,7 @@ static void pair_fault(struct sh2000_dsp *fw, unsigned int a, unsigned int b,
 		struct sh2000_fw_axis *ax = &fw->ax[s[i]];
 
 		sh2000_home_abort(ax);
-		sh2000_fw_hold_at(fw, s[i], (double)ax->act);
+		sh2000_fw_hold_here(fw, s[i]);
 		ax->stop_a = 0.0;
 		ax->pid.e1 = 0.0;
 		ax->pid.e2 = 0.0;

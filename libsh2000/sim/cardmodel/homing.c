@@ -91,7 +91,7 @@ static int move_to(struct sh2000_fw_axis *ax, double target, double vcap,
 static void home_step(struct sh2000_dsp *fw, unsigned int a, double T)
 {
 	struct sh2000_fw_axis *ax = &fw->ax[a];
-	double speed = fabs(ax->prm.home_vel), dir;
+	double speed = fabs(ax->prm.home_vel), dir, sp;
 	int64_t delta;
 
 	if (speed > ax->prm.vmax)
@@ -150,9 +150,11 @@ static void home_step(struct sh2000_dsp *fw, unsigned int a, double T)
 		if (!move_to(ax, ax->home_latch, speed, T))
 			break;
 		delta = (int64_t)ax->prm.home_offset - (int64_t)ax->home_latch;
+		/* the corrected set-point moves with the preset, no more: the
+		 * nominal one is home_offset only where no table corrects */
+		sp = ax->cmd + fw->comp.off[a] + (double)delta;
 		sh2000_fw_set_position(fw, a, ax->act + delta);
-		ax->cmd = (double)ax->prm.home_offset;
-		sh2000_interp_hold(&fw->ip, a, ax->cmd);
+		sh2000_fw_hold_at(fw, a, sh2000_comp_nominal_at(fw, a, sp));
 		ax->home = HOME_NONE;
 		ax->state &= (uint16_t)~SH2000_AXIS_HOMING;
 		ax->state |= SH2000_AXIS_HOMED;

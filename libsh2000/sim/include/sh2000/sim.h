@@ -106,6 +106,15 @@ int sh2000_sim_server_set_clock_ppm(struct sh2000_sim_server *s, double ppm);
  * two cycles. -EINVAL when g is not a gantry the model can run. */
 int sh2000_sim_server_set_gantry(struct sh2000_sim_server *s,
 				 const struct sh2000_gantry_config *g);
+/* Addition: the served card's machine geometry (sh2000_fw_set_geometry();
+ * NULL: perfect). Applied between two cycles. -EINVAL as that call. */
+int sh2000_sim_server_set_geometry(struct sh2000_sim_server *s,
+				   const struct sh2000_geometry *g);
+/* Addition: the served card's simulated interferometer
+ * (sh2000_fw_tool_position()): the tool's true position in mm, machine
+ * frame, after the last cycle. */
+int sh2000_sim_server_tool_position(struct sh2000_sim_server *s,
+				    double tool_mm[SH2000_AXES]);
 /* The shared-memory object's name ("/sh2000-NAME"; "" when attached). */
 const char *sh2000_sim_server_shm_name(const struct sh2000_sim_server *s);
 

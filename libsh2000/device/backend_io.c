@@ -4,6 +4,7 @@
  * Needs CAP_SYS_RAWIO; x86 only.
  */
 #include <errno.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -15,22 +16,39 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
+/* The backend's own state: where the ports are. */
+struct io_priv {
+	unsigned long base;
+};
+
+static unsigned long io_base(const struct sh2000 *h)
+{
+	return ((const struct io_priv *)h->priv)->base;
+}
+
 static void io_out(struct sh2000 *h, unsigned int reg, uint16_t v)
 {
 	if (reg == SH2000_REG_DATA)
-		outw(v, (unsigned short)(h->io_base + reg));
+		outw(v, (unsigned short)(io_base(h) + reg));
 	else
-		outb(0, (unsigned short)(h->io_base + reg));
+		outb(0, (unsigned short)(io_base(h) + reg));
 }
 
 static uint16_t io_in(struct sh2000 *h, unsigned int reg)
 {
-	return inw((unsigned short)(h->io_base + reg));
+	return inw((unsigned short)(io_base(h) + reg));
 }
 
 static void io_close(struct sh2000 *h)
 {
-	ioperm(h->io_base, SH2000_IO_EXTENT, 0);
+	ioperm(io_base(h), SH2000_IO_EXTENT, 0);
+}
+
+/* Every program doing port I/O on these ports shares the lock file. */
+static int io_lock_id(struct sh2000 *h, char *id, size_t len)
+{
+	snprintf(id, len, "io-0x%lx", io_base(h));
+	return 1;
 }
 
 static const struct sh2000_backend io_backend = {
@@ -38,6 +56,7 @@ static const struct sh2000_backend io_backend = {
 	.port_out = io_out,
 	.port_in = io_in,
 	.counters = sh2000_bus_counters,
+	.lock_id = io_lock_id,
 	.close = io_close,
 };
 
@@ -83,7 +102,13 @@ int sh2000_io_open(struct sh2000 *h, const char *spec, char *msg, size_t len)
 				  strerror(e),
 				  e == EPERM ? " (needs CAP_SYS_RAWIO)" : "");
 	}
-	h->io_base = base;
+	h->priv = calloc(1, sizeof(struct io_priv));
+	if (!h->priv) {
+		ioperm(base, SH2000_IO_EXTENT, 0);
+		return sh2000_msg(msg, len, -ENOMEM, "io:0x%lx: out of memory",
+				  base);
+	}
+	((struct io_priv *)h->priv)->base = base;
 	h->bus.pos = SH2000_SEEK_UNKNOWN;
 	h->be = &io_backend;
 	return 0;

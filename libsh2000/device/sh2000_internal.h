@@ -9,9 +9,7 @@
 
 #include "sh2000/sh2000.h"
 #include "sh2000/sh2000_protocol.h"
-#include "sh2000_fpga.h"
 #include "sh2000_seek.h"
-#include "sh2000_shm.h"
 
 struct sh2000;
 
@@ -32,6 +30,11 @@ struct sh2000_backend {
 	uint64_t (*now_ns)(struct sh2000 *h);
 	void (*wait_ns)(struct sh2000 *h, uint64_t ns);
 	int (*counters)(struct sh2000 *h, struct sh2000_port_counters *c);
+	/* The name of the card's lock file, shared by every program that
+	 * reaches the same card: 1 with id filled, 0 when nobody else can
+	 * reach it (an in-process card, a plain file). */
+	int (*lock_id)(struct sh2000 *h, char *id, size_t len);
+	/* Undo the open; h->priv is freed after it by the handle. */
 	void (*close)(struct sh2000 *h);
 };
 
@@ -62,13 +65,9 @@ struct sh2000 {
 	const struct sh2000_backend *be;
 	char device[128];
 
-	/* backend state */
-	struct sh2000_bus bus;
-	int fd;				/* dev, shm */
-	unsigned long io_base;		/* io */
-	struct sh2000_ports ports;	/* sim, ports */
-	struct sh2000_shm *shm;		/* shm */
-	struct sh2000_fpga fpga;	/* shm: the FPGA, emulated on this side */
+	/* the backend's own state (backend_*.c), freed with the handle */
+	void *priv;
+	struct sh2000_bus bus;		/* bus.c: register-level backends */
 	struct sh2000_arb arb;
 
 	unsigned int card_version;

@@ -39,6 +39,43 @@ static uint16_t io_in(struct sh2000 *h, unsigned int reg)
 	return inw((unsigned short)(io_base(h) + reg));
 }
 
+/*
+ * The FPGA's address counter is one for every process doing port I/O on
+ * these ports: a word transfer is one port sequence under the arbiter's
+ * bus lock, and the counter is unknown after another process may have
+ * moved it.
+ */
+static int io_bus_take(struct sh2000 *h)
+{
+	int r = sh2000_arb_bus_take(h);
+
+	if (!r)
+		h->bus.pos = SH2000_SEEK_UNKNOWN;
+	return r;
+}
+
+static int io_read(struct sh2000 *h, unsigned int addr, unsigned int n,
+		   uint16_t *buf)
+{
+	int r = io_bus_take(h);
+
+	if (!r)
+		r = sh2000_bus_read(h, addr, n, buf);
+	sh2000_arb_drop(h, SH2000_ARB_BUS);
+	return r;
+}
+
+static int io_write(struct sh2000 *h, unsigned int addr, unsigned int n,
+		    const uint16_t *buf)
+{
+	int r = io_bus_take(h);
+
+	if (!r)
+		r = sh2000_bus_write(h, addr, n, buf);
+	sh2000_arb_drop(h, SH2000_ARB_BUS);
+	return r;
+}
+
 static void io_close(struct sh2000 *h)
 {
 	ioperm(io_base(h), SH2000_IO_EXTENT, 0);
@@ -53,6 +90,8 @@ static int io_lock_id(struct sh2000 *h, char *id, size_t len)
 
 static const struct sh2000_backend io_backend = {
 	.kind = SH2000_BACKEND_IO,
+	.read = io_read,
+	.write = io_write,
 	.port_out = io_out,
 	.port_in = io_in,
 	.counters = sh2000_bus_counters,

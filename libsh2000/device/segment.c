@@ -113,7 +113,7 @@ static int push_locked(struct sh2000 *h, const int32_t (*pts)[SH2000_AXES],
 	int r;
 
 	/* the ring is the motion's: the first push claims it */
-	r = sh2000_arb_claim_locked(h);
+	r = sh2000_motion_claim_locked(h);
 	if (r < 0)
 		return r;
 	r = quick(h, &fill, &state, 0);

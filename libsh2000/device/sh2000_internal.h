@@ -14,9 +14,12 @@
 struct sh2000;
 
 /*
- * A backend either moves whole word ranges itself (the kernel driver) or
- * offers the four FPGA registers (io:, sim, sim:NAME, struct sh2000_ports), in which case the
- * bus (bus.c) does the seeking with sh2000_seek_plan().
+ * A backend moves whole word ranges itself (read/write: the kernel
+ * driver; io:, which runs the bus under the arbiter's bus lock) or
+ * offers only the four FPGA registers (sim, sim:NAME, struct
+ * sh2000_ports), in which case the bus (bus.c) does the seeking with
+ * sh2000_seek_plan(). Its own state is behind h->priv, seen by its file
+ * alone.
  */
 struct sh2000_backend {
 	enum sh2000_backend_kind kind;
@@ -261,12 +264,22 @@ int sh2000_arb_cmd_take(struct sh2000 *h);
 /* The command lock tried once: -EAGAIN if another program has it, else
  * as sh2000_arb_cmd_take(). */
 int sh2000_arb_cmd_try(struct sh2000 *h);
+/* The motion lock alone: 1 newly taken, 0 held already or no lock file
+ * (the in-process card), < 0 an error. */
 int sh2000_arb_claim_locked(struct sh2000 *h);
+/* This handle holds the motion lock. */
+int sh2000_arb_holds_motion(const struct sh2000 *h);
+/* Give the motion lock up (its holder record cleared); none held: 0. */
+void sh2000_arb_release_locked(struct sh2000 *h);
 /* Around a command that changes the motion (enable, disable, home,
  * set_position, reset): -SH2000_EOWNED naming the holder if another
  * program controls the motion. */
 int sh2000_arb_motion_begin(struct sh2000 *h, const char *what);
 void sh2000_arb_motion_end(struct sh2000 *h);
+
+/* motion_claim.c (h->lock held): the motion lock taken with the record
+ * count synced from the card (what every first push does): 0 or < 0. */
+int sh2000_motion_claim_locked(struct sh2000 *h);
 
 /* backends */
 int sh2000_dev_open(struct sh2000 *h, const char *path, char *msg,

@@ -374,7 +374,7 @@ int sh2000_arb_bus_take(struct sh2000 *h)
 	       r == -EACCES) {
 		/* a real-time call does not wait: its caller tries again
 		 * next tick */
-		if (h->nb)
+		if (h->nb.active)
 			return -EAGAIN;
 		if (sh2000_mono_ns() - t0 > SH2000_ARB_WAIT_MS * 1000000ull)
 			return sh2000_fail(h, -SH2000_ETIMEOUT,

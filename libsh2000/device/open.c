@@ -74,7 +74,7 @@ static int card_hello(struct sh2000 *h, char *msg, size_t len)
 	if (r < 0)
 		return sh2000_msg(msg, len, r, "%s: %s", h->device, h->err);
 	h->host_hb = w[0];
-	h->cmd_seq = cmd[0];
+	h->cmd.seq = cmd[0];
 	r = sh2000_queue_sync_locked(h);
 	if (r < 0)
 		return sh2000_msg(msg, len, r, "%s: %s", h->device, h->err);
@@ -141,7 +141,7 @@ static struct sh2000 *handle_new(const char *device)
 	pthread_cond_init(&h->cmd_cond, NULL);
 	h->arb.fd = -1;
 	h->bus.pos = SH2000_SEEK_UNKNOWN;
-	h->hb_limit_ns = SH2000_HEARTBEAT_LIMIT_NS;
+	h->hb.limit_ns = SH2000_HEARTBEAT_LIMIT_NS;
 	snprintf(h->device, sizeof(h->device), "%s", device);
 	return h;
 }

@@ -6,7 +6,8 @@
 #include <stdint.h>
 
 struct sh2000_nb {
-	int active;		/* in one: locks are tried only once */
+	int active;		/* in one (or index.c's): locks, the
+				 * arbiter's bus lock too, tried once */
 	int tail_seen;		/* a poll has read TAIL */
 	uint16_t tail;		/* TAIL as the last poll read it */
 	uint16_t estop_ack_seen;	/* ESTOP_ACK as the last poll read it */

@@ -20,21 +20,21 @@
 #include "status_state.h"
 
 /*
- * Who calls whom, top to bottom; a file calls only files below it (and
- * errors.c, clock.c's time, which every layer uses):
+ * Who calls whom, top to bottom; a file calls only files below it:
  *
  *   public calls   open.c, status.c, command.c, params.c, timing.c,
  *                  segment.c, gather.c, comp*.c, index.c, nonblock.c,
  *                  first_fault.c
  *   sequencing     motion_claim.c: the motion lock, then the mailbox's
  *                  count sync; the mailbox's close, then the lock's drop
- *   modules        mailbox.c (the point mailbox), command.c's slot,
- *                  arbiter.c (locks between processes: lock file only)
+ *   modules        mailbox.c (the point mailbox), command.c's slot
  *   word access    bus.c: sh2000_rd/sh2000_wr -> the backend's read/write
  *                  ops, else the register-level bus over its ports
- *   backends       backend_dev.c, backend_io.c (its word ops take the
- *                  arbiter's bus lock around the bus), backend_shm.c,
+ *   backends       backend_dev.c, backend_io.c (its word ops run the bus
+ *                  under the arbiter's bus lock), backend_shm.c,
  *                  backend_ports.c (backend_simload.c opens one)
+ *   leaves         arbiter.c (the locks between processes: the lock file
+ *                  only, never the card), errors.c, clock.c's time
  *
  * Each part's state is a member of struct sh2000 whose type its own header
  * declares (backend.h, arbiter_state.h, status_state.h, command_state.h,

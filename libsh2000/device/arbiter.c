@@ -284,6 +284,8 @@ static int owned_elsewhere(struct sh2000 *h, const char *what)
 			   what, *who ? who : "another program");
 }
 
+/* The motion lock for this handle: 1 newly taken (the holder record
+ * written), 0 held already or no lock file, < 0 an error. */
 int sh2000_arb_claim_locked(struct sh2000 *h)
 {
 	int r;
@@ -298,13 +300,23 @@ int sh2000_arb_claim_locked(struct sh2000 *h)
 		return r;
 	h->arb.motion = 1;
 	write_holder(h);
-	/* the record count is where the last holder left it */
-	r = sh2000_queue_sync_locked(h);
-	if (r < 0) {
+	return 1;
+}
+
+int sh2000_arb_holds_motion(const struct sh2000 *h)
+{
+	return h->arb.fd >= 0 && h->arb.motion;
+}
+
+void sh2000_arb_release_locked(struct sh2000 *h)
+{
+	if (sh2000_arb_holds_motion(h)) {
+		char none[ARB_INFO_LEN] = { 0 };
+
+		(void)pwrite(h->arb.fd, none, sizeof(none), ARB_INFO_OFF);
 		sh2000_arb_drop(h, SH2000_ARB_MOTION);
-		h->arb.motion = 0;
 	}
-	return r;
+	h->arb.motion = 0;
 }
 
 int sh2000_arb_motion_begin(struct sh2000 *h, const char *what)
@@ -323,30 +335,6 @@ void sh2000_arb_motion_end(struct sh2000 *h)
 {
 	if (h->arb.fd >= 0 && !h->arb.motion)
 		sh2000_arb_drop(h, SH2000_ARB_MOTION);
-}
-
-int sh2000_claim_motion(struct sh2000 *h)
-{
-	int r;
-
-	pthread_mutex_lock(&h->lock);
-	r = sh2000_arb_claim_locked(h);
-	pthread_mutex_unlock(&h->lock);
-	return r;
-}
-
-void sh2000_release_motion(struct sh2000 *h)
-{
-	pthread_mutex_lock(&h->lock);
-	if (h->arb.fd >= 0 && h->arb.motion) {
-		char none[ARB_INFO_LEN] = { 0 };
-
-		(void)sh2000_mbox_close_locked(h);
-		(void)pwrite(h->arb.fd, none, sizeof(none), ARB_INFO_OFF);
-		sh2000_arb_drop(h, SH2000_ARB_MOTION);
-	}
-	h->arb.motion = 0;
-	pthread_mutex_unlock(&h->lock);
 }
 
 int sh2000_motion_holder(struct sh2000 *h, char *buf, size_t len)
@@ -386,7 +374,7 @@ int sh2000_arb_bus_take(struct sh2000 *h)
 	       r == -EACCES) {
 		/* a real-time call does not wait: its caller tries again
 		 * next tick */
-		if (h->nb)
+		if (h->nb.active)
 			return -EAGAIN;
 		if (sh2000_mono_ns() - t0 > SH2000_ARB_WAIT_MS * 1000000ull)
 			return sh2000_fail(h, -SH2000_ETIMEOUT,
@@ -397,7 +385,5 @@ int sh2000_arb_bus_take(struct sh2000 *h)
 	if (r < 0)
 		return sh2000_fail(h, r, "lock file %s: %s", h->arb.path,
 				   strerror(-r));
-	/* another process may have moved the address counter */
-	h->bus.pos = SH2000_SEEK_UNKNOWN;
 	return 0;
 }

@@ -14,12 +14,23 @@
 #include <string.h>
 #include <sys/ioctl.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
 #include <linux/types.h>
 #include "uapi/sh2000.h"
 
 #include "sh2000_internal.h"
+
+/* The backend's own state: the open node. */
+struct dev_priv {
+	int fd;
+};
+
+static int dev_fd(const struct sh2000 *h)
+{
+	return ((const struct dev_priv *)h->priv)->fd;
+}
 
 static int dev_read(struct sh2000 *h, unsigned int addr, unsigned int n,
 		    uint16_t *buf)
@@ -28,7 +39,7 @@ static int dev_read(struct sh2000 *h, unsigned int addr, unsigned int n,
 	unsigned int i;
 
 	while (done < len) {
-		ssize_t r = pread(h->fd, (char *)buf + done, len - done,
+		ssize_t r = pread(dev_fd(h), (char *)buf + done, len - done,
 				  (off_t)(2u * addr + done));
 
 		if (r < 0 && errno == EINTR)
@@ -56,7 +67,7 @@ static int dev_write(struct sh2000 *h, unsigned int addr, unsigned int n,
 	for (i = 0; i < n; i++)
 		le[i] = htole16(buf[i]);
 	while (done < len) {
-		ssize_t r = pwrite(h->fd, (char *)le + done, len - done,
+		ssize_t r = pwrite(dev_fd(h), (char *)le + done, len - done,
 				   (off_t)(2u * addr + done));
 
 		if (r < 0 && errno == EINTR)
@@ -76,7 +87,7 @@ static int dev_counters(struct sh2000 *h, struct sh2000_port_counters *c)
 {
 	struct sh2000_counters k;
 
-	if (ioctl(h->fd, SH2000_IOC_GET_COUNTERS, &k) < 0)
+	if (ioctl(dev_fd(h), SH2000_IOC_GET_COUNTERS, &k) < 0)
 		return sh2000_fail(h, -errno, "SH2000_IOC_GET_COUNTERS: %s",
 				   strerror(errno));
 	c->clears = k.clears;
@@ -87,11 +98,25 @@ static int dev_counters(struct sh2000 *h, struct sh2000_port_counters *c)
 	return 0;
 }
 
+/* A character device: the lock file is named after its numbers, whatever
+ * path opened it; a plain file (tests) is nobody else's. */
+static int dev_lock_id(struct sh2000 *h, char *id, size_t len)
+{
+	struct stat sb;
+
+	if (fstat(dev_fd(h), &sb) < 0 || !S_ISCHR(sb.st_mode))
+		return 0;
+	snprintf(id, len, "dev-%u-%u", major(sb.st_rdev), minor(sb.st_rdev));
+	return 1;
+}
+
 static void dev_close(struct sh2000 *h)
 {
-	if (h->fd >= 0)
-		close(h->fd);
-	h->fd = -1;
+	struct dev_priv *d = h->priv;
+
+	if (d->fd >= 0)
+		close(d->fd);
+	d->fd = -1;
 }
 
 static const struct sh2000_backend dev_backend = {
@@ -99,6 +124,7 @@ static const struct sh2000_backend dev_backend = {
 	.read = dev_read,
 	.write = dev_write,
 	.counters = dev_counters,
+	.lock_id = dev_lock_id,
 	.close = dev_close,
 };
 
@@ -167,10 +193,10 @@ int sh2000_dev_open(struct sh2000 *h, const char *path, char *msg,
 {
 	struct sh2000_info info;
 	char hint[320] = "";
-	int e;
+	int fd, e;
 
-	h->fd = open(path, O_RDWR | O_CLOEXEC);
-	if (h->fd < 0) {
+	fd = open(path, O_RDWR | O_CLOEXEC);
+	if (fd < 0) {
 		e = errno;
 		if (e == EACCES || e == EPERM)
 			access_hint(path, hint, sizeof(hint));
@@ -179,23 +205,27 @@ int sh2000_dev_open(struct sh2000 *h, const char *path, char *msg,
 		return sh2000_msg(msg, len, -e, "%s: cannot open: %s%s", path,
 				  strerror(e), hint);
 	}
-	if (ioctl(h->fd, SH2000_IOC_GET_INFO, &info) < 0) {
+	if (ioctl(fd, SH2000_IOC_GET_INFO, &info) < 0) {
 		e = errno;
-		close(h->fd);
-		h->fd = -1;
+		close(fd);
 		return sh2000_msg(msg, len, e == ENOTTY ? -ENODEV : -e,
 				  "%s: not an sh2000 device (GET_INFO: %s)",
 				  path, strerror(e));
 	}
 	if (info.abi_version != SH2000_ABI_VERSION ||
 	    info.ram_words != SH2000_RAM_WORDS) {
-		close(h->fd);
-		h->fd = -1;
+		close(fd);
 		return sh2000_msg(msg, len, -EPROTO,
 				  "%s: driver ABI %u with %u RAM words; library expects ABI %u with %u",
 				  path, info.abi_version, info.ram_words,
 				  SH2000_ABI_VERSION, SH2000_RAM_WORDS);
 	}
+	h->priv = calloc(1, sizeof(struct dev_priv));
+	if (!h->priv) {
+		close(fd);
+		return sh2000_msg(msg, len, -ENOMEM, "%s: out of memory", path);
+	}
+	((struct dev_priv *)h->priv)->fd = fd;
 	h->be = &dev_backend;
 	return 0;
 }
@@ -206,11 +236,11 @@ int sh2000_driver_info(struct sh2000 *h, char *version, size_t len,
 	struct sh2000_info info;
 	int e;
 
-	if (h->be != &dev_backend || h->fd < 0)
+	if (h->be != &dev_backend || dev_fd(h) < 0)
 		return sh2000_fail(h, -ENODEV, "%s: no kernel driver behind this device",
 				   h->device);
 	memset(&info, 0, sizeof(info));
-	if (ioctl(h->fd, SH2000_IOC_GET_INFO, &info) < 0) {
+	if (ioctl(dev_fd(h), SH2000_IOC_GET_INFO, &info) < 0) {
 		e = errno;
 		return sh2000_fail(h, -e, "%s: GET_INFO: %s", h->device,
 				   strerror(e));

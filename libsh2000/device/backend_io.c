@@ -4,6 +4,7 @@
  * Needs CAP_SYS_RAWIO; x86 only.
  */
 #include <errno.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -15,29 +16,86 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
+/* The backend's own state: where the ports are. */
+struct io_priv {
+	unsigned long base;
+};
+
+static unsigned long io_base(const struct sh2000 *h)
+{
+	return ((const struct io_priv *)h->priv)->base;
+}
+
 static void io_out(struct sh2000 *h, unsigned int reg, uint16_t v)
 {
 	if (reg == SH2000_REG_DATA)
-		outw(v, (unsigned short)(h->io_base + reg));
+		outw(v, (unsigned short)(io_base(h) + reg));
 	else
-		outb(0, (unsigned short)(h->io_base + reg));
+		outb(0, (unsigned short)(io_base(h) + reg));
 }
 
 static uint16_t io_in(struct sh2000 *h, unsigned int reg)
 {
-	return inw((unsigned short)(h->io_base + reg));
+	return inw((unsigned short)(io_base(h) + reg));
+}
+
+/*
+ * The FPGA's address counter is one for every process doing port I/O on
+ * these ports: a word transfer is one port sequence under the arbiter's
+ * bus lock, and the counter is unknown after another process may have
+ * moved it.
+ */
+static int io_bus_take(struct sh2000 *h)
+{
+	int r = sh2000_arb_bus_take(h);
+
+	if (!r)
+		h->bus.pos = SH2000_SEEK_UNKNOWN;
+	return r;
+}
+
+static int io_read(struct sh2000 *h, unsigned int addr, unsigned int n,
+		   uint16_t *buf)
+{
+	int r = io_bus_take(h);
+
+	if (!r)
+		r = sh2000_bus_read(h, addr, n, buf);
+	sh2000_arb_drop(h, SH2000_ARB_BUS);
+	return r;
+}
+
+static int io_write(struct sh2000 *h, unsigned int addr, unsigned int n,
+		    const uint16_t *buf)
+{
+	int r = io_bus_take(h);
+
+	if (!r)
+		r = sh2000_bus_write(h, addr, n, buf);
+	sh2000_arb_drop(h, SH2000_ARB_BUS);
+	return r;
 }
 
 static void io_close(struct sh2000 *h)
 {
-	ioperm(h->io_base, SH2000_IO_EXTENT, 0);
+	ioperm(io_base(h), SH2000_IO_EXTENT, 0);
+}
+
+/* Every program doing port I/O on these ports shares the lock file. */
+static int io_lock_id(struct sh2000 *h, char *id, size_t len)
+{
+	snprintf(id, len, "io-0x%lx", io_base(h));
+	return 1;
 }
 
 static const struct sh2000_backend io_backend = {
 	.kind = SH2000_BACKEND_IO,
+	.read = io_read,
+	.write = io_write,
 	.port_out = io_out,
 	.port_in = io_in,
 	.counters = sh2000_bus_counters,
+	.lock_id = io_lock_id,
 	.close = io_close,
 };
 
@@ -83,7 +141,13 @@ int sh2000_io_open(struct sh2000 *h, const char *spec, char *msg, size_t len)
 				  strerror(e),
 				  e == EPERM ? " (needs CAP_SYS_RAWIO)" : "");
 	}
-	h->io_base = base;
+	h->priv = calloc(1, sizeof(struct io_priv));
+	if (!h->priv) {
+		ioperm(base, SH2000_IO_EXTENT, 0);
+		return sh2000_msg(msg, len, -ENOMEM, "io:0x%lx: out of memory",
+				  base);
+	}
+	((struct io_priv *)h->priv)->base = base;
 	h->bus.pos = SH2000_SEEK_UNKNOWN;
 	h->be = &io_backend;
 	return 0;

@@ -7,39 +7,55 @@
  * clock under the handle's lock instead of sleeping.
  */
 #include <errno.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "sh2000_internal.h"
 
+/* The backend's own state is the caller's struct sh2000_ports, copied. */
+static struct sh2000_ports *ports(const struct sh2000 *h)
+{
+	return h->priv;
+}
+
 static void ports_out(struct sh2000 *h, unsigned int reg, uint16_t v)
 {
-	h->ports.out(h->ports.ctx, reg, v);
+	const struct sh2000_ports *p = ports(h);
+
+	p->out(p->ctx, reg, v);
 }
 
 static uint16_t ports_in(struct sh2000 *h, unsigned int reg)
 {
-	return h->ports.in(h->ports.ctx, reg);
+	const struct sh2000_ports *p = ports(h);
+
+	return p->in(p->ctx, reg);
 }
 
 static uint64_t ports_now(struct sh2000 *h)
 {
-	return h->ports.now_ns ? h->ports.now_ns(h->ports.ctx) :
-				 sh2000_mono_ns();
+	const struct sh2000_ports *p = ports(h);
+
+	return p->now_ns ? p->now_ns(p->ctx) : sh2000_mono_ns();
 }
 
 static void ports_wait(struct sh2000 *h, uint64_t ns)
 {
-	if (h->ports.advance_ns)
-		h->ports.advance_ns(h->ports.ctx, ns);
+	const struct sh2000_ports *p = ports(h);
+
+	if (p->advance_ns)
+		p->advance_ns(p->ctx, ns);
 	else
 		sh2000_sleep_real(ns);
 }
 
 static void ports_close(struct sh2000 *h)
 {
-	if (h->ports.close)
-		h->ports.close(h->ports.ctx);
-	memset(&h->ports, 0, sizeof(h->ports));
+	struct sh2000_ports *p = ports(h);
+
+	if (p->close)
+		p->close(p->ctx);
+	memset(p, 0, sizeof(*p));
 }
 
 #define PORTS_BACKEND(k, vt) {				\
@@ -81,8 +97,15 @@ int sh2000_ports_attach(struct sh2000 *h, const struct sh2000_ports *p,
 				  "%s: virtual time needs now_ns and advance_ns",
 				  h->device);
 	}
-	h->ports = *p;
-	h->ports.size = sizeof(h->ports);
+	h->priv = malloc(sizeof(*p));
+	if (!h->priv) {
+		if (p->close)
+			p->close(p->ctx);
+		return sh2000_msg(msg, len, -ENOMEM, "%s: out of memory",
+				  h->device);
+	}
+	*ports(h) = *p;
+	ports(h)->size = sizeof(*p);
 	h->bus.pos = SH2000_SEEK_UNKNOWN;
 	h->be = &ports_backends[!!(p->flags & SH2000_PORTS_F_SIMULATED)][vt];
 	return 0;
@@ -101,7 +124,7 @@ int sh2000_ports_call(struct sh2000 *h,
 				   "%s: not a card opened on struct sh2000_ports",
 				   h->device);
 	pthread_mutex_lock(&h->lock);
-	r = fn(&h->ports, arg);
+	r = fn(ports(h), arg);
 	pthread_mutex_unlock(&h->lock);
 	return r;
 }
@@ -112,12 +135,12 @@ int sh2000_watch_cycles(struct sh2000 *h, sh2000_cycle_fn fn, void *arg)
 
 	if (!h)
 		return -EINVAL;
-	if (h->be->port_out != ports_out || !h->ports.watch)
+	if (h->be->port_out != ports_out || !ports(h)->watch)
 		return sh2000_fail(h, -SH2000_ENOTSIM,
 				   "%s: only a simulated card shows its servo cycles",
 				   h->device);
 	pthread_mutex_lock(&h->lock);
-	r = h->ports.watch(h->ports.ctx, fn, arg);
+	r = ports(h)->watch(ports(h)->ctx, fn, arg);
 	pthread_mutex_unlock(&h->lock);
 	return r;
 }

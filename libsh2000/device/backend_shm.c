@@ -10,28 +10,52 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "sh2000_fpga.h"
 #include "sh2000_internal.h"
+#include "sh2000_shm.h"
+
+/* The backend's own state: the served RAM and the FPGA, emulated on this
+ * side. */
+struct shm_priv {
+	struct sh2000_shm *shm;
+	struct sh2000_fpga fpga;
+};
+
+static struct shm_priv *shm_priv(const struct sh2000 *h)
+{
+	return h->priv;
+}
 
 static void shm_out(struct sh2000 *h, unsigned int reg, uint16_t v)
 {
-	sh2000_fpga_out(&h->fpga, reg, v);
+	sh2000_fpga_out(&shm_priv(h)->fpga, reg, v);
 }
 
 static uint16_t shm_in(struct sh2000 *h, unsigned int reg)
 {
-	return sh2000_fpga_in(&h->fpga, reg);
+	return sh2000_fpga_in(&shm_priv(h)->fpga, reg);
 }
 
 static void shm_close(struct sh2000 *h)
 {
-	if (h->shm)
-		munmap(h->shm, sizeof(*h->shm));
-	h->shm = NULL;
+	struct shm_priv *p = shm_priv(h);
+
+	if (p->shm)
+		munmap(p->shm, sizeof(*p->shm));
+	p->shm = NULL;
+}
+
+/* Every program using the card served under this name shares it. */
+static int shm_lock_id(struct sh2000 *h, char *id, size_t len)
+{
+	snprintf(id, len, "shm-%s", h->device + 4);
+	return 1;
 }
 
 static const struct sh2000_backend shm_backend = {
@@ -39,6 +63,7 @@ static const struct sh2000_backend shm_backend = {
 	.port_out = shm_out,
 	.port_in = shm_in,
 	.counters = sh2000_bus_counters,
+	.lock_id = shm_lock_id,
 	.close = shm_close,
 };
 
@@ -75,23 +100,30 @@ int sh2000_shm_open(struct sh2000 *h, const char *name, char *msg,
 	if (m == MAP_FAILED)
 		return sh2000_msg(msg, len, -e, "sim:%s: mmap: %s", name,
 				  strerror(e));
-	h->shm = m;
-	if (__atomic_load_n(&h->shm->magic, __ATOMIC_ACQUIRE) != SH2000_SHM_MAGIC ||
-	    h->shm->layout != SH2000_SHM_LAYOUT) {
+	h->priv = calloc(1, sizeof(struct shm_priv));
+	if (!h->priv) {
+		munmap(m, sizeof(struct sh2000_shm));
+		return sh2000_msg(msg, len, -ENOMEM, "sim:%s: out of memory",
+				  name);
+	}
+	shm_priv(h)->shm = m;
+	if (__atomic_load_n(&shm_priv(h)->shm->magic, __ATOMIC_ACQUIRE) !=
+	    SH2000_SHM_MAGIC ||
+	    shm_priv(h)->shm->layout != SH2000_SHM_LAYOUT) {
 		shm_close(h);
 		return sh2000_msg(msg, len, -EPROTO,
 				  "sim:%s: %s is not an sh2000 card (magic/layout)",
 				  name, path);
 	}
-	if (kill(h->shm->owner_pid, 0) < 0 && errno == ESRCH) {
-		int pid = h->shm->owner_pid;
+	if (kill(shm_priv(h)->shm->owner_pid, 0) < 0 && errno == ESRCH) {
+		int pid = shm_priv(h)->shm->owner_pid;
 
 		shm_close(h);
 		return sh2000_msg(msg, len, -ESRCH,
 				  "sim:%s: server (pid %d) is gone", name, pid);
 	}
 	h->bus.pos = SH2000_SEEK_UNKNOWN;
-	sh2000_fpga_init(&h->fpga, h->shm->ram);
+	sh2000_fpga_init(&shm_priv(h)->fpga, shm_priv(h)->shm->ram);
 	h->be = &shm_backend;
 	return 0;
 }

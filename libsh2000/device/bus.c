@@ -87,14 +87,6 @@ int sh2000_rd(struct sh2000 *h, unsigned int addr, unsigned int n,
 		return -EINVAL;
 	if (h->be->read)
 		return h->be->read(h, addr, n, buf);
-	if (h->be->kind == SH2000_BACKEND_IO) {
-		int r = sh2000_arb_bus_take(h);
-
-		if (!r)
-			r = sh2000_bus_read(h, addr, n, buf);
-		sh2000_arb_drop(h, SH2000_ARB_BUS);
-		return r;
-	}
 	return sh2000_bus_read(h, addr, n, buf);
 }
 
@@ -105,13 +97,5 @@ int sh2000_wr(struct sh2000 *h, unsigned int addr, unsigned int n,
 		return -EINVAL;
 	if (h->be->write)
 		return h->be->write(h, addr, n, buf);
-	if (h->be->kind == SH2000_BACKEND_IO) {
-		int r = sh2000_arb_bus_take(h);
-
-		if (!r)
-			r = sh2000_bus_write(h, addr, n, buf);
-		sh2000_arb_drop(h, SH2000_ARB_BUS);
-		return r;
-	}
 	return sh2000_bus_write(h, addr, n, buf);
 }

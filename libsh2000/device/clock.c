@@ -39,7 +39,7 @@ void sh2000_hold_wait(struct sh2000 *h, uint64_t ns)
 		/* an emergency stop from another thread goes first: a mutex
 		 * released and retaken at once would starve it */
 		pthread_mutex_unlock(&h->lock);
-		while (__atomic_load_n(&h->urgent, __ATOMIC_ACQUIRE))
+		while (__atomic_load_n(&h->cmd.urgent, __ATOMIC_ACQUIRE))
 			sched_yield();
 		pthread_mutex_lock(&h->lock);
 		return;

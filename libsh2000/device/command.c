@@ -77,7 +77,7 @@ static int card_had_its_chance(struct sh2000 *h, int *late, uint16_t *hb_late,
 int sh2000_cmd_write(struct sh2000 *h, unsigned int op, unsigned int axis,
 		     unsigned int param, int32_t arg)
 {
-	uint16_t w[7], seq = (uint16_t)(h->cmd_seq + 1u);
+	uint16_t w[7], seq = (uint16_t)(h->cmd.seq + 1u);
 	int r;
 
 	w[0] = (uint16_t)op;
@@ -90,22 +90,22 @@ int sh2000_cmd_write(struct sh2000 *h, unsigned int op, unsigned int axis,
 	/* one upward stream: OP..CHECK first, SEQ (which publishes) last */
 	r = sh2000_wr(h, SH2000_W_CMD_OP, 7, w);
 	if (r == 0)
-		h->cmd_seq = seq;
+		h->cmd.seq = seq;
 	return r;
 }
 
 /*
  * The command slot for this handle: other threads of the handle wait on
- * cmd_busy, other programs on the command lock. Returns 0 with both held,
+ * cmd.busy, other programs on the command lock. Returns 0 with both held,
  * or an error with neither.
  */
 int sh2000_cmd_slot_take(struct sh2000 *h, const char *what)
 {
 	int r;
 
-	while (h->cmd_busy)
+	while (h->cmd.busy)
 		pthread_cond_wait(&h->cmd_cond, &h->lock);
-	h->cmd_busy = 1;
+	h->cmd.busy = 1;
 	r = sh2000_arb_cmd_take(h);
 	if (r == -EAGAIN)
 		r = sh2000_fail(h, -SH2000_ETIMEOUT,
@@ -115,12 +115,12 @@ int sh2000_cmd_slot_take(struct sh2000 *h, const char *what)
 	 * sequence number is the one in the RAM (a program that died
 	 * mid-command left it there too). */
 	if (r > 0) {
-		r = sh2000_rd(h, SH2000_W_CMD_SEQ, 1, &h->cmd_seq);
+		r = sh2000_rd(h, SH2000_W_CMD_SEQ, 1, &h->cmd.seq);
 		if (r < 0)
 			sh2000_arb_drop(h, SH2000_ARB_CMD);
 	}
 	if (r < 0) {
-		h->cmd_busy = 0;
+		h->cmd.busy = 0;
 		pthread_cond_broadcast(&h->cmd_cond);
 	}
 	return r < 0 ? r : 0;
@@ -129,7 +129,7 @@ int sh2000_cmd_slot_take(struct sh2000 *h, const char *what)
 void sh2000_cmd_slot_drop(struct sh2000 *h)
 {
 	sh2000_arb_drop(h, SH2000_ARB_CMD);
-	h->cmd_busy = 0;
+	h->cmd.busy = 0;
 	pthread_cond_broadcast(&h->cmd_cond);
 }
 
@@ -147,7 +147,7 @@ int sh2000_cmd_exchange(struct sh2000 *h, unsigned int op, unsigned int axis,
 	r = sh2000_cmd_write(h, op, axis, param, arg);
 	if (r < 0)
 		return r;
-	seq = h->cmd_seq;
+	seq = h->cmd.seq;
 	snprintf(what, sizeof(what), "command %s (seq %u, axis %u, param %u, arg %d)",
 		 sh2000_cmd_op_name(op), seq, axis == SH2000_AXIS_GLOBAL ? 0xffffu : axis,
 		 param, arg);
@@ -304,7 +304,7 @@ int sh2000_set_position(struct sh2000 *h, unsigned int axis, double pos_mm)
 		if (!r)
 			r = sh2000_fresh_snapshot(h, SH2000_CMD_TIMEOUT_MS);
 		if (!r)
-			h->act_seen = 0;	/* re-base the 64-bit extension */
+			h->ext.act_seen = 0;	/* re-base the 64-bit extension */
 	}
 	pthread_mutex_unlock(&h->lock);
 	return r;
@@ -317,9 +317,9 @@ int sh2000_estop(struct sh2000 *h, int timeout_ms)
 	uint16_t w[2], hb_late = 0;	/* w: ESTOP_ACK, STATE */
 	int r, late = 0;
 
-	__atomic_add_fetch(&h->urgent, 1, __ATOMIC_ACQ_REL);
+	__atomic_add_fetch(&h->cmd.urgent, 1, __ATOMIC_ACQ_REL);
 	pthread_mutex_lock(&h->lock);
-	__atomic_sub_fetch(&h->urgent, 1, __ATOMIC_ACQ_REL);
+	__atomic_sub_fetch(&h->cmd.urgent, 1, __ATOMIC_ACQ_REL);
 	/* never behind the command slot, the ring or another program: word
 	 * 0, at once */
 	h->estop_req++;

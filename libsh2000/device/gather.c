@@ -163,7 +163,7 @@ static int window_exchange(struct sh2000 *h, unsigned int op, uint32_t arg,
 				SH2000_CMD_TIMEOUT_MS);
 	if (!r)
 		r = sh2000_rd(h, SH2000_W_GATHER_BASE, words, w);
-	if (!r && w[SH2000_GW_SEQ] != h->cmd_seq)
+	if (!r && w[SH2000_GW_SEQ] != h->cmd.seq)
 		r = 1;	/* not our answer: only a broken card does that */
 	sh2000_cmd_slot_drop(h);
 	return r;

@@ -86,9 +86,9 @@ int sh2000_index_read(struct sh2000 *h, unsigned int axis,
 		return r;
 	if (pthread_mutex_trylock(&h->lock))
 		return -EAGAIN;
-	h->nb = 1;
+	h->nb.active = 1;
 	r = sh2000_rd(h, SH2000_W_INDEX(axis), SH2000_INDEX_WORDS, b);
-	h->nb = 0;
+	h->nb.active = 0;
 	if (!r && b[SH2000_IX_CHECK] != sh2000_index_check(b))
 		r = -EAGAIN;	/* the card was writing it */
 	if (!r)

@@ -56,8 +56,8 @@ int sh2000_queue_sync_locked(struct sh2000 *h)
 	/* ring records the card has not received yet count; HEAD behind
 	 * POSTED is a host that posted since */
 	count_is(h, (int16_t)(head - w[0]) > 0 ? head : w[0]);
-	h->mbox_seq = w[1 + SH2000_MBOX_SEQ];
-	h->ref_ok = 0;
+	h->mbox.seq = w[1 + SH2000_MBOX_SEQ];
+	h->mbox.ref_ok = 0;
 	return 0;
 }
 
@@ -78,9 +78,9 @@ void sh2000_mbox_ring_written(struct sh2000 *h,
 	unsigned int a;
 
 	for (a = 0; a < SH2000_AXES; a++)
-		h->ref[a] = last[a];
-	h->ref_ok = 1;
-	h->mbox_dirty = 0;
+		h->mbox.ref[a] = last[a];
+	h->mbox.ref_ok = 1;
+	h->mbox.dirty = 0;
 }
 
 /* The mailbox can carry pt: a card that has it, a record both sides
@@ -92,12 +92,12 @@ static int usable(const struct sh2000 *h, const int32_t pt[SH2000_AXES],
 {
 	unsigned int a;
 
-	if (!sh2000_mbox_card(h) || !h->ref_ok || !h->running ||
+	if (!sh2000_mbox_card(h) || !h->mbox.ref_ok || !h->mbox.running ||
 	    (flags & SH2000_PUSH_END) ||
-	    h->head == h->mbox_seq)
+	    h->head == h->mbox.seq)
 		return 0;
 	for (a = 0; a < SH2000_AXES; a++)
-		if (llabs((long long)pt[a] - (long long)h->ref[a]) >
+		if (llabs((long long)pt[a] - (long long)h->mbox.ref[a]) >
 		    SH2000_MBOX_STEP_MAX)
 			return 0;
 	return 1;
@@ -121,12 +121,12 @@ int sh2000_mbox_post_locked(struct sh2000 *h, const int32_t pt[SH2000_AXES],
 	r = sh2000_wr(h, SH2000_W_MBOX, SH2000_MBOX_WORDS, m);
 	if (r < 0)
 		return r;
-	h->mbox_seq = h->head;
-	h->mbox_dirty = 1;
+	h->mbox.seq = h->head;
+	h->mbox.dirty = 1;
 	h->head++;
 	h->segments++;
 	for (a = 0; a < SH2000_AXES; a++)
-		h->ref[a] = pt[a];
+		h->mbox.ref[a] = pt[a];
 	now = sh2000_now_locked(h);
 	if (now - h->host_hb_ns >= MBOX_KEEPALIVE_NS) {
 		r = sh2000_wr1(h, SH2000_W_HOST_HEARTBEAT, ++h->host_hb);
@@ -142,9 +142,9 @@ void sh2000_mbox_status(struct sh2000 *h, unsigned int card_state)
 	/* a card that is not running may have refused records: the next
 	 * motion starts through the ring, which tells the card every
 	 * position whole */
-	h->running = card_state == SH2000_STATE_RUNNING;
-	if (!h->running)
-		h->ref_ok = 0;
+	h->mbox.running = card_state == SH2000_STATE_RUNNING;
+	if (!h->mbox.running)
+		h->mbox.ref_ok = 0;
 }
 
 int sh2000_mbox_close_locked(struct sh2000 *h)
@@ -155,10 +155,10 @@ int sh2000_mbox_close_locked(struct sh2000 *h)
 	 * (sh2000ctl beside a stream). A post the card has not taken yet is
 	 * below the new HEAD: the card takes it first, as with ring records
 	 * behind a post. */
-	if (!h->mbox_dirty)
+	if (!h->mbox.dirty)
 		return 0;
 	r = sh2000_wr1(h, SH2000_W_HEAD, h->head);
 	if (!r)
-		h->mbox_dirty = 0;
+		h->mbox.dirty = 0;
 	return r;
 }

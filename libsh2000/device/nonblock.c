@@ -12,19 +12,19 @@
 
 #include "sh2000_internal.h"
 
-/* The handle's mutex, tried once; h->nb makes the locks below it (the io:
- * bus lock) try once too. */
+/* The handle's mutex, tried once; h->nb.active makes the locks below it
+ * (the io: bus lock) try once too. */
 static int nb_enter(struct sh2000 *h)
 {
 	if (pthread_mutex_trylock(&h->lock))
 		return -EAGAIN;
-	h->nb = 1;
+	h->nb.active = 1;
 	return 0;
 }
 
 static int nb_leave(struct sh2000 *h, int r)
 {
-	h->nb = 0;
+	h->nb.active = 0;
 	pthread_mutex_unlock(&h->lock);
 	return r;
 }
@@ -45,9 +45,9 @@ static int poll_once_locked(struct sh2000 *h, struct sh2000_status *st)
 		return r;
 	if (w[SH2000_W_SNAP_SEQ_END] != w[SH2000_W_SNAP_SEQ_BEGIN])
 		return -EAGAIN;
-	if (h->nbc.busy) {
-		memcpy(h->nbc.ack, &w[SH2000_W_CMD_ACK], sizeof(h->nbc.ack));
-		h->nbc.fresh = 1;
+	if (h->nb.cmd.busy) {
+		memcpy(h->nb.cmd.ack, &w[SH2000_W_CMD_ACK], sizeof(h->nb.cmd.ack));
+		h->nb.cmd.fresh = 1;
 	}
 	memset(st, 0, sizeof(*st));
 	st->host_time_ns = now;
@@ -63,7 +63,7 @@ static int poll_once_locked(struct sh2000 *h, struct sh2000_status *st)
 	/* An unchanged heartbeat after a gap it may have wrapped in: the
 	 * watch restarted from now, so a stopped card still shows within
 	 * the limit on later ticks; nothing to wait for here. */
-	h->hb_unsure = 0;
+	h->hb.unsure = 0;
 	return sh2000_status_alive(h, w, st);
 }
 
@@ -89,22 +89,22 @@ static int start_locked(struct sh2000 *h, unsigned int op, unsigned int axis,
 {
 	int r;
 
-	if (h->nbc.busy)
+	if (h->nb.cmd.busy)
 		return sh2000_fail(h, -EBUSY,
 				   "command %s: the started command %s has not completed",
 				   sh2000_cmd_op_name(op),
-				   sh2000_cmd_op_name(h->nbc.op));
-	if (h->cmd_busy)
+				   sh2000_cmd_op_name(h->nb.cmd.op));
+	if (h->cmd.busy)
 		return -EAGAIN;		/* another thread's command */
 	if (nb_changes_motion(op)) {
 		r = sh2000_arb_motion_begin(h, sh2000_cmd_op_name(op));
 		if (r < 0)
 			return r;
-		h->nbc.motion = 1;
+		h->nb.cmd.motion = 1;
 	}
 	r = sh2000_arb_cmd_try(h);
 	if (r > 0)
-		r = sh2000_rd(h, SH2000_W_CMD_SEQ, 1, &h->cmd_seq);
+		r = sh2000_rd(h, SH2000_W_CMD_SEQ, 1, &h->cmd.seq);
 	if (r < 0)
 		goto fail;
 	r = sh2000_cmd_write(h, op, axis, param, arg);
@@ -112,17 +112,17 @@ static int start_locked(struct sh2000 *h, unsigned int op, unsigned int axis,
 		sh2000_arb_drop(h, SH2000_ARB_CMD);
 		goto fail;
 	}
-	h->cmd_busy = 1;		/* blocking commands wait for it */
-	h->nbc.busy = 1;
-	h->nbc.fresh = 0;
-	h->nbc.seq = h->cmd_seq;
-	h->nbc.op = op;
-	h->nbc.t0 = sh2000_now_locked(h);
+	h->cmd.busy = 1;		/* blocking commands wait for it */
+	h->nb.cmd.busy = 1;
+	h->nb.cmd.fresh = 0;
+	h->nb.cmd.seq = h->cmd.seq;
+	h->nb.cmd.op = op;
+	h->nb.cmd.t0 = sh2000_now_locked(h);
 	return 0;
 fail:
-	if (h->nbc.motion)
+	if (h->nb.cmd.motion)
 		sh2000_arb_motion_end(h);
-	h->nbc.motion = 0;
+	h->nb.cmd.motion = 0;
 	return r;
 }
 
@@ -139,11 +139,11 @@ int sh2000_command_start(struct sh2000 *h, unsigned int op, unsigned int axis,
 static void finish(struct sh2000 *h)
 {
 	sh2000_arb_drop(h, SH2000_ARB_CMD);
-	if (h->nbc.motion)
+	if (h->nb.cmd.motion)
 		sh2000_arb_motion_end(h);
-	h->nbc.motion = 0;
-	h->nbc.busy = 0;
-	h->cmd_busy = 0;
+	h->nb.cmd.motion = 0;
+	h->nb.cmd.busy = 0;
+	h->cmd.busy = 0;
 	pthread_cond_broadcast(&h->cmd_cond);
 }
 
@@ -152,38 +152,38 @@ static int complete_locked(struct sh2000 *h, int32_t *value)
 	uint64_t waited;
 	int r;
 
-	if (!h->nbc.busy)
+	if (!h->nb.cmd.busy)
 		return sh2000_fail(h, -EINVAL, "no command was started");
-	if (!h->nbc.fresh) {
-		r = sh2000_rd(h, SH2000_W_CMD_ACK, 4, h->nbc.ack);
+	if (!h->nb.cmd.fresh) {
+		r = sh2000_rd(h, SH2000_W_CMD_ACK, 4, h->nb.cmd.ack);
 		if (r < 0)
 			return r;
 	}
-	h->nbc.fresh = 0;
-	if (h->nbc.ack[0] != h->nbc.seq) {
-		waited = sh2000_now_locked(h) - h->nbc.t0;
+	h->nb.cmd.fresh = 0;
+	if (h->nb.cmd.ack[0] != h->nb.cmd.seq) {
+		waited = sh2000_now_locked(h) - h->nb.cmd.t0;
 		if (waited <= SH2000_CMD_TIMEOUT_MS * 1000000ull)
 			return -EINPROGRESS;
 		finish(h);
 		/* the last poll's heartbeat age tells a stopped card */
-		if (sh2000_now_locked(h) - h->hb_change_ns >= h->hb_limit_ns)
+		if (sh2000_now_locked(h) - h->hb.change_ns >= h->hb.limit_ns)
 			return sh2000_fail(h, -SH2000_EHEARTBEAT,
 					   "command %s (seq %u): no answer, card heartbeat stopped",
-					   sh2000_cmd_op_name(h->nbc.op),
-					   h->nbc.seq);
+					   sh2000_cmd_op_name(h->nb.cmd.op),
+					   h->nb.cmd.seq);
 		return sh2000_fail(h, -SH2000_ETIMEOUT,
 				   "command %s (seq %u): no answer within %d ms",
-				   sh2000_cmd_op_name(h->nbc.op), h->nbc.seq,
+				   sh2000_cmd_op_name(h->nb.cmd.op), h->nb.cmd.seq,
 				   SH2000_CMD_TIMEOUT_MS);
 	}
 	finish(h);
-	if (h->nbc.ack[1] != SH2000_RES_OK)
-		return sh2000_fail(h, sh2000_cmd_result_error(h->nbc.ack[1]),
+	if (h->nb.cmd.ack[1] != SH2000_RES_OK)
+		return sh2000_fail(h, sh2000_cmd_result_error(h->nb.cmd.ack[1]),
 				   "command %s (seq %u): card answered %s",
-				   sh2000_cmd_op_name(h->nbc.op), h->nbc.seq,
-				   sh2000_result_name(h->nbc.ack[1]));
+				   sh2000_cmd_op_name(h->nb.cmd.op), h->nb.cmd.seq,
+				   sh2000_result_name(h->nb.cmd.ack[1]));
 	if (value)
-		*value = sh2000_w32(&h->nbc.ack[2]);
+		*value = sh2000_w32(&h->nb.cmd.ack[2]);
 	return 0;
 }
 
@@ -203,9 +203,9 @@ static int push_point_locked(struct sh2000 *h, const int32_t pt[SH2000_AXES],
 	if (h->arb.fd >= 0 && !h->arb.motion)
 		return sh2000_fail(h, -SH2000_EOWNED,
 				   "pushing a point: this handle does not hold the motion (sh2000_claim_motion() first)");
-	if (!h->tail_seen)
+	if (!h->nb.tail_seen)
 		return -EAGAIN;
-	fill = (uint16_t)(h->head - h->tail);
+	fill = (uint16_t)(h->head - h->nb.tail);
 	if (fill >= SH2000_RING_RECORDS)
 		return sh2000_fail(h, -SH2000_EQUEUE_FULL,
 				   "one point: the last poll saw %u of %u records queued",
@@ -235,7 +235,7 @@ int sh2000_estop_request(struct sh2000 *h)
 	/* any value but the card's ESTOP_ACK is a request: step over an
 	 * acknowledgement another program's stop left at our next value */
 	h->estop_req++;
-	if (h->tail_seen && h->estop_req == h->estop_ack_seen)
+	if (h->nb.tail_seen && h->estop_req == h->nb.estop_ack_seen)
 		h->estop_req++;
 	return nb_leave(h, sh2000_wr1(h, SH2000_W_ESTOP_REQ, h->estop_req));
 }

@@ -10,8 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <sys/stat.h>
-#include <sys/sysmacros.h>
 
 #include "sh2000_internal.h"
 
@@ -76,7 +74,7 @@ static int card_hello(struct sh2000 *h, char *msg, size_t len)
 	if (r < 0)
 		return sh2000_msg(msg, len, r, "%s: %s", h->device, h->err);
 	h->host_hb = w[0];
-	h->cmd_seq = cmd[0];
+	h->cmd.seq = cmd[0];
 	r = sh2000_queue_sync_locked(h);
 	if (r < 0)
 		return sh2000_msg(msg, len, r, "%s: %s", h->device, h->err);
@@ -141,10 +139,9 @@ static struct sh2000 *handle_new(const char *device)
 		return NULL;
 	pthread_mutex_init(&h->lock, NULL);
 	pthread_cond_init(&h->cmd_cond, NULL);
-	h->fd = -1;
 	h->arb.fd = -1;
 	h->bus.pos = SH2000_SEEK_UNKNOWN;
-	h->hb_limit_ns = SH2000_HEARTBEAT_LIMIT_NS;
+	h->hb.limit_ns = SH2000_HEARTBEAT_LIMIT_NS;
 	snprintf(h->device, sizeof(h->device), "%s", device);
 	return h;
 }
@@ -154,6 +151,7 @@ static void handle_free(struct sh2000 *h)
 	sh2000_arb_close(h);
 	if (h->be && h->be->close)
 		h->be->close(h);
+	free(h->priv);
 	pthread_cond_destroy(&h->cmd_cond);
 	pthread_mutex_destroy(&h->lock);
 	free(h);
@@ -176,30 +174,15 @@ static int finish_open(struct sh2000 *h, struct sh2000 **out, char *msg,
 	return 0;
 }
 
-/* The lock file of a card other programs can reach: named after what
- * identifies the card, whatever path or string opened it. */
-static int open_arbiter(struct sh2000 *h, const char *device, char *msg,
-			size_t len)
+/* The lock file of a card other programs can reach: named by the
+ * backend after what identifies the card, whatever path or string opened
+ * it. */
+static int open_arbiter(struct sh2000 *h, char *msg, size_t len)
 {
 	char id[96];
-	struct stat sb;
 
-	switch (h->be->kind) {
-	case SH2000_BACKEND_DEV:
-		if (fstat(h->fd, &sb) < 0 || !S_ISCHR(sb.st_mode))
-			return 0;	/* a plain file: tests, nobody shares */
-		snprintf(id, sizeof(id), "dev-%u-%u", major(sb.st_rdev),
-			 minor(sb.st_rdev));
-		break;
-	case SH2000_BACKEND_IO:
-		snprintf(id, sizeof(id), "io-0x%lx", h->io_base);
-		break;
-	case SH2000_BACKEND_SHM:
-		snprintf(id, sizeof(id), "shm-%s", device + 4);
-		break;
-	default:
+	if (!h->be->lock_id || !h->be->lock_id(h, id, sizeof(id)))
 		return 0;	/* in-process card: this handle's alone */
-	}
 	return sh2000_arb_open(h, id, msg, len);
 }
 
@@ -236,7 +219,7 @@ int sh2000_open(struct sh2000 **out, const char *device, char *msg,
 			       "%s: unknown device string (use /dev/sh2000-N, io:0xNNN, sim or sim:NAME)",
 			       device);
 	if (r >= 0)
-		r = open_arbiter(h, device, msg, msglen);
+		r = open_arbiter(h, msg, msglen);
 	if (r < 0) {
 		handle_free(h);
 		return r;

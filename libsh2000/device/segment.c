@@ -31,8 +31,8 @@ static int quick(struct sh2000 *h, unsigned int *fill, unsigned int *state,
 	r = sh2000_rd(h, SH2000_W_HEARTBEAT, 5, w);
 	if (r < 0)
 		return r;
-	if (sh2000_hb_note(h, w[0], sh2000_now_locked(h)) >= h->hb_limit_ns ||
-	    h->hb_unsure || w[3] ||
+	if (sh2000_hb_note(h, w[0], sh2000_now_locked(h)) >= h->hb.limit_ns ||
+	    h->hb.unsure || w[3] ||
 	    w[2] == SH2000_STATE_FAULT || w[2] == SH2000_STATE_ESTOP) {
 		r = sh2000_poll_locked(h, &st);
 		if (r < 0)
@@ -113,7 +113,7 @@ static int push_locked(struct sh2000 *h, const int32_t (*pts)[SH2000_AXES],
 	int r;
 
 	/* the ring is the motion's: the first push claims it */
-	r = sh2000_arb_claim_locked(h);
+	r = sh2000_motion_claim_locked(h);
 	if (r < 0)
 		return r;
 	r = quick(h, &fill, &state, 0);

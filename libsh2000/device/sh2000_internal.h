@@ -9,130 +9,69 @@
 
 #include "sh2000/sh2000.h"
 #include "sh2000/sh2000_protocol.h"
-#include "sh2000_fpga.h"
 #include "sh2000_seek.h"
-#include "sh2000_shm.h"
 
-struct sh2000;
+#include "arbiter_state.h"
+#include "backend.h"
+#include "command_state.h"
+#include "first_fault_state.h"
+#include "mailbox_state.h"
+#include "nonblock_state.h"
+#include "status_state.h"
 
 /*
- * A backend either moves whole word ranges itself (the kernel driver) or
- * offers the four FPGA registers (io:, sim, sim:NAME, struct sh2000_ports), in which case the
- * bus (bus.c) does the seeking with sh2000_seek_plan().
+ * Who calls whom, top to bottom; a file calls only files below it:
+ *
+ *   public calls   open.c, status.c, command.c, params.c, timing.c,
+ *                  segment.c, gather.c, comp*.c, index.c, nonblock.c,
+ *                  first_fault.c
+ *   sequencing     motion_claim.c: the motion lock, then the mailbox's
+ *                  count sync; the mailbox's close, then the lock's drop
+ *   modules        mailbox.c (the point mailbox), command.c's slot
+ *   word access    bus.c: sh2000_rd/sh2000_wr -> the backend's read/write
+ *                  ops, else the register-level bus over its ports
+ *   backends       backend_dev.c, backend_io.c (its word ops run the bus
+ *                  under the arbiter's bus lock), backend_shm.c,
+ *                  backend_ports.c (backend_simload.c opens one)
+ *   leaves         arbiter.c (the locks between processes: the lock file
+ *                  only, never the card), errors.c, clock.c's time
+ *
+ * Each part's state is a member of struct sh2000 whose type its own header
+ * declares (backend.h, arbiter_state.h, status_state.h, command_state.h,
+ * nonblock_state.h, first_fault_state.h, mailbox_state.h); a backend's
+ * own state is behind h->priv, known to its file alone.
  */
-struct sh2000_backend {
-	enum sh2000_backend_kind kind;
-	int virtual_time;	/* waits advance the model, under the lock */
-	int (*read)(struct sh2000 *h, unsigned int addr, unsigned int n,
-		    uint16_t *buf);
-	int (*write)(struct sh2000 *h, unsigned int addr, unsigned int n,
-		     const uint16_t *buf);
-	void (*port_out)(struct sh2000 *h, unsigned int reg, uint16_t v);
-	uint16_t (*port_in)(struct sh2000 *h, unsigned int reg);
-	uint64_t (*now_ns)(struct sh2000 *h);
-	void (*wait_ns)(struct sh2000 *h, uint64_t ns);
-	int (*counters)(struct sh2000 *h, struct sh2000_port_counters *c);
-	void (*close)(struct sh2000 *h);
-};
-
-/* Port cycles and counter position of a register-level bus. */
-struct sh2000_bus {
-	unsigned int pos;	/* SH2000_SEEK_UNKNOWN until the first clear */
-	uint64_t clears, increments, data_reads, data_writes;
-};
-
-/* arbiter.c: locks shared with other processes using the card */
-struct sh2000_arb {
-	int fd;			/* the card's lock file, -1: none (sim) */
-	int motion;		/* this handle holds the motion lock */
-	uint64_t token;		/* this handle's mark as last slot user */
-	uint64_t dropped_ns;	/* when it last released the command lock */
-	char path[256];
-};
-
-#define SH2000_ARB_CMD		0u	/* one command exchange */
-#define SH2000_ARB_MOTION	1u	/* one program controls the motion */
-#define SH2000_ARB_BUS		2u	/* io: one port sequence */
-/* Longest wait for another program's command or port sequence. */
-#define SH2000_ARB_WAIT_MS	5000
-
 struct sh2000 {
 	pthread_mutex_t lock;
 	pthread_cond_t cmd_cond;	/* the command slot became free */
-	const struct sh2000_backend *be;
 	char device[128];
+	char err[256];			/* errors.c: the last error message */
 
-	/* backend state */
-	struct sh2000_bus bus;
-	int fd;				/* dev, shm */
-	unsigned long io_base;		/* io */
-	struct sh2000_ports ports;	/* sim, ports */
-	struct sh2000_shm *shm;		/* shm */
-	struct sh2000_fpga fpga;	/* shm: the FPGA, emulated on this side */
-	struct sh2000_arb arb;
+	const struct sh2000_backend *be;
+	void *priv;			/* the backend's (backend_*.c) */
+	struct sh2000_bus bus;		/* bus.c: register-level backends */
+	struct sh2000_arb arb;		/* arbiter.c */
 
 	unsigned int card_version;
-	/* host-owned words, as this handle last wrote them */
+	/* host-owned words, as this handle last wrote them (status.c,
+	 * segment.c, mailbox.c) */
 	uint16_t estop_req;
 	uint16_t host_hb;
 	uint64_t host_hb_ns;		/* when host_hb was last written */
 	uint16_t head;			/* records published, ring and mailbox */
-	uint16_t cmd_seq;
-	int cmd_busy;
-	int urgent;			/* atomic: an estop wants the lock */
 	uint64_t segments;		/* records pushed (segment numbers) */
 
-	/* heartbeat watch */
-	int hb_seen;
-	uint16_t hb_last;
-	uint64_t hb_change_ns;
-	uint64_t hb_seen_ns;		/* last time the heartbeat was read */
-	int hb_unsure;			/* same value after a gap it may wrap in */
-	uint64_t hb_limit_ns;
-	uint64_t hb_limit_user;		/* set by the caller, 0: derived */
+	/* the card's timing and scales as last read/set (params.c) */
 	uint64_t servo_ns;		/* coarse period / fine steps */
 	int32_t coarse_us, fine_steps;
+	double scale[SH2000_AXES];	/* counts per mm */
 
-	/* 28-bit counter extension */
-	int act_seen;
-	uint32_t act_last[SH2000_AXES];
-	int64_t act_ext[SH2000_AXES];
-	int cycle_seen;			/* 32-bit snapshot time extended */
-	uint32_t cycle_last;
-	uint64_t cycle_ext;
-
-	double scale[SH2000_AXES];	/* counts per mm, as last read/set */
-
-	/* nonblock.c: the real-time calls */
-	int nb;				/* in one: locks are tried only once */
-	int tail_seen;			/* a poll has read TAIL */
-	uint16_t tail;			/* TAIL as the last poll read it */
-	uint16_t estop_ack_seen;	/* ESTOP_ACK as the last poll read it */
-	struct {
-		int busy;		/* started, not yet completed */
-		int motion;		/* took the motion lock shared */
-		int fresh;		/* ack[] read by a poll since the start */
-		uint16_t seq;
-		uint16_t ack[4];	/* CMD_ACK, RESULT, VALUE_LO/HI */
-		uint64_t t0;
-		unsigned int op;
-	} nbc;
-
-	/* first_fault.c: the first-fault record as last read (1.4) */
-	struct {
-		int valid;		/* read since the faults latched */
-		uint16_t cmd_ack;	/* CMD_ACK when it was read */
-		struct sh2000_first_fault ff;
-	} first;
-
-	/* mailbox.c: the point mailbox (protocol 1.3) */
-	uint16_t mbox_seq;		/* MBOX_SEQ as in the RAM */
-	int mbox_dirty;			/* posted since HEAD was last written */
-	int ref_ok;			/* the card knows ref[] as we do */
-	int running;			/* the last poll saw state RUNNING */
-	int32_t ref[SH2000_AXES];	/* the last record published */
-
-	char err[256];
+	struct sh2000_cmdslot cmd;	/* command.c */
+	struct sh2000_hbwatch hb;	/* status.c */
+	struct sh2000_ctrext ext;	/* status.c */
+	struct sh2000_nb nb;		/* nonblock.c */
+	struct sh2000_ff_cache first;	/* first_fault.c */
+	struct sh2000_mbox mbox;	/* mailbox.c */
 };
 
 /* errors.c */
@@ -171,7 +110,7 @@ uint64_t sh2000_now_locked(struct sh2000 *h);
 void sh2000_timing_changed(struct sh2000 *h);
 /* Wait until the card publishes its next snapshot. */
 int sh2000_fresh_snapshot(struct sh2000 *h, int timeout_ms);
-/* Age of the card heartbeat; sets hb_unsure when an unchanged value may
+/* Age of the card heartbeat; sets hb.unsure when an unchanged value may
  * have wrapped (the caller re-reads it before calling the card stopped). */
 uint64_t sh2000_hb_note(struct sh2000 *h, uint16_t hb, uint64_t now);
 int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st);
@@ -220,7 +159,7 @@ void sh2000_mbox_status(struct sh2000 *h, unsigned int card_state);
 int sh2000_mbox_close_locked(struct sh2000 *h);
 
 /* Write OP..CHECK and then CMD_SEQ = the next sequence number (the
- * caller holds the command slot); h->cmd_seq becomes it. */
+ * caller holds the command slot); h->cmd.seq becomes it. */
 int sh2000_cmd_write(struct sh2000 *h, unsigned int op, unsigned int axis,
 		     unsigned int param, int32_t arg);
 /* Map a command result code to its error. */
@@ -262,12 +201,22 @@ int sh2000_arb_cmd_take(struct sh2000 *h);
 /* The command lock tried once: -EAGAIN if another program has it, else
  * as sh2000_arb_cmd_take(). */
 int sh2000_arb_cmd_try(struct sh2000 *h);
+/* The motion lock alone: 1 newly taken, 0 held already or no lock file
+ * (the in-process card), < 0 an error. */
 int sh2000_arb_claim_locked(struct sh2000 *h);
+/* This handle holds the motion lock. */
+int sh2000_arb_holds_motion(const struct sh2000 *h);
+/* Give the motion lock up (its holder record cleared); none held: 0. */
+void sh2000_arb_release_locked(struct sh2000 *h);
 /* Around a command that changes the motion (enable, disable, home,
  * set_position, reset): -SH2000_EOWNED naming the holder if another
  * program controls the motion. */
 int sh2000_arb_motion_begin(struct sh2000 *h, const char *what);
 void sh2000_arb_motion_end(struct sh2000 *h);
+
+/* motion_claim.c (h->lock held): the motion lock taken with the record
+ * count synced from the card (what every first push does): 0 or < 0. */
+int sh2000_motion_claim_locked(struct sh2000 *h);
 
 /* backends */
 int sh2000_dev_open(struct sh2000 *h, const char *path, char *msg,

@@ -30,17 +30,17 @@ void sh2000_status_decode(struct sh2000 *h, const uint16_t *w,
 	st->reject_seq = w[SH2000_W_REJECT_SEQ];
 	st->reject_reason = w[SH2000_W_REJECT_REASON];
 	st->reject_count = w[SH2000_W_REJECT_COUNT];
-	h->tail = w[SH2000_W_TAIL];
-	h->tail_seen = 1;
+	h->nb.tail = w[SH2000_W_TAIL];
+	h->nb.tail_seen = 1;
 	sh2000_mbox_status(h, st->card_state);
-	h->estop_ack_seen = w[SH2000_W_ESTOP_ACK];
+	h->nb.estop_ack_seen = w[SH2000_W_ESTOP_ACK];
 	{
 		uint32_t c = (uint32_t)sh2000_w32(&w[SH2000_W_SNAP_TIME_LO]);
 
-		h->cycle_ext = h->cycle_seen ? h->cycle_ext + (uint32_t)(c - h->cycle_last) : c;
-		h->cycle_last = c;
-		h->cycle_seen = 1;
-		st->card_cycle = h->cycle_ext;
+		h->ext.cycle_ext = h->ext.cycle_seen ? h->ext.cycle_ext + (uint32_t)(c - h->ext.cycle_last) : c;
+		h->ext.cycle_last = c;
+		h->ext.cycle_seen = 1;
+		st->card_cycle = h->ext.cycle_ext;
 	}
 	st->snap_seq = w[SH2000_W_SNAP_SEQ_END];
 	for (a = 0; a < SH2000_AXES; a++) {
@@ -49,12 +49,12 @@ void sh2000_status_decode(struct sh2000 *h, const uint16_t *w,
 		uint32_t raw = (uint32_t)sh2000_w32(&s[SH2000_SNAP_ACT_LO]) &
 			       SH2000_COUNTER_MASK;
 
-		if (!h->act_seen)
-			h->act_ext[a] = sh2000_counter_signed(raw);
+		if (!h->ext.act_seen)
+			h->ext.act_ext[a] = sh2000_counter_signed(raw);
 		else
-			h->act_ext[a] += sh2000_counter_delta(raw, h->act_last[a]);
-		h->act_last[a] = raw;
-		ax->pos_counts = h->act_ext[a];
+			h->ext.act_ext[a] += sh2000_counter_delta(raw, h->ext.act_last[a]);
+		h->ext.act_last[a] = raw;
+		ax->pos_counts = h->ext.act_ext[a];
 		ax->cmd_counts = sh2000_w32(&s[SH2000_SNAP_CMD_LO]);
 		ax->ferr_counts = sh2000_counter_delta(
 			(uint32_t)ax->cmd_counts, raw);
@@ -65,7 +65,7 @@ void sh2000_status_decode(struct sh2000 *h, const uint16_t *w,
 		ax->cmd_mm = (double)ax->cmd_counts / h->scale[a];
 		ax->ferr_mm = (double)ax->ferr_counts / h->scale[a];
 	}
-	h->act_seen = 1;
+	h->ext.act_seen = 1;
 }
 
 /*
@@ -79,22 +79,22 @@ static uint64_t hb_wrap_ns(const struct sh2000 *h)
 {
 	/* 15/16 of a wrap; before the timing is known, the limit */
 	return h->servo_ns ? (h->servo_ns << 16) - (h->servo_ns << 12) :
-	       h->hb_limit_ns;
+	       h->hb.limit_ns;
 }
 
 uint64_t sh2000_hb_note(struct sh2000 *h, uint16_t hb, uint64_t now)
 {
-	if (!h->hb_seen || hb != h->hb_last) {
-		h->hb_seen = 1;
-		h->hb_last = hb;
-		h->hb_change_ns = now;
-		h->hb_unsure = 0;
-	} else if (now - h->hb_seen_ns >= hb_wrap_ns(h)) {
-		h->hb_change_ns = now;
-		h->hb_unsure = 1;
+	if (!h->hb.seen || hb != h->hb.last) {
+		h->hb.seen = 1;
+		h->hb.last = hb;
+		h->hb.change_ns = now;
+		h->hb.unsure = 0;
+	} else if (now - h->hb.seen_ns >= hb_wrap_ns(h)) {
+		h->hb.change_ns = now;
+		h->hb.unsure = 1;
 	}
-	h->hb_seen_ns = now;
-	return now - h->hb_change_ns;
+	h->hb.seen_ns = now;
+	return now - h->hb.change_ns;
 }
 
 int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
@@ -124,7 +124,7 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 		 * (a served model descheduled, a DSP stalled mid-write). Give
 		 * it a tenth of the heartbeat limit before calling it torn.
 		 */
-		if (sh2000_now_locked(h) - t0 >= h->hb_limit_ns / 10)
+		if (sh2000_now_locked(h) - t0 >= h->hb.limit_ns / 10)
 			return sh2000_fail(h, -SH2000_ETORN,
 					   "status snapshot torn %u times in a row over %.1f ms (seq end %u, begin %u)",
 					   tries + 1,
@@ -147,7 +147,7 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 	st->heartbeat_age_ns = sh2000_hb_note(h, st->heartbeat, now);
 	/* the same heartbeat as long ago: wrapped, or stopped? Watch it
 	 * until it moves or the limit says stopped */
-	while (h->hb_unsure && st->heartbeat_age_ns < h->hb_limit_ns) {
+	while (h->hb.unsure && st->heartbeat_age_ns < h->hb.limit_ns) {
 		uint16_t hb;
 
 		sh2000_hold_wait(h, h->servo_ns ? h->servo_ns : TORN_WAIT_NS);
@@ -157,7 +157,7 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 		st->heartbeat_age_ns = sh2000_hb_note(h, hb,
 						      sh2000_now_locked(h));
 	}
-	h->hb_unsure = 0;
+	h->hb.unsure = 0;
 	return sh2000_status_alive(h, w, st);
 }
 
@@ -169,11 +169,11 @@ int sh2000_status_alive(struct sh2000 *h, const uint16_t *w,
 				   "magic word (%u) now reads 0x%04x, expected 0x%04x: card lost its firmware",
 				   SH2000_W_MAGIC, w[SH2000_W_MAGIC],
 				   SH2000_PROTO_MAGIC);
-	if (st->heartbeat_age_ns >= h->hb_limit_ns)
+	if (st->heartbeat_age_ns >= h->hb.limit_ns)
 		return sh2000_fail(h, -SH2000_EHEARTBEAT,
 				   "card heartbeat stuck at %u for %.1f ms (limit %.1f ms; card state %s, snapshot cycle %llu)",
 				   st->heartbeat, st->heartbeat_age_ns / 1e6,
-				   h->hb_limit_ns / 1e6,
+				   h->hb.limit_ns / 1e6,
 				   sh2000_state_name(st->card_state),
 				   (unsigned long long)st->card_cycle);
 	return 0;
@@ -223,20 +223,20 @@ void sh2000_timing_changed(struct sh2000 *h)
 			      (uint64_t)h->fine_steps;
 	/* 10 ms, or 5 servo periods when those are longer (docs/protocol.md
 	 * section 5: a slow servo must not look like a stalled DSP) */
-	h->hb_limit_ns = SH2000_HEARTBEAT_LIMIT_NS;
+	h->hb.limit_ns = SH2000_HEARTBEAT_LIMIT_NS;
 	/* a served model is an ordinary process: allow for scheduling */
 	if (h->be && h->be->kind == SH2000_BACKEND_SHM)
-		h->hb_limit_ns = SH2000_HEARTBEAT_LIMIT_SHM_NS;
-	if (5 * h->servo_ns > h->hb_limit_ns)
-		h->hb_limit_ns = 5 * h->servo_ns;
-	if (h->hb_limit_user)
-		h->hb_limit_ns = h->hb_limit_user;
+		h->hb.limit_ns = SH2000_HEARTBEAT_LIMIT_SHM_NS;
+	if (5 * h->servo_ns > h->hb.limit_ns)
+		h->hb.limit_ns = 5 * h->servo_ns;
+	if (h->hb.limit_user)
+		h->hb.limit_ns = h->hb.limit_user;
 }
 
 void sh2000_set_heartbeat_limit(struct sh2000 *h, uint64_t ns)
 {
 	pthread_mutex_lock(&h->lock);
-	h->hb_limit_user = ns;
+	h->hb.limit_user = ns;
 	sh2000_timing_changed(h);
 	pthread_mutex_unlock(&h->lock);
 }

@@ -123,8 +123,7 @@ struct fakecard *fakecard_new(void)
 	f->be.counters = sh2000_bus_counters;
 	f->h.be = &f->be;
 	f->h.bus.pos = SH2000_SEEK_UNKNOWN;
-	f->h.fd = -1;
-	f->h.hb_limit_ns = SH2000_HEARTBEAT_LIMIT_NS;
+	f->h.hb.limit_ns = SH2000_HEARTBEAT_LIMIT_NS;
 	strcpy(f->h.device, "fake");
 	for (a = 0; a < SH2000_AXES; a++)
 		f->h.scale[a] = 1000.0;

@@ -340,7 +340,7 @@ static void test_command_cost_and_results(void **state)
 	/* the card's process descheduled for 150 ms right after the command
 	 * (heartbeat limit 200 ms): it had no chance within the host's
 	 * 100 ms; its answer in its first cycle after is not a timeout */
-	f->h.hb_limit_ns = 200000000ull;
+	f->h.hb.limit_ns = 200000000ull;
 	f->stall_ns = 150000000ull;
 	assert_int_equal(sh2000_command_locked(&f->h, SH2000_CMD_NOP, 0, 0, 0,
 					       NULL, 100), 0);
@@ -373,7 +373,7 @@ static void test_estop_cost(void **state)
 	/* the card's process descheduled for 150 ms right after the request
 	 * (heartbeat limit 200 ms): acknowledged in its first cycle after,
 	 * not a timeout of the host's 100 ms */
-	f->h.hb_limit_ns = 200000000ull;
+	f->h.hb.limit_ns = 200000000ull;
 	f->stall_ns = 150000000ull;
 	f->ram[SH2000_W_STATE] = SH2000_STATE_IDLE;
 	assert_int_equal(sh2000_estop(&f->h, 100), 0);

@@ -61,7 +61,6 @@ static void push_one(struct sh2000_path *p, struct pl_block *b)
 	double nt = 0.0;
 
 	b->seq = p->seq;
-	b->A = pl_block_accel(p, b);
 	if (p->cfg.mode == SH2000_PATH_EXACT_STOP)
 		b->stop_after = 1;
 	for (i = 0; i < SH2000_AXES; i++)
@@ -71,6 +70,11 @@ static void push_one(struct sh2000_path *p, struct pl_block *b)
 	else
 		b->vj = pl_junction(p, p->tend, b->t0);
 	b->corner = !isinf(b->vj);
+	/* an empty window: the motion is at rest */
+	b->vin = pl_min(b->vj, b->vlim);
+	b->vin = p->count ? pl_min(b->vin, pl_fwd_exit(p, pl_block_at(
+					p, p->count - 1))) : 0.0;
+	b->A = pl_block_accel(p, b);
 	if (b->feed == 0.0)
 		b->feed = INFINITY;
 	if (p->stop_next || !p->blocks) {

@@ -126,7 +126,7 @@ double pl_block_accel(const struct sh2000_path *p, const struct pl_block *b)
 			 * wide turns, where an axis takes the tangential
 			 * braking and then the centripetal, both along it
 			 * (blend.c, BLEND_SHARE_TURN) */
-			double v = pl_fwd_exit(p, b);
+			double v = pl_peak(p, b);
 
 			if (b->g.blend.phi < M_PI / 4.0)
 				s = fmax(c->centripetal_share,
@@ -192,4 +192,16 @@ double pl_fwd_exit(const struct sh2000_path *p, const struct pl_block *b)
 {
 	return pl_min(b->vlim, sqrt(b->vin * b->vin +
 				    2.02 * p->a_top * b->L));
+}
+
+double pl_peak(const struct sh2000_path *p, const struct pl_block *b)
+{
+	double d = 2.02 * p->a_top * b->L, v = pl_fwd_exit(p, b);
+
+	if (isinf(b->vout))
+		return v;
+	v = pl_min(v, sqrt(b->vout * b->vout + d));
+	/* up from vin and down to vout within L */
+	return pl_min(v, sqrt(0.5 * (b->vin * b->vin + b->vout * b->vout +
+				     d)));
 }

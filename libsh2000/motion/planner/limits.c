@@ -69,6 +69,43 @@ void pl_curve_block_vlim(const struct sh2000_path *p, struct pl_block *k,
 	k->vlim = vlim_share(p, t, kappa, lo);
 }
 
+/* The largest |x cos(th) + y sin(th)| over th in [0, phi]. */
+static double sweep_max(double x, double y, double phi)
+{
+	double m = fmax(fabs(x), fabs(x * cos(phi) + y * sin(phi)));
+	/* the extremes, amplitude hypot(x, y), lie at atan2(y, x) + k pi */
+	double th = fmod(atan2(y, x), M_PI);
+
+	if (th < 0.0)
+		th += M_PI;
+	return th <= phi ? hypot(x, y) : m;
+}
+
+/* Along a blend arc, axis by axis: axis i sees at most A T_i of the
+ * tangential acceleration A and an N_i of the centripetal an, T_i and N_i
+ * the largest share of the tangent and of the normal it takes over the
+ * arc's sweep (a short arc keeps close to the direction of its tangent,
+ * as a line does); A is the most that keeps every axis within its amax
+ * (as a line's, each axis up to its own). */
+static double blend_box_accel(const struct sh2000_path *p,
+			      const struct pl_block *b, double s)
+{
+	const struct sh2000_path_config *c = &p->cfg;
+	double an = s * c->margin * p->amin, A = INFINITY;
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		double u = b->g.blend.u[a], w = b->g.blend.w[a];
+		/* t = w cos - u sin, n = -(u cos + w sin) */
+		double T = sweep_max(w, -u, b->g.blend.phi);
+		double N = sweep_max(u, w, b->g.blend.phi);
+
+		if (T > 1e-12)
+			A = fmin(A, (c->margin * c->amax[a] - an * N) / T);
+	}
+	return fmax(A, 0.0) * p->a_scale;
+}
+
 double pl_block_accel(const struct sh2000_path *p, const struct pl_block *b)
 {
 	const struct sh2000_path_config *c = &p->cfg;
@@ -76,13 +113,30 @@ double pl_block_accel(const struct sh2000_path *p, const struct pl_block *b)
 	unsigned int a;
 
 	if (b->type != BLK_LINE) {
-		double s = b->share;
+		double s = b->share > c->centripetal_share ? b->share :
+			   c->centripetal_share;
+		/* tangential and centripetal at right angles (path.c): their
+		 * sum within the smallest amax whatever the direction */
+		double At = sqrt(1.0 - s * s) * c->margin * p->amin *
+			    p->a_scale;
 
-		if (!(s > c->centripetal_share))
-			return p->a_curve;
-		/* tangential and centripetal at right angles (path.c) */
-		return pl_accel_room(p, sqrt(1.0 - s * s) * c->margin *
-					p->amin * p->a_scale);
+		if (b->type == BLK_BLEND) {
+			/* the centripetal acceleration the speed the motion
+			 * can reach in it gives it, if that is less; not on
+			 * wide turns, where an axis takes the tangential
+			 * braking and then the centripetal, both along it
+			 * (blend.c, BLEND_SHARE_TURN) */
+			double v = pl_peak(p, b);
+
+			if (b->g.blend.phi < M_PI / 4.0)
+				s = fmax(c->centripetal_share,
+					 fmin(s, v * v / (b->g.blend.R *
+							  c->margin *
+							  p->amin)));
+			At = fmax(sqrt(1.0 - s * s) * c->margin * p->amin *
+				  p->a_scale, blend_box_accel(p, b, s));
+		}
+		return fmin(pl_accel_room(p, At), p->a_top);
 	}
 	/* along a line axis i accelerates at A |d_i|: each axis to its own
 	 * amax, as LinuxCNC's planner does; the margin as everywhere */
@@ -130,4 +184,24 @@ double pl_junction(const struct sh2000_path *p, const double t1[SH2000_AXES],
 				    (fmax(fabs(t0[a]), fabs(t1[a])) + 0.37 * dt));
 	}
 	return v;
+}
+
+/* A block's acceleration never passes a_top (pl_block_accel()); 1 % is
+ * kept for the controller's roundings. */
+double pl_fwd_exit(const struct sh2000_path *p, const struct pl_block *b)
+{
+	return pl_min(b->vlim, sqrt(b->vin * b->vin +
+				    2.02 * p->a_top * b->L));
+}
+
+double pl_peak(const struct sh2000_path *p, const struct pl_block *b)
+{
+	double d = 2.02 * p->a_top * b->L, v = pl_fwd_exit(p, b);
+
+	if (isinf(b->vout))
+		return v;
+	v = pl_min(v, sqrt(b->vout * b->vout + d));
+	/* up from vin and down to vout within L */
+	return pl_min(v, sqrt(0.5 * (b->vin * b->vin + b->vout * b->vout +
+				     d)));
 }

@@ -45,6 +45,9 @@ struct pl_nurbs {
 /* Free blocks a primitive wants in the window: its own and the blend
  * blocks that may replace the corner before it (pl_room()). */
 #define PL_ROOM 3u
+/* Blocks a new limit bounds the speed of, back from it (queue.c): a
+ * limit further back than this is met by a nearer one, or loosely. */
+#define PL_BOUND_BACK 32u
 
 /* Sub-blocks per non-empty knot span. */
 #define PL_NURBS_SUBDIV 16u
@@ -88,6 +91,12 @@ struct pl_block {
 	int stop_after;		/* exact stop at the end (point-to-point) */
 	int rapid;		/* a rapid (G0) or the blend between two */
 	int corner;		/* the junction into it is a corner */
+	/* the fastest the motion can enter it: the junction, its limit and
+	 * what the blocks before it can reach (pl_fwd_exit()) */
+	double vin;
+	/* the fastest the motion can leave it: what the blocks after it
+	 * allow, from those that can no longer change (queue.c) */
+	double vout;
 	double t0[SH2000_AXES], t1[SH2000_AXES];	/* unit tangents at start and end */
 	double p0[SH2000_AXES], p1[SH2000_AXES];	/* exact start and end points */
 	/* a line's programmed start, before a blend cut it; the blend blocks
@@ -321,6 +330,12 @@ void pl_curve_block_vlim(const struct sh2000_path *p, struct pl_block *k,
  * most loaded axis reaches its amax (times the margin); a curve's
  * tangential share (a_curve). */
 double pl_block_accel(const struct sh2000_path *p, const struct pl_block *b);
+/* The fastest the motion can leave block b (or be anywhere in it): from
+ * its entry bound vin at no more than any block's acceleration. */
+double pl_fwd_exit(const struct sh2000_path *p, const struct pl_block *b);
+/* The fastest the motion can be anywhere in block b: from vin and to
+ * vout at no more than any block's acceleration. */
+double pl_peak(const struct sh2000_path *p, const struct pl_block *b);
 /* What of an acceleration A the compensated spline's ringing leaves. */
 static inline double pl_accel_room(const struct sh2000_path *p, double A)
 {

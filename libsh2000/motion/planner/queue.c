@@ -13,6 +13,7 @@
 #include "planner.h"
 
 static void push_one(struct sh2000_path *p, struct pl_block *b);
+static void bound_back(struct sh2000_path *p, unsigned int i);
 
 void pl_push_block(struct sh2000_path *p, struct pl_block *b)
 {
@@ -37,6 +38,35 @@ void pl_push_blended(struct sh2000_path *p, struct pl_block *b)
 	}
 	b->nblend = n;
 	push_one(p, b);
+	if (p->count >= n + 2)
+		bound_back(p, p->count - n - 2);
+}
+
+/*
+ * The speed the blocks before block i can leave them at, from i's entry
+ * limits back (at no more than any block's acceleration), and the
+ * accelerations that gives them (pl_block_accel()). Block i is the
+ * programmed move before the last: the last one and the blends before it
+ * may still be merged, cut or replaced (merge.c, blend.c), and i's end
+ * moved, but i's start and everything before it no longer change. A
+ * bound only falls, so an acceleration only grows.
+ */
+static void bound_back(struct sh2000_path *p, unsigned int i)
+{
+	const struct pl_block *b = pl_block_at(p, i);
+	double x = pl_min(b->vj, b->vlim);
+	unsigned int n;
+
+	for (n = 0; n < PL_BOUND_BACK && i > 0; n++) {
+		struct pl_block *k = (struct pl_block *)pl_block_at(p, --i);
+
+		if (!(x < k->vout))
+			return;
+		k->vout = x;
+		k->A = pl_block_accel(p, k);
+		x = pl_min(pl_min(k->vj, k->vlim),
+			   sqrt(x * x + 2.02 * p->a_top * k->L));
+	}
 }
 
 void pl_unqueue_tail(struct sh2000_path *p)
@@ -61,7 +91,6 @@ static void push_one(struct sh2000_path *p, struct pl_block *b)
 	double nt = 0.0;
 
 	b->seq = p->seq;
-	b->A = pl_block_accel(p, b);
 	if (p->cfg.mode == SH2000_PATH_EXACT_STOP)
 		b->stop_after = 1;
 	for (i = 0; i < SH2000_AXES; i++)
@@ -71,6 +100,12 @@ static void push_one(struct sh2000_path *p, struct pl_block *b)
 	else
 		b->vj = pl_junction(p, p->tend, b->t0);
 	b->corner = !isinf(b->vj);
+	/* an empty window: the motion is at rest */
+	b->vin = pl_min(b->vj, b->vlim);
+	b->vin = p->count ? pl_min(b->vin, pl_fwd_exit(p, pl_block_at(
+					p, p->count - 1))) : 0.0;
+	b->vout = INFINITY;
+	b->A = pl_block_accel(p, b);
 	if (b->feed == 0.0)
 		b->feed = INFINITY;
 	if (p->stop_next || !p->blocks) {

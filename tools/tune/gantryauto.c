@@ -9,10 +9,13 @@
  * From the card's gains (or a seed when its gantry_kp is 0) it steps
  * each gain up and down by a factor (4, then 2, then sqrt 2) and keeps a
  * candidate that cuts the best peak by 2 % or more and holds with margin:
- *  - its own ramp ends without the following-error bound (kept under
- *    half the skew limit, so a loop that does not hold trips it before
- *    the skew fault, and the pair goes back to its start with the
- *    card's gains, ramp.c's undo);
+ *  - its own ramp ends without the following-error bound (kept under a
+ *    quarter of the skew limit: the skew, the difference of the two
+ *    sides' errors, stays under half of it, so a loop that does not hold
+ *    trips the bound before the skew fault, with room for what a ringing
+ *    pair does when the search takes its gains back; the card disables
+ *    both sides at the trip, the pair comes to rest and goes back to its
+ *    start with the card's gains, ramp.c's undo);
  *  - the ramp at a tenth of the speed with gantry_kp raised by the gain
  *    margin asked (--gain-margin, default 8 dB) ends without it too, and its skew at
  *    rest after the ramp is within a quarter of its peak (or the settling
@@ -44,8 +47,12 @@ static const double seed[3] = { 1.0, 0.01, 0.001 };
 /* The raised-gain ramp's skew at rest, at most this share of its peak. */
 #define GA_SETTLED	0.25
 /* The following-error bound of the search's ramps, this share of half
- * the skew limit at most. */
-#define GA_FERR_SHARE	0.9
+ * the skew limit at most: a quarter of it. At 0.9 (both errors within
+ * the bound kept the skew just under the limit) a candidate whose pair
+ * still rang at the ramp's end latched SKEW when the gains went back
+ * (gantry_kp 0 drops the coupling's output at once): a skew limit of
+ * 8000 counts did. */
+#define GA_FERR_SHARE	0.45
 
 struct ga_search {
 	struct sh2000 *h;
@@ -203,7 +210,7 @@ static int apply(struct ga_search *s)
 
 static int refuse(const struct ga_search *s)
 {
-	sh2000_tool_msg("%s: --gantry --auto: no coupling gains acceptable (nothing written): of the candidates tried in %u ramps, %u tripped the following-error bound %g mm (kept under half the skew limit), %u did not hold with gantry_kp x%.2f (the gain margin %g dB), %u did not cut the peak skew below %.1f counts",
+	sh2000_tool_msg("%s: --gantry --auto: no coupling gains acceptable (nothing written): of the candidates tried in %u ramps, %u tripped the following-error bound %g mm (kept under a quarter of the skew limit), %u did not hold with gantry_kp x%.2f (the gain margin %g dB), %u did not cut the peak skew below %.1f counts",
 			sh2000_device(s->h), s->ramps, s->tripped, s->g.ferr_max_mm,
 			s->no_margin, s->raise, s->g.gm_db, s->worse,
 			GA_BETTER * s->p->uncoupled);

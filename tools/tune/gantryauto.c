@@ -23,7 +23,10 @@
  *    measured on the machine.
  * The integral time stays at one servo period or more. Nothing
  * acceptable (every candidate tripped or lacked the margin, or
- * none cut the uncoupled peak): refused, with which. --apply writes the
+ * none cut the uncoupled peak): refused, with which. An uncoupled peak
+ * under TUNE_SETTLE_COUNTS (the carriage where it loads both sides
+ * alike) leaves nothing to cut: refused before any candidate, as a zero
+ * peak would otherwise be "cut" to zero by every one of them. --apply writes the
  * three gains, all or none.
  */
 #include <math.h>
@@ -62,6 +65,9 @@ struct ga_search {
 	double servo_s;		/* the card's servo period */
 	unsigned int ramps;
 	double best[3], best_peak;
+	/* where the steps go from until a candidate is kept: the card's
+	 * gains, or the seed when its gantry_kp is 0 */
+	double start[3];
 	unsigned int tripped, no_margin, worse;
 };
 
@@ -141,10 +147,11 @@ static int round_of(struct ga_search *s, double f, int *better)
 		for (int d = 0; !r && d < 2; d++) {
 			double k[3];
 
-			memcpy(k, s->best, sizeof(k));
-			if (k[0] == 0)	/* uncoupled so far: the seed */
-				memcpy(k, seed, sizeof(k));
-			else if (k[i] == 0)
+			/* none kept yet: around the start (before, the seed
+			 * alone, tried again and again when the card's
+			 * gains lacked the margin) */
+			memcpy(k, s->best[0] > 0 ? s->best : s->start, sizeof(k));
+			if (k[i] == 0)
 				k[i] = d ? 0 : seed[i];
 			else
 				k[i] = d ? k[i] / f : k[i] * f;
@@ -162,8 +169,9 @@ static int search(struct ga_search *s)
 	static const double steps[] = { 4.0, 2.0, M_SQRT2 };
 	int r = 0, ok = 0, better;
 
-	if (s->p->gains[0] > 0)
-		r = try_gains(s, s->p->gains, &ok);
+	memcpy(s->start, s->p->gains[0] > 0 ? s->p->gains : seed,
+	       sizeof(s->start));
+	r = try_gains(s, s->start, &ok);
 	for (size_t f = 0; !r && f < sizeof(steps) / sizeof(steps[0]); f++)
 		do
 			r = round_of(s, steps[f], &better);
@@ -240,6 +248,11 @@ static int choose(struct ga_search *s, const struct tune_opts *o)
 
 	if ((r = servo_period(s)))
 		return r;
+	if (s->p->uncoupled < TUNE_SETTLE_COUNTS) {
+		sh2000_tool_msg("%s: --gantry --auto: the uncoupled ramp's peak skew is %.1f counts, under %g: nothing for the coupling to cut, no gains chosen (nothing written); run it with the carriage where it loads one side most",
+				sh2000_device(s->h), s->p->uncoupled, TUNE_SETTLE_COUNTS);
+		return SH2000_EXIT_CARD;
+	}
 	s->g.gantry_safe = s->p->gains;
 	if (half < s->g.ferr_max_mm)
 		s->g.ferr_max_mm = half;

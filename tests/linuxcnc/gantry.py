@@ -11,7 +11,8 @@ joints (Z, X, then Y1 and Y2 together, each on its own switch and then
 its own scale's index mark) and the beam ends square (the two sides'
 encoders agree); each side's zero is its own mark (the card's raw count
 at LinuxCNC's zero of joints 1 and 2 is a mark's, every 1 mm, to a
-count, and the same for both sides: the simulated marks agree); then the beam moves
+count, and the same for both sides: the simulated marks agree; homed
+again from elsewhere, on the same mark to a count); then the beam moves
 200 mm and back (G0 Y at 200 mm/s, 2000 mm/s^2) with the carriage (X) at
 side y's end: each move's peak skew (gantry.hal: the difference of the
 sides' following errors as the card reports them every servo period)
@@ -88,6 +89,33 @@ def beam_move(y):
     return float(halget("minmax.0.max"))
 
 
+def home_again(first):
+    """The beam and carriage elsewhere (G53 G0), every joint unhomed, the
+    four homed again: the pair's zeros those of the first homing (first)
+    to a count."""
+    if not check("G53 G0 elsewhere before homing again",
+                 mdi("G53 G0 X%.4f Y%.4f" % (23.71, 37.13))):
+        return
+    c.mode(linuxcnc.MODE_MANUAL)
+    c.wait_complete()
+    c.teleop_enable(0)
+    c.wait_complete()
+    c.unhome(-1)
+    if not check("unhomed", wait(lambda: not any(s.homed[:4]), 5),
+                 "homed %s" % (s.homed[:4],)):
+        return
+    if not check("homed all four joints again", home_all(4, 120),
+                 "homed %s, task state %d" % (s.homed[:4], s.task_state)):
+        explain()
+        return
+    z = pair_zeros()
+    print("--   homed again: LinuxCNC's zero of Y1 and Y2 at the card's counts %s" % z,
+          flush=True)
+    check("homed again: Y1 and Y2 on the same marks as before (within 1 count)",
+          z is not None and first is not None and
+          all(abs(a - b) <= 1 for a, b in zip(z, first)), "%s, before %s" % (z, first))
+
+
 def run():
     check("LinuxCNC up", wait(lambda: s.task_state != 0, 30))
     g = gantry()
@@ -110,6 +138,7 @@ def run():
           "%s counts" % z)
     check("Y1 and Y2 on the same mark (zeros within 1 count of each other)",
           z is not None and abs(z[0] - z[1]) <= 1, "%s counts" % z)
+    first = z
     ok, said = card_ok()
     check("no fault on the card after homing", ok, said)
     # X is homed at side y's end of the beam (5 mm from its switch): the
@@ -134,6 +163,9 @@ def run():
     pos = card_pos_at_rest()
     check("both sides back together (within 5 um)",
           pos is not None and abs(pos[1] - pos[2]) < 0.005, "card x y z %s" % pos)
+    home_again(first)
+    ok, said = card_ok()
+    check("no fault on the card after homing again", ok, said)
     machine_off()
 
 

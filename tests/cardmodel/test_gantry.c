@@ -5,7 +5,8 @@
  * independent loops, and the card's cross-coupling loop cuts the peak yaw
  * at least tenfold with the same tuning; a jammed side latches the skew
  * fault in the cycle the encoders cross the limit and both sides stop
- * there; the parameters' rules.
+ * there; a fault that disables one side disables the other with it, so
+ * the beam is not dragged askew; the parameters' rules.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -141,6 +142,82 @@ static void test_home_squares(void **state)
 	assert_true(abs(a - b) <= 5 && abs(a) <= 200);
 }
 
+/* Side a's following-error fault in the middle of a 50 mm move of the
+ * beam at 100 mm/s: as a pair, side b is disabled in the same cycle (no
+ * fault bit of its own; the first-fault record names side a), both coast
+ * as one beam: the beam hardly yaws. As two axes (pair 0, the same
+ * machine), side b brakes under its loop while side a coasts on: side a
+ * drags the beam askew until its joints stop it. The peak |yaw| from the
+ * fault until both are at rest, um, into *yaw_um. */
+static void ferr_on_one_side(int pair, double *yaw_um)
+{
+	static struct harness h;
+	static double x[4096];
+	const double Tc = sh2000_param_lookup(SH2000_GP_COARSE_PERIOD_US)->def * 1e-6;
+	unsigned int n = h_trapezoid(0.0, 50.0 * 1e5, 100.0 * 1e5, 2000.0 * 1e5,
+				     Tc, x, 4096), next = 0;
+	struct sh2000_sim_config cfg;
+	const struct sh2000_dsp *d;
+	uint64_t at = 0;
+
+	sh2000_sim_config_default(&cfg);
+	cfg.axis[0].start_mm = 0.0;	/* the carriage at side a: asymmetric */
+	assert_int_equal(gantry_home_card(&h, &cfg, 0), 0);
+	d = &h.fw->dsp;
+	if (!pair)
+		assert_int_equal(h_set_i(&h, SH2000_AXIS_GLOBAL,
+					 SH2000_GP_GANTRY_PAIR, 0), 0);
+	while (!at && d->cycle < 200000u) {
+		int32_t pos[SH2000_AXES] = { 0, 0, 0, 0 };
+
+		pos[GR_A] = pos[GR_B] = (int32_t)lrint(x[next]);
+		if (next < n && !h_push(&h, pos, (uint16_t)next, 0))
+			next++;
+		if (next == n / 2)	/* cruising */
+			assert_int_equal(h_set_i(&h, GR_A, SH2000_P_FERR_LIMIT, 1), 0);
+		h_cycles(&h, 1);
+		if (d->ax[GR_A].faults & SH2000_AXIS_FAULT_FERR)
+			at = d->cycle;
+	}
+	assert_true(at > 0);
+	assert_true(fabs(sh2000_board_plant(h.fw->hw, GR_A)->v_mm_s) > 90.0);
+	assert_int_equal(d->ax[GR_A].state & SH2000_AXIS_ENABLED, 0);
+	if (pair) {
+		assert_int_equal(d->ax[GR_B].state & SH2000_AXIS_ENABLED, 0);
+		assert_int_equal(d->ax[GR_B].faults, 0);
+		assert_int_equal(h_word(&h, SH2000_W_FIRST_FAULT + SH2000_FF_AXIS),
+				 GR_A);
+	} else {
+		assert_true(d->ax[GR_B].state & SH2000_AXIS_ENABLED);
+	}
+	*yaw_um = 0.0;
+	for (unsigned int i = 0; i < 100000; i++) {	/* 10 s: at rest */
+		h_cycles(&h, 1);
+		*yaw_um = fmax(*yaw_um, fabs(sh2000_fw_gantry_yaw_mm(h.fw)) * 1e3);
+	}
+	assert_true(fabs(sh2000_board_plant(h.fw->hw, GR_A)->v_mm_s) < 0.01);
+	assert_true(fabs(sh2000_board_plant(h.fw->hw, GR_B)->v_mm_s) < 0.01);
+	print_message("%s: FERR on side a in cycle %llu at 100 mm/s, peak yaw after it %.3f um\n",
+		      pair ? "pair" : "two axes", (unsigned long long)at,
+		      *yaw_um);
+	h_fini(&h);
+}
+
+static void test_fault_stops_both_sides(void **state)
+{
+	double pair, apart;
+	const double limit_um = sh2000_param_lookup(
+		SH2000_GP_GANTRY_SKEW_LIMIT)->def / 1e5 * 1e3;
+
+	(void)state;
+	ferr_on_one_side(1, &pair);
+	ferr_on_one_side(0, &apart);
+	/* the pair coasts with the carriage's mass on one side: some yaw,
+	 * well within the skew limit; dragged, 40 times that */
+	assert_true(pair < 0.5 * limit_um);
+	assert_true(apart > 10.0 * pair);
+}
+
 /* The pair is 0 or two axes; older cards do not know the parameters. */
 static void test_pair_rule(void **state)
 {
@@ -222,6 +299,7 @@ int main(void)
 		cmocka_unit_test(test_centred_carriage),
 		cmocka_unit_test(test_jam_skew_fault),
 		cmocka_unit_test(test_home_squares),
+		cmocka_unit_test(test_fault_stops_both_sides),
 		cmocka_unit_test(test_pair_rule),
 		cmocka_unit_test(test_dac_sat_counts_coupling),
 	};

@@ -9,10 +9,13 @@
  * From the card's gains (or a seed when its gantry_kp is 0) it steps
  * each gain up and down by a factor (4, then 2, then sqrt 2) and keeps a
  * candidate that cuts the best peak by 2 % or more and holds with margin:
- *  - its own ramp ends without the following-error bound (kept under
- *    half the skew limit, so a loop that does not hold trips it before
- *    the skew fault, and the pair goes back to its start with the
- *    card's gains, ramp.c's undo);
+ *  - its own ramp ends without the following-error bound (kept under a
+ *    quarter of the skew limit: the skew, the difference of the two
+ *    sides' errors, stays under half of it, so a loop that does not hold
+ *    trips the bound before the skew fault, with room for what a ringing
+ *    pair does when the search takes its gains back; the card disables
+ *    both sides at the trip, the pair comes to rest and goes back to its
+ *    start with the card's gains, ramp.c's undo);
  *  - the ramp at a tenth of the speed with gantry_kp raised by the gain
  *    margin asked (--gain-margin, default 8 dB) ends without it too, and its skew at
  *    rest after the ramp is within a quarter of its peak (or the settling
@@ -20,7 +23,10 @@
  *    measured on the machine.
  * The integral time stays at one servo period or more. Nothing
  * acceptable (every candidate tripped or lacked the margin, or
- * none cut the uncoupled peak): refused, with which. --apply writes the
+ * none cut the uncoupled peak): refused, with which. An uncoupled peak
+ * under TUNE_SETTLE_COUNTS (the carriage where it loads both sides
+ * alike) leaves nothing to cut: refused before any candidate, as a zero
+ * peak would otherwise be "cut" to zero by every one of them. --apply writes the
  * three gains, all or none.
  */
 #include <math.h>
@@ -44,8 +50,12 @@ static const double seed[3] = { 1.0, 0.01, 0.001 };
 /* The raised-gain ramp's skew at rest, at most this share of its peak. */
 #define GA_SETTLED	0.25
 /* The following-error bound of the search's ramps, this share of half
- * the skew limit at most. */
-#define GA_FERR_SHARE	0.9
+ * the skew limit at most: a quarter of it. At 0.9 (both errors within
+ * the bound kept the skew just under the limit) a candidate whose pair
+ * still rang at the ramp's end latched SKEW when the gains went back
+ * (gantry_kp 0 drops the coupling's output at once): a skew limit of
+ * 8000 counts did. */
+#define GA_FERR_SHARE	0.45
 
 struct ga_search {
 	struct sh2000 *h;
@@ -55,6 +65,9 @@ struct ga_search {
 	double servo_s;		/* the card's servo period */
 	unsigned int ramps;
 	double best[3], best_peak;
+	/* where the steps go from until a candidate is kept: the card's
+	 * gains, or the seed when its gantry_kp is 0 */
+	double start[3];
 	unsigned int tripped, no_margin, worse;
 };
 
@@ -134,10 +147,11 @@ static int round_of(struct ga_search *s, double f, int *better)
 		for (int d = 0; !r && d < 2; d++) {
 			double k[3];
 
-			memcpy(k, s->best, sizeof(k));
-			if (k[0] == 0)	/* uncoupled so far: the seed */
-				memcpy(k, seed, sizeof(k));
-			else if (k[i] == 0)
+			/* none kept yet: around the start (before, the seed
+			 * alone, tried again and again when the card's
+			 * gains lacked the margin) */
+			memcpy(k, s->best[0] > 0 ? s->best : s->start, sizeof(k));
+			if (k[i] == 0)
 				k[i] = d ? 0 : seed[i];
 			else
 				k[i] = d ? k[i] / f : k[i] * f;
@@ -155,8 +169,9 @@ static int search(struct ga_search *s)
 	static const double steps[] = { 4.0, 2.0, M_SQRT2 };
 	int r = 0, ok = 0, better;
 
-	if (s->p->gains[0] > 0)
-		r = try_gains(s, s->p->gains, &ok);
+	memcpy(s->start, s->p->gains[0] > 0 ? s->p->gains : seed,
+	       sizeof(s->start));
+	r = try_gains(s, s->start, &ok);
 	for (size_t f = 0; !r && f < sizeof(steps) / sizeof(steps[0]); f++)
 		do
 			r = round_of(s, steps[f], &better);
@@ -203,7 +218,7 @@ static int apply(struct ga_search *s)
 
 static int refuse(const struct ga_search *s)
 {
-	sh2000_tool_msg("%s: --gantry --auto: no coupling gains acceptable (nothing written): of the candidates tried in %u ramps, %u tripped the following-error bound %g mm (kept under half the skew limit), %u did not hold with gantry_kp x%.2f (the gain margin %g dB), %u did not cut the peak skew below %.1f counts",
+	sh2000_tool_msg("%s: --gantry --auto: no coupling gains acceptable (nothing written): of the candidates tried in %u ramps, %u tripped the following-error bound %g mm (kept under a quarter of the skew limit), %u did not hold with gantry_kp x%.2f (the gain margin %g dB), %u did not cut the peak skew below %.1f counts",
 			sh2000_device(s->h), s->ramps, s->tripped, s->g.ferr_max_mm,
 			s->no_margin, s->raise, s->g.gm_db, s->worse,
 			GA_BETTER * s->p->uncoupled);
@@ -233,6 +248,11 @@ static int choose(struct ga_search *s, const struct tune_opts *o)
 
 	if ((r = servo_period(s)))
 		return r;
+	if (s->p->uncoupled < TUNE_SETTLE_COUNTS) {
+		sh2000_tool_msg("%s: --gantry --auto: the uncoupled ramp's peak skew is %.1f counts, under %g: nothing for the coupling to cut, no gains chosen (nothing written); run it with the carriage where it loads one side most",
+				sh2000_device(s->h), s->p->uncoupled, TUNE_SETTLE_COUNTS);
+		return SH2000_EXIT_CARD;
+	}
 	s->g.gantry_safe = s->p->gains;
 	if (half < s->g.ferr_max_mm)
 		s->g.ferr_max_mm = half;

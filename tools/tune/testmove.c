@@ -211,6 +211,52 @@ int tune_move_restore(struct tune_move *s)
 	return r < 0 ? tune_move_fail(s, r, "restoring the limits") : 0;
 }
 
+/* The pair at rest before the way back: this speed of every moving axis
+ * at most, mm/s, measured over REST_WINDOW_NS, within REST_WAIT_NS. */
+#define REST_MMS	0.5
+#define REST_WINDOW_NS	20000000ull
+#define REST_WAIT_NS	10000000000ull
+
+/* A test that moves a gantry pair (followers): the card disabled both
+ * sides together with the faulted one, and they coast as one beam.
+ * Enabled while still coasting, each side would brake to its own
+ * position under its own loop, the two from different speeds (the beam
+ * swings between them): the skew that makes can trip the skew limit
+ * on the way back. So the way back begins with every moving axis at
+ * rest: 0, or an exit code when it is still moving after REST_WAIT_NS. */
+static int wait_rest(struct tune_move *s)
+{
+	uint64_t waited = 0;
+	struct sh2000_status st;
+	double before[SH2000_AXES] = { 0 };
+	int r, still = 0;
+
+	for (int first = 1; !still; first = 0) {
+		if ((r = sh2000_poll(s->h, &st)) < 0)
+			return tune_move_fail(s, r, "recovering");
+		still = !first;
+		for (unsigned int b = 0; b < SH2000_AXES; b++) {
+			double mm = (double)st.axis[b].pos_counts / s->pc.counts_per_mm[b];
+
+			if ((moving(s) & (1u << b)) &&
+			    fabs(mm - before[b]) > REST_MMS * REST_WINDOW_NS * 1e-9)
+				still = 0;
+			before[b] = mm;
+		}
+		if (still)
+			break;
+		if (waited >= REST_WAIT_NS) {
+			sh2000_tool_msg("%s: %s test: the pair still moves %g s after the fault: not enabled again",
+					sh2000_device(s->h), s->name, REST_WAIT_NS * 1e-9);
+			return SH2000_EXIT_CARD;
+		}
+		if ((r = sh2000_sleep_ns(s->h, REST_WINDOW_NS)) < 0)
+			return tune_move_fail(s, r, "recovering");
+		waited += REST_WINDOW_NS;
+	}
+	return 0;
+}
+
 int tune_move_recover(struct tune_move *s, int fault)
 {
 	struct sh2000_run_config rc;
@@ -223,6 +269,8 @@ int tune_move_recover(struct tune_move *s, int fault)
 			sh2000_device(s->h), s->name, sh2000_strerror(fault),
 			s->o->ferr_max_mm < s->ferr0 ? s->o->ferr_max_mm : s->ferr0);
 	if (s->calm && (r = s->calm(s)))
+		return r;
+	if (s->o->follow && (r = wait_rest(s)))
 		return r;
 	if ((r = sh2000_reset(s->h)) < 0 || (r = put_limits(s, SH2000_AXES)) < 0 ||
 	    (r = sh2000_enable(s->h, moving(s))) < 0)

@@ -173,6 +173,10 @@ enum gantry_squaring {
 /* The pair's axes, a < b; 0 when there is none. */
 int sh2000_gantry_axes(const struct sh2000_dsp *fw, unsigned int *a,
 		       unsigned int *b);
+/* A fault that disables axis: 1 and *other when the other side of its
+ * pair must be disabled with it, else 0. */
+int sh2000_gantry_partner(const struct sh2000_dsp *fw, unsigned int axis,
+			  unsigned int *other);
 /* GANTRY_PAIR set: the coupling loop starts from rest. */
 void sh2000_gantry_paired(struct sh2000_dsp *fw);
 /* After every axis' PID: the skew check and the coupling loop's share

@@ -175,9 +175,14 @@ static void disable_axis(struct sh2000_dsp *fw, unsigned int a)
 static void axis_fault(struct sh2000_dsp *fw, unsigned int a, uint16_t bit,
 		       int disable)
 {
+	unsigned int b;
+
 	sh2000_fw_latch(fw, a, bit);
 	if (disable)
 		disable_axis(fw, a);
+	/* a gantry pair stops as one beam (gantry_loop.c) */
+	if (disable && sh2000_gantry_partner(fw, a, &b))
+		disable_axis(fw, b);
 	card_fault(fw, SH2000_FAULT_AXIS);
 }
 

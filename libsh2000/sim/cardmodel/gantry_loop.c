@@ -15,6 +15,15 @@
  * A skew beyond gantry_skew_limit latches AXIS_FAULT_SKEW on both sides
  * in the cycle that sees it: both set-points stop at once where the
  * sides are, as an emergency stop holds them, and the card stops.
+ * A fault that disables one side (following error, DAC saturation,
+ * counter, hard limit) disables the other in the same cycle
+ * (firmware.c's axis_fault asks sh2000_gantry_partner): both coast as
+ * one beam, its stiffness keeping them together, rather than one side
+ * braking under its loop and dragging the coasting one askew behind it
+ * (then a way back of the two sides by different distances latched
+ * SKEW). The partner latches no bit of its own: the faulted side's bit
+ * and the first-fault record say why. After a skew fault, which holds
+ * both sides where they stopped, the other side stays held.
  * HOME on either side homes both, each on its own switch, and with
  * HOME_F_INDEX then on its own scale's index mark; then side b's count is
  * shifted by gantry_square (where its reference, switch or mark, is
@@ -46,6 +55,19 @@ int sh2000_gantry_axes(const struct sh2000_dsp *fw, unsigned int *a,
 	*a = ax[0];
 	*b = ax[1];
 	return 1;
+}
+
+int sh2000_gantry_partner(const struct sh2000_dsp *fw, unsigned int axis,
+			  unsigned int *other)
+{
+	unsigned int a, b;
+
+	if (!sh2000_gantry_axes(fw, &a, &b) || (axis != a && axis != b))
+		return 0;
+	*other = axis == a ? b : a;
+	/* the skew fault already stopped both and holds the other where it
+	 * stopped (a jammed side saturating its DAC afterwards): it stays */
+	return !(fw->ax[*other].faults & SH2000_AXIS_FAULT_SKEW);
 }
 
 void sh2000_gantry_paired(struct sh2000_dsp *fw)

@@ -15,6 +15,8 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
 
 #include <cmocka.h>
 
@@ -53,8 +55,10 @@ static void log_yaw(void *ctx, const struct sh2000_probe *p)
 		l->peak = y;
 }
 
-/* The in-process card as a gantry, the carriage 20 mm from side a. */
-static struct sh2000 *open_gantry(int pair, struct sh2000_fw **fw)
+/* The in-process card as a gantry, the carriage carriage_mm from side a,
+ * the beam's joints stiffness_n_per_m (0: the model's default). */
+static struct sh2000 *open_machine(int pair, struct sh2000_fw **fw,
+				   double carriage_mm, double stiffness_n_per_m)
 {
 	struct sh2000_sim_config cfg;
 	struct sh2000_gantry_config g;
@@ -63,10 +67,12 @@ static struct sh2000 *open_gantry(int pair, struct sh2000_fw **fw)
 
 	sh2000_tool_init("test_gantry");
 	sh2000_sim_config_default(&cfg);
-	cfg.axis[0].start_mm = 20;
+	cfg.axis[0].start_mm = carriage_mm;
 	assert_int_equal(sh2000_sim_open(&h, &cfg, msg, sizeof(msg)), 0);
 	*fw = sh2000_cardsim_fw(sh2000_sim_card(h));
 	sh2000_gantry_config_default(&g);
+	if (stiffness_n_per_m > 0)
+		g.stiffness_n_per_m = stiffness_n_per_m;
 	assert_int_equal(sh2000_fw_set_gantry(*fw, &g), 0);
 	/* the sides tuned for what they carry, as the card model's gantry
 	 * test tunes them: the acceleration feed-forward for 9 kg (the
@@ -80,6 +86,12 @@ static struct sh2000 *open_gantry(int pair, struct sh2000_fw **fw)
 		assert_int_equal(sh2000_param_set(h, G, (unsigned int)pair_params[i][0],
 						  pair_params[i][1]), 0);
 	return h;
+}
+
+/* The carriage 20 mm from side a, where it loads side a most. */
+static struct sh2000 *open_gantry(int pair, struct sh2000_fw **fw)
+{
+	return open_machine(pair, fw, 20, 0);
 }
 
 /* What the test must leave as it was: the sides' limits and set-points,
@@ -237,6 +249,155 @@ static void auto_chooses(void **state)
 	}
 }
 
+/* How often the card went into FAULT (a candidate tripped). */
+struct fault_log {
+	unsigned int state, faults;
+};
+
+static void log_faults(void *ctx, const struct sh2000_probe *p)
+{
+	struct fault_log *l = ctx;
+
+	if (p->state == SH2000_STATE_FAULT && l->state != SH2000_STATE_FAULT)
+		l->faults++;
+	l->state = p->state;
+}
+
+/* --gantry --auto from kp 0 with a tight skew limit (5000 and 8000
+ * counts, 50 and 80 um, the uncoupled ramp's skew being 45 um): the
+ * search's following-error bound, a quarter of the limit, is tripped by
+ * some candidates. After each trip the card disabled both sides together,
+ * the tool waited for the pair to come to rest, and took it back to its
+ * start without the skew fault: the search ends with gains, the card
+ * idle, unfaulted, both sides back at their starts, the beam square at
+ * rest. (Before, one side coasted while the other braked, and the way
+ * back latched SKEW: exit 4.) */
+static void auto_recovers_square(void **state)
+{
+	static const int limits[] = { 5000, 8000 };
+
+	(void)state;
+	for (size_t i = 0; i < sizeof(limits) / sizeof(limits[0]); i++) {
+		struct tune_opts o = { .axis = SIDE_A, .ferr_max_mm = 0.1,
+				       .enable = 1, .autotune = 1,
+				       .gm_db = TUNE_MIN_GM_DB };
+		struct sh2000_fw *fw;
+		struct sh2000 *h = open_gantry(1, &fw);
+		struct fault_log l = { 0, 0 };
+		struct sh2000_status st;
+		double before[10], after[10];
+
+		assert_int_equal(sh2000_param_set(h, G, SH2000_GP_GANTRY_KP, 0), 0);
+		assert_int_equal(sh2000_param_set(h, G, SH2000_GP_GANTRY_SKEW_LIMIT,
+						  limits[i]), 0);
+		card_state(h, before);
+		assert_int_equal(sh2000_sim_set_observer(h, log_faults, &l), 0);
+		/* 0: the tool found both sides back at their set-points */
+		assert_int_equal(tune_run_gantry_auto(h, &o), 0);
+		sh2000_sim_set_observer(h, NULL, NULL);
+		card_state(h, after);
+		assert_int_equal(sh2000_poll(h, &st), 0);
+		assert_true(l.faults >= 1);
+		assert_int_equal(st.card_state, SH2000_STATE_IDLE);
+		assert_int_equal(st.axis[SIDE_A].faults | st.axis[SIDE_B].faults, 0);
+		/* the limits, gains and enables as they were (disabled again,
+		 * the set-points follow the encoders) */
+		for (int k = 0; k < 7; k++)
+			assert_true(after[k] == before[k]);
+		assert_true(after[9] == before[9]);
+		assert_int_equal(sh2000_sleep_ns(h, 2000000000ull), 0);
+		printf("# skew limit %d: %u trips, each taken back; the beam's yaw 2 s after the end %.4f um\n",
+		       limits[i], l.faults, sh2000_fw_gantry_yaw_mm(fw) * 1e3);
+		assert_true(fabs(sh2000_fw_gantry_yaw_mm(fw)) * 1e3 < 0.5);
+		sh2000_close(h);
+	}
+}
+
+/* stderr of fn(h, o) into buf (what the tool said). */
+static int said(int (*fn)(struct sh2000 *, const struct tune_opts *),
+		struct sh2000 *h, const struct tune_opts *o, char *buf,
+		size_t len)
+{
+	FILE *f = tmpfile();
+	int saved, r;
+	size_t n;
+
+	assert_non_null(f);
+	fflush(stderr);
+	saved = dup(2);
+	assert_true(saved >= 0);
+	assert_true(dup2(fileno(f), 2) >= 0);
+	r = fn(h, o);
+	fflush(stderr);
+	assert_true(dup2(saved, 2) >= 0);
+	close(saved);
+	rewind(f);
+	n = fread(buf, 1, len - 1, f);
+	buf[n] = '\0';
+	fclose(f);
+	fputs(buf, stderr);
+	return r;
+}
+
+/* --gantry --auto --apply on a pair made with carriage_mm and
+ * stiffness_n_per_m (open_machine), asking gm_db: refused (exit 1) with
+ * a message holding want; nothing written: the card's gains, limits and
+ * enables as they were, the pair back at its start, idle, unfaulted. */
+static void refusal(double carriage_mm, double stiffness_n_per_m,
+		    double gm_db, const char *want)
+{
+	struct tune_opts o = { .axis = SIDE_A, .ferr_max_mm = 0.1, .enable = 1,
+			       .autotune = 1, .apply = 1, .gm_db = gm_db };
+	struct sh2000_fw *fw;
+	struct sh2000 *h = open_machine(1, &fw, carriage_mm, stiffness_n_per_m);
+	struct sh2000_status st;
+	double before[10], after[10];
+	char msg[2048];
+
+	card_state(h, before);
+	assert_int_equal(said(tune_run_gantry_auto, h, &o, msg, sizeof(msg)),
+			 SH2000_EXIT_CARD);
+	card_state(h, after);
+	assert_non_null(strstr(msg, "(nothing written)"));
+	assert_non_null(strstr(msg, want));
+	assert_null(strstr(msg, "written                 "));
+	for (int k = 0; k < 10; k++)
+		assert_true(after[k] == before[k]);
+	assert_int_equal(sh2000_poll(h, &st), 0);
+	assert_int_equal(st.card_state, SH2000_STATE_IDLE);
+	assert_int_equal(st.axis[SIDE_A].faults | st.axis[SIDE_B].faults, 0);
+	sh2000_close(h);
+}
+
+/* A beam 400 times stiffer than the model's (2e7 N/m): the sides hardly
+ * yaw apart (45 counts uncoupled), and no candidate that cuts it holds
+ * with gantry_kp raised 30 dB (x31.6): refused, the message naming the
+ * margin. The same pair with the default 8 dB gets gains (kp 40: 3
+ * counts): the refusal is the margin's. */
+static void auto_refuses_margin(void **state)
+{
+	struct tune_opts o = { .axis = SIDE_A, .ferr_max_mm = 0.1, .enable = 1,
+			       .autotune = 1, .gm_db = TUNE_MIN_GM_DB };
+	struct sh2000_fw *fw;
+	struct sh2000 *h = open_machine(1, &fw, 20, 2e7);
+
+	(void)state;
+	refusal(20, 2e7, 30, "did not hold with gantry_kp x31.62 (the gain margin 30 dB)");
+	assert_int_equal(tune_run_gantry_auto(h, &o), 0);
+	sh2000_close(h);
+}
+
+/* The carriage in the middle of the beam: the sides carry the same mass
+ * and the uncoupled ramp shows no skew; there is nothing for the
+ * coupling to cut, so nothing to choose gains on: refused before any
+ * candidate (before, every candidate "cut" 0 counts to 0 and the search
+ * kept the largest gains it tried). */
+static void auto_refuses_no_skew(void **state)
+{
+	(void)state;
+	refusal(300, 0, TUNE_MIN_GM_DB, "nothing for the coupling to cut");
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -244,6 +405,9 @@ int main(void)
 		cmocka_unit_test(uncoupled_only),
 		cmocka_unit_test(refused),
 		cmocka_unit_test(auto_chooses),
+		cmocka_unit_test(auto_recovers_square),
+		cmocka_unit_test(auto_refuses_margin),
+		cmocka_unit_test(auto_refuses_no_skew),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

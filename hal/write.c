@@ -252,6 +252,13 @@ static void check_stream(struct hsc_card *c)
 	}
 }
 
+/* A new window of the fill's readings (low_fill()). */
+static void fill_window_reset(struct hsc_card *c)
+{
+	memset(c->fill_hist, 0, sizeof(c->fill_hist));
+	c->fill_n = 0;
+}
+
 static void start_stream(struct hsc_card *c, int target)
 {
 	int i;
@@ -274,8 +281,7 @@ static void start_stream(struct hsc_card *c, int target)
 	c->seen_running = 0;
 	c->over_ticks = 0;
 	c->recentring = 0;
-	memset(c->fill_hist, 0, sizeof(c->fill_hist));
-	c->fill_n = 0;
+	fill_window_reset(c);
 	c->raise_left = 0.0;
 	c->delay_valid = 0;
 	c->stream_ticks = -1;	/* this tick's point is in the batch */
@@ -298,9 +304,10 @@ static double low_fill(struct hsc_card *c, int ahead, int target)
 	long sum = 0, n = 0;
 	double d;
 
-	if (c->recentring)
-		c->fill_n = 0;
-	else if (c->raise_left <= 0.0) {
+	if (c->recentring) {
+		if (c->fill_n)	/* a slip's readings judge nothing */
+			fill_window_reset(c);
+	} else if (c->raise_left <= 0.0) {
 		b = ahead < 0 ? 0 : ahead >= HSC_FILL_BINS ?
 		    HSC_FILL_BINS - 1 : ahead;
 		c->fill_hist[b]++;
@@ -320,8 +327,7 @@ static double low_fill(struct hsc_card *c, int ahead, int target)
 		if (med <= target - 1 - slack && n)
 			c->raise_left = (double)(target - 1) -
 					(double)sum / (double)n;
-		memset(c->fill_hist, 0, sizeof(c->fill_hist));
-		c->fill_n = 0;
+		fill_window_reset(c);
 	}
 	if (c->raise_left <= 0.0)
 		return 0.0;

@@ -136,9 +136,10 @@ int upl_trace_start(struct upl_trace *t)
 	struct stat sb;
 	int fd;
 
-	t->started = 1;
-	if (!t->csv)
+	if (!t->csv) {
+		t->started = 1;
 		return 0;
+	}
 	fd = fileno(t->csv);
 	/* a regular file starts empty, as fopen(.., "w") would have made it
 	 * (a pipe or a terminal has nothing to cut) */
@@ -147,6 +148,7 @@ int upl_trace_start(struct upl_trace *t)
 	if (fputs("t,cmd_x,act_x,cmd_y,act_y,cmd_z,act_z,cmd_a,act_a\n",
 		  t->csv) < 0)
 		return -(errno ? errno : EIO);
+	t->started = 1;		/* not before: a failed start is a refusal */
 	return 0;
 }
 

@@ -10,7 +10,8 @@
  * program and the reset that clears them; a stall of the whole machine
  * that the card catches up, and a slip it does not; and two cards whose
  * clocks are off by +-100 ppm in one thread (each ring's fill, the skew
- * between their set-points).
+ * between their set-points), alone and with the whole machine stalled
+ * every second.
  */
 #include <math.h>
 #include <setjmp.h>

@@ -303,7 +303,8 @@ void hsc_index_command(const struct hsc_card *c, struct hsc_in *in);
 void hsc_tb_reset(struct hsc_timebase *tb);
 /* Every tick, before the heartbeat is read: the clock moves on. */
 void hsc_tb_advance(struct hsc_timebase *tb, uint64_t tick);
-/* A heartbeat read `late_ns` after the tick's start. Returns 1 when the
+/* A heartbeat read `late_ns` after the tick's start (a period or more:
+ * a missed tick run late, whose reading is not taken). Returns 1 when the
  * card's clock jumped (the reference starts again). */
 int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 		  long late_ns, long period_ns, long servo_ns);

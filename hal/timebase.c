@@ -34,7 +34,8 @@
 #define TB_KP		0.006
 #define TB_KI		0.00002
 /* A phase reading this far from the last one is a late read or a served
- * card that was descheduled and is catching up its cycles, not the clock:
+ * card that was descheduled and is catching up its cycles, not the clock
+ * (a tick that runs a period or more late is not read at all):
  * skipped, until TB_SETTLE readings in a row agree on a new phase (a card
  * that restarted, the card's timing changed) or TB_PERSIST readings were
  * skipped (longer than a served card catches up: 50 ms). */
@@ -78,6 +79,16 @@ void hsc_tb_advance(struct hsc_timebase *tb, uint64_t tick)
 	tb->clock += tb->step;
 }
 
+/* No reading of the phase this tick: the clock runs at the rate
+ * estimate alone. The last reading's proportional share is one reading's
+ * noise (the heartbeat counts whole servo cycles): held over a stall's
+ * skipped ticks it would move the phase by hundredths of a period for a
+ * while. */
+static void hold(struct hsc_timebase *tb)
+{
+	tb->correction = clamp(-tb->integ, TB_LIMIT);
+}
+
 int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 		  long late_ns, long period_ns, long servo_ns)
 {
@@ -87,6 +98,8 @@ int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 		return 0;
 	per_tick = (double)period_ns / (double)servo_ns;	/* cycles */
 	if (!tb->locked) {
+		if (late_ns >= period_ns)
+			return 0;	/* not from a missed tick (below) */
 		/* the reference: this tick is phase zero */
 		tb->hb_ext = hb;
 		tb->hb_last = hb;
@@ -102,6 +115,21 @@ int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 	}
 	tb->hb_ext += (uint16_t)(hb - tb->hb_last);
 	tb->hb_last = hb;
+	/*
+	 * A tick that runs a period or more late is one the thread missed
+	 * and now runs back to back: the whole machine stalled, and a served
+	 * card's server with it, so its heartbeat stands where the stall
+	 * began while the lateness moves on. Such readings agree with one
+	 * another on a phase that is not the card's: taken as a new one (and
+	 * once more when the card has caught up), the reference would keep
+	 * whatever phase error the stall left, and the card's skew against
+	 * the other cards would grow stall after stall. They say nothing of
+	 * the clock: the rate estimate holds.
+	 */
+	if (late_ns >= period_ns) {
+		hold(tb);
+		return 0;
+	}
 	/* card coarse periods since the reference, at the tick's start */
 	x = (double)(tb->hb_ext - tb->hb0) / per_tick -
 	    (double)late_ns / (double)period_ns - tb->off;
@@ -118,8 +146,10 @@ int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 			      tb->settled + 1 : 1;
 		tb->skipped = eps;
 		tb->outliers++;
-		if (tb->settled < TB_SETTLE)
+		if (tb->settled < TB_SETTLE) {
+			hold(tb);
 			return 0;
+		}
 	}
 	tb->outliers = 0;
 	if (fabs(eps) > TB_RELOCK) {

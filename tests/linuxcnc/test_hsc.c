@@ -10,7 +10,8 @@
  * program and the reset that clears them; a stall of the whole machine
  * that the card catches up, and a slip it does not; and two cards whose
  * clocks are off by +-100 ppm in one thread (each ring's fill, the skew
- * between their set-points).
+ * between their set-points), alone and with the whole machine stalled
+ * every second.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -558,6 +559,62 @@ static void drift_tick(struct drift *d, double cmd_mm)
 	d->t_next += (uint64_t)(PERIOD_NS + d->correction_ns);
 }
 
+/* Two cards at ppm[0] and ppm[1] in one thread, queue target `target`,
+ * both enabled where they stand (the same place) and streaming; returns
+ * that place (mm). */
+static double drift_open(struct drift *d, const double ppm[2], int target)
+{
+	double x_0;
+	int i, k;
+
+	for (i = 0; i < 2; i++) {
+		char msg[256];
+
+		d->r[i] = calloc(1, sizeof(*d->r[i]));
+		assert_non_null(d->r[i]);
+		if (hsc_open(&d->r[i]->c, i, "sim", msg, sizeof(msg)) < 0)
+			fail_msg("hsc_open: %s", msg);
+		assert_int_equal(sh2000_sim_set_clock_ppm(d->r[i]->c.h, ppm[i]), 0);
+		d->o[i].scale = 1.0 + ppm[i] * 1e-6;
+		assert_int_equal(sh2000_sim_set_observer(d->r[i]->c.h, observe,
+							 &d->o[i]), 0);
+		d->r[i]->in.axis[0].position_scale =
+			hsc_default_scale(&d->r[i]->c, 0);
+		d->r[i]->in.queue_target = target;
+	}
+	assert_int_equal(d->r[0]->c.master, 1);
+	assert_int_equal(d->r[1]->c.master, 0);
+	for (i = 0; i < 2; i++) {
+		uint64_t now = sh2000_now_ns(d->r[i]->c.h);
+
+		if (now > d->t_next)
+			d->t_next = now;
+	}
+	drift_tick(d, 0.0);
+	x_0 = d->r[0]->out.axis[0].position_fb;
+	assert_true(fabs(d->r[1]->out.axis[0].position_fb - x_0) < 0.001);
+	d->r[0]->in.axis[0].enable = d->r[1]->in.axis[0].enable = 1;
+	for (k = 0; k < 100; k++)
+		drift_tick(d, x_0);
+	assert_true(d->r[0]->c.streaming && d->r[1]->c.streaming);
+	return x_0;
+}
+
+/* How far card 1's latest set-point is behind card 0's (ns of host
+ * time), where card 0 moves faster than vmin counts per ns; 0, or -1
+ * when there is no such sample. */
+static int drift_skew(const struct drift *d, double vmin, double *skew)
+{
+	double x0, v0;
+	unsigned int last = (d->o[1].n - 1) % OBS_RING;
+
+	if (!d->o[1].n || obs_at(&d->o[0], d->o[1].t[last], &x0, &v0) < 0 ||
+	    fabs(v0) <= vmin)
+		return -1;
+	*skew = (x0 - d->o[1].x[last]) / v0;
+	return 0;
+}
+
 static void test_two_cards_drift(void **state)
 {
 	struct drift d = { 0 };
@@ -569,39 +626,10 @@ static void test_two_cards_drift(void **state)
 	uint32_t cycles_max[2] = { 0, 0 };
 
 	(void)state;
-	for (i = 0; i < 2; i++) {
-		char msg[256];
-
-		d.r[i] = calloc(1, sizeof(*d.r[i]));
-		assert_non_null(d.r[i]);
-		if (hsc_open(&d.r[i]->c, i, "sim", msg, sizeof(msg)) < 0)
-			fail_msg("hsc_open: %s", msg);
-		assert_int_equal(sh2000_sim_set_clock_ppm(d.r[i]->c.h, ppm[i]), 0);
-		d.o[i].scale = 1.0 + ppm[i] * 1e-6;
-		assert_int_equal(sh2000_sim_set_observer(d.r[i]->c.h, observe,
-							 &d.o[i]), 0);
-		d.r[i]->in.axis[0].position_scale = hsc_default_scale(&d.r[i]->c, 0);
-		d.r[i]->in.queue_target = DRIFT_TARGET;
-	}
-	assert_int_equal(d.r[0]->c.master, 1);
-	assert_int_equal(d.r[1]->c.master, 0);
-	for (i = 0; i < 2; i++) {
-		uint64_t now = sh2000_now_ns(d.r[i]->c.h);
-
-		if (now > d.t_next)
-			d.t_next = now;
-	}
-	/* both cards enabled where they stand (the same place), streaming */
-	drift_tick(&d, 0.0);
-	x_0 = d.r[0]->out.axis[0].position_fb;
-	assert_true(fabs(d.r[1]->out.axis[0].position_fb - x_0) < 0.001);
-	d.r[0]->in.axis[0].enable = d.r[1]->in.axis[0].enable = 1;
-	for (k = 0; k < 100; k++)
-		drift_tick(&d, x_0);
-	assert_true(d.r[0]->c.streaming && d.r[1]->c.streaming);
+	x_0 = drift_open(&d, ppm, DRIFT_TARGET);
 	/* a minute of the same motion on both: 10 mm (1 - cos), 1 Hz */
 	for (k = 0; k < n; k++) {
-		double t = k * 1e-3, x0, v0;
+		double t = k * 1e-3, skew;
 
 		drift_tick(&d, x_0 + A * (1 - cos(w * t)));
 		for (i = 0; i < 2; i++) {
@@ -618,11 +646,8 @@ static void test_two_cards_drift(void **state)
 		}
 		/* skew: card 0's set-point where card 1's latest is, in
 		 * host time, over card 0's velocity, where it is fast */
-		if (d.o[1].n && obs_at(&d.o[0], d.o[1].t[(d.o[1].n - 1) % OBS_RING],
-				       &x0, &v0) == 0 &&
-		    fabs(v0) * 1e9 > 0.7 * vmax * d.r[0]->in.axis[0].position_scale) {
-			double skew = (x0 - d.o[1].x[(d.o[1].n - 1) % OBS_RING]) / v0;
-
+		if (drift_skew(&d, 0.7 * vmax * 1e-9 *
+			       d.r[0]->in.axis[0].position_scale, &skew) == 0) {
 			if (!samples++)
 				skew_0 = skew;
 			if (fabs(skew) > skew_max)
@@ -653,6 +678,142 @@ static void test_two_cards_drift(void **state)
 		rig_close(d.r[i]);
 }
 
+/* One period of the thread during a stall of the whole machine: the
+ * thread's read comes late_ns after the tick's start, and card i's time
+ * has got to until[i] (the cards' servers were stopped with it). */
+static void stalled_tick(struct drift *d, double cmd_mm, long late_ns,
+			 const uint64_t until[2])
+{
+	int i;
+
+	for (i = 0; i < 2; i++) {
+		struct hsc_card *c = &d->r[i]->c;
+		uint64_t now = sh2000_now_ns(c->h);
+
+		if (now < until[i])
+			sh2000_sleep_ns(c->h, until[i] - now);
+		hsc_read(c, &d->r[i]->in, &d->r[i]->out, PERIOD_NS, late_ns);
+	}
+	for (i = 0; i < 2; i++) {
+		d->r[i]->in.axis[0].position_cmd = cmd_mm;
+		hsc_write(&d->r[i]->c, &d->r[i]->in, &d->r[i]->out);
+		if (!d->r[i]->out.ok)
+			fail_msg("card %d: %s (fill %u)", i, d->r[i]->c.err,
+				 d->r[i]->c.st.queue_fill);
+	}
+	d->correction_ns = d->r[0]->out.pll_correction_ns;
+	d->t_next += (uint64_t)(PERIOD_NS + d->correction_ns);
+}
+
+/*
+ * The whole machine, both cards' servers with it, stops for n periods
+ * from the start of the next tick (as linuxcnc_drift under a stall loop of
+ * real-time busy processes on every core). The thread then runs the n
+ * ticks it missed back to back, each read n..1 periods late, before the
+ * cards have moved on; then the cards catch up their periods at a served
+ * card's pace (two periods a period: sh2000-sim), card i starting lag[i]
+ * periods after the thread, while the thread is on time. wave(k) is the
+ * command (mm) of tick k; *k counts the thread's ticks.
+ */
+static void drift_stall(struct drift *d, int n, const int lag[2],
+			double (*wave)(int k), int *k)
+{
+	uint64_t until[2], t0 = d->t_next, card[2];
+	int j, i, behind = 1;
+
+	for (i = 0; i < 2; i++)
+		card[i] = until[i] = sh2000_now_ns(d->r[i]->c.h);
+	for (j = 0; j < n; j++, (*k)++)
+		stalled_tick(d, wave(*k), (long)(t0 + (uint64_t)n * PERIOD_NS -
+						 d->t_next), until);
+	for (j = 1; behind; j++, (*k)++) {
+		behind = 0;
+		for (i = 0; i < 2; i++) {
+			int run = j - lag[i] > 0 ? j - lag[i] : 0;
+
+			until[i] = card[i] + 2 * (uint64_t)run * PERIOD_NS;
+			if (until[i] >= d->t_next)
+				until[i] = d->t_next;
+			else
+				behind = 1;
+		}
+		stalled_tick(d, wave(*k), 0, until);
+	}
+}
+
+/* The drift test's motion: 10 mm (1 - cos), 1 Hz, at tick k. */
+static double stall_wave(int k)
+{
+	return 10.0 * (1 - cos(2 * 3.14159265358979 * k * 1e-3));
+}
+
+#define STALLS		70
+#define STALL_TICKS	30
+
+/*
+ * linuxcnc_drift under a loop that stalls the whole machine for 30 ms
+ * every second: a stall every 1000 ticks, the cards' servers stopped with
+ * the thread and catching up at their pace afterwards, the follower's a
+ * few periods after the first card's. A stall moves neither card's
+ * timeline: the skew between the cards stays within a quarter of a period
+ * (the drift test's bound) at every sample, during the stalls too, the
+ * timebases keep their references, and both queues stay at their target.
+ * Before, the readings of the ticks run back to back settled on a phase
+ * that was not the card's and the reference was taken again twice a
+ * stall, each time a little off: the skew grew stall after stall.
+ */
+static void test_two_cards_stalls(void **state)
+{
+	struct drift d = { 0 };
+	double ppm[2] = { DRIFT_PPM, -DRIFT_PPM }, skew, x_0, vmin;
+	double worst = 0, last_min = 0, last_max = 0;
+	static const int lag[2] = { 0, 3 };
+	uint64_t tick0[2];
+	int i, k = 0, s, samples = 0, fill_off = 0;
+
+	(void)state;
+	x_0 = drift_open(&d, ppm, 30);
+	vmin = 0.7 * 10.0 * 2 * 3.14159265358979 * 1e-9 *
+	       d.r[0]->in.axis[0].position_scale;
+	for (i = 0; i < 1000; i++, k++)
+		drift_tick(&d, x_0 + stall_wave(k));
+	for (i = 0; i < 2; i++)
+		tick0[i] = d.r[i]->c.tb.tick0;
+	for (s = 0; s < STALLS; s++) {
+		last_min = 1e99;
+		last_max = -1e99;
+		drift_stall(&d, STALL_TICKS, lag, stall_wave, &k);
+		for (i = 0; i < 1000; i++, k++) {
+			drift_tick(&d, x_0 + stall_wave(k));
+			if (drift_skew(&d, vmin, &skew) < 0)
+				continue;
+			samples++;
+			last_min = fmin(last_min, skew);
+			last_max = fmax(last_max, skew);
+			worst = fmax(worst, fabs(skew));
+		}
+		/* the fill a second after: the target less one (hsc.h) */
+		for (i = 0; i < 2; i++)
+			if (abs((int)d.r[i]->c.st.queue_fill - 29) > 2)
+				fill_off++;
+	}
+	print_message("%d stalls of %d ticks, one a second: skew of card 1 against card 0 at most %.1f us (%d samples), after the last %.1f..%.1f us; fill %u and %u (target 30), %d seconds' ends off it\n",
+		      STALLS, STALL_TICKS, worst * 1e-3, samples,
+		      last_min * 1e-3, last_max * 1e-3,
+		      d.r[0]->c.st.queue_fill, d.r[1]->c.st.queue_fill,
+		      fill_off);
+	assert_int_equal(fill_off, 0);
+	assert_true(samples > 10 * STALLS);
+	assert_true(worst < 0.25 * PERIOD_NS);
+	for (i = 0; i < 2; i++) {
+		/* the phase references were never taken again */
+		assert_true(d.r[i]->c.tb.tick0 == tick0[i]);
+		assert_int_equal(d.r[i]->out.underruns, 0);
+	}
+	for (i = 0; i < 2; i++)
+		rig_close(d.r[i]);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -665,6 +826,7 @@ int main(void)
 		cmocka_unit_test(test_slip_recentred),
 		cmocka_unit_test(test_lost_refilled),
 		cmocka_unit_test(test_two_cards_drift),
+		cmocka_unit_test(test_two_cards_stalls),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

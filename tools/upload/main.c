@@ -8,7 +8,9 @@
  * then enable the axes, rewind and stream it (the second pass,
  * sh2000_run_program). Both passes read the program block by block, so a
  * program of any length runs in the same memory. An error before
- * streaming leaves the card as it was.
+ * streaming leaves the card as it was, and no trace: the --trace file is
+ * opened before the card is touched (an unwritable path refuses the run)
+ * but written only once the run starts.
  */
 #include <errno.h>
 #include <math.h>
@@ -208,6 +210,11 @@ static int second_pass(struct sh2000 *h, const struct upl_opts *o,
 	sh2000_program_opts_default(&po);
 	po.optional_stop = o->optional_stop;
 	e = sh2000_prog_reader_rewind(src->reader);
+	if (!e && rc->trace && (x = upl_trace_start(rc->trace)) < 0) {
+		sh2000_tool_msg("--trace %s: %s; nothing moved", o->trace,
+				strerror(-x));
+		return SH2000_EXIT_CARD;
+	}
 	if (!e)
 		e = sh2000_run_program(rc->run, src->reader, &po, upl_pause, rc);
 	if (!e && sh2000_tool_stop_asked())

@@ -5,6 +5,7 @@
  * generated gnuplot script draws.
  */
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,6 +20,11 @@
 
 struct upl_trace {
 	FILE *csv;
+	const char *path;		/* the --trace file */
+	int created;			/* this run made it (it did not exist) */
+	dev_t dev;			/* and which file that is */
+	ino_t ino;
+	int started;			/* the run began: the header is in */
 	unsigned int every;
 	uint64_t seen, rows;
 	int csv_err;
@@ -55,6 +61,38 @@ int upl_which(const char *prog)
 	return 0;
 }
 
+/*
+ * The --trace file, opened before anything on the card changes (so a path
+ * that cannot be written refuses the run) but neither truncated nor
+ * written until the run starts (upl_trace_start): a refused run leaves a
+ * user's file as it was, and one this run created is removed again
+ * (upl_trace_free). 0, or -1 with the reason in msg.
+ */
+static int open_csv(struct upl_trace *t, const char *csv, char *msg,
+		    size_t len)
+{
+	struct stat sb;
+	int fd = open(csv, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+
+	t->created = fd >= 0;
+	if (fd < 0 && errno == EEXIST)
+		fd = open(csv, O_WRONLY | O_CLOEXEC);
+	if (fd < 0 || !(t->csv = fdopen(fd, "w"))) {
+		snprintf(msg, len, "--trace %s: %s", csv, strerror(errno));
+		if (fd >= 0)
+			close(fd);
+		if (t->created)
+			unlink(csv);
+		return -1;
+	}
+	t->path = csv;
+	if (fstat(fd, &sb) == 0) {
+		t->dev = sb.st_dev;
+		t->ino = sb.st_ino;
+	}
+	return 0;
+}
+
 struct upl_trace *upl_trace_open(const char *csv, unsigned int every,
 				 int plot, char *msg, size_t len)
 {
@@ -65,15 +103,9 @@ struct upl_trace *upl_trace_open(const char *csv, unsigned int every,
 		return NULL;
 	}
 	t->every = every ? every : 1;
-	if (csv) {
-		t->csv = fopen(csv, "w");
-		if (!t->csv) {
-			snprintf(msg, len, "--trace %s: %s", csv, strerror(errno));
-			free(t);
-			return NULL;
-		}
-		fputs("t,cmd_x,act_x,cmd_y,act_y,cmd_z,act_z,cmd_a,act_a\n",
-		      t->csv);
+	if (csv && open_csv(t, csv, msg, len) < 0) {
+		free(t);
+		return NULL;
 	}
 	if (plot) {
 		const char *tmp = getenv("TMPDIR");
@@ -97,6 +129,27 @@ struct upl_trace *upl_trace_open(const char *csv, unsigned int every,
 		}
 	}
 	return t;
+}
+
+int upl_trace_start(struct upl_trace *t)
+{
+	struct stat sb;
+	int fd;
+
+	if (!t->csv) {
+		t->started = 1;
+		return 0;
+	}
+	fd = fileno(t->csv);
+	/* a regular file starts empty, as fopen(.., "w") would have made it
+	 * (a pipe or a terminal has nothing to cut) */
+	if (fstat(fd, &sb) == 0 && S_ISREG(sb.st_mode) && ftruncate(fd, 0))
+		return -errno;
+	if (fputs("t,cmd_x,act_x,cmd_y,act_y,cmd_z,act_z,cmd_a,act_a\n",
+		  t->csv) < 0)
+		return -(errno ? errno : EIO);
+	t->started = 1;		/* not before: a failed start is a refusal */
+	return 0;
 }
 
 static void plot_row(struct upl_trace *t, const struct sh2000_run_sample *s)
@@ -128,6 +181,10 @@ static void plot_row(struct upl_trace *t, const struct sh2000_run_sample *s)
 
 void upl_trace_sample(struct upl_trace *t, const struct sh2000_run_sample *s)
 {
+	/* the card model's observer is in before the run starts: the trace
+	 * begins with the run */
+	if (!t->started)
+		return;
 	if (t->csv && t->seen++ % t->every == 0) {
 		if (fprintf(t->csv,
 			    "%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n",
@@ -206,10 +263,17 @@ int upl_trace_plot(struct upl_trace *t, const char *out, const char *title)
 
 void upl_trace_free(struct upl_trace *t)
 {
+	struct stat sb;
+
 	if (!t)
 		return;
 	if (t->csv)
 		fclose(t->csv);
+	/* a refused run: the file it created goes (the same file only) */
+	if (t->path && t->created && !t->started &&
+	    stat(t->path, &sb) == 0 && sb.st_dev == t->dev &&
+	    sb.st_ino == t->ino)
+		unlink(t->path);
 	if (t->plot)
 		fclose(t->plot);
 	if (t->dir[0]) {

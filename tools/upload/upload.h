@@ -114,15 +114,21 @@ void upl_axes_text(unsigned int mask, char *buf);
 /* ---- trace.c ---------------------------------------------------------- */
 
 /* csv: the --trace file (NULL: none), every: keep every n-th sample;
- * plot: collect plot data too. NULL and a message on failure. */
+ * plot: collect plot data too. NULL and a message on failure. The file is
+ * opened, not yet written: a user's file keeps its contents until
+ * upl_trace_start(). */
 struct upl_trace *upl_trace_open(const char *csv, unsigned int every,
 				 int plot, char *msg, size_t len);
+/* The run begins: the file is emptied and gets its header. 0 or -errno. */
+int upl_trace_start(struct upl_trace *t);
 void upl_trace_sample(struct upl_trace *t, const struct sh2000_run_sample *s);
 /* Closes the CSV; 0 or -errno (a write failed). */
 int upl_trace_close_csv(struct upl_trace *t);
 uint64_t upl_trace_rows(const struct upl_trace *t);
 /* Draw the plot with gnuplot; 0 or an exit code, message printed. */
 int upl_trace_plot(struct upl_trace *t, const char *out, const char *title);
+/* Closes what is open; a file the run created and never started (the run
+ * was refused) is removed. */
 void upl_trace_free(struct upl_trace *t);
 
 /* A program on $PATH: 1 if found. */

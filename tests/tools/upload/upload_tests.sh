@@ -377,7 +377,9 @@ t_moved_axes() {
 # The guard between the two passes: the card moves after sh2000-upload
 # read where it stands and before the run (here rs274's stand-in jogs Y
 # on the served card while sh2000-upload waits for its output): the run is
-# refused, naming the axis and how far, and nothing moves.
+# refused, naming the axis and how far, and nothing moves. The trace is
+# not half-made: a file the run would have created is not there, and a
+# user's file of that name is left as it was.
 t_moved_since_check() {
 	[ -n "${CTL:-}" ] && [ -x "$CTL" ] || { echo "sh2000ctl not built: skipped"; exit 77; }
 	local name=upload-guard-$$
@@ -387,17 +389,41 @@ t_moved_since_check() {
 	mkdir -p bin
 	cat >bin/rs274 <<EOS
 #!/bin/sh
-"$CTL" -d sim:$name move y=0.5 --feed 100 >/dev/null 2>&1 || { echo "stand-in: jog refused" >&2; exit 1; }
+"$CTL" -d sim:$name move y=\${JOG:-0.5} --feed 100 >/dev/null 2>&1 || { echo "stand-in: jog refused" >&2; exit 1; }
 cat "$DATA/arc.canon"
 EOS
 	chmod +x bin/rs274
 	expect 1 "a card moved between the check and the run" -- env PATH="$WORK/bin:$PATH" "${UPLOAD_RT[@]}" -d sim:$name --rs274 --trace m.csv "$DATA/arc.ngc"
 	has "sim:$name: axis y moved by 0\.5000 mm since the program was checked; nothing moved" err
-	# the trace was opened (its path checked) before the guard: no row
-	[ "$(wc -l <m.csv)" -le 1 ] || fail "m.csv has rows: the run started"
+	# the trace's path was checked before the guard, the file removed
+	no_motion m.csv
 	"$PROBE" sim:$name >p
 	has "state=1 fill=0 .*cmd=0\.0000,0\.5000,0\.0000,0\.0000" p
+	# again, onto a file of the user's: refused, the file untouched
+	printf 'the user'"'"'s notes\n' >notes.csv
+	cp notes.csv notes.orig
+	expect 1 "moved again, --trace onto an existing file" -- env JOG=1.0 PATH="$WORK/bin:$PATH" "${UPLOAD_RT[@]}" -d sim:$name --rs274 --trace notes.csv "$DATA/arc.ngc"
+	has "axis y moved by 0\.5000 mm since the program was checked; nothing moved" err
+	cmp -s notes.csv notes.orig || fail "a refused run changed the user's notes.csv"
 	stop_sim
+}
+
+# The refusals after the trace file was opened, on the in-process card:
+# axes to enable with --no-enable. No trace is left, a user's file of that
+# name keeps its contents, and a run that starts writes it anew.
+t_refused_trace() {
+	expect 1 "--no-enable with the axes disabled" -- "$UPLOAD" -q -d sim --no-enable --trace new.csv "$DATA/arc.ngc"
+	has "not enabled \(--no-enable; enable them with sh2000ctl enable\); nothing moved" err
+	no_motion new.csv
+	printf 'kept\n' >old.csv
+	expect 1 "--no-enable onto an existing file" -- "$UPLOAD" -q -d sim --no-enable --trace old.csv "$DATA/arc.ngc"
+	[ "$(cat old.csv)" = kept ] || fail "a refused run changed old.csv: $(head -c 200 old.csv)"
+	expect 1 "a trace that cannot be written" -- "$UPLOAD" -q -d sim --trace nodir/t.csv "$DATA/arc.ngc"
+	has "^sh2000-upload: --trace nodir/t.csv: No such file or directory; nothing moved" err
+	# the run starts: the old contents go, the header is the first line
+	expect 0 "a run onto an existing file" -- "$UPLOAD" -q -d sim --trace old.csv "$DATA/arc.ngc" || return
+	"$CHECK" old.csv header >h && [ "$(value header_ok h)" = 1 ] || fail "old.csv: header"
+	grep -q '^kept$' old.csv && fail "old.csv still has its old contents"
 }
 
 # Starts sh2000-upload on long.ngc on sim:NAME in the background with its
@@ -568,7 +594,7 @@ t_tool_pause() {
 }
 
 case ${1:-} in
-geometry|raw|override|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop|shm_hold|shm_other_stop|moved_axes|tool_table|tool_rs274|tool_pause|moved_since_check)
+geometry|raw|override|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop|shm_hold|shm_other_stop|moved_axes|tool_table|tool_rs274|tool_pause|moved_since_check|refused_trace)
 	"t_$1" ;;
 *) echo "usage: upload_tests.sh TEST"; exit 2 ;;
 esac

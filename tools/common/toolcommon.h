@@ -74,6 +74,12 @@ void sh2000_tool_vmsg(const char *fmt, va_list ap);
 int sh2000_tool_usage(const char *sub, const char *fmt, ...)
 	__attribute__((format(printf, 2, 3)));
 
+/* The folder of output file PATH for option OPT writable (PATH NULL: no
+ * output): 0, else a usage error naming both ("cannot write in DIR:
+ * reason (nothing moved)"), SH2000_EXIT_USAGE. Checked before the card
+ * is touched. outpath.c. */
+int sh2000_tool_writable(const char *opt, const char *path);
+
 /* The device string a tool uses: the -d/--device argument if not NULL or
  * empty, else $SH2000_DEVICE if set and not empty, else /dev/sh2000-0. */
 const char *sh2000_tool_device(const char *arg);

@@ -285,42 +285,14 @@ static int parse(int argc, char **argv, struct tune_opts *o)
 	return tune_check_options(o);
 }
 
-/* The folder of an output file, checked before anything moves (else a
- * typo in --save would be found after the test). */
-static int writable(const char *opt, const char *path)
-{
-	char dir[4096];
-	const char *slash;
-
-	if (!path)
-		return 0;
-	slash = strrchr(path, '/');
-	if (!slash) {
-		strcpy(dir, ".");
-	} else if (slash == path) {
-		strcpy(dir, "/");
-	} else {
-		size_t n = (size_t)(slash - path);
-
-		if (n >= sizeof(dir))
-			return sh2000_tool_usage(NULL, "%s: the path is too long", opt);
-		memcpy(dir, path, n);
-		dir[n] = 0;
-	}
-	if (access(dir, W_OK) < 0)
-		return sh2000_tool_usage(NULL, "%s %s: cannot write in %s: %s (nothing moved)",
-					 opt, path, dir, strerror(errno));
-	return 0;
-}
-
 static int outputs_writable(const struct tune_opts *o)
 {
-	int r = writable("--save", o->save);
+	int r = sh2000_tool_writable("--save", o->save);
 
 	if (!r)
-		r = writable("--csv", o->csv);
+		r = sh2000_tool_writable("--csv", o->csv);
 	if (!r)
-		r = writable("--plot", o->plot);
+		r = sh2000_tool_writable("--plot", o->plot);
 	return r;
 }
 

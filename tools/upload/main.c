@@ -287,6 +287,13 @@ int main(int argc, char **argv)
 				o.plot);
 		return SH2000_EXIT_HELPER;
 	}
+	/* the outputs' folders before the card is touched: a typo there
+	 * must not be found after the run */
+	x = sh2000_tool_writable("--trace", o.trace);
+	if (!x)
+		x = sh2000_tool_writable("--plot", o.plot);
+	if (x)
+		return x;
 	x = sh2000_tool_open(&h, o.device);
 	if (x)
 		return x;

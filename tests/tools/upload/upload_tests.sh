@@ -418,8 +418,18 @@ t_refused_trace() {
 	printf 'kept\n' >old.csv
 	expect 1 "--no-enable onto an existing file" -- "$UPLOAD" -q -d sim --no-enable --trace old.csv "$DATA/arc.ngc"
 	[ "$(cat old.csv)" = kept ] || fail "a refused run changed old.csv: $(head -c 200 old.csv)"
-	expect 1 "a trace that cannot be written" -- "$UPLOAD" -q -d sim --trace nodir/t.csv "$DATA/arc.ngc"
-	has "^sh2000-upload: --trace nodir/t.csv: No such file or directory; nothing moved" err
+	# an output's folder that cannot be written: a usage error before the
+	# card is touched, for the trace and the plot alike
+	expect 2 "a trace that cannot be written" -- "$UPLOAD" -q -d sim --trace nodir/t.csv "$DATA/arc.ngc"
+	has "^sh2000-upload: --trace nodir/t.csv: cannot write in nodir: No such file or directory \(nothing moved\)" err
+	no_motion nodir/t.csv
+	if command -v gnuplot >/dev/null; then
+		expect 2 "a plot that cannot be written" -- "$UPLOAD" -q -d sim --plot nodir/t.png "$DATA/arc.ngc"
+		has "^sh2000-upload: --plot nodir/t.png: cannot write in nodir: No such file or directory \(nothing moved\)" err
+	fi
+	# a trace path that is a folder: refused once opened, still before any move
+	expect 1 "a trace that is a folder" -- "$UPLOAD" -q -d sim --trace . "$DATA/arc.ngc"
+	has "^sh2000-upload: --trace \.: .*; nothing moved" err
 	# the run starts: the old contents go, the header is the first line
 	expect 0 "a run onto an existing file" -- "$UPLOAD" -q -d sim --trace old.csv "$DATA/arc.ngc" || return
 	"$CHECK" old.csv header >h && [ "$(value header_ok h)" = 1 ] || fail "old.csv: header"

@@ -93,11 +93,24 @@ function(_sh2000_install_layer target export runtime dev set)
     install(DIRECTORY ${dir}/sh2000 DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
       COMPONENT ${dev} FILES_MATCHING PATTERN "*.h")
   endforeach()
+  # The build tree's .pc has the configured prefix; the installed one gets
+  # the prefix installed to (`cmake --install B --prefix P`, cpack's), put
+  # in at install time, so pkg-config works for any prefix without
+  # --define-variable. An absolute path rather than ${pcfiledir}/..: the
+  # packages' flags stay -I/usr/include, which pkg-config knows as the
+  # system's and leaves out.
   get_target_property(pc ${target} OUTPUT_NAME)
   configure_file(${CMAKE_CURRENT_FUNCTION_LIST_DIR}/${pc}.pc.in
     ${PROJECT_BINARY_DIR}/${pc}.pc @ONLY)
-  install(FILES ${PROJECT_BINARY_DIR}/${pc}.pc
-    DESTINATION ${SH2000_PKGCONFIGDIR} COMPONENT ${dev})
+  install(CODE "
+    file(READ \"${PROJECT_BINARY_DIR}/${pc}.pc\" _sh2000_pc)
+    get_filename_component(_sh2000_prefix \"\${CMAKE_INSTALL_PREFIX}\" ABSOLUTE)
+    string(REGEX REPLACE \"^prefix=[^\\n]*\" \"prefix=\${_sh2000_prefix}\"
+      _sh2000_pc \"\${_sh2000_pc}\")
+    file(WRITE \"${PROJECT_BINARY_DIR}/pkgconfig-install/${pc}.pc\" \"\${_sh2000_pc}\")
+    file(INSTALL DESTINATION \"\${CMAKE_INSTALL_PREFIX}/${SH2000_PKGCONFIGDIR}\"
+      TYPE FILE FILES \"${PROJECT_BINARY_DIR}/pkgconfig-install/${pc}.pc\")"
+    COMPONENT ${dev})
 endfunction()
 
 # Installed, libsh2000-motion.a's json-c is json-c's own CMake target

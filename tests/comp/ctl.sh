@@ -38,6 +38,40 @@ expect 0 "$CTL" -d sim comp load "$T/laser.comp"
 printf '0,0\n10,x\n' >"$T/broken.csv"
 expect 5 "$COMP" csv x "$T/broken.csv"
 err_has 'broken.csv:2:'
+# every export the card would refuse is refused here, naming the CSV's
+# row, with nothing written: out of order, a repeat (also the first step,
+# which the point before the table is made from), a repeat after rounding
+# to counts, header only, one point, NaN, garbage, units, a jump the axis
+# cannot follow, a correction over 1 mm
+h='nominal,measured\n'
+bad=(
+	"order:4:not strictly increasing:${h}0,0\n50,50.001\n25,25.0005\n100,100.002\n"
+	"repeat:4:not strictly increasing:${h}0,0\n50,50.001\n50,50.0005\n100,100.002\n"
+	"firststep:3:not strictly increasing:${h}0,0\n0,0.001\n50,50.0005\n"
+	"counts:3:not strictly increasing:${h}0,0\n0.00001,0.00001\n10,10.001\n"
+	"header:1:0 points:${h}"
+	"one:2:1 point:${h}0,0\n"
+	"nan:3:two numbers:${h}0,0\n10,nan\n20,20\n"
+	"garbage:3:two numbers:${h}0,0\nxyz\n10,10.001\n"
+	"units:2:two numbers:${h}0 mm,0 mm\n10 mm,10.001 mm\n"
+	"jump:4:a jump larger:${h}0,0\n1,0.999\n1.001,0.990\n2,1.989\n"
+	"big:4:larger than 1 mm:${h}0,0\n100,98.5\n200,198\n"
+)
+for b in "${bad[@]}"; do
+	IFS=: read -r name line why text <<<"$b"
+	printf "$text" >"$T/$name.csv"
+	rm -f "$T/$name.comp"
+	expect 5 "$COMP" csv x "$T/$name.csv" -o "$T/$name.comp"
+	err_has "$name.csv:$line: .*$why"
+	[ ! -e "$T/$name.comp" ] || fail "$name.csv: $T/$name.comp written"
+done
+# a blank line and a comment in the export are not rows
+printf "${h}0,0\n\n# re-zeroed\n10,10.0004\n" >"$T/blank.csv"
+expect 0 "$COMP" csv x "$T/blank.csv" -o "$T/blank.comp"
+expect 0 "$CTL" -d sim comp load "$T/blank.comp"
+# the card whose scales and limits the table is checked against
+expect 3 "$COMP" csv x "$T/laser.csv" -d /dev/sh2000-none -o "$T/none.comp"
+[ ! -e "$T/none.comp" ] || fail "none.comp written without a card"
 
 # the simulated machine calibrated over a short travel: the tables load
 expect 0 "$COMP" calibrate -q --travel -5:5 --grid 5 --passes 1 -o "$T/cal.comp"

@@ -47,9 +47,22 @@ int cal_tables_save(const struct cal_tables *t, const char *path,
  * (pitch: the correction is nominal - measured) or, cross != 0,
  * "nominal,deviation" of another axis (straightness: the correction is
  * -deviation); relative to the first row, one point more beyond each end.
- * 0, or -1 with "FILE:LINE: why" in msg. */
-int cal_from_csv(struct cal_line *out, const char *path, int cross,
-		 char *msg, size_t len);
+ * Only the CSV's own form is checked here (two whole finite numbers a row,
+ * 2 rows or more); whether the table is one the card takes is
+ * cal_csv_check's. lines (CAL_MAX_POINTS, may be NULL): each row's line,
+ * before the end points are added. 0, or -1 with "FILE:LINE: why" in msg. */
+int cal_from_csv(struct cal_line *out, unsigned int *lines, const char *path,
+		 int cross, char *msg, size_t len);
+
+/* The table t made by cal_from_csv from csv (rows: its points, lines:
+ * their lines) read and checked by the library as `sh2000ctl comp load`
+ * does on the card h (its scales and limits), before anything is written:
+ * 0; -SH2000_EPARAM with "CSV:LINE: why" in msg, the line of the row the
+ * faulty point came from; another negative code when the check could not
+ * run. */
+int cal_csv_check(const struct cal_tables *t, const unsigned int *lines,
+		  unsigned int rows, const char *csv, struct sh2000 *h,
+		  char *msg, size_t len);
 
 /* ---- the simulated machine ---- */
 

@@ -27,12 +27,14 @@
 static void usage(FILE *f)
 {
 	fprintf(f,
-"Usage: sh2000-comp csv AXIS LASER.csv [--cross AXIS2] [-o TABLE]\n"
+"Usage: sh2000-comp csv AXIS LASER.csv [--cross AXIS2] [-d DEVICE] [-o TABLE]\n"
 "       sh2000-comp calibrate [-d sim] [--travel LO:HI] [--step MM] [--grid MM]\n"
 "                   [--passes N] [-q] [-o TABLE]\n"
 "Write the card's compensation table file (sh2000ctl comp load TABLE).\n"
 "  csv        AXIS's pitch from a laser system's export (nominal,measured mm);\n"
-"             --cross AXIS2: AXIS2's straightness along AXIS (nominal,deviation)\n"
+"             --cross AXIS2: AXIS2's straightness along AXIS (nominal,deviation);\n"
+"             checked as `sh2000ctl comp load` will, with the scales and\n"
+"             limits of the card -d names (default sim), before it is written\n"
 "  calibrate  on the simulated machine (-d sim): measure it with its\n"
 "             interferometer over lines and an X-Y grid, load the tables\n"
 "             and measure again (--passes, 2)\n"
@@ -56,10 +58,44 @@ static int out_tables(const struct cal_tables *t, const char *out,
 	return SH2000_EXIT_OK;
 }
 
-static int cmd_csv(int argc, char **argv, const char *out, int cross)
+/* The CSV read, then checked with the card's scales and limits as
+ * `sh2000ctl comp load` will check it; written only when the card would
+ * take it. */
+static int csv_table(struct cal_tables *t, int a, int cross, const char *csv,
+		     const char *dev, const char *out)
+{
+	struct cal_line *l = cross < 0 ? &t->pitch[a] : cross == 1 ?
+			     &t->cross_yx : &t->cross_xy;
+	unsigned int *lines = calloc(CAL_MAX_POINTS, sizeof(*lines));
+	struct sh2000 *h = NULL;
+	char msg[768];
+	int r;
+
+	if (!lines)
+		return SH2000_EXIT_CARD;
+	r = cal_from_csv(l, lines, csv, cross >= 0, msg, sizeof(msg));
+	if (r < 0) {
+		sh2000_tool_msg("%s", msg);
+		free(lines);
+		return SH2000_EXIT_INPUT;
+	}
+	r = sh2000_tool_open(&h, dev);
+	if (r == SH2000_EXIT_OK) {
+		r = cal_csv_check(t, lines, l->n - 2, csv, h, msg, sizeof(msg));
+		if (r < 0)
+			sh2000_tool_msg("%s", msg);
+		r = r == -SH2000_EPARAM ? SH2000_EXIT_INPUT :
+		    r < 0 ? sh2000_tool_exit_code(r) : out_tables(t, out, csv);
+		sh2000_close(h);
+	}
+	free(lines);
+	return r;
+}
+
+static int cmd_csv(int argc, char **argv, const char *dev, const char *out,
+		   int cross)
 {
 	struct cal_tables *t;
-	char msg[512];
 	int a, r;
 
 	if (argc != 2)
@@ -73,14 +109,7 @@ static int cmd_csv(int argc, char **argv, const char *out, int cross)
 	t = calloc(1, sizeof(*t));
 	if (!t)
 		return SH2000_EXIT_CARD;
-	r = cal_from_csv(cross < 0 ? &t->pitch[a] : cross == 1 ? &t->cross_yx :
-			 &t->cross_xy, argv[1], cross >= 0, msg, sizeof(msg));
-	if (r < 0) {
-		sh2000_tool_msg("%s", msg);
-		free(t);
-		return SH2000_EXIT_INPUT;
-	}
-	r = out_tables(t, out, argv[1]);
+	r = csv_table(t, a, cross, argv[1], dev, out);
 	free(t);
 	return r;
 }
@@ -196,7 +225,7 @@ int main(int argc, char **argv)
 		return SH2000_EXIT_USAGE;
 	}
 	if (!strcmp(argv[optind], "csv"))
-		return cmd_csv(argc - optind - 1, argv + optind + 1, out, cross);
+		return cmd_csv(argc - optind - 1, argv + optind + 1, dev, out, cross);
 	if (!strcmp(argv[optind], "calibrate") && optind + 1 == argc)
 		return cmd_calibrate(dev, &c, out);
 	return sh2000_tool_usage(NULL, "unknown command '%s' (csv, calibrate)", argv[optind]);

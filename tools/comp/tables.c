@@ -80,11 +80,65 @@ static void finish_csv(struct cal_line *l)
 	l->n = n + 2;
 }
 
-int cal_from_csv(struct cal_line *out, const char *path, int cross,
-		 char *msg, size_t len)
+/* A row's two numbers, each whole (no unit or other text stuck to it),
+ * finite, separated by commas, semicolons or blanks, nothing after them:
+ * 2; 0 when the row does not start with a number (a header); -1 else. */
+static int csv_row(const char *s, double v[2])
+{
+	unsigned int k;
+	char *end;
+
+	for (k = 0; k < 2; k++) {
+		while (k && *s && strchr(" \t,;", *s))
+			s++;
+		v[k] = strtod(s, &end);
+		if (end == s)
+			return k ? -1 : 0;
+		if (!isfinite(v[k]) || (*end && !strchr(" \t,;\r\n", *end)))
+			return -1;
+		s = end;
+	}
+	while (*s == ' ' || *s == '\t' || *s == '\r' || *s == '\n')
+		s++;
+	return *s ? -1 : 2;
+}
+
+/* One row: its point, or "FILE:LINE: why". */
+static int csv_point(struct cal_line *out, unsigned int *lines, int cross,
+		     const char *s, const char *path, unsigned int line,
+		     int *header, char *msg, size_t len)
+{
+	double v[2];
+	int k = csv_row(s, v);
+
+	if (k == 0 && *header) {
+		*header = 0;	/* the first row names the columns */
+		return 0;
+	}
+	*header = 0;
+	if (k != 2) {
+		snprintf(msg, len, "%s:%u: want: nominal,%s (two numbers in mm)",
+			 path, line, cross ? "deviation" : "measured");
+		return -1;
+	}
+	if (out->n + 3 > CAL_MAX_POINTS) {
+		snprintf(msg, len, "%s:%u: more than %u points", path, line,
+			 CAL_MAX_POINTS - 2);
+		return -1;
+	}
+	if (lines)
+		lines[out->n] = line;
+	out->pos[out->n] = v[0];
+	out->corr[out->n++] = cross ? -v[1] : v[0] - v[1];
+	return 0;
+}
+
+int cal_from_csv(struct cal_line *out, unsigned int *lines, const char *path,
+		 int cross, char *msg, size_t len)
 {
 	char buf[512];
 	unsigned int line = 0;
+	int header = 1, r = 0;
 	FILE *f = fopen(path, "r");
 
 	out->n = 0;
@@ -92,8 +146,7 @@ int cal_from_csv(struct cal_line *out, const char *path, int cross,
 		snprintf(msg, len, "%s: %s", path, strerror(errno));
 		return -1;
 	}
-	while (fgets(buf, sizeof(buf), f)) {
-		double nom, meas;
+	while (!r && fgets(buf, sizeof(buf), f)) {
 		char *s = buf;
 
 		line++;
@@ -101,28 +154,15 @@ int cal_from_csv(struct cal_line *out, const char *path, int cross,
 			s++;
 		if (*s == '#' || *s == '\n' || *s == '\r' || !*s)
 			continue;
-		if (sscanf(s, "%lf%*[ \t,;]%lf", &nom, &meas) != 2 ||
-		    !isfinite(nom) || !isfinite(meas)) {
-			if (out->n == 0 && line == 1)
-				continue;	/* a header row */
-			snprintf(msg, len, "%s:%u: want: nominal,measured (mm)", path, line);
-			fclose(f);
-			return -1;
-		}
-		if (out->n + 3 > CAL_MAX_POINTS) {
-			snprintf(msg, len, "%s:%u: more than %u points", path, line,
-				 CAL_MAX_POINTS - 2);
-			fclose(f);
-			return -1;
-		}
-		out->pos[out->n] = nom;
-		out->corr[out->n++] = cross ? -meas : nom - meas;
+		r = csv_point(out, lines, cross, s, path, line, &header, msg, len);
 	}
 	fclose(f);
-	if (out->n < 2) {
-		snprintf(msg, len, "%s: fewer than 2 points", path);
-		return -1;
+	if (!r && out->n < 2) {
+		snprintf(msg, len, "%s:%u: %u point%s: a table wants 2 or more",
+			 path, line, out->n, out->n == 1 ? "" : "s");
+		r = -1;
 	}
-	finish_csv(out);
-	return 0;
+	if (!r)
+		finish_csv(out);
+	return r;
 }

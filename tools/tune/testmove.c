@@ -430,7 +430,11 @@ int tune_check_back(struct sh2000 *h, unsigned int axis, double start)
 				(long long)st.axis[axis].cmd_counts, start);
 		return SH2000_EXIT_CARD;
 	}
-	printf("back at the start       %.6f mm\n", st.axis[axis].cmd_mm);
+	/* the label and the value are what scripts parse; the value is the
+	 * axis' position, which alone reads like an error when the axis did
+	 * not start at 0 */
+	printf("back at the start       %.6f mm (position, 0 counts from where it started)\n",
+	       st.axis[axis].cmd_mm);
 	return 0;
 }
 

@@ -39,7 +39,7 @@ checks=$((checks + 1))
 expect 0 "${TUNE_RT[@]}" "${S[@]}" x --auto --apply --save "$T/g.par" &&
 	out_has '^the new gains are on the card$' &&
 	out_has '^step test with the new gains:$' &&
-	out_has '^back at the start +0\.000000 mm$'
+	out_has '^back at the start +0\.000000 mm \(position, 0 counts from where it started\)$'
 after=$(gains)
 for g in kp ti td kvff kaff; do
 	checks=$((checks + 1))

@@ -17,12 +17,12 @@ expect 0 "${CTL_RT[@]}" "${S[@]}" enable x + move x=1
 expect 0 "${CTL_RT[@]}" "${S[@]}" params x ferr_limit dac_limit
 before=$out
 expect 0 "${TUNE_RT[@]}" "${S[@]}" x --step 0.02 --dac-max 500 --ferr-max 0.05 &&
-	out_has '^back at the start +1\.000000 mm$'
+	out_has '^back at the start +1\.000000 mm \(position, 0 counts from where it started\)$'
 expect 0 "${CTL_RT[@]}" "${S[@]}" params x ferr_limit dac_limit
 checks=$((checks + 1))
 [ "$out" = "$before" ] || fail "limits after the step: $out, before: $before"
 expect 8 "${TUNE_RT[@]}" "${S[@]}" x --step -0.5 --ferr-max 0.0002 &&
-	out_has '^back at the start +1\.000000 mm$'
+	out_has '^back at the start +1\.000000 mm \(position, 0 counts from where it started\)$'
 expect 0 "${CTL_RT[@]}" "${S[@]}" params x ferr_limit dac_limit
 checks=$((checks + 1))
 [ "$out" = "$before" ] || fail "limits after the abort: $out, before: $before"
@@ -34,9 +34,9 @@ checks=$((checks + 1))
 expect 0 "${CTL_RT[@]}" "${S[@]}" params global coarse_period_us fine_steps
 timing=$out
 expect 0 "${TUNE_RT[@]}" "${S[@]}" x --ramp 50 --travel 2 &&
-	out_has '^back at the start +1\.000000 mm$'
+	out_has '^back at the start +1\.000000 mm \(position, 0 counts from where it started\)$'
 expect 0 "${TUNE_RT[@]}" "${S[@]}" x --chirp 10:250 --duration 0.5 &&
-	out_has '^crossover' && out_has '^back at the start +1\.000000 mm$'
+	out_has '^crossover' && out_has '^back at the start +1\.000000 mm \(position, 0 counts from where it started\)$'
 expect 0 "${CTL_RT[@]}" "${S[@]}" params x ferr_limit dac_limit
 checks=$((checks + 1))
 [ "$out" = "$before" ] || fail "limits after the ramp and chirp: $out, before: $before"

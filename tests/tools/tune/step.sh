@@ -9,7 +9,7 @@
 
 expect 0 "$TUNE" "${S[@]}" x --step 0.01 --enable --csv "$T/s.csv" --plot "$T/s.png" &&
 	out_has '^axis x: step 0\.01 mm \(1000 counts\), held 0\.2 s$' &&
-	out_has '^back at the start +0\.000000 mm$'
+	out_has '^back at the start +0\.000000 mm \(position, 0 counts from where it started\)$'
 rise=$(figure 'rise time (10-90 %)') over=$(figure overshoot)
 settle=$(figure 'settling to 10 counts') dac=$(figure 'peak DAC')
 # the same figures from the CSV: crossings of 100 and 900 counts
@@ -35,7 +35,7 @@ is_png "$T/s.png"
 
 # the other way, and an SVG
 expect 0 "$TUNE" "${S[@]}" x --step -0.01 --enable --plot "$T/s.svg" &&
-	out_has '^axis x: step -0\.01 mm \(-1000 counts\)' && out_has '^back at the start +0\.000000 mm$'
+	out_has '^axis x: step -0\.01 mm \(-1000 counts\)' && out_has '^back at the start +0\.000000 mm \(position, 0 counts from where it started\)$'
 checks=$((checks + 1))
 grep -q '<svg' "$T/s.svg" || fail "--plot .svg did not write an SVG"
 
@@ -49,7 +49,7 @@ awk -F, 'NR > 1 && ($4 > 300 || $4 < -300) { bad = 1 } END { exit bad }' "$T/d.c
 # beyond the following-error bound: aborted, back at the start, exit 8
 expect 8 "$TUNE" "${S[@]}" x --step 0.5 --enable --ferr-max 0.0002 &&
 	err_has 'step test aborted: axis following error limit exceeded \(limit 0\.0002 mm' &&
-	out_has '^back at the start +0\.000000 mm$'
+	out_has '^back at the start +0\.000000 mm \(position, 0 counts from where it started\)$'
 
 # bounds that refuse before anything moves
 expect 1 "$TUNE" "${S[@]}" x --step 1 --enable --vmax 100 &&
@@ -57,7 +57,7 @@ expect 1 "$TUNE" "${S[@]}" x --step 1 --enable --vmax 100 &&
 # the in-process card is this program's alone and starts disabled: the
 # test enables the axis without --enable (on a served card it refuses:
 # tool_tune_served)
-expect 0 "$TUNE" "${S[@]}" x --step 0.01 && out_has '^back at the start +0\.000000 mm$'
+expect 0 "$TUNE" "${S[@]}" x --step 0.01 && out_has '^back at the start +0\.000000 mm \(position, 0 counts from where it started\)$'
 
 # usage errors
 expect 2 "$TUNE" "${S[@]}" --step 0.01 && err_has 'which AXIS'

@@ -10,7 +10,7 @@
 # ---- ramp ----
 expect 0 "$TUNE" "${S[@]}" x --ramp 100 --enable --csv "$T/r.csv" --plot "$T/r.png" &&
 	out_has '^axis x: ramp 100 mm/s over 7 mm \(accelerating at 5000 mm/s\^2\)$' &&
-	out_has '^back at the start +0\.000000 mm$'
+	out_has '^back at the start +0\.000000 mm \(position, 0 counts from where it started\)$'
 peak=$(figure 'constant-speed peak') rms=$(figure 'constant-speed RMS')
 acc=$(figure 'accelerating peak')
 # the same from the CSV: |ferr| where constant_speed is 1, and where the
@@ -27,11 +27,11 @@ close "$peak" "$cpeak" 0.005 && close "$rms" "$crms" 0.005 && close "$acc" "$cac
 is_png "$T/r.png"
 # the other way, a shorter travel given
 expect 0 "$TUNE" "${S[@]}" y --ramp -50 --travel 3 --enable &&
-	out_has '^axis y: ramp -50 mm/s over 3 mm' && out_has '^back at the start +0\.000000 mm$'
+	out_has '^axis y: ramp -50 mm/s over 3 mm' && out_has '^back at the start +0\.000000 mm \(position, 0 counts from where it started\)$'
 # beyond the following-error bound: aborted, back at the start, exit 8
 expect 8 "$TUNE" "${S[@]}" x --ramp 300 --enable --ferr-max 0.00005 &&
 	err_has 'ramp test aborted: axis following error limit exceeded \(limit 5e-05 mm' &&
-	out_has '^back at the start +0\.000000 mm$'
+	out_has '^back at the start +0\.000000 mm \(position, 0 counts from where it started\)$'
 # bounds that refuse before anything moves
 expect 1 "$TUNE" "${S[@]}" x --ramp 500 --enable &&
 	err_has 'a ramp at 500 mm/s is beyond the velocity bound 400\.0 mm/s: nothing moved'
@@ -45,7 +45,7 @@ expect 0 "$TUNE" "${S[@]}" x --chirp 5:3000 --enable --csv "$T/c.csv" --plot "$T
 	out_has '^axis x: chirp 5-3000 Hz, amplitude 0\.002 mm \(200 counts\), 0\.8 s$' &&
 	out_has '^response +48 frequencies, sampled every 0\.1 ms$' &&
 	out_has '^gain margin +[0-9.]+ dB at [0-9.]+ Hz$' &&
-	out_has '^back at the start +0\.000000 mm$'
+	out_has '^back at the start +0\.000000 mm \(position, 0 counts from where it started\)$'
 wc=$(figure crossover) pm=$(figure 'phase margin') gm=$(figure 'gain margin')
 # the crossover again from the CSV: |L| through 1, log-interpolated
 read -r cwc cpm < <(awk -F, 'NR == 1 { next }
@@ -75,14 +75,14 @@ expect 0 "$TUNE" "${S[@]}" x --chirp 5:3000 --enable --dac-max 1000 --accel 2000
 # back (the runner's way back needs it), back at the start, exit 8
 expect 8 "$TUNE" "${S[@]}" x --chirp 5:3000 --enable --dac-max 1000 --accel 100000 &&
 	err_has 'chirp test aborted: axis following error limit exceeded' &&
-	out_has '^back at the start +0\.000000 mm$'
+	out_has '^back at the start +0\.000000 mm \(position, 0 counts from where it started\)$'
 # bounds that refuse before anything moves
 expect 1 "$TUNE" "${S[@]}" x --chirp 5:4000 --enable &&
 	err_has "the card's servo period \(0\.1 ms\) carries a sweep up to 3563 Hz: nothing moved"
 expect 1 "$TUNE" "${S[@]}" x --chirp 5:100 --amplitude 0.5 --vmax 100 --accel 1000000 --enable &&
 	err_has '--amplitude 0\.5 mm at 112\.2 Hz is 352\.6 mm/s: it must be within 100\.0 mm/s .*nothing moved'
 # without --enable on the in-process card (this program's alone)
-expect 0 "$TUNE" "${S[@]}" x --chirp 5:100 && out_has '^back at the start +0\.000000 mm$'
+expect 0 "$TUNE" "${S[@]}" x --chirp 5:100 && out_has '^back at the start +0\.000000 mm \(position, 0 counts from where it started\)$'
 
 # ---- usage errors: exit 2, before the card is opened ----
 expect 2 "$TUNE" "${S[@]}" x --chirp 200:5 && err_has '--chirp 200:5: F0 \(200 Hz\) must be below F1 \(5 Hz\)'

@@ -72,6 +72,10 @@ expect 0 "$CTL" -d sim comp load "$T/blank.comp"
 # the card whose scales and limits the table is checked against
 expect 3 "$COMP" csv x "$T/laser.csv" -d /dev/sh2000-none -o "$T/none.comp"
 [ ! -e "$T/none.comp" ] || fail "none.comp written without a card"
+# without -d, the card $SH2000_DEVICE names, as for every tool; -d wins
+SH2000_DEVICE=/dev/sh2000-none expect 3 "$COMP" csv x "$T/laser.csv" -o "$T/none.comp"
+err_has "/dev/sh2000-none"
+SH2000_DEVICE=/dev/sh2000-none expect 0 "$COMP" csv x "$T/laser.csv" -d sim -o "$T/none.comp"
 
 # the simulated machine calibrated over a short travel: the tables load
 expect 0 "$COMP" calibrate -q --travel -5:5 --grid 5 --passes 1 -o "$T/cal.comp"

@@ -34,7 +34,8 @@ static void usage(FILE *f)
 "  csv        AXIS's pitch from a laser system's export (nominal,measured mm);\n"
 "             --cross AXIS2: AXIS2's straightness along AXIS (nominal,deviation);\n"
 "             checked as `sh2000ctl comp load` will, with the scales and\n"
-"             limits of the card -d names (default sim), before it is written\n"
+"             limits of the card -d names (else $SH2000_DEVICE, else sim),\n"
+"             before it is written\n"
 "  calibrate  on the simulated machine (-d sim): measure it with its\n"
 "             interferometer over lines and an X-Y grid, load the tables\n"
 "             and measure again (--passes, 2)\n"
@@ -183,7 +184,7 @@ int main(int argc, char **argv)
 		{ NULL, 0, NULL, 0 },
 	};
 	struct cal_config c;
-	const char *out = NULL, *dev = "sim";
+	const char *out = NULL, *dev = NULL, *env;
 	int o, cross = -1;
 	long n;
 
@@ -224,9 +225,15 @@ int main(int argc, char **argv)
 		usage(stderr);
 		return SH2000_EXIT_USAGE;
 	}
+	/* csv checks against the card the table is for: -d, else the one
+	 * $SH2000_DEVICE names for every tool, else the simulated card's
+	 * defaults (a conversion must work where no card is present);
+	 * calibrate has only the in-process card's interferometer */
+	env = getenv("SH2000_DEVICE");
 	if (!strcmp(argv[optind], "csv"))
-		return cmd_csv(argc - optind - 1, argv + optind + 1, dev, out, cross);
+		return cmd_csv(argc - optind - 1, argv + optind + 1,
+			       dev ? dev : env && *env ? env : "sim", out, cross);
 	if (!strcmp(argv[optind], "calibrate") && optind + 1 == argc)
-		return cmd_calibrate(dev, &c, out);
+		return cmd_calibrate(dev ? dev : "sim", &c, out);
 	return sh2000_tool_usage(NULL, "unknown command '%s' (csv, calibrate)", argv[optind]);
 }

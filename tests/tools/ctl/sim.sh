@@ -72,7 +72,7 @@ expect 0 "$CTL" "${S[@]}" enable x + move x=-290 + home x + status --json &&
 	json_check /axes/0/state has homed /axes/0/homed = true /axes/0/pos_mm '~' 0,0.01
 expect 0 "$CTL" "${S[@]}" enable a + move a=-290 + home a --index + status --json &&
 	json_check /axes/3/state has homed /axes/3/state has index
-expect 1 "$CTL" "${S[@]}" home x && err_has "^sh2000ctl: sim: home: .*axis not enabled"
+expect 1 "$CTL" "${S[@]}" home x && err_has "^sh2000ctl: sim: axis x is not enabled \(the in-process card is new in every program: sh2000ctl -d sim enable x \+ \.\.\.\): nothing moved$"
 # index: the latch armed while the card moves (the mark at the switch,
 # 300 mm below the start), masked by the switch, missed, refused
 expect 0 "$CTL" "${S[@]}" enable x + move x=-299.5 + index x --mask + \

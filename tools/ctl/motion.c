@@ -317,6 +317,30 @@ static int motion_setup(struct ctl *c, struct motion_setup *m)
 	return 0;
 }
 
+/*
+ * An enabled axis whose set-point is outside its soft limits (new limits
+ * set around it, or a card that powered up there) cannot move at all:
+ * the card faults a set-point outside them, so the runner refuses the
+ * very first point. Say so in the operator's terms, with the way back.
+ */
+static int check_start(struct ctl *c, const struct motion_setup *m)
+{
+	for (unsigned int a = 0; a < SH2000_AXES; a++) {
+		double lo = m->limits.lo[a], hi = m->limits.hi[a], at = m->start[a];
+		char an = sh2000_tool_axis_name(a);
+
+		if (!(m->enabled & (1u << a)) ||
+		    (at >= lo - SH2000_LIMIT_SLACK_MM && at <= hi + SH2000_LIMIT_SLACK_MM))
+			continue;
+		sh2000_tool_msg("%s: axis %c is at %.4f mm, outside its soft limits %.4f..%.4f mm, and the card refuses any set-point outside them: nothing moved. To get back: widen them (sh2000ctl params %c soft_%s=%.4f), move %c inside, then set soft_%s=%.4f again",
+				sh2000_device(c->h), an, at, lo, hi, an,
+				at < lo ? "min" : "max", at < lo ? floor(at) : ceil(at),
+				an, at < lo ? "min" : "max", at < lo ? lo : hi);
+		return SH2000_EXIT_CARD;
+	}
+	return 0;
+}
+
 static int check_axes(struct ctl *c, const struct motion_setup *m,
 		      unsigned int mask, const double target[SH2000_AXES])
 {
@@ -328,6 +352,8 @@ static int check_axes(struct ctl *c, const struct motion_setup *m,
 			continue;
 		return not_enabled(c, a);
 	}
+	if (check_start(c, m))
+		return SH2000_EXIT_CARD;
 	/* the runner's rule, before anything moves */
 	memcpy(t, target, sizeof(t));
 	if (sh2000_limits_apply(&m->limits, t, why, sizeof(why)) < 0) {
@@ -571,6 +597,8 @@ int ctl_jog(struct ctl *c, int argc, char **argv)
 	{
 		struct jog_arg ja = { .axis = (unsigned int)axis, .velocity = vel };
 
+		if ((r = check_axes(c, &m, 1u << axis, m.start)))
+			return r;
 		/* the jog ends at the soft limit if it would run past it */
 		ja.travel = fabs(vel) * t;
 		target[axis] += vel > 0 ? ja.travel : -ja.travel;
@@ -583,8 +611,6 @@ int ctl_jog(struct ctl *c, int argc, char **argv)
 					sh2000_device(c->h), sh2000_tool_axis_name((unsigned int)axis));
 			return SH2000_EXIT_CARD;
 		}
-		if ((r = check_axes(c, &m, 1u << axis, m.start)))
-			return r;
 		return run_motion(c, &m, 1u << axis, plan_jog, &ja);
 	}
 }

@@ -53,6 +53,14 @@ expect 0 "${CTL_RT[@]}" "${D[@]}" home x --timeout 20 &&
 checks=$((checks + 1))
 printf '%s\n' "$out" | awk '{ gsub(/[(),;]/, ""); e = $8; f = $12; d = -e - f; if (d < 0) d = -d; exit !(d < 2e-6 && (e < 0 ? -e : e) < 0.01) }' ||
 	fail "homed line: encoder and following error disagree: $out"
+# while another program holds the motion: its holder, one "home:" prefix
+"${CTL_RT[@]}" "${D[@]}" move x=40 --feed 20 >"$T/move.out" 2>"$T/move.err" &
+MP=$!
+wait_for "the move to run" card_is running
+expect 1 "${CTL_RT[@]}" "${D[@]}" home x &&
+	err_has "^sh2000ctl: sim:$NAME: home: the motion is held by sh2000ctl \(pid $MP\); it has to finish or close the card first$"
+expect 0 "${CTL_RT[@]}" "${D[@]}" stop
+wait $MP
 # a disabled axis: the hint, not the card's raw refusal
 expect 0 "${CTL_RT[@]}" "${D[@]}" disable x
 expect 1 "${CTL_RT[@]}" "${D[@]}" home x &&

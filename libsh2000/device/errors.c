@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* The error rule: negative codes, their names and per-handle details. */
+#include <ctype.h>
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
@@ -124,4 +125,11 @@ void sh2000_last_error_copy(struct sh2000 *h, char *buf, size_t len)
 	pthread_mutex_lock(&h->lock);
 	snprintf(buf, len, "%s", h->err);
 	pthread_mutex_unlock(&h->lock);
+}
+
+char sh2000_axis_letter(int axis)
+{
+	if (axis < 0 || axis >= (int)SH2000_AXES)
+		return '?';
+	return (char)tolower((unsigned char)SH2000_AXIS_LETTERS[axis]);
 }

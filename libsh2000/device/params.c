@@ -98,7 +98,8 @@ static void where(char *buf, size_t len, int axis, const char *name)
 	if (axis == SH2000_GLOBAL)
 		snprintf(buf, len, "global parameter %s", name);
 	else
-		snprintf(buf, len, "axis %d parameter %s", axis, name);
+		snprintf(buf, len, "axis %c parameter %s",
+			 sh2000_axis_letter(axis), name);
 }
 
 static const struct sh2000_param_info *check_id(struct sh2000 *h, int axis,
@@ -287,8 +288,8 @@ int sh2000_param_set(struct sh2000 *h, int axis, unsigned int id, double v)
 			goto out;
 		if (id == SH2000_P_SOFT_MIN ? word >= other : word <= other) {
 			r = sh2000_fail(h, -SH2000_EPARAM,
-					"axis %d parameter %s: %g mm is not %s soft_%s (%g mm)",
-					axis, p->name, v,
+					"axis %c parameter %s: %g mm is not %s soft_%s (%g mm)",
+					sh2000_axis_letter(axis), p->name, v,
 					id == SH2000_P_SOFT_MIN ? "below" : "above",
 					id == SH2000_P_SOFT_MIN ? "max" : "min",
 					other / scale);
@@ -377,8 +378,8 @@ int sh2000_axis_params_set(struct sh2000 *h, unsigned int axis,
 	}
 	if (!r && word[SH2000_P_SOFT_MIN] >= word[SH2000_P_SOFT_MAX])
 		r = sh2000_fail(h, -SH2000_EPARAM,
-				"axis %u parameters soft_min %g mm and soft_max %g mm: out of order",
-				axis, ap->v[SH2000_P_SOFT_MIN],
+				"axis %c parameters soft_min %g mm and soft_max %g mm: out of order",
+				sh2000_axis_letter((int)axis), ap->v[SH2000_P_SOFT_MIN],
 				ap->v[SH2000_P_SOFT_MAX]);
 	if (!r) {
 		/* The card keeps soft_min < soft_max after every single set:

@@ -79,6 +79,9 @@ int sh2000_fail(struct sh2000 *h, int code, const char *fmt, ...)
 	__attribute__((format(printf, 3, 4)));
 int sh2000_msg(char *msg, size_t len, int code, const char *fmt, ...)
 	__attribute__((format(printf, 4, 5)));
+/* An axis in messages: the lower-case letter of card.h's names, as every
+ * tool and hal_sh2000 name it ('x' for 0), '?' for no axis of the card. */
+char sh2000_axis_letter(int axis);
 /* 0 if the card speaks protocol minor `minor` or later; else -EOPNOTSUPP
  * with "the card speaks protocol M.m: <what> 1.<minor>" (what ends with
  * its verb: "data gathering needs"). */

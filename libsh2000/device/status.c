@@ -275,11 +275,12 @@ static int axis_error(struct sh2000 *h, const struct sh2000_status *st,
 	for (i = 0; i < sizeof(axis_faults) / sizeof(axis_faults[0]); i++)
 		if (bits & axis_faults[i].bit)
 			return sh2000_fail(h, -axis_faults[i].code,
-					   "axis %u: %s (axis faults 0x%04x, following error %.6f mm)",
-					   a, axis_faults[i].what,
+					   "axis %c: %s (axis faults 0x%04x, following error %.6f mm)",
+					   sh2000_axis_letter((int)a), axis_faults[i].what,
 					   st->axis[a].faults, st->axis[a].ferr_mm);
 	return sh2000_fail(h, -SH2000_EFAULTED,
-			   "axis %u: unknown fault bits 0x%04x", a, bits);
+			   "axis %c: unknown fault bits 0x%04x",
+			   sh2000_axis_letter((int)a), bits);
 }
 
 static int rejected_error(struct sh2000 *h, const struct sh2000_status *st)

@@ -506,7 +506,7 @@ static void test_fault_errors(void **state)
 		assert_int_equal(f->ram[SH2000_W_HEAD], 0);	/* nothing published */
 		assert_int_equal(sh2000_wait_idle(&f->h, 10), cases[i].code);
 		if (cases[i].axis_faults && cases[i].axis_faults != 0xffff)
-			assert_non_null(strstr(f->h.err, "axis 2"));
+			assert_non_null(strstr(f->h.err, "axis z: "));
 		if (cases[i].code == -SH2000_EREJECTED)
 			assert_non_null(strstr(f->h.err, "segment 77"));
 		fakecard_free(f);

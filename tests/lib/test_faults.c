@@ -129,7 +129,7 @@ static void test_jam(void **state)
 	assert_int_equal(simtest_line(h, p, 1, 2000, 200, 32, SH2000_PUSH_END) < 0 ?
 			 -SH2000_EFERR : sh2000_wait_idle(h, 2000),
 			 -SH2000_EFERR);
-	assert_non_null(strstr(sh2000_last_error(h), "axis 1: following error"));
+	assert_non_null(strstr(sh2000_last_error(h), "axis y: following error"));
 	sh2000_close(h);
 }
 
@@ -142,7 +142,7 @@ static void test_limit(void **state)
 	CHECK(sh2000_sim_inject(h, SH2000_INJECT_LIMIT, 3, 1));
 	CHECK(sh2000_sleep_ns(h, 1000000));
 	assert_int_equal(sh2000_wait_idle(h, 100), -SH2000_EHARD_LIMIT);
-	assert_non_null(strstr(sh2000_last_error(h), "axis 3: limit switch"));
+	assert_non_null(strstr(sh2000_last_error(h), "axis a: limit switch"));
 	/* reset clears the latch; the switch is still active though */
 	CHECK(sh2000_sim_inject(h, SH2000_INJECT_CLEAR, 0, 0));
 	CHECK(sh2000_reset(h));
@@ -159,7 +159,7 @@ static void test_counter_glitch(void **state)
 	CHECK(sh2000_sim_inject(h, SH2000_INJECT_COUNTER_GLITCH, 0, 0));
 	CHECK(sh2000_sleep_ns(h, 1000000));
 	assert_int_equal(sh2000_wait_idle(h, 100), -SH2000_ECOUNTER);
-	assert_non_null(strstr(sh2000_last_error(h), "axis 0: counter"));
+	assert_non_null(strstr(sh2000_last_error(h), "axis x: counter"));
 	sh2000_close(h);
 }
 
@@ -252,7 +252,7 @@ static void test_dac_saturation(void **state)
 	assert_int_equal(simtest_line(h, p, 2, 20000, 60, 30, SH2000_PUSH_END) < 0 ?
 			 -SH2000_EDAC_SAT : sh2000_wait_idle(h, 2000),
 			 -SH2000_EDAC_SAT);
-	assert_non_null(strstr(sh2000_last_error(h), "axis 2: DAC saturation"));
+	assert_non_null(strstr(sh2000_last_error(h), "axis z: DAC saturation"));
 	sh2000_close(h);
 }
 

@@ -115,7 +115,7 @@ static void test_axis_first(void **state)
 	r[SH2000_FF_CHECK] = sh2000_first_fault_check(r);
 	assert_int_equal(sh2000_poll_locked(&f->h, &st), 0);
 	assert_int_equal(sh2000_status_error_locked(&f->h, &st), -SH2000_EHARD_LIMIT);
-	assert_non_null(strstr(sh2000_last_error(&f->h), "axis 1: limit switch"));
+	assert_non_null(strstr(sh2000_last_error(&f->h), "axis y: limit switch"));
 	fakecard_free(f);
 }
 

@@ -227,7 +227,7 @@ static void test_fault(void **state)
 		e = sh2000_run_finish(r);
 	assert_int_equal(e, -SH2000_EFERR);
 	assert_non_null(strstr(sh2000_run_error(r), "sim"));
-	assert_non_null(strstr(sh2000_run_error(r), "axis 0"));
+	assert_non_null(strstr(sh2000_run_error(r), "axis x: "));
 	CHECK(sh2000_poll(h, &st));
 	assert_int_equal(st.card_state, SH2000_STATE_FAULT);
 	/* the card is stopped and the run usable again: after a card reset

@@ -175,11 +175,11 @@ static void test_params_rejected(void **state)
 
 	(void)state;
 	CHECK(sh2000_param_get(h, 2, SH2000_P_KP, &kp0));
-	bad(h, 2, SH2000_P_KP, -1.5, "axis 2 parameter kp: -1.5 DAC/count is outside 0..1000 DAC/count");
-	bad(h, 0, SH2000_P_TI, NAN, "axis 0 parameter ti: nan is not a finite");
+	bad(h, 2, SH2000_P_KP, -1.5, "axis z parameter kp: -1.5 DAC/count is outside 0..1000 DAC/count");
+	bad(h, 0, SH2000_P_TI, NAN, "axis x parameter ti: nan is not a finite");
 	bad(h, 0, SH2000_P_KVFF, INFINITY, "not a finite");
-	bad(h, 1, SH2000_P_SCALE, 0.0, "axis 1 parameter scale");
-	bad(h, 1, SH2000_P_VMAX, 1e40, "axis 1 parameter vmax");
+	bad(h, 1, SH2000_P_SCALE, 0.0, "axis y parameter scale");
+	bad(h, 1, SH2000_P_VMAX, 1e40, "axis y parameter vmax");
 	/* too small for a float is refused too, not rounded to 0 */
 	bad(h, 1, SH2000_P_KAFF, 1e-50, "does not fit a 32-bit float");
 	bad(h, 1, SH2000_P_SOFT_MIN, 1e9, "does not fit the card's 32-bit value");
@@ -200,7 +200,7 @@ static void test_params_rejected(void **state)
 	ap.v[SH2000_P_AMAX] = -5.0;
 	w0 = writes(h);
 	assert_int_equal(sh2000_axis_params_set(h, 0, &ap), -SH2000_EPARAM);
-	assert_non_null(strstr(sh2000_last_error(h), "axis 0 parameter amax"));
+	assert_non_null(strstr(sh2000_last_error(h), "axis x parameter amax"));
 	assert_int_equal(writes(h), w0);
 	ap.v[SH2000_P_AMAX] = 5000.0;
 	ap.v[SH2000_P_SOFT_MIN] = 10.0;

@@ -64,7 +64,7 @@ def test_bad_parameter_name_raises(card):
 
 
 @pytest.mark.parametrize("axis, name, value, words", [
-    ("x", "kp", -1, "axis 0 parameter kp: -1 DAC/count is outside 0..1000 DAC/count"),
+    ("x", "kp", -1, "axis x parameter kp: -1 DAC/count is outside 0..1000 DAC/count"),
     ("x", "vmax", math.nan, "is not a finite number"),
     ("x", "host_timeout_ms", 10, "is global"),
     (None, "kp", 1, "needs an axis"),

@@ -101,20 +101,21 @@ int sh2000_tool_fail(struct sh2000 *h, int code, const char *what)
 {
 	const char *dev = h ? sh2000_device(h) : "?";
 	char detail[512];
+	const char *d = detail;
+	size_t wn = what ? strlen(what) : 0;
 
 	detail[0] = '\0';
 	if (h)
 		sh2000_last_error_copy(h, detail, sizeof(detail));
-	if (detail[0] && !strncmp(detail, dev, strlen(dev)) &&
-	    !strncmp(detail + strlen(dev), ": ", 2))
-		sh2000_tool_msg("%s: %s%s%s", dev, what ? what : "",
-				what ? ": " : "", detail + strlen(dev) + 2);
-	else if (detail[0])
-		sh2000_tool_msg("%s: %s%s%s", dev, what ? what : "",
-				what ? ": " : "", detail);
-	else
-		sh2000_tool_msg("%s: %s%s%s", dev, what ? what : "",
-				what ? ": " : "", sh2000_strerror(code));
+	if (!detail[0])
+		snprintf(detail, sizeof(detail), "%s", sh2000_strerror(code));
+	if (!strncmp(d, dev, strlen(dev)) && !strncmp(d + strlen(dev), ": ", 2))
+		d += strlen(dev) + 2;
+	/* the library's reason may name the call already ("home: the
+	 * motion is held by ..."): one prefix, not two */
+	if (wn && !strncmp(d, what, wn) && !strncmp(d + wn, ": ", 2))
+		what = NULL;
+	sh2000_tool_msg("%s: %s%s%s", dev, what ? what : "", what ? ": " : "", d);
 	return sh2000_tool_exit_code(code);
 }
 

@@ -62,7 +62,8 @@ static const struct ctl_cmd cmds[] = {
 	  "Home one enabled axis on its home switch (--index: finish on the\n"
 	  "encoder index) and wait until it is done, up to --timeout seconds\n"
 	  "(default 120). The card needs a polling host while it homes, so the\n"
-	  "command always waits.\n" },
+	  "command always waits. SIGINT, SIGTERM (exit 7) or the timeout (exit 1)\n"
+	  "stop the card and wait for rest: nothing is latched.\n" },
 	{ "index", ctl_index,
 	  "AXIS [--mask | --mask-invert] [--invert] [--within MM] [--wait]\n"
 	  "       [--timeout SECONDS] | AXIS --wait [--timeout SECONDS]",

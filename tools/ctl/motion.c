@@ -137,6 +137,129 @@ int ctl_reset(struct ctl *c, int argc, char **argv)
 
 /* ---- home ----------------------------------------------------------------- */
 
+/* An axis a command needs is not enabled: the hint says how to enable it. */
+static int not_enabled(struct ctl *c, unsigned int a)
+{
+	char an = sh2000_tool_axis_name(a);
+
+	/* the in-process card is new in every program: a separate
+	 * `sh2000ctl enable` enables another card */
+	if (sh2000_backend(c->h) == SH2000_BACKEND_SIM)
+		sh2000_tool_msg("%s: axis %c is not enabled (the in-process card is new in every program: sh2000ctl -d sim enable %c + ...): nothing moved",
+				sh2000_device(c->h), an, an);
+	else
+		sh2000_tool_msg("%s: axis %c is not enabled (sh2000ctl enable %c): nothing moved",
+				sh2000_device(c->h), an, an);
+	return SH2000_EXIT_CARD;
+}
+
+static int home_args(int argc, char **argv, int *axis, unsigned int *flags,
+		     double *timeout)
+{
+	for (int i = 1; i < argc; i++) {
+		const char *v;
+		int k;
+
+		if (!strcmp(argv[i], "--index")) {
+			*flags |= SH2000_HOME_F_INDEX;
+			continue;
+		}
+		k = ctl_opt_value(argc, argv, &i, "--timeout", 't', &v);
+		if (k < 0)
+			return SH2000_EXIT_USAGE;
+		if (k > 0) {
+			if (sh2000_tool_double(v, timeout) < 0 || *timeout <= 0)
+				return sh2000_tool_usage(argv[0],
+					"home: --timeout: '%s' is not a positive number of seconds", v);
+			continue;
+		}
+		if (ctl_is_option(argv[i]) || *axis >= 0)
+			return sh2000_tool_usage(argv[0], "home: unexpected '%s'", argv[i]);
+		*axis = sh2000_tool_axis(argv[i]);
+		if (*axis < 0)
+			return sh2000_tool_usage(argv[0], "home: '%s' is not an axis (x y z a)",
+						 argv[i]);
+	}
+	if (*axis < 0)
+		return sh2000_tool_usage(argv[0], "home: which axis? (x y z a)");
+	return 0;
+}
+
+/* Start homing; the card's refusal in the operator's words. */
+static int home_start(struct ctl *c, unsigned int axis, unsigned int flags)
+{
+	struct sh2000_status st;
+	int r = sh2000_home(c->h, axis, flags);
+
+	if (r == -SH2000_ECMD_DISABLED && sh2000_poll(c->h, &st) == 0 &&
+	    !(st.axis[axis].state & SH2000_AXIS_ENABLED))
+		return not_enabled(c, axis);
+	return r < 0 ? sh2000_tool_fail(c->h, r, "home") : 0;
+}
+
+/*
+ * Wait until the card ends the homing, in short slices so that a signal
+ * or the timeout is seen within one: either ends it with a controlled
+ * STOP and a wait for rest, so that the card is left at rest with nothing
+ * latched (the card needs a polling host while it homes; a tool that just
+ * went would leave it to latch a host heartbeat timeout). 0 when the card
+ * ended it (homed, or stopped by another program, or faulted: the caller
+ * tells which), else an exit code, the message printed.
+ */
+static int home_wait(struct ctl *c, double timeout)
+{
+	uint64_t end = sh2000_now_ns(c->h) + (uint64_t)(timeout * 1e9);
+	int r, timed_out;
+
+	for (;;) {
+		r = sh2000_wait_idle(c->h, 20);
+		if (r != -SH2000_ETIMEOUT)
+			return r < 0 && r != -SH2000_ESTOPPED ?
+				sh2000_tool_fail(c->h, r, "home") : 0;
+		timed_out = sh2000_now_ns(c->h) > end;
+		if (sh2000_tool_stop_asked() || timed_out)
+			break;
+	}
+	r = sh2000_stop(c->h);
+	if (r < 0)
+		return sh2000_tool_fail(c->h, r, "home: stop");
+	r = wait_rest(c, 10.0);
+	if (r)
+		return r;
+	if (!timed_out) {
+		sh2000_tool_msg("%s: interrupted: homing stopped, card at rest",
+				sh2000_device(c->h));
+		return SH2000_EXIT_STOPPED;
+	}
+	sh2000_tool_msg("%s: home: not homed after %g s (--timeout): homing stopped, card at rest",
+			sh2000_device(c->h), timeout);
+	return SH2000_EXIT_CARD;
+}
+
+/* How the homing ended (the card at rest): "homed at" with the set-point
+ * (where the card holds the axis, 0 at the home point) and, apart, the
+ * encoder and following error the loop still settles out. */
+static int home_report(struct ctl *c, unsigned int axis)
+{
+	struct sh2000_status st;
+	int r = sh2000_poll(c->h, &st);
+
+	if (r < 0)
+		return sh2000_tool_fail(c->h, r, "status");
+	if (!(st.axis[axis].state & SH2000_AXIS_HOMED)) {
+		r = sh2000_status_error(c->h, &st);
+		if (r < 0)
+			return sh2000_tool_fail(c->h, r, "home");
+		sh2000_tool_msg("%s: axis %c: homing stopped before the home point by a STOP from another program; the card is at rest",
+				sh2000_device(c->h), sh2000_tool_axis_name(axis));
+		return SH2000_EXIT_STOPPED;
+	}
+	printf("%c homed at %.6f mm (set-point; encoder %.6f mm, following error %.6f mm)\n",
+	       sh2000_tool_axis_name(axis), st.axis[axis].cmd_mm,
+	       st.axis[axis].pos_mm, st.axis[axis].ferr_mm);
+	return 0;
+}
+
 int ctl_home(struct ctl *c, int argc, char **argv)
 {
 	unsigned int flags = 0;
@@ -145,53 +268,14 @@ int ctl_home(struct ctl *c, int argc, char **argv)
 
 	if (ctl_want_help(argc, argv))
 		return 0;
-	for (int i = 1; i < argc; i++) {
-		const char *v;
-		int k;
-
-		if (!strcmp(argv[i], "--index")) {
-			flags |= SH2000_HOME_F_INDEX;
-			continue;
-		}
-		k = ctl_opt_value(argc, argv, &i, "--timeout", 't', &v);
-		if (k < 0)
-			return SH2000_EXIT_USAGE;
-		if (k > 0) {
-			if (sh2000_tool_double(v, &timeout) < 0 || timeout <= 0)
-				return sh2000_tool_usage(argv[0],
-					"home: --timeout: '%s' is not a positive number of seconds", v);
-			continue;
-		}
-		if (ctl_is_option(argv[i]) || axis >= 0)
-			return sh2000_tool_usage(argv[0], "home: unexpected '%s'", argv[i]);
-		axis = sh2000_tool_axis(argv[i]);
-		if (axis < 0)
-			return sh2000_tool_usage(argv[0], "home: '%s' is not an axis (x y z a)",
-						 argv[i]);
-	}
-	if (axis < 0)
-		return sh2000_tool_usage(argv[0], "home: which axis? (x y z a)");
-	if ((r = ctl_open(c)))
+	if ((r = home_args(argc, argv, &axis, &flags, &timeout)) || (r = ctl_open(c)))
 		return r;
-	{
-		struct sh2000_status st;
-		char msg[300];
-
-		r = sh2000_run_home(c->h, (unsigned int)axis, flags,
-				    (int)(timeout * 1000), msg, sizeof(msg));
-		if (r == -SH2000_ESTOPPED) {
-			sh2000_tool_msg("%s", msg);
-			return SH2000_EXIT_STOPPED;
-		}
-		if (r < 0)
-			return sh2000_tool_fail(c->h, r, "home");
-		r = sh2000_poll(c->h, &st);
-		if (r < 0)
-			return sh2000_tool_fail(c->h, r, "status");
-		printf("%c homed at %.6f mm\n", sh2000_tool_axis_name((unsigned int)axis),
-		       st.axis[axis].pos_mm);
-	}
-	return 0;
+	/* SIGINT/SIGTERM while the card homes: stop it, as jog and move do */
+	sh2000_tool_catch_stop(SH2000_SECOND_COUNTS);
+	if ((r = home_start(c, (unsigned int)axis, flags)) ||
+	    (r = home_wait(c, timeout)))
+		return r;
+	return home_report(c, (unsigned int)axis);
 }
 
 /* ---- planned motion: jog and move --------------------------------------- */
@@ -233,6 +317,30 @@ static int motion_setup(struct ctl *c, struct motion_setup *m)
 	return 0;
 }
 
+/*
+ * An enabled axis whose set-point is outside its soft limits (new limits
+ * set around it, or a card that powered up there) cannot move at all:
+ * the card faults a set-point outside them, so the runner refuses the
+ * very first point. Say so in the operator's terms, with the way back.
+ */
+static int check_start(struct ctl *c, const struct motion_setup *m)
+{
+	for (unsigned int a = 0; a < SH2000_AXES; a++) {
+		double lo = m->limits.lo[a], hi = m->limits.hi[a], at = m->start[a];
+		char an = sh2000_tool_axis_name(a);
+
+		if (!(m->enabled & (1u << a)) ||
+		    (at >= lo - SH2000_LIMIT_SLACK_MM && at <= hi + SH2000_LIMIT_SLACK_MM))
+			continue;
+		sh2000_tool_msg("%s: axis %c is at %.4f mm, outside its soft limits %.4f..%.4f mm, and the card refuses any set-point outside them: nothing moved. To get back: widen them (sh2000ctl params %c soft_%s=%.4f), move %c inside, then set soft_%s=%.4f again",
+				sh2000_device(c->h), an, at, lo, hi, an,
+				at < lo ? "min" : "max", at < lo ? floor(at) : ceil(at),
+				an, at < lo ? "min" : "max", at < lo ? lo : hi);
+		return SH2000_EXIT_CARD;
+	}
+	return 0;
+}
+
 static int check_axes(struct ctl *c, const struct motion_setup *m,
 		      unsigned int mask, const double target[SH2000_AXES])
 {
@@ -242,18 +350,10 @@ static int check_axes(struct ctl *c, const struct motion_setup *m,
 	for (unsigned int a = 0; a < SH2000_AXES; a++) {
 		if (!(mask & (1u << a)) || (m->enabled & (1u << a)))
 			continue;
-		char an = sh2000_tool_axis_name(a);
-
-		/* the in-process card is new in every program: a separate
-		 * `sh2000ctl enable` enables another card */
-		if (sh2000_backend(c->h) == SH2000_BACKEND_SIM)
-			sh2000_tool_msg("%s: axis %c is not enabled (the in-process card is new in every program: sh2000ctl -d sim enable %c + ...): nothing moved",
-					sh2000_device(c->h), an, an);
-		else
-			sh2000_tool_msg("%s: axis %c is not enabled (sh2000ctl enable %c): nothing moved",
-					sh2000_device(c->h), an, an);
-		return SH2000_EXIT_CARD;
+		return not_enabled(c, a);
 	}
+	if (check_start(c, m))
+		return SH2000_EXIT_CARD;
 	/* the runner's rule, before anything moves */
 	memcpy(t, target, sizeof(t));
 	if (sh2000_limits_apply(&m->limits, t, why, sizeof(why)) < 0) {
@@ -497,6 +597,8 @@ int ctl_jog(struct ctl *c, int argc, char **argv)
 	{
 		struct jog_arg ja = { .axis = (unsigned int)axis, .velocity = vel };
 
+		if ((r = check_axes(c, &m, 1u << axis, m.start)))
+			return r;
 		/* the jog ends at the soft limit if it would run past it */
 		ja.travel = fabs(vel) * t;
 		target[axis] += vel > 0 ? ja.travel : -ja.travel;
@@ -509,8 +611,6 @@ int ctl_jog(struct ctl *c, int argc, char **argv)
 					sh2000_device(c->h), sh2000_tool_axis_name((unsigned int)axis));
 			return SH2000_EXIT_CARD;
 		}
-		if ((r = check_axes(c, &m, 1u << axis, m.start)))
-			return r;
 		return run_motion(c, &m, 1u << axis, plan_jog, &ja);
 	}
 }

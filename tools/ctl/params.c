@@ -41,85 +41,172 @@ static int plan_read_file(struct ctl_plan *p, const char *path)
 	return r;
 }
 
-/* Check the plan against the card's current values; nothing is sent. */
+/* Section s's current values from the card into cur[s]: 0 or an exit
+ * code. */
+static int read_section(struct ctl *c, unsigned int s,
+			double cur[SH2000_AXES + 1][SH2000_GP_END])
+{
+	unsigned int lo = s == CTL_SECT_GLOBAL ? SH2000_GP_FIRST : 0;
+	unsigned int hi = s == CTL_SECT_GLOBAL ? SH2000_GP_END : SH2000_AXIS_PARAMS;
+
+	for (unsigned int id = lo; id < hi; id++) {
+		int r;
+
+		if (!sh2000_param_lookup(id) || !ctl_card_has(c, id)) {
+			/* an older card: only a set names it (refused) */
+			cur[s][id] = 0.0;
+			continue;
+		}
+		r = sh2000_param_get(c->h, s == CTL_SECT_GLOBAL ? SH2000_GLOBAL : (int)s,
+				     id, &cur[s][id]);
+		if (r < 0)
+			return sh2000_tool_fail(c->h, r, "get parameter");
+	}
+	return 0;
+}
+
+/* Section s's values as the card would hold them (card units: counts for
+ * lengths) in card[]; bad[id] set for each value the library refuses
+ * (its words printed). */
+static void section_values(struct ctl_plan *p, unsigned int s, double scale,
+			   double cur[SH2000_AXES + 1][SH2000_GP_END],
+			   double card[SH2000_GP_END], int bad[SH2000_GP_END])
+{
+	unsigned int lo = s == CTL_SECT_GLOBAL ? SH2000_GP_FIRST : 0;
+	unsigned int hi = s == CTL_SECT_GLOBAL ? SH2000_GP_END : SH2000_AXIS_PARAMS;
+	char why[256];
+
+	for (unsigned int id = lo; id < hi; id++) {
+		const struct sh2000_param_info *pi = sh2000_param_lookup(id);
+
+		bad[id] = 0;
+		if (!pi)
+			continue;
+		if (!p->set[s][id]) {
+			/* the card keeps counts: unchanged ones stay */
+			double k = ctl_param_is_mm(id) ? cur[s][SH2000_P_SCALE] : 1.0;
+
+			card[id] = nearbyint(cur[s][id] * k);
+			if (pi->type == SH2000_PT_F32)
+				card[id] = cur[s][id] * k;
+			continue;
+		}
+		/* the library's rule and words, in card units */
+		if (sh2000_param_value_check(id, p->v[s][id], scale, &card[id],
+					     why, sizeof(why)) < 0) {
+			bad[id] = 1;
+			ctl_plan_error(p, p->line[s][id], "%s%s%s: %s",
+				       s == CTL_SECT_GLOBAL ? "" : ctl_plan_section(s),
+				       s == CTL_SECT_GLOBAL ? "" : " ", pi->name, why);
+		}
+	}
+}
+
+/* The later of two values' lines (where a cross rule is reported). */
+static int later_line(const struct ctl_plan *p, unsigned int s,
+		      unsigned int a, unsigned int b)
+{
+	return p->line[s][a] > p->line[s][b] ? p->line[s][a] : p->line[s][b];
+}
+
+/*
+ * New soft limits (or a new scale) around an axis whose position counts:
+ * enabled (the card holds a set-point there) or homed. If the position
+ * ends up outside them, the card refuses every set-point of that axis and
+ * nothing could move it back, so the plan is refused (docs/tools.md
+ * "Parameter file"). A disabled axis never homed is not judged: where it
+ * is means nothing yet.
+ */
+static void position_check(struct ctl_plan *p, unsigned int s,
+			   const struct sh2000_status *st,
+			   double cur[SH2000_AXES + 1][SH2000_GP_END],
+			   const double card[SH2000_GP_END], double scale)
+{
+	const struct sh2000_axis_status *ax = &st->axis[s];
+	int enabled = (ax->state & SH2000_AXIS_ENABLED) != 0;
+	double at, counts, lo = card[SH2000_P_SOFT_MIN], hi = card[SH2000_P_SOFT_MAX];
+
+	if (!enabled && !(ax->state & SH2000_AXIS_HOMED))
+		return;
+	/* the card keeps the position in counts: the new scale reads it anew */
+	counts = nearbyint((enabled ? ax->cmd_mm : ax->pos_mm) * cur[s][SH2000_P_SCALE]);
+	if (counts >= lo && counts <= hi)
+		return;
+	at = counts / scale;
+	ctl_plan_error(p, later_line(p, s, SH2000_P_SOFT_MIN, SH2000_P_SOFT_MAX) > 0 ?
+		       later_line(p, s, SH2000_P_SOFT_MIN, SH2000_P_SOFT_MAX) :
+		       p->line[s][SH2000_P_SCALE],
+		       "%s soft limits %g..%g mm would leave axis %s (%s, at %.4f mm) outside them: the card refuses every set-point outside its soft limits, so nothing could move it back; move it inside first, or give limits around it",
+		       ctl_plan_section(s), lo / scale, hi / scale, ctl_plan_section(s),
+		       enabled ? "enabled" : "homed", at);
+}
+
+/* The rules across values of section s: soft_min below soft_max, the
+ * position inside the soft limits, the timing. Each runs unless a value
+ * it needs was refused already (every error of a file is printed). */
+static void cross_check(struct ctl_plan *p, unsigned int s,
+			const struct sh2000_status *st,
+			double cur[SH2000_AXES + 1][SH2000_GP_END],
+			const double card[SH2000_GP_END], const int bad[SH2000_GP_END],
+			double scale)
+{
+	const int *set = p->set[s];
+
+	if (s != CTL_SECT_GLOBAL && (set[SH2000_P_SOFT_MIN] || set[SH2000_P_SOFT_MAX] ||
+				     set[SH2000_P_SCALE]) &&
+	    !bad[SH2000_P_SOFT_MIN] && !bad[SH2000_P_SOFT_MAX] && !bad[SH2000_P_SCALE]) {
+		if (card[SH2000_P_SOFT_MIN] >= card[SH2000_P_SOFT_MAX]) {
+			if (set[SH2000_P_SOFT_MIN] || set[SH2000_P_SOFT_MAX])
+				ctl_plan_error(p, later_line(p, s, SH2000_P_SOFT_MIN, SH2000_P_SOFT_MAX),
+					       "%s soft_min %g mm must be below soft_max %g mm",
+					       ctl_plan_section(s), card[SH2000_P_SOFT_MIN] / scale,
+					       card[SH2000_P_SOFT_MAX] / scale);
+		} else if (set[SH2000_P_SOFT_MIN] || set[SH2000_P_SOFT_MAX]) {
+			position_check(p, s, st, cur, card, scale);
+		}
+	}
+	if (s == CTL_SECT_GLOBAL &&
+	    (set[SH2000_GP_COARSE_PERIOD_US] || set[SH2000_GP_FINE_STEPS]) &&
+	    !bad[SH2000_GP_COARSE_PERIOD_US] && !bad[SH2000_GP_FINE_STEPS]) {
+		double cp = card[SH2000_GP_COARSE_PERIOD_US];
+		double fs = card[SH2000_GP_FINE_STEPS];
+
+		if (!sh2000_timing_ok((long long)cp, (long long)fs))
+			ctl_plan_error(p, later_line(p, s, SH2000_GP_COARSE_PERIOD_US,
+						     SH2000_GP_FINE_STEPS),
+				       "coarse_period_us %g with fine_steps %g: the servo period must be a whole number of ns >= %u ns",
+				       cp, fs, SH2000_FW_MIN_SERVO_NS);
+	}
+}
+
+/* Check the plan against the card's current values; nothing is sent.
+ * Every error is printed, the cross rules' too. */
 static int plan_check(struct ctl *c, struct ctl_plan *p,
 		      double cur[SH2000_AXES + 1][SH2000_GP_END])
 {
-	char why[256];
+	struct sh2000_status st;
 	int r;
 
 	p->dev = sh2000_device(c->h);
+	r = sh2000_poll(c->h, &st);
+	if (r < 0)
+		return sh2000_tool_fail(c->h, r, "status");
 	for (unsigned int s = 0; s <= CTL_SECT_GLOBAL; s++) {
-		unsigned int lo = s == CTL_SECT_GLOBAL ? SH2000_GP_FIRST : 0;
-		unsigned int hi = s == CTL_SECT_GLOBAL ? SH2000_GP_END : SH2000_AXIS_PARAMS;
 		double scale, card[SH2000_GP_END];
-		int any = 0, errors = p->errors;
+		int any = 0, bad[SH2000_GP_END];
 
-		for (unsigned int id = lo; id < hi; id++)
+		for (unsigned int id = 0; id < SH2000_GP_END; id++)
 			any |= p->set[s][id];
 		if (!any)
 			continue;
-		for (unsigned int id = lo; id < hi; id++) {
-			if (!sh2000_param_lookup(id) || !ctl_card_has(c, id)) {
-				/* an older card: only a set names it (refused) */
-				cur[s][id] = 0.0;
-				continue;
-			}
-			r = sh2000_param_get(c->h, s == CTL_SECT_GLOBAL ? SH2000_GLOBAL : (int)s,
-					     id, &cur[s][id]);
-			if (r < 0)
-				return sh2000_tool_fail(c->h, r, "get parameter");
-		}
+		if ((r = read_section(c, s, cur)))
+			return r;
 		scale = p->set[s][SH2000_P_SCALE] && s != CTL_SECT_GLOBAL ?
 			p->v[s][SH2000_P_SCALE] : cur[s][SH2000_P_SCALE];
 		if (s == CTL_SECT_GLOBAL)
 			scale = 1.0;
-		for (unsigned int id = lo; id < hi; id++) {
-			const struct sh2000_param_info *pi = sh2000_param_lookup(id);
-
-			if (!pi)
-				continue;
-			if (!p->set[s][id]) {
-				/* the card keeps counts: unchanged ones stay */
-				double k = ctl_param_is_mm(id) ? cur[s][SH2000_P_SCALE] : 1.0;
-
-				card[id] = nearbyint(cur[s][id] * k);
-				if (pi->type == SH2000_PT_F32)
-					card[id] = cur[s][id] * k;
-				continue;
-			}
-			/* the library's rule and words, in card units */
-			if (sh2000_param_value_check(id, p->v[s][id], scale,
-						     &card[id], why,
-						     sizeof(why)) < 0)
-				ctl_plan_error(p, p->line[s][id], "%s%s%s: %s",
-					   s == CTL_SECT_GLOBAL ? "" : ctl_plan_section(s),
-					   s == CTL_SECT_GLOBAL ? "" : " ", pi->name, why);
-		}
-		if (p->errors != errors)
-			continue;
-		if (s != CTL_SECT_GLOBAL &&
-		    (p->set[s][SH2000_P_SOFT_MIN] || p->set[s][SH2000_P_SOFT_MAX]) &&
-		    card[SH2000_P_SOFT_MIN] >= card[SH2000_P_SOFT_MAX]) {
-			int l = p->line[s][SH2000_P_SOFT_MIN] > p->line[s][SH2000_P_SOFT_MAX] ?
-				p->line[s][SH2000_P_SOFT_MIN] : p->line[s][SH2000_P_SOFT_MAX];
-
-			ctl_plan_error(p, l, "%s soft_min %g mm must be below soft_max %g mm",
-				   ctl_plan_section(s), card[SH2000_P_SOFT_MIN] / scale,
-				   card[SH2000_P_SOFT_MAX] / scale);
-		}
-		if (s == CTL_SECT_GLOBAL &&
-		    (p->set[s][SH2000_GP_COARSE_PERIOD_US] || p->set[s][SH2000_GP_FINE_STEPS])) {
-			double cp = card[SH2000_GP_COARSE_PERIOD_US];
-			double fs = card[SH2000_GP_FINE_STEPS];
-			int l = p->line[s][SH2000_GP_COARSE_PERIOD_US] > p->line[s][SH2000_GP_FINE_STEPS] ?
-				p->line[s][SH2000_GP_COARSE_PERIOD_US] : p->line[s][SH2000_GP_FINE_STEPS];
-
-			if (!sh2000_timing_ok((long long)cp, (long long)fs))
-				ctl_plan_error(p, l,
-					   "coarse_period_us %g with fine_steps %g: the servo period must be a whole number of ns >= %u ns",
-					   cp, fs, SH2000_FW_MIN_SERVO_NS);
-		}
+		section_values(p, s, scale, cur, card, bad);
+		cross_check(p, s, &st, cur, card, bad, scale);
 	}
 	return p->errors ? SH2000_EXIT_CARD : 0;
 }
@@ -199,6 +286,44 @@ static int plan_apply(struct ctl *c, struct ctl_plan *p,
 			if (p->set[a][order[k]] &&
 			    (r = set_one(c, (int)a, order[k], p->v[a][order[k]])))
 				return r;
+	}
+	return 0;
+}
+
+/*
+ * After a new scale: the card keeps lengths in counts, so every length
+ * the plan did not set (vmax, amax, ferr_limit, the soft limits, the
+ * position) now reads differently in mm. A note lists them as they read
+ * now, on stderr: nothing failed, but the operator did not ask for these.
+ */
+static int scale_note(struct ctl *c, const struct ctl_plan *p,
+		      double cur[SH2000_AXES + 1][SH2000_GP_END])
+{
+	struct sh2000_status st;
+	int r;
+
+	for (unsigned int a = 0; a < SH2000_AXES; a++) {
+		double k, was = cur[a][SH2000_P_SCALE];
+		char note[768];
+		size_t n = 0;
+
+		if (!p->set[a][SH2000_P_SCALE] || p->v[a][SH2000_P_SCALE] == was)
+			continue;
+		k = was / p->v[a][SH2000_P_SCALE];
+		for (unsigned int id = 0; id < SH2000_AXIS_PARAMS && n < sizeof(note); id++)
+			if (sh2000_param_lookup(id) && ctl_param_is_mm(id) && !p->set[a][id])
+				n += (size_t)snprintf(note + n, sizeof(note) - n, "%s %g %s, ",
+						      sh2000_param_lookup(id)->name,
+						      cur[a][id] * k, sh2000_param_unit(id));
+		if ((r = sh2000_poll(c->h, &st)) < 0)
+			return sh2000_tool_fail(c->h, r, "status");
+		if (n < sizeof(note))
+			snprintf(note + n, sizeof(note) - n, "position %g mm",
+				 st.axis[a].state & SH2000_AXIS_ENABLED ?
+				 st.axis[a].cmd_mm : st.axis[a].pos_mm);
+		sh2000_tool_msg("%s: note: %s scale %g counts/mm (was %g): the card keeps lengths in counts, so the ones not set now read %s",
+				sh2000_device(c->h), ctl_plan_section(a),
+				p->v[a][SH2000_P_SCALE], was, note);
 	}
 	return 0;
 }
@@ -291,6 +416,8 @@ int ctl_params(struct ctl *c, int argc, char **argv)
 			r = plan_check(c, p, cur);
 		if (!r)
 			r = plan_apply(c, p, cur);
+		if (!r)
+			r = scale_note(c, p, cur);
 		else if (p->errors)
 			sh2000_tool_msg("%s: nothing set", argv[2]);
 		free(p);
@@ -352,11 +479,13 @@ int ctl_params(struct ctl *c, int argc, char **argv)
 		ctl_plan_add(p, (unsigned int)sect, name, eq + 1, 0);
 		free(name);
 	}
-	r = p->errors ? SH2000_EXIT_USAGE : ctl_open(c);
+	r = p->errors ? sh2000_tool_usage(argv[0], "params: nothing set") : ctl_open(c);
 	if (!r)
 		r = plan_check(c, p, cur);
 	if (!r)
 		r = plan_apply(c, p, cur);
+	if (!r)
+		r = scale_note(c, p, cur);
 	free(p);
 	return r;
 }

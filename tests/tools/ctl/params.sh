@@ -98,5 +98,55 @@ diff "$T/saved.ini" "$T/after.ini" >/dev/null || fail "a bad file changed the ca
 # load from stdin
 printf '[x]\nkp = 0.55\n' | expect 0 "$CTL" "${D[@]}" params load -
 expect 0 "$CTL" "${D[@]}" params x kp && out_has "^kp = 0.55$"
+# every error of a file, the cross checks' too: a range error in the
+# section does not hide the soft-limit order, nor one in [global] the timing
+printf '[x]\nsoft_min = 50\nsoft_max = 10\nkp = 5000\n[global]\nfine_steps = 7\nhost_timeout_ms = -5\n' >"$T/cross.ini"
+expect 1 "$CTL" "${D[@]}" params load "$T/cross.ini" &&
+	err_has "^sh2000ctl: $T/cross.ini:3: x soft_min 50 mm must be below soft_max 10 mm$" &&
+	err_has "^sh2000ctl: $T/cross.ini:4: x kp: 5000 DAC/count is outside" &&
+	err_has "^sh2000ctl: $T/cross.ini:6: coarse_period_us 2000 with fine_steps 7" &&
+	err_has "^sh2000ctl: $T/cross.ini:7: host_timeout_ms: " && err_has "nothing set$"
+# a bad name or number on the command line is a usage error, with its hint
+expect 2 "$CTL" "${D[@]}" params x kp=abc && err_has "kp: 'abc' is not a number" &&
+	err_has "^Try 'sh2000ctl params --help'\.$"
+expect 2 "$CTL" "${D[@]}" params x kpp=1 && err_has "unknown parameter 'kpp'" &&
+	err_has "^Try 'sh2000ctl params --help'\.$"
+
+# soft limits that would leave an enabled axis outside: refused, nothing
+# set (the card faults every set-point outside them: the axis could not
+# move back); the same from a file
+expect 0 "$CTL" "${D[@]}" params x soft_min=-100 soft_max=200 + enable x + move x=10
+expect 1 "$CTL" "${D[@]}" params x soft_min=50 &&
+	err_has "^sh2000ctl: sim:$NAME: params: x soft limits 50\.\.200 mm would leave axis x \(enabled, at 10\.0000 mm\) outside them: .*move it inside first, or give limits around it$"
+printf '[x]\nsoft_min = 50\n' >"$T/s3.params"
+expect 1 "$CTL" "${D[@]}" params load "$T/s3.params" &&
+	err_has "^sh2000ctl: $T/s3.params:2: x soft limits 50\.\.200 mm would leave axis x" && err_has "nothing set$"
+expect 0 "$CTL" "${D[@]}" params x soft_min && out_has "^soft_min = -100$"
+# limits around it are fine
+expect 0 "$CTL" "${D[@]}" params x soft_min=5 soft_max=15
+# a disabled axis never homed is not judged; enabled there, it cannot
+# move, and move and jog say so in the operator's terms with the way back
+expect 0 "$CTL" "${D[@]}" params y soft_min=50 soft_max=200 + enable y
+expect 1 "$CTL" "${D[@]}" move y=60 &&
+	err_has "^sh2000ctl: sim:$NAME: axis y is at 0\.0000 mm, outside its soft limits 50\.0000\.\.200\.0000 mm, and the card refuses any set-point outside them: nothing moved\. To get back: widen them \(sh2000ctl params y soft_min=0\.0000\), move y inside, then set soft_min=50\.0000 again$"
+checks=$((checks + 1))
+! printf '%s\n' "$err" | grep -q "point 0\|record" || fail "move outside: runner internals: $err"
+expect 1 "$CTL" "${D[@]}" jog y 1 && err_has "axis y is at 0\.0000 mm, outside its soft limits"
+expect 1 "$CTL" "${D[@]}" jog y --velocity 10 --time 0.1 && err_has "axis y is at 0\.0000 mm, outside its soft limits"
+# and the way back works
+expect 0 "$CTL" "${D[@]}" params y soft_min=0 + move y=60 + params y soft_min=50
+
+# a new scale: the lengths not set now read differently in mm, and a
+# note lists them; lengths set with it are converted with the new scale
+expect 0 "$CTL" "${D[@]}" params z scale vmax && out_has "^scale = 100000$" && out_has "^vmax = 400$"
+expect 0 "$CTL" "${D[@]}" params z scale=1000 &&
+	err_has "^sh2000ctl: sim:$NAME: note: z scale 1000 counts/mm \(was 100000\): the card keeps lengths in counts, so the ones not set now read .*vmax 40000 mm/s, .*position 0 mm$"
+expect 0 "$CTL" "${D[@]}" params z vmax && out_has "^vmax = 40000$"
+# a file with vmax before scale: the file's mm value is what the card holds
+printf '[z]\nvmax = 300\nscale = 100000\n' >"$T/scale.ini"
+expect 0 "$CTL" "${D[@]}" params load "$T/scale.ini" && err_has "note: z scale 100000 counts/mm \(was 1000\)"
+checks=$((checks + 1))
+printf '%s\n' "$err" | grep -q "vmax" && fail "note lists vmax, which the file set: $err"
+expect 0 "$CTL" "${D[@]}" params z scale vmax && out_has "^scale = 100000$" && out_has "^vmax = 300$"
 stop_sim
 finish

@@ -41,7 +41,7 @@ expect 1 "$CTL" "${S[@]}" enable x + params x soft_max=5 + move x=6 &&
 	err_has "^sh2000ctl: sim: target: X 6.0000 mm is beyond the soft limit 5.0000 mm"
 # into the hard limit (the model's switch is 305 mm from the start): a
 # latched fault, exit 4
-expect 4 "$CTL" "${S[@]}" enable x + move x=320 && err_has "^sh2000ctl: sim: .*limit switch"
+expect 4 "$CTL" "${S[@]}" enable x + move x=320 && err_has "^sh2000ctl: sim: axis x: limit switch \(axis faults 0x0004, "
 
 # jog: a distance, a velocity for a time
 expect 0 "$CTL" "${S[@]}" enable y + jog y -2.5 + status --json &&
@@ -72,7 +72,7 @@ expect 0 "$CTL" "${S[@]}" enable x + move x=-290 + home x + status --json &&
 	json_check /axes/0/state has homed /axes/0/homed = true /axes/0/pos_mm '~' 0,0.01
 expect 0 "$CTL" "${S[@]}" enable a + move a=-290 + home a --index + status --json &&
 	json_check /axes/3/state has homed /axes/3/state has index
-expect 1 "$CTL" "${S[@]}" home x && err_has "^sh2000ctl: sim: home: .*axis not enabled"
+expect 1 "$CTL" "${S[@]}" home x && err_has "^sh2000ctl: sim: axis x is not enabled \(the in-process card is new in every program: sh2000ctl -d sim enable x \+ \.\.\.\): nothing moved$"
 # index: the latch armed while the card moves (the mark at the switch,
 # 300 mm below the start), masked by the switch, missed, refused
 expect 0 "$CTL" "${S[@]}" enable x + move x=-299.5 + index x --mask + \

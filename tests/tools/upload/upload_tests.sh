@@ -279,7 +279,7 @@ t_pause() {
 
 t_fault() {
 	expect 4 "a run into the limit switch" -- "$UPLOAD" -q -d sim "$DATA/limit.ngc"
-	has "sim: axis 0: limit switch" err
+	has "sim: axis x: limit switch" err
 	has "limit.ngc:3: the card was running this block" err
 	# a program path longer than the message buffer: the location is cut
 	# short, the buffer is not overrun (ASan saw a stack overflow here)
@@ -287,7 +287,7 @@ t_fault() {
 	long=$WORK/$(printf 'd%.0s' $(seq 150))/$(printf 'e%.0s' $(seq 150))
 	mkdir -p "$long" && cp "$DATA/limit.ngc" "$long/" || fail "mkdir $long"
 	expect 4 "a run into the limit switch, long path" -- "$UPLOAD" -q -d sim "$long/limit.ngc"
-	has "sim: axis 0: limit switch" err
+	has "sim: axis x: limit switch" err
 	has "the card was running this block" err
 }
 

@@ -159,6 +159,22 @@ def test_push_refuses_a_batch_larger_than_the_ring(card):
         card.push([[0, 0, 0]])
 
 
+def test_home_timeout_stops_the_card_clean(card):
+    # far from the switch, a timeout ends the homing with a STOP and a
+    # wait for rest: nothing latched, even after the host timeout passes
+    card.enable("x")
+    card.push(_ramp(0.0, 5.0, 60), end=True)
+    card.wait_idle(timeout=5)
+    with pytest.raises(sh2000.Error) as e:
+        card.home("x", timeout=0.2)
+    assert e.value.code == sh2000.ETIMEOUT
+    assert "homing stopped, card at rest" in e.value.message
+    card.sleep(3 * card.param("global", "host_timeout_ms") / 1000)
+    st = card.status()
+    assert st.card_state_name == "idle" and st.fault is None
+    assert not st.axis("x").homed and st.axis("x").enabled
+
+
 def test_card_time_is_virtual_on_sim(card):
     t0 = card.now()
     card.sleep(0.5)

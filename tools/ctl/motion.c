@@ -185,75 +185,39 @@ static int home_args(int argc, char **argv, int *axis, unsigned int *flags,
 	return 0;
 }
 
-/* Start homing; the card's refusal in the operator's words. */
-static int home_start(struct ctl *c, unsigned int axis, unsigned int flags)
+/* The stop check sh2000_run_home_until() asks: SIGINT or SIGTERM. */
+static int stop_asked(void *ctx)
+{
+	(void)ctx;
+	return sh2000_tool_stop_asked();
+}
+
+/* How the homing ended, in the operator's words and exit codes: "homed
+ * at" with the set-point (where the card holds the axis, 0 at the home
+ * point) and, apart, the encoder and following error the loop still
+ * settles out; the library's words otherwise. */
+static int home_report(struct ctl *c, unsigned int axis, double timeout,
+		       int r, const char *msg)
 {
 	struct sh2000_status st;
-	int r = sh2000_home(c->h, axis, flags);
 
 	if (r == -SH2000_ECMD_DISABLED && sh2000_poll(c->h, &st) == 0 &&
 	    !(st.axis[axis].state & SH2000_AXIS_ENABLED))
 		return not_enabled(c, axis);
-	return r < 0 ? sh2000_tool_fail(c->h, r, "home") : 0;
-}
-
-/*
- * Wait until the card ends the homing, in short slices so that a signal
- * or the timeout is seen within one: either ends it with a controlled
- * STOP and a wait for rest, so that the card is left at rest with nothing
- * latched (the card needs a polling host while it homes; a tool that just
- * went would leave it to latch a host heartbeat timeout). 0 when the card
- * ended it (homed, or stopped by another program, or faulted: the caller
- * tells which), else an exit code, the message printed.
- */
-static int home_wait(struct ctl *c, double timeout)
-{
-	uint64_t end = sh2000_now_ns(c->h) + (uint64_t)(timeout * 1e9);
-	int r, timed_out;
-
-	for (;;) {
-		r = sh2000_wait_idle(c->h, 20);
-		if (r != -SH2000_ETIMEOUT)
-			return r < 0 && r != -SH2000_ESTOPPED ?
-				sh2000_tool_fail(c->h, r, "home") : 0;
-		timed_out = sh2000_now_ns(c->h) > end;
-		if (sh2000_tool_stop_asked() || timed_out)
-			break;
-	}
-	r = sh2000_stop(c->h);
-	if (r < 0)
-		return sh2000_tool_fail(c->h, r, "home: stop");
-	r = wait_rest(c, 10.0);
-	if (r)
-		return r;
-	if (!timed_out) {
-		sh2000_tool_msg("%s: interrupted: homing stopped, card at rest",
-				sh2000_device(c->h));
+	if (r == -ECANCELED || r == -SH2000_ESTOPPED) {
+		sh2000_tool_msg("%s", msg);
 		return SH2000_EXIT_STOPPED;
 	}
-	sh2000_tool_msg("%s: home: not homed after %g s (--timeout): homing stopped, card at rest",
-			sh2000_device(c->h), timeout);
-	return SH2000_EXIT_CARD;
-}
-
-/* How the homing ended (the card at rest): "homed at" with the set-point
- * (where the card holds the axis, 0 at the home point) and, apart, the
- * encoder and following error the loop still settles out. */
-static int home_report(struct ctl *c, unsigned int axis)
-{
-	struct sh2000_status st;
-	int r = sh2000_poll(c->h, &st);
-
+	if (r == -SH2000_ETIMEOUT) {
+		sh2000_tool_msg("%s: home: not homed after %g s (--timeout): homing stopped, card at rest",
+				sh2000_device(c->h), timeout);
+		return SH2000_EXIT_CARD;
+	}
+	if (r < 0)
+		return sh2000_tool_fail(c->h, r, "home");
+	r = sh2000_poll(c->h, &st);
 	if (r < 0)
 		return sh2000_tool_fail(c->h, r, "status");
-	if (!(st.axis[axis].state & SH2000_AXIS_HOMED)) {
-		r = sh2000_status_error(c->h, &st);
-		if (r < 0)
-			return sh2000_tool_fail(c->h, r, "home");
-		sh2000_tool_msg("%s: axis %c: homing stopped before the home point by a STOP from another program; the card is at rest",
-				sh2000_device(c->h), sh2000_tool_axis_name(axis));
-		return SH2000_EXIT_STOPPED;
-	}
 	printf("%c homed at %.6f mm (set-point; encoder %.6f mm, following error %.6f mm)\n",
 	       sh2000_tool_axis_name(axis), st.axis[axis].cmd_mm,
 	       st.axis[axis].pos_mm, st.axis[axis].ferr_mm);
@@ -264,6 +228,7 @@ int ctl_home(struct ctl *c, int argc, char **argv)
 {
 	unsigned int flags = 0;
 	double timeout = 120.0;
+	char msg[256];
 	int axis = -1, r;
 
 	if (ctl_want_help(argc, argv))
@@ -272,10 +237,10 @@ int ctl_home(struct ctl *c, int argc, char **argv)
 		return r;
 	/* SIGINT/SIGTERM while the card homes: stop it, as jog and move do */
 	sh2000_tool_catch_stop(SH2000_SECOND_COUNTS);
-	if ((r = home_start(c, (unsigned int)axis, flags)) ||
-	    (r = home_wait(c, timeout)))
-		return r;
-	return home_report(c, (unsigned int)axis);
+	r = sh2000_run_home_until(c->h, (unsigned int)axis, flags,
+				  (int)(timeout * 1e3), stop_asked, NULL,
+				  msg, sizeof(msg));
+	return home_report(c, (unsigned int)axis, timeout, r, msg);
 }
 
 /* ---- planned motion: jog and move --------------------------------------- */

@@ -114,6 +114,17 @@ int sh2000_limits_apply(const struct sh2000_limits *l,
  */
 int sh2000_run_home(struct sh2000 *h, unsigned int axis, unsigned int flags,
 		    int timeout_ms, char *msg, size_t len);
+/*
+ * The same, and the caller's end: stop_asked(ctx) (NULL: none) is asked
+ * every 20 ms of the wait; when it returns non-zero, or when timeout_ms
+ * passes, the homing ends with a controlled STOP and a wait for the card
+ * at rest (10 s at most), so nothing is latched: -ECANCELED (asked) or
+ * -SH2000_ETIMEOUT (the timeout). sh2000_run_home() ends its timeout so.
+ */
+int sh2000_run_home_until(struct sh2000 *h, unsigned int axis,
+			  unsigned int flags, int timeout_ms,
+			  int (*stop_asked)(void *ctx), void *ctx,
+			  char *msg, size_t len);
 
 struct sh2000_run;
 

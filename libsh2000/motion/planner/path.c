@@ -190,6 +190,22 @@ int sh2000_path_create(struct sh2000_path **out,
 	p->a_ring = cfg->profile == SH2000_PROFILE_SCURVE &&
 		    cfg->output == SH2000_OUTPUT_COMPENSATED ?
 		    PL_RING_K * p->lim.J * cfg->period_s : 0.0;
+	/* Where a ramp to the smallest amax takes two periods or less (the
+	 * card model's 5000 mm/s^2 at the default jerk: 1 ms), that ringing
+	 * is most of what the S-curve gives away: the controller then holds
+	 * one jerk a whole period and lands its transitions in whole
+	 * periods (control.c, quant.c), the card's spline through the
+	 * points is the planned motion itself, and nothing is allowed for
+	 * ringing. A slower ramp loses more to the coarser jerk than the
+	 * allowance costs it (the zigzag of test_tolerance at 50000 mm/s^2:
+	 * 6 % longer), and keeps the two substeps. */
+	p->quant = cfg->profile == SH2000_PROFILE_SCURVE &&
+		   cfg->output == SH2000_OUTPUT_COMPENSATED &&
+		   cfg->margin * amin <= 2.0 * p->lim.J * cfg->period_s;
+	if (p->quant) {
+		p->substeps = 1;
+		p->a_ring = 0.0;
+	}
 	p->a_curve = pl_accel_room(p, sqrt(1.0 - share * share) *
 				   cfg->margin * amin * p->a_scale);
 	/* the most a line can get (min_i amax_i / |d_i| never exceeds the

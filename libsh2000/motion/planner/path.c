@@ -134,34 +134,15 @@ static int cfg_check(const struct sh2000_path_config *c, char *e, size_t n)
 	return 0;
 }
 
-int sh2000_path_create(struct sh2000_path **out,
-		       const struct sh2000_path_config *cfg,
-		       sh2000_path_sink_fn sink, void *ctx,
-		       char *errbuf, size_t errlen)
+/* The limits the controller plans with, from the configuration: path
+ * jerk, the accelerations of the block kinds, what the card's spline
+ * needs (ringing, feed margin and zone), the control steps. */
+static void derive_limits(struct sh2000_path *p)
 {
-	struct sh2000_path *p;
+	const struct sh2000_path_config *cfg = &p->cfg;
 	double amin = INFINITY, share;
 	unsigned int a;
-	int r;
 
-	*out = NULL;
-	if (!cfg || !sink) {
-		if (errbuf && errlen)
-			snprintf(errbuf, errlen, "config and sink are required");
-		return -EINVAL;
-	}
-	r = cfg_check(cfg, errbuf, errlen);
-	if (r)
-		return r;
-	p = calloc(1, sizeof(*p));
-	if (!p)
-		return -ENOMEM;
-	p->mem = p->mem_peak = sizeof(*p);
-	p->cfg = *cfg;
-	p->base = *cfg;
-	p->sink = sink;
-	p->ctx = ctx;
-	p->override = 1.0;
 	/* two control steps a period: the limits are checked exactly in
 	 * each; more steps follow the time-optimal profile a few per cent
 	 * more closely at twice the cost (bench/planner) */
@@ -226,6 +207,35 @@ int sh2000_path_create(struct sh2000_path **out,
 				 0.005 * p->lim.J * cfg->period_s * cfg->period_s;
 	p->feed_zone = cfg->period_s *
 		       (cfg->output == SH2000_OUTPUT_RAW ? 2.0 : 6.0);
+}
+
+int sh2000_path_create(struct sh2000_path **out,
+		       const struct sh2000_path_config *cfg,
+		       sh2000_path_sink_fn sink, void *ctx,
+		       char *errbuf, size_t errlen)
+{
+	struct sh2000_path *p;
+	int r;
+
+	*out = NULL;
+	if (!cfg || !sink) {
+		if (errbuf && errlen)
+			snprintf(errbuf, errlen, "config and sink are required");
+		return -EINVAL;
+	}
+	r = cfg_check(cfg, errbuf, errlen);
+	if (r)
+		return r;
+	p = calloc(1, sizeof(*p));
+	if (!p)
+		return -ENOMEM;
+	p->mem = p->mem_peak = sizeof(*p);
+	p->cfg = *cfg;
+	p->base = *cfg;
+	p->sink = sink;
+	p->ctx = ctx;
+	p->override = 1.0;
+	derive_limits(p);
 	p->cap = cfg->window;
 	p->blk = pl_alloc(p, p->cap * sizeof(*p->blk));
 	if (!p->blk) {

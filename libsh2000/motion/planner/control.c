@@ -136,6 +136,18 @@ static double drop_room(const struct ctl *c, unsigned int i, double s,
 	return dd - t * (v + t * (a / 2.0 - t * J / 6.0));
 }
 
+/* The speed reached from (v, a > 0) bringing a down to 0: at full jerk,
+ * or with one jerk a period, in a whole period at least (a a period
+ * later: v + a h / 2), which is what the landing can do. */
+static double peak_speed(const struct ctl *c, double v, double a)
+{
+	double dv = a * a / (2.0 * c->lim.J);
+
+	if (c->quant)
+		dv = pl_max(dv, a * c->h / 2.0);
+	return v + dv;
+}
+
 static void step_state(const struct ctl *c, double j, double *s, double *v,
 		       double *a)
 {
@@ -172,7 +184,6 @@ static int lower_ok(const struct ctl *c, double j)
 /* The limits ahead, from the state reached after advancing s. */
 static int cons_ok(const struct ctl *c, double s, double v, double a)
 {
-	double J = c->lim.J;
 	unsigned int i;
 
 	for (i = 0; i < c->n; i++) {
@@ -182,7 +193,7 @@ static int cons_ok(const struct ctl *c, double s, double v, double a)
 			if (v > V + V_EPS)
 				return 0;
 			if (!c->trap && a > 0.0 &&
-			    v + a * a / (2.0 * J) > V + V_EPS)
+			    peak_speed(c, v, a) > V + V_EPS)
 				return 0;
 		} else if (cons_brake(c, i, v, a) > d + 1e-12) {
 			return 0;
@@ -202,7 +213,7 @@ static int cons_ok(const struct ctl *c, double s, double v, double a)
  * zeros, where the binding condition is just met, matter to the search. */
 static double upper_slack(const struct ctl *c, double j)
 {
-	double s, v, a, pk, J = c->lim.J, m;
+	double s, v, a, pk, m;
 	unsigned int i;
 
 	step_state(c, j, &s, &v, &a);
@@ -216,7 +227,7 @@ static double upper_slack(const struct ctl *c, double j)
 		pk = pl_max(pk, c->v + c->a * c->a / (2.0 * fabs(j)));
 	m = pl_min(m, c->vcur + V_EPS - pk);
 	if (!c->trap && a > 0.0)
-		m = pl_min(m, c->vcur + V_EPS - (v + a * a / (2.0 * J)));
+		m = pl_min(m, c->vcur + V_EPS - peak_speed(c, v, a));
 	for (i = 0; i < c->n && m >= 0.0; i++) {
 		double d = c->cons[3 * i] - s, V = c->cons[3 * i + 1];
 
@@ -226,7 +237,7 @@ static double upper_slack(const struct ctl *c, double j)
 		}
 		m = pl_min(m, V + V_EPS - v);
 		if (!c->trap && a > 0.0)
-			m = pl_min(m, V + V_EPS - (v + a * a / (2.0 * J)));
+			m = pl_min(m, V + V_EPS - peak_speed(c, v, a));
 	}
 	for (i = 0; i < c->nd && m >= 0.0 && a > 0.0; i++)
 		m = pl_min(m, drop_room(c, i, s, v, a));
@@ -258,7 +269,7 @@ static double danger(const struct ctl *c, double *A, double *d)
 	*A = c->lim.A;
 	*d = INFINITY;
 	if (c->v > c->vcur + V_EPS || (!c->trap && c->a > 0.0 &&
-	    c->v + c->a * c->a / (2.0 * c->lim.J) > c->vcur + V_EPS))
+	    peak_speed(c, c->v, c->a) > c->vcur + V_EPS))
 		return c->vcur;
 	for (i = 0; i < c->n; i++) {
 		double r = c->cons[3 * i] - cons_brake(c, i, c->v, c->a);

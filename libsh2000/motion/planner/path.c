@@ -201,7 +201,7 @@ static void derive_limits(struct sh2000_path *p)
 	 * in tests/planner); the cruise keeps 25-40 % more below the feed. A
 	 * change spreads over the spline's two periods either side, and the
 	 * compensation's ringing over about six. */
-	if (cfg->output == SH2000_OUTPUT_COMPENSATED)
+	if (cfg->output == SH2000_OUTPUT_COMPENSATED && !p->quant)
 		p->feed_margin = isinf(p->lim.J) ?
 				 0.010 * p->a_top * cfg->period_s :
 				 0.005 * p->lim.J * cfg->period_s * cfg->period_s;

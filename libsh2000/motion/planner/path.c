@@ -15,6 +15,8 @@
 
 /* The compensated spline's acceleration ringing over J T (below). */
 #define PL_RING_K 0.1
+/* the same where the controller holds one jerk a period (below) */
+#define PL_RING_QUANT_K 0.02
 
 static const char axis_name[] = SH2000_AXIS_LETTERS;
 
@@ -175,17 +177,20 @@ static void derive_limits(struct sh2000_path *p)
 	 * card model's 5000 mm/s^2 at the default jerk: 1 ms), that ringing
 	 * is most of what the S-curve gives away: the controller then holds
 	 * one jerk a whole period and lands its transitions in whole
-	 * periods (control.c, quant.c), the card's spline through the
-	 * points is the planned motion itself, and nothing is allowed for
-	 * ringing. A slower ramp loses more to the coarser jerk than the
-	 * allowance costs it (the zigzag of test_tolerance at 50000 mm/s^2:
-	 * 6 % longer), and keeps the two substeps. */
+	 * periods (control.c, quant.c), and the card's spline through the
+	 * points is the planned motion itself along a line. What still rings
+	 * is where the path turns: braking along a line that ends in a
+	 * short blend took an axis to 1.015 amax (fuzz_plan's random6 at the
+	 * card model's limits), so 0.02 J T (190 mm/s^2) is kept. A slower
+	 * ramp loses more to the coarser jerk than the allowance costs it
+	 * (the zigzag of test_tolerance at 50000 mm/s^2: 6 % longer), and
+	 * keeps the two substeps. */
 	p->quant = cfg->profile == SH2000_PROFILE_SCURVE &&
 		   cfg->output == SH2000_OUTPUT_COMPENSATED &&
 		   cfg->margin * amin <= 2.0 * p->lim.J * cfg->period_s;
 	if (p->quant) {
 		p->substeps = 1;
-		p->a_ring = 0.0;
+		p->a_ring = PL_RING_QUANT_K * p->lim.J * cfg->period_s;
 	}
 	p->a_curve = pl_accel_room(p, sqrt(1.0 - share * share) *
 				   cfg->margin * amin * p->a_scale);

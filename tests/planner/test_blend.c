@@ -506,9 +506,10 @@ static void test_line_accel(void **s)
  * 0.4 mm: no faster than stopping there. Within 0.5 mm it is taken at
  * sqrt(0.5 A R) = 53 mm/s over 1.9 mm, and where the S-curve ramps within
  * two periods a stop lands in whole periods at each axis' full
- * acceleration: stopping is then 2 % faster, 5864 servo cycles against
- * 5984; one such corner between rapids of 30 and 20 mm plans 0.296 s
- * stopped, 0.302 s blended within 0.5 or 1 mm, 0.296 s within 2 mm.) */
+ * acceleration: stopping is then 2.4 % faster, 5904 servo cycles
+ * against 6044; one such corner between rapids of 30 and 20 mm planned
+ * 0.296 s stopped, 0.302 s blended within 0.5 or 1 mm, 0.296 s within
+ * 2 mm.) */
 static void test_rapids(void **s)
 {
 	static struct prog pg;

@@ -457,7 +457,8 @@ static void reset_plan(struct sh2000_run *r)
 	r->n = 0;
 	r->emitted = r->stats.points;	/* the unsent points are gone */
 	r->in_motion = 0;
-	r->have_last = 0;
+	memcpy(r->last_mm, pos, sizeof(r->last_mm));
+	r->have_last = 1;
 	r->failed = 0;
 	memset(&r->moved, 0, sizeof(r->moved));
 }
@@ -597,6 +598,10 @@ int sh2000_run_create(struct sh2000_run **out, struct sh2000 *h,
 	}
 	sh2000_setpoints_init(&r->sp, &r->limits);
 	sh2000_setpoints_rest(&r->sp, pc->start);
+	/* the distance counts from where the card stands: the first point
+	 * of a motion from rest is a period's travel away from it */
+	memcpy(r->last_mm, pc->start, sizeof(r->last_mm));
+	r->have_last = 1;
 	e = sh2000_poll(h, &r->st);
 	if (e < 0) {
 		lib_fail(r, e, "status poll");

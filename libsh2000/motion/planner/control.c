@@ -30,6 +30,21 @@
 
 #define V_EPS 1e-9
 
+/* Periods a ramp to the full acceleration takes in the braking the
+ * controller plans with, when it holds one jerk a period (quant.c). */
+#define QUANT_RAMP 2.0
+
+/* The jerk braking at acceleration A is planned with: the configured
+ * one, or with one jerk a period, no more than a ramp to A in QUANT_RAMP
+ * periods. The landing (quant.c) may use the configured jerk: the
+ * difference is its room to end on a period. */
+static double model_jerk(const struct sh2000_path *p, double A)
+{
+	if (!p->quant)
+		return p->lim.J;
+	return pl_min(p->lim.J, A / (QUANT_RAMP * p->cfg.period_s));
+}
+
 void pl_block_pos(const struct pl_block *b, double s, double pos[SH2000_AXES])
 {
 	double f = b->L > 0.0 ? s / b->L : 1.0;
@@ -73,6 +88,10 @@ void pl_block_pos(const struct pl_block *b, double s, double pos[SH2000_AXES])
 struct ctl {
 	struct pl_limits lim;	/* the head block's: |a| <= lim.A now */
 	int trap;
+	/* one jerk a whole period (quant.c): compensated S-curve */
+	int quant;
+	double jmax;	/* the jerk allowed; lim.J is the one planned with */
+	struct sh2000_path *p;	/* the landing under way (qj, qi, qn) */
 	double h, v, a, vcur;
 	/* the limits ahead: triples (distance, speed, the smallest
 	 * acceleration allowed up to there) */
@@ -88,7 +107,8 @@ struct ctl {
 static double cons_brake(const struct ctl *c, unsigned int i, double v,
 			 double a)
 {
-	struct pl_limits L = { c->cons[3 * i + 2], c->lim.J };
+	struct pl_limits L = { c->cons[3 * i + 2],
+			       model_jerk(c->p, c->cons[3 * i + 2]) };
 
 	return pl_brake_dist(&L, v, c->trap ? 0.0 : a, c->cons[3 * i + 1]);
 }
@@ -96,19 +116,36 @@ static double cons_brake(const struct ctl *c, unsigned int i, double v,
 /* Room left, after a step to (s, v, a), to bring the acceleration down to
  * drop i's before it: negative when it no longer can. The step that
  * crosses a drop is checked only at its end, so the drop counts two
- * substeps early. */
+ * substeps early. Braking (a < 0) counts too where the controller holds
+ * one jerk a whole period: a period's braking into a block that allows
+ * less would take its axes past their amax (3D_Chips: 1.3 amax); the
+ * substeps of the other mode keep that overshoot within a half period. */
 static double drop_room(const struct ctl *c, unsigned int i, double s,
 			double v, double a)
 {
 	double Ad = c->drops[2 * i + 1], J = c->lim.J, t;
 	double dd = c->drops[2 * i] - s - 2.0 * v * c->h;
 
-	if (a <= Ad)
+	if (a <= Ad && (!c->quant || a >= -Ad))
 		return INFINITY;
 	if (c->trap)
 		return dd;
-	t = (a - Ad) / J;	/* at full jerk down, covering ... */
+	t = (fabs(a) - Ad) / J;	/* at full jerk to Ad, covering ... */
+	if (a < 0.0)		/* ... at most the speed now (braking) */
+		return dd - t * v;
 	return dd - t * (v + t * (a / 2.0 - t * J / 6.0));
+}
+
+/* The speed reached from (v, a > 0) bringing a down to 0: at full jerk,
+ * or with one jerk a period, in a whole period at least (a a period
+ * later: v + a h / 2), which is what the landing can do. */
+static double peak_speed(const struct ctl *c, double v, double a)
+{
+	double dv = a * a / (2.0 * c->lim.J);
+
+	if (c->quant)
+		dv = pl_max(dv, a * c->h / 2.0);
+	return v + dv;
 }
 
 static void step_state(const struct ctl *c, double j, double *s, double *v,
@@ -124,6 +161,7 @@ static void step_state(const struct ctl *c, double j, double *s, double *v,
 static int lower_ok(const struct ctl *c, double j)
 {
 	double s, v, a;
+	unsigned int i;
 
 	step_state(c, j, &s, &v, &a);
 	if (v < -V_EPS)
@@ -137,13 +175,15 @@ static int lower_ok(const struct ctl *c, double j)
 		if (a < 0.0 && v - a * a / (2.0 * c->lim.J) < -V_EPS)
 			return 0;
 	}
+	for (i = 0; i < c->nd && a < 0.0; i++)
+		if (drop_room(c, i, s, v, a) < 0.0)
+			return 0;
 	return 1;
 }
 
 /* The limits ahead, from the state reached after advancing s. */
 static int cons_ok(const struct ctl *c, double s, double v, double a)
 {
-	double J = c->lim.J;
 	unsigned int i;
 
 	for (i = 0; i < c->n; i++) {
@@ -153,7 +193,7 @@ static int cons_ok(const struct ctl *c, double s, double v, double a)
 			if (v > V + V_EPS)
 				return 0;
 			if (!c->trap && a > 0.0 &&
-			    v + a * a / (2.0 * J) > V + V_EPS)
+			    peak_speed(c, v, a) > V + V_EPS)
 				return 0;
 		} else if (cons_brake(c, i, v, a) > d + 1e-12) {
 			return 0;
@@ -173,7 +213,7 @@ static int cons_ok(const struct ctl *c, double s, double v, double a)
  * zeros, where the binding condition is just met, matter to the search. */
 static double upper_slack(const struct ctl *c, double j)
 {
-	double s, v, a, pk, J = c->lim.J, m;
+	double s, v, a, pk, m;
 	unsigned int i;
 
 	step_state(c, j, &s, &v, &a);
@@ -187,7 +227,7 @@ static double upper_slack(const struct ctl *c, double j)
 		pk = pl_max(pk, c->v + c->a * c->a / (2.0 * fabs(j)));
 	m = pl_min(m, c->vcur + V_EPS - pk);
 	if (!c->trap && a > 0.0)
-		m = pl_min(m, c->vcur + V_EPS - (v + a * a / (2.0 * J)));
+		m = pl_min(m, c->vcur + V_EPS - peak_speed(c, v, a));
 	for (i = 0; i < c->n && m >= 0.0; i++) {
 		double d = c->cons[3 * i] - s, V = c->cons[3 * i + 1];
 
@@ -197,9 +237,9 @@ static double upper_slack(const struct ctl *c, double j)
 		}
 		m = pl_min(m, V + V_EPS - v);
 		if (!c->trap && a > 0.0)
-			m = pl_min(m, V + V_EPS - (v + a * a / (2.0 * J)));
+			m = pl_min(m, V + V_EPS - peak_speed(c, v, a));
 	}
-	for (i = 0; i < c->nd && m >= 0.0; i++)
+	for (i = 0; i < c->nd && m >= 0.0 && a > 0.0; i++)
 		m = pl_min(m, drop_room(c, i, s, v, a));
 	return m;
 }
@@ -221,14 +261,15 @@ static double highest_jerk(const struct ctl *c, double lo, double hi,
 /* The speed of the limit that binds: the current one if it is exceeded,
  * else the one ahead with the least room left (the braking curve the
  * controller is riding); in *A the acceleration to ride it with. */
-static double danger(const struct ctl *c, double *A)
+static double danger(const struct ctl *c, double *A, double *d)
 {
 	double vt = c->vcur, slack = INFINITY;
 	unsigned int i;
 
 	*A = c->lim.A;
+	*d = INFINITY;
 	if (c->v > c->vcur + V_EPS || (!c->trap && c->a > 0.0 &&
-	    c->v + c->a * c->a / (2.0 * c->lim.J) > c->vcur + V_EPS))
+	    peak_speed(c, c->v, c->a) > c->vcur + V_EPS))
 		return c->vcur;
 	for (i = 0; i < c->n; i++) {
 		double r = c->cons[3 * i] - cons_brake(c, i, c->v, c->a);
@@ -237,6 +278,9 @@ static double danger(const struct ctl *c, double *A)
 			slack = r;
 			vt = fmin(c->vcur, c->cons[3 * i + 1]);
 			*A = c->cons[3 * i + 2];
+			/* a limit already in force binds the speed alone */
+			*d = vt < c->cons[3 * i + 1] || c->cons[3 * i] <= 0.0 ?
+			     INFINITY : c->cons[3 * i];
 		}
 	}
 	return vt;
@@ -247,7 +291,7 @@ static double danger(const struct ctl *c, double *A)
 static void follow(const struct ctl *c, double vt, double A, double *ds,
 		   double *v, double *a)
 {
-	struct pl_limits L = { A, c->lim.J };
+	struct pl_limits L = { A, model_jerk(c->p, A) };
 	struct pl_trans tr;
 	double t = c->h;
 	unsigned int i;
@@ -319,13 +363,14 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 				 double level, int halt, double A0,
 				 unsigned int *nd)
 {
-	const struct pl_limits *lim = &p->lim;
+	/* lim.A is the least any block has: the longest braking */
+	const struct pl_limits L = { p->lim.A, model_jerk(p, p->lim.A) };
+	const struct pl_limits *lim = &L;
 	int trap = isinf(lim->J);
 	double zone = 2.0 * p->cfg.period_s, vup = p->v + p->a_top * h, dh, d;
 	double amin = A0;
 	unsigned int i, n = 0, m = 0;
 
-	/* lim.A is the least any block has: the longest braking */
 	dh = vup * (h + zone) +
 	     pl_brake_dist(lim, vup, trap ? 0.0 : p->a_top, 0.0) + 1e-9;
 	level = fmin(level, vup + (trap ? 0.0 : p->a_top * p->a_top /
@@ -370,12 +415,74 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 	return n;
 }
 
+/* The first of n periods of constant jerk that land on speed vt at
+ * acceleration 0 (n = 2), at distance d as well (n = 3), into (ds, v, a):
+ * 1 if every period keeps |j| <= J, |a| <= A and the speed between the
+ * start's and vt. */
+static int quant_try(const struct ctl *c, unsigned int n, double d,
+		      double vt, double A, double *ds, double *v, double *a)
+{
+	double j[PL_QUANT_MAX], s = 0.0, vv = c->v, aa = c->a, h = c->h;
+	double lo = pl_min(c->v, vt) - V_EPS, hi = pl_max(c->v, vt) + V_EPS;
+	unsigned int k;
+
+	if (pl_quant_solve(h, c->v, c->a, n, !isinf(d), d, vt, j))
+		return 0;
+	for (k = 0; k < n; k++) {
+		double t = j[k] != 0.0 ? -aa / j[k] : -1.0;
+
+		if (fabs(j[k]) > c->jmax * (1.0 + 1e-9))
+			return 0;
+		/* the speed's extreme inside the period */
+		if (t > 0.0 && t < h) {
+			double ve = vv - aa * aa / (2.0 * j[k]);
+
+			if (ve < lo || ve > hi)
+				return 0;
+		}
+		pl_integrate(&s, &vv, &aa, j[k], h);
+		if (fabs(aa) > A * (1.0 + 1e-12) || vv < lo || vv > hi)
+			return 0;
+		if (k == 0) {
+			*ds = s;
+			*v = vv;
+			*a = aa;
+		}
+	}
+	memcpy(c->p->qj, j, n * sizeof(j[0]));
+	c->p->qi = 1;
+	c->p->qn = n;
+	/* landed: exactly */
+	if (fabs(*v - vt) < 1e-9 && fabs(*a) < 1e-6) {
+		*v = vt;
+		*a = 0.0;
+	}
+	return 1;
+}
+
+/* The fewest periods (up to PL_QUANT_MAX) that land that way. */
+static int quant_step(const struct ctl *c, double d, double vt, double A,
+		      double *ds, double *v, double *a)
+{
+	unsigned int n;
+
+	for (n = isinf(d) ? 2 : 3; n <= PL_QUANT_MAX; n++)
+		if (quant_try(c, n, d, vt, A, ds, v, a))
+			return 1;
+	return 0;
+}
+
 /* Brake towards the binding speed; if that still leaves a limit ahead
  * out of reach, towards the lowest such one. */
 static void brake(const struct ctl *c, double *ds, double *v, double *a)
 {
-	double A, vt = danger(c, &A);
+	double A, d, vt = danger(c, &A, &d);
 	unsigned int i, k;
+
+
+	if (c->quant && quant_step(c, d, vt, A, ds, v, a) &&
+	    cons_ok(c, *ds, *v, *a))
+		return;
 
 	for (i = 0; i <= c->n; i++) {
 		double lowest = vt;
@@ -394,6 +501,18 @@ static void brake(const struct ctl *c, double *ds, double *v, double *a)
 		if (lowest == vt)
 			break;
 		vt = lowest;
+	}
+	/* the same acceleration at the period's end by one jerk, where that
+	 * still meets every limit ahead (a switch inside the period rings) */
+	if (c->quant) {
+		double s1, v1, a1;
+
+		step_state(c, (*a - c->a) / c->h, &s1, &v1, &a1);
+		if (v1 >= -V_EPS && cons_ok(c, s1, v1, a1)) {
+			*ds = s1;
+			*v = v1;
+			*a = a1;
+		}
 	}
 }
 
@@ -426,7 +545,18 @@ static double bisect(const struct ctl *c, int (*ok)(const struct ctl *, double),
  */
 static void choose_step(const struct ctl *c, double *ds, double *v, double *a)
 {
-	double J = c->trap ? c->lim.A : c->lim.J, jl, jh, fJ, fl;
+	double J = c->trap ? c->lim.A : c->jmax, jl, jh, fJ, fl;
+
+	/* a landing under way goes on while the limits ahead allow it */
+	if (c->quant && c->p->qi < c->p->qn) {
+		step_state(c, c->p->qj[c->p->qi], ds, v, a);
+		if (*v >= -V_EPS && fabs(*a) <= c->lim.A * (1.0 + 1e-12) &&
+		    cons_ok(c, *ds, *v, *a)) {
+			c->p->qi++;
+			return;
+		}
+	}
+	c->p->qn = 0;
 
 	fJ = upper_slack(c, J);
 	if (fJ >= 0.0 && lower_ok(c, J)) {
@@ -436,9 +566,14 @@ static void choose_step(const struct ctl *c, double *ds, double *v, double *a)
 		return;
 	}
 	if (c->v <= c->vcur + V_EPS) {
-		follow(c, c->vcur, c->lim.A, ds, v, a);
-		if (cons_ok(c, *ds, *v, *a))
-			return;
+		/* in whole periods where they land (no switch inside one),
+		 * else the search, whose jerk holds a whole period */
+		if (c->quant ? quant_try(c, 2, INFINITY, c->vcur, c->lim.A,
+					 ds, v, a) :
+		    (follow(c, c->vcur, c->lim.A, ds, v, a), 1))
+			if (cons_ok(c, *ds, *v, *a)) {
+				return;
+			}
 	}
 	/* the lowest jerk that does not run backwards ... */
 	jl = lower_ok(c, -J) ? -J : bisect(c, lower_ok, -J, J, 1);
@@ -482,6 +617,9 @@ static int substep(struct sh2000_path *p, double h)
 	c.lim.J = p->lim.J;
 	c.lim.A = b->A;
 	c.trap = isinf(p->lim.J);
+	c.quant = p->quant;
+	c.jmax = p->lim.J;
+	c.p = p;
 	c.h = h;
 	c.v = p->v;
 	c.a = p->a;
@@ -496,6 +634,7 @@ static int substep(struct sh2000_path *p, double h)
 	if (!halt && b->feed > b->prev_feed &&
 	    p->s < p->feed_zone * pl_prev_cap(p, b))
 		c.vcur = fmin(c.vcur, fmax(pl_prev_cap(p, b), 0.0));
+	c.lim.J = model_jerk(p, c.lim.A);
 	n = limits_ahead(p, h, c.vcur, halt, c.lim.A, &c.nd);
 	c.cons = p->cons;
 	c.n = n;

@@ -15,6 +15,8 @@
 
 /* The compensated spline's acceleration ringing over J T (below). */
 #define PL_RING_K 0.1
+/* the same where the controller holds one jerk a period (below) */
+#define PL_RING_QUANT_K 0.02
 
 static const char axis_name[] = SH2000_AXIS_LETTERS;
 
@@ -134,34 +136,15 @@ static int cfg_check(const struct sh2000_path_config *c, char *e, size_t n)
 	return 0;
 }
 
-int sh2000_path_create(struct sh2000_path **out,
-		       const struct sh2000_path_config *cfg,
-		       sh2000_path_sink_fn sink, void *ctx,
-		       char *errbuf, size_t errlen)
+/* The limits the controller plans with, from the configuration: path
+ * jerk, the accelerations of the block kinds, what the card's spline
+ * needs (ringing, feed margin and zone), the control steps. */
+static void derive_limits(struct sh2000_path *p)
 {
-	struct sh2000_path *p;
+	const struct sh2000_path_config *cfg = &p->cfg;
 	double amin = INFINITY, share;
 	unsigned int a;
-	int r;
 
-	*out = NULL;
-	if (!cfg || !sink) {
-		if (errbuf && errlen)
-			snprintf(errbuf, errlen, "config and sink are required");
-		return -EINVAL;
-	}
-	r = cfg_check(cfg, errbuf, errlen);
-	if (r)
-		return r;
-	p = calloc(1, sizeof(*p));
-	if (!p)
-		return -ENOMEM;
-	p->mem = p->mem_peak = sizeof(*p);
-	p->cfg = *cfg;
-	p->base = *cfg;
-	p->sink = sink;
-	p->ctx = ctx;
-	p->override = 1.0;
 	/* two control steps a period: the limits are checked exactly in
 	 * each; more steps follow the time-optimal profile a few per cent
 	 * more closely at twice the cost (bench/planner) */
@@ -190,6 +173,25 @@ int sh2000_path_create(struct sh2000_path **out,
 	p->a_ring = cfg->profile == SH2000_PROFILE_SCURVE &&
 		    cfg->output == SH2000_OUTPUT_COMPENSATED ?
 		    PL_RING_K * p->lim.J * cfg->period_s : 0.0;
+	/* Where a ramp to the smallest amax takes two periods or less (the
+	 * card model's 5000 mm/s^2 at the default jerk: 1 ms), that ringing
+	 * is most of what the S-curve gives away: the controller then holds
+	 * one jerk a whole period and lands its transitions in whole
+	 * periods (control.c, quant.c), and the card's spline through the
+	 * points is the planned motion itself along a line. What still rings
+	 * is where the path turns: braking along a line that ends in a
+	 * short blend took an axis to 1.015 amax (fuzz_plan's random6 at the
+	 * card model's limits), so 0.02 J T (190 mm/s^2) is kept. A slower
+	 * ramp loses more to the coarser jerk than the allowance costs it
+	 * (the zigzag of test_tolerance at 50000 mm/s^2: 6 % longer), and
+	 * keeps the two substeps. */
+	p->quant = cfg->profile == SH2000_PROFILE_SCURVE &&
+		   cfg->output == SH2000_OUTPUT_COMPENSATED &&
+		   cfg->margin * amin <= 2.0 * p->lim.J * cfg->period_s;
+	if (p->quant) {
+		p->substeps = 1;
+		p->a_ring = PL_RING_QUANT_K * p->lim.J * cfg->period_s;
+	}
 	p->a_curve = pl_accel_room(p, sqrt(1.0 - share * share) *
 				   cfg->margin * amin * p->a_scale);
 	/* the most a line can get (min_i amax_i / |d_i| never exceeds the
@@ -204,12 +206,41 @@ int sh2000_path_create(struct sh2000_path **out,
 	 * in tests/planner); the cruise keeps 25-40 % more below the feed. A
 	 * change spreads over the spline's two periods either side, and the
 	 * compensation's ringing over about six. */
-	if (cfg->output == SH2000_OUTPUT_COMPENSATED)
+	if (cfg->output == SH2000_OUTPUT_COMPENSATED && !p->quant)
 		p->feed_margin = isinf(p->lim.J) ?
 				 0.010 * p->a_top * cfg->period_s :
 				 0.005 * p->lim.J * cfg->period_s * cfg->period_s;
 	p->feed_zone = cfg->period_s *
 		       (cfg->output == SH2000_OUTPUT_RAW ? 2.0 : 6.0);
+}
+
+int sh2000_path_create(struct sh2000_path **out,
+		       const struct sh2000_path_config *cfg,
+		       sh2000_path_sink_fn sink, void *ctx,
+		       char *errbuf, size_t errlen)
+{
+	struct sh2000_path *p;
+	int r;
+
+	*out = NULL;
+	if (!cfg || !sink) {
+		if (errbuf && errlen)
+			snprintf(errbuf, errlen, "config and sink are required");
+		return -EINVAL;
+	}
+	r = cfg_check(cfg, errbuf, errlen);
+	if (r)
+		return r;
+	p = calloc(1, sizeof(*p));
+	if (!p)
+		return -ENOMEM;
+	p->mem = p->mem_peak = sizeof(*p);
+	p->cfg = *cfg;
+	p->base = *cfg;
+	p->sink = sink;
+	p->ctx = ctx;
+	p->override = 1.0;
+	derive_limits(p);
 	p->cap = cfg->window;
 	p->blk = pl_alloc(p, p->cap * sizeof(*p->blk));
 	if (!p->blk) {

@@ -158,6 +158,13 @@ static inline void pl_integrate(double *s, double *v, double *a, double j,
 	*a += dt * j;
 }
 
+/* quant.c: the jerks j[0..n-1] of n periods of length h from (v, a) that
+ * land on speed vt with acceleration 0 (n = 2), at distance d as well
+ * (n = 3); -1 if the system is singular. */
+#define PL_QUANT_MAX 8
+int pl_quant_solve(double h, double v, double a, unsigned int n, int dist,
+		   double d, double vt, double *j);
+
 /* search.c: the highest x in [lo, hi] with f(x) >= 0, f non-increasing,
  * f(lo) = flo >= 0 > fhi = f(hi), to within tol. */
 double pl_highest_pass(double (*f)(const void *ctx, double x), const void *ctx,
@@ -203,6 +210,7 @@ struct sh2000_path {
 	 * compensated spline rings above a speed a transition ends at */
 	double feed_margin;
 	unsigned int substeps;
+	int quant;	/* one jerk a period, transitions landed (control.c) */
 
 	/* the look-ahead window: a ring of blocks */
 	struct pl_block *blk;
@@ -233,6 +241,10 @@ struct sh2000_path {
 	double dist;		/* path distance at the last sample */
 	double dist_now;	/* path distance travelled so far */
 	double a_prev;		/* A of the block last left (a stop's) */
+	/* a landing in whole periods under way (control.c, quant.c): its
+	 * jerks, the next one's index, how many */
+	double qj[PL_QUANT_MAX];
+	unsigned int qi, qn;
 	unsigned int since_rest;	/* periods since the motion rested */
 	int rest_exact;		/* whether that rest was exact */
 

@@ -40,8 +40,12 @@ void pl_trans_plan(const struct pl_limits *lim, double v, double a,
 			ap = A;
 			th = (v1 - v - (2.0 * A * A - a * a) / (2.0 * J)) / A;
 		}
-		if (ap < a)
+		if (ap < a) {
+			/* above A already (a block allowing more): held
+			 * there, then down to 0 */
 			ap = a;
+			th = (v1 - v - a * a / (2.0 * J)) / a;
+		}
 		tr->dur[0] = (ap - a) / J;
 		tr->jerk[0] = J;
 		tr->dur[1] = pl_max(th, 0.0);
@@ -55,8 +59,10 @@ void pl_trans_plan(const struct pl_limits *lim, double v, double a,
 			ap = -A;
 			th = (v - v1 - (2.0 * A * A - a * a) / (2.0 * J)) / A;
 		}
-		if (ap > a)
+		if (ap > a) {
 			ap = a;
+			th = (v - v1 - a * a / (2.0 * J)) / -a;
+		}
 		tr->dur[0] = (a - ap) / J;
 		tr->jerk[0] = -J;
 		tr->dur[1] = pl_max(th, 0.0);

@@ -457,7 +457,8 @@ static void reset_plan(struct sh2000_run *r)
 	r->n = 0;
 	r->emitted = r->stats.points;	/* the unsent points are gone */
 	r->in_motion = 0;
-	r->have_last = 0;
+	memcpy(r->last_mm, pos, sizeof(r->last_mm));
+	r->have_last = 1;
 	r->failed = 0;
 	memset(&r->moved, 0, sizeof(r->moved));
 }
@@ -530,6 +531,23 @@ static int sink(void *ctx, const struct sh2000_path_point *pt)
 	return e == -EAGAIN ? 0 : sink_fail(r, e);
 }
 
+/* The card's status, which must show it idle with nothing queued. */
+static int card_idle(struct sh2000_run *r, struct sh2000 *h)
+{
+	int e = sh2000_poll(h, &r->st);
+
+	if (e < 0)
+		return lib_fail(r, e, "status poll");
+	e = sh2000_status_error(h, &r->st);
+	if (e < 0)
+		return lib_fail(r, e, "card");
+	if (r->st.card_state != SH2000_STATE_IDLE || r->st.queue_fill)
+		return fail(r, -SH2000_ECMD_BUSY,
+			    "%s: the card is not idle (state %u, %u records queued)",
+			    sh2000_device(h), r->st.card_state, r->st.queue_fill);
+	return 0;
+}
+
 int sh2000_run_create(struct sh2000_run **out, struct sh2000 *h,
 		      const struct sh2000_path_config *pc,
 		      const struct sh2000_run_config *rc, char *msg,
@@ -597,22 +615,13 @@ int sh2000_run_create(struct sh2000_run **out, struct sh2000 *h,
 	}
 	sh2000_setpoints_init(&r->sp, &r->limits);
 	sh2000_setpoints_rest(&r->sp, pc->start);
-	e = sh2000_poll(h, &r->st);
-	if (e < 0) {
-		lib_fail(r, e, "status poll");
+	/* the distance counts from where the card stands: the first point
+	 * of a motion from rest is a period's travel away from it */
+	memcpy(r->last_mm, pc->start, sizeof(r->last_mm));
+	r->have_last = 1;
+	e = card_idle(r, h);
+	if (e < 0)
 		goto err;
-	}
-	e = sh2000_status_error(h, &r->st);
-	if (e < 0) {
-		lib_fail(r, e, "card");
-		goto err;
-	}
-	if (r->st.card_state != SH2000_STATE_IDLE || r->st.queue_fill) {
-		e = fail(r, -SH2000_ECMD_BUSY,
-			 "%s: the card is not idle (state %u, %u records queued)",
-			 sh2000_device(h), r->st.card_state, r->st.queue_fill);
-		goto err;
-	}
 	r->have_st = 1;
 	r->cycle0 = r->st.card_cycle;
 	r->stats.min_fill = SH2000_RING_RECORDS;

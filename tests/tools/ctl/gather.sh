@@ -54,11 +54,12 @@ checks=$((checks + 1))
 	fail "motion record: the encoder did not follow to 2 mm"
 
 # trigger on a fault: the emergency stop after a jog is the record's time
-# 0, the pre-trigger samples are where the jog ended (1 mm)
+# 0, the pre-trigger samples are where the jog ended (1 mm, within the
+# 0.5 um the servo still lags as a landed stop ends)
 expect 0 "$CTL" "${S[@]}" enable x + gather --no-wait --signals encoder --samples 30 \
 	--trigger fault --pretrigger 10 + jog x 1 + estop + gather --read -o "$T/fault.csv"
 checks=$((checks + 1))
-[ "$(awk -F, 'NR > 1 && $1 < 0 { p++ } NR > 1 { n++; if ($2 < 99990 || $2 > 100010) far++ }
+[ "$(awk -F, 'NR > 1 && $1 < 0 { p++ } NR > 1 { n++; if ($2 < 99950 || $2 > 100010) far++ }
 	END { print n, p, far + 0 }' "$T/fault.csv")" = "30 10 0" ] ||
 	fail "fault record: $(cat "$T/fault.csv")"
 

@@ -360,8 +360,11 @@ t_moved_axes() {
 	start_sim $name
 	# each step once the card shows the last (a served card acknowledges a
 	# command a moment before its state word shows it)
+	# (the servo settles on the end point before X is disabled: a
+	# disabled axis coasts on whatever speed its loop still has)
 	"${RT_HOST[@]}" "$CTL" -d sim:$name enable x >ctl.out 2>&1 && enabled_is $name 1 &&
 		"${RT_HOST[@]}" "$CTL" -d sim:$name move x=123.4568 --feed 100 >>ctl.out 2>&1 &&
+		card_time_passes $name 2000 &&
 		"${RT_HOST[@]}" "$CTL" -d sim:$name disable x >>ctl.out 2>&1 && enabled_is $name 0 ||
 		{ fail "sh2000ctl: X to 123.4568 mm, disabled"; cat ctl.out; }
 	printf 'G21 G90 G17 F3000\nG1 Y5\nM2\n' >y.ngc

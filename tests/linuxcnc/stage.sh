@@ -64,7 +64,7 @@ stage_setup() {
 	here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 	repo=$(cd "$here/../.." && pwd)
 	build=$(cd "$1" && pwd)
-	user=sh2000-test
+	user=$turn_user
 	stage_modules=/usr/lib/linuxcnc/modules
 	local module=$build/hal/hal_sh2000.so
 	shift
@@ -94,7 +94,8 @@ stage_setup() {
 	chown "$user" "$work"
 	as_user=(setpriv --reuid="$user" --regid="$user" --init-groups
 		--inh-caps=+sys_nice --ambient-caps=+sys_nice --
-		env HOME="/var/lib/$user" USER="$user" LOGNAME="$user")
+		env HOME="/var/lib/$user" USER="$user" LOGNAME="$user"
+		"${turn_close_lock[@]}")
 	stage_boost "$(id -u "$user")" "$@" &
 	stage_pids="${stage_pids:-} $!"
 }

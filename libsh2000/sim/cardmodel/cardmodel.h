@@ -28,6 +28,9 @@ struct sh2000_interp {
 void sh2000_interp_hold(struct sh2000_interp *ip, unsigned int axis, double x);
 void sh2000_interp_push(struct sh2000_interp *ip, unsigned int axis, double x);
 double sh2000_interp_last(const struct sh2000_interp *ip, unsigned int axis);
+/* The window's jerk (constant over it), per s^3. */
+double sh2000_interp_jerk(const struct sh2000_interp *ip, unsigned int axis,
+			  double coarse_s);
 /* Position, velocity (counts/s) and acceleration (counts/s^2) at t. */
 void sh2000_interp_eval(const struct sh2000_interp *ip, unsigned int axis,
 			double t, double coarse_s, double *x, double *v,
@@ -96,6 +99,7 @@ struct sh2000_fw_axis {
 	int index_seen;		/* the FPGA latched an index mark */
 	uint32_t index_latch;	/* the counter at that mark */
 	double cmd, cmd_v, cmd_a;	/* set-point and its derivatives */
+	double cmd_j;		/* its jerk: the B-spline's, else 0 */
 	double stop_a;		/* deceleration of a controlled stop */
 	int16_t dac;
 	unsigned int sat_cycles;

@@ -50,6 +50,7 @@ void sh2000_fw_hold_at(struct sh2000_dsp *fw, unsigned int a, double x)
 	ax->cmd = x;
 	ax->cmd_v = 0.0;
 	ax->cmd_a = 0.0;
+	ax->cmd_j = 0.0;
 	sh2000_interp_hold(&fw->ip, a, x);
 }
 
@@ -141,6 +142,7 @@ static void stop_step(struct sh2000_dsp *fw, double T)
 		v = fw->stop_left == 1 ? 0.0 : ax->cmd_v - ax->stop_a * T;
 		ax->cmd += 0.5 * (ax->cmd_v + v) * T;
 		ax->cmd_a = (v - ax->cmd_v) / T;
+		ax->cmd_j = 0.0;
 		ax->cmd_v = v;
 	}
 	if (--fw->stop_left == 0)
@@ -609,6 +611,7 @@ static void eval_window(struct sh2000_dsp *fw, double t)
 		fw->tb_a[a] = acc;
 		ax->cmd_v = s * v;
 		ax->cmd_a = s * s * acc + fw->tb_rate * v;
+		ax->cmd_j = s * s * s * sh2000_interp_jerk(&fw->ip, a, Tc);
 	}
 }
 
@@ -749,6 +752,18 @@ static void count_saturation(struct sh2000_dsp *fw, unsigned int ran)
 	}
 }
 
+/* The DAC holds over the coming period: the feed-forward takes the
+ * set-point's mean velocity and acceleration over it, from the B-spline's
+ * acceleration and jerk (cmd_j is 0 off the B-spline, whose ramps' cmd_a
+ * is the period's already). */
+static double lead_v(const struct sh2000_dsp *fw,
+		     const struct sh2000_fw_axis *ax, double T)
+{
+	if (fw->state != SH2000_STATE_RUNNING)
+		return 0.0;
+	return ax->cmd_a * T / 2 + ax->cmd_j * T * T / 6;
+}
+
 static void servo(struct sh2000_dsp *fw, double T)
 {
 	unsigned int a, ran = 0;
@@ -791,8 +806,9 @@ static void servo(struct sh2000_dsp *fw, double T)
 		g.kaff = ax->prm.kaff;
 		g.dac_limit = ax->prm.dac_limit;
 		ax->dac = sh2000_pid_step(&ax->pid, &g, e,
-					  ax->cmd_v + fw->comp.v[a],
-					  ax->cmd_a + fw->comp.a[a], T);
+					  ax->cmd_v + fw->comp.v[a] + lead_v(fw, ax, T),
+					  ax->cmd_a + fw->comp.a[a] + ax->cmd_j * T / 2,
+					  T);
 		ran |= 1u << a;
 	}
 	sh2000_gantry_servo(fw, T);

@@ -28,12 +28,33 @@ static double clamp(double x, double lim)
 	return x;
 }
 
+/*
+ * The error the loop closes on. Moving, or further than a count: e. At
+ * rest within a count of a set-point S between two counts (a compensation
+ * table's correction puts it there), the counter, the floor of the scale,
+ * only says on which side of the count's edge ceil(S) the carriage is;
+ * e itself is S's fraction on one side and the fraction less one on the
+ * other, so the integral sums the fraction, not where the carriage is:
+ * it creeps through a count for a fraction near 0 or 1 and hunts over
+ * two. Half a count either side of the edge instead: the loop holds the
+ * reading on ceil(S), the same way whatever the fraction. A set-point on
+ * a whole count (no table) keeps e: it rests anywhere in its count,
+ * without hunting.
+ */
+static double at_rest(double e, double v, double a)
+{
+	if (v != 0.0 || a != 0.0 || fabs(e) > 1.0 || e == floor(e))
+		return e;
+	return ceil(e) - 0.5;
+}
+
 int16_t sh2000_pid_step(struct sh2000_pid *p, const struct sh2000_pid_gains *g,
 			double e, double v, double a, double tau)
 {
 	double lim = (double)g->dac_limit;
 	double du, out;
 
+	e = at_rest(e, v, a);
 	du = (e - p->e1) + (g->td / tau) * (e - 2.0 * p->e1 + p->e2);
 	if (g->ti > 0.0)
 		du += (tau / g->ti) * e;

@@ -5,9 +5,9 @@
  * compensation table's corrected set-point is), then a long rest. What
  * is measured is the carriage itself (the plant's position), not the
  * counter: how far past the set-point it overshoots when the set-point
- * stops, and how far from the set-point it wanders once at rest (an
- * integral that winds on the counter's count makes it hunt across a
- * count for ever).
+ * stops, and where it rests against the set-point and how far it
+ * wanders there (a loop on the counter alone can only hold a count's
+ * edge, and hunts across it).
  */
 #include <math.h>
 #include <setjmp.h>
@@ -117,28 +117,21 @@ static void stop_and_rest(void **state)
 	w.act0 = (double)(int32_t)act[0];
 	sh2000_fw_set_observer(h->fw, observe, &w);
 	for (i = 0; i < sizeof(frac) / sizeof(frac[0]); i++) {
-		/* the edge the loop holds the reading on, from the set-point */
-		double edge = ceil(frac[i]) - frac[i];
-
 		move_and_rest(h, &w, dist[i], frac[i]);
-		printf("# stop %+.1f mm at %.2f count: following error %.2f counts, overshoot %.2f counts; at rest the carriage %+.2f..%+.2f counts from the set-point (its count's edge %+.2f), the counter over %.0f counts\n",
+		printf("# stop %+.1f mm at %.2f count: following error %.2f counts, overshoot %.2f counts; at rest the carriage %+.3f..%+.3f counts from the set-point, the counter over %.0f counts\n",
 		       dist[i], frac[i], w.ferr, w.over, w.rest_lo, w.rest_hi,
-		       edge, w.act_hi - w.act_lo + 1);
+		       w.act_hi - w.act_lo + 1);
 		/* the feed-forward leads the DAC's hold: the carriage follows
 		 * the decelerating set-point within its count (the reading's
 		 * floor and a count of jerk), no overshoot beyond that */
 		assert_true(w.ferr <= 2.0);
 		assert_true(w.over <= 1.0);
-		if (frac[i] == 0.0) {
-			/* on a whole count: anywhere in its count, still */
-			assert_true(w.rest_lo >= -0.2 && w.rest_hi <= 1.2);
-			assert_true(w.act_hi - w.act_lo <= 1.0);
-			continue;
-		}
-		/* between two: on the count's edge above the set-point,
-		 * within a fifth of a count, the counter on the two counts
-		 * beside it; no creeping through a count, no hunting over two */
-		assert_true(w.rest_lo >= edge - 0.2 && w.rest_hi <= edge + 0.2);
+		/* the loop closes on the observer's reading, finer than a
+		 * count, and the DAC's codes average to its output: the
+		 * carriage rests in the middle of the set-point's count
+		 * (S + 1/2, whatever S's fraction), within a twentieth of a
+		 * count, still; the counter on one count or two beside it */
+		assert_true(w.rest_lo >= 0.45 && w.rest_hi <= 0.55);
 		assert_true(w.act_hi - w.act_lo <= 1.0);
 	}
 	sh2000_fw_set_observer(h->fw, NULL, NULL);

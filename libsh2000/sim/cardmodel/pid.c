@@ -17,6 +17,7 @@ void sh2000_pid_reset(struct sh2000_pid *p)
 	p->e1 = 0.0;
 	p->e2 = 0.0;
 	p->p = p->i = p->d = p->ff = 0.0;
+	p->carry = 0.0;
 }
 
 static double clamp(double x, double lim)
@@ -48,13 +49,13 @@ static double at_rest(double e, double v, double a)
 	return ceil(e) - 0.5;
 }
 
-int16_t sh2000_pid_step(struct sh2000_pid *p, const struct sh2000_pid_gains *g,
-			double e, double v, double a, double tau)
+/* The PID and feed-forward, unrounded, within the DAC's limit. */
+static double pid_out(struct sh2000_pid *p, const struct sh2000_pid_gains *g,
+		      double e, double v, double a, double tau)
 {
 	double lim = (double)g->dac_limit;
-	double du, out;
+	double du;
 
-	e = at_rest(e, v, a);
 	du = (e - p->e1) + (g->td / tau) * (e - 2.0 * p->e1 + p->e2);
 	if (g->ti > 0.0)
 		du += (tau / g->ti) * e;
@@ -68,7 +69,35 @@ int16_t sh2000_pid_step(struct sh2000_pid *p, const struct sh2000_pid_gains *g,
 	p->ff = g->kvff * v + g->kaff * a;
 	p->e2 = p->e1;
 	p->e1 = e;
-	out = clamp(p->u + p->ff, lim);
+	return clamp(p->u + p->ff, lim);
+}
+
+int16_t sh2000_pid_step(struct sh2000_pid *p, const struct sh2000_pid_gains *g,
+			double e, double v, double a, double tau)
+{
 	/* The DAC7744 takes 16-bit codes: round to the nearest. */
-	return (int16_t)lrint(out);
+	p->carry = 0.0;
+	return (int16_t)lrint(pid_out(p, g, at_rest(e, v, a), v, a, tau));
+}
+
+/*
+ * On the observer's error the loop can hold the carriage finer than a
+ * count, but one DAC code held is 0.3 mm/s against the default axis'
+ * friction: rounded to the nearest code, the loop's output below a code
+ * is lost and the carriage hunts over a count or two at rest. So the
+ * rounding's remainder is carried into the next cycle (first-order noise
+ * shaping, as a DSP drives a DAC finer than its step): the codes average
+ * to the loop's output, and one code more or less for one cycle moves the
+ * carriage 0.002 count.
+ */
+int16_t sh2000_pid_step_fine(struct sh2000_pid *p,
+			     const struct sh2000_pid_gains *g, double e,
+			     double v, double a, double tau)
+{
+	double lim = (double)g->dac_limit;
+	double out = pid_out(p, g, e, v, a, tau) + p->carry, code;
+
+	code = clamp(nearbyint(out), lim);
+	p->carry = fabs(out - code) < 1.0 ? out - code : 0.0;
+	return (int16_t)code;
 }

@@ -20,6 +20,7 @@
  * beam couples) the loop closes on the counter as before.
  */
 #include <math.h>
+#include <string.h>
 
 #include "cardmodel.h"
 
@@ -36,11 +37,7 @@
 
 void sh2000_obs_reset(struct sh2000_obs *o)
 {
-	o->on = 0;
-	o->x = 0.0;
-	o->v = 0.0;
-	o->dm = 0.0;
-	o->sum_m = 0.0;
+	memset(o, 0, sizeof(*o));
 	o->rate = 1.0;
 }
 
@@ -101,7 +98,8 @@ void sh2000_obs_predict(struct sh2000_fw_axis *ax, double T)
 	if (!o->on)
 		return;
 	/* m dv/dt = k V - b v with V held: b/m = KVFF/KAFF, and the speed
-	 * V holds against friction is DAC/KVFF (the motor's exact step over the period) */
+	 * V holds against friction is DAC/KVFF (the motor's exact step over
+	 * the period, in the model's counts; the scale's are rate times) */
 	alpha = ax->prm.kvff / ax->prm.kaff;
 	vss = (double)ax->dac / ax->prm.kvff;
 	e = exp(-alpha * T);

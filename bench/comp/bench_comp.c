@@ -65,7 +65,7 @@ static void report(const struct cal_config *c, double travel,
 	ROW("nominal set-point off the path (whole counts)", plan_max);
 	ROW("tables: perfect servo, unquantised scale", table_max);
 	ROW("servo, moving: the tool off that, square to the path", servo_perp_max);
-	ROW("servo, at rest: hunting across the counter's count", quant_max);
+	ROW("servo, at rest: the tool off that", quant_max);
 	printf("apart: the tool against the card's reported position (ACT):\n");
 	ROW("largest (includes the count and its rounding)", geo_max);
 	ROW("rms", geo_rms);

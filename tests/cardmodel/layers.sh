@@ -7,7 +7,7 @@
 set -u
 cc=$1 src=$2
 shift 2
-firmware="firmware.c gather.c homing.c params.c pid.c interp.c timebase.c"
+firmware="firmware.c gather.c homing.c params.c pid.c observer.c interp.c timebase.c"
 forbidden='plant\.h|board_sim\.h|card_internal\.h|sh2000_cardsim\.h'
 fail=0
 for f in $firmware; do

@@ -24,7 +24,10 @@
 /* What the observer saw in one servo cycle. */
 struct seen {
 	struct sh2000_probe p;
-	double cmd_v[SH2000_AXES], cmd_a[SH2000_AXES];
+	double cmd_v[SH2000_AXES], cmd_a[SH2000_AXES], cmd_j[SH2000_AXES];
+	/* the error the PID closed on: the observer's, finer than a count */
+	double loop_e[SH2000_AXES];
+	int running;		/* the B-spline ran: the feed-forward leads */
 	double kp[SH2000_AXES], td[SH2000_AXES], kvff[SH2000_AXES],
 		kaff[SH2000_AXES];
 };
@@ -43,14 +46,28 @@ static void observe(void *ctx, const struct sh2000_probe *p)
 		return;
 	s = &seen[nseen++];
 	s->p = *p;
+	s->running = d->state == SH2000_STATE_RUNNING;
 	for (a = 0; a < SH2000_AXES; a++) {
 		s->cmd_v[a] = d->ax[a].cmd_v;
 		s->cmd_a[a] = d->ax[a].cmd_a;
+		s->cmd_j[a] = d->ax[a].cmd_j;
+		s->loop_e[a] = d->ax[a].loop_e;
 		s->kp[a] = d->ax[a].prm.kp;
 		s->td[a] = d->ax[a].prm.td;
 		s->kvff[a] = d->ax[a].prm.kvff;
 		s->kaff[a] = d->ax[a].prm.kaff;
 	}
+}
+
+/* The feed-forward of that cycle: the set-point's mean velocity and
+ * acceleration over the servo period to come (firmware.c, servo()). */
+static double ff_of(const struct seen *s, unsigned int a, double T)
+{
+	double v = s->cmd_v[a], acc = s->cmd_a[a] + s->cmd_j[a] * T / 2;
+
+	if (s->running)
+		v += s->cmd_a[a] * T / 2 + s->cmd_j[a] * T * T / 6;
+	return s->kvff[a] * v + s->kaff[a] * acc;
 }
 
 static void watch(struct harness *h, unsigned int cap)
@@ -196,7 +213,7 @@ static void check_axis(const uint32_t *v, uint16_t mask, unsigned int a,
 {
 	const struct sh2000_probe_axis *pa = &s->p.axis[a];
 	double T = 1e-4, e = pa->fine_cmd - pa->actual;
-	double e1 = prev->p.axis[a].fine_cmd - prev->p.axis[a].actual;
+	double le = s->loop_e[a], le1 = prev->loop_e[a];
 	float P = 0, I = 0, D = 0, FF = 0;
 	unsigned int sig, k = 0;
 
@@ -221,20 +238,22 @@ static void check_axis(const uint32_t *v, uint16_t mask, unsigned int a,
 			break;
 		case SH2000_GS_PID_P:
 			P = f32(x);
-			assert_true(P == (float)(s->kp[a] * e));
+			assert_true(P == (float)(s->kp[a] * le));
+			/* the observer's reading within the counter's count */
+			assert_true(fabs(le - e) <= 0.5 + 1e-6);
 			break;
 		case SH2000_GS_PID_I:
 			I = f32(x);
 			break;
 		case SH2000_GS_PID_D:
 			D = f32(x);
-			assert_true(fabs(D - s->kp[a] * s->td[a] / T * (e - e1)) <=
+			assert_true(fabs(D - s->kp[a] * s->td[a] / T * (le - le1)) <=
 				    1e-6 * (1 + fabs(D)));
 			break;
 		case SH2000_GS_FF:
 			FF = f32(x);
-			assert_true(FF == (float)(s->kvff[a] * s->cmd_v[a] +
-						  s->kaff[a] * s->cmd_a[a]));
+			assert_true(fabs(FF - ff_of(s, a, T)) <=
+				    1e-6 * (1 + fabs(FF)));
 			break;
 		case SH2000_GS_VELOCITY:
 			assert_true(fabs(f32(x) - (pa->actual -
@@ -246,9 +265,11 @@ static void check_axis(const uint32_t *v, uint16_t mask, unsigned int a,
 			break;
 		}
 	}
-	/* the terms add up to what went to the DAC (far from its limit) */
+	/* the terms add up to what went to the DAC (far from its limit),
+	 * within the rounding the loop carries into the next code (half a
+	 * code from this cycle, half from the last: pid.c) */
 	if (mask & (1u << SH2000_GS_PID_I))
-		assert_true(fabs(P + I + D + FF - pa->dac) <= 0.5 + 1e-3);
+		assert_true(fabs(P + I + D + FF - pa->dac) <= 1.0 + 1e-3);
 }
 
 /*

@@ -109,9 +109,10 @@ int cal_wait_switch(struct cal_sim *s);
 /* The tool averaged at rest (mm, machine frame). */
 int cal_tool_avg(struct cal_sim *s, double tool[SH2000_AXES]);
 /* Centring on the counter's count (calcentre.c): a table of half a count
- * on every axis; the reference taken under it; the error at rest moved to
- * the middle of the corrected set-point's count, with in *loose the axes
- * (a bit each) whose set-point stood too near a whole count for that. */
+ * on every axis; the reference taken under it; the error at rest, where
+ * the card's loop holds the reading, in the middle of the corrected
+ * set-point's count (*loose, the axes whose measurement could not be
+ * used, is none). */
 void cal_half_count(struct cal_tables *t, const struct cal_sim *s);
 int cal_reference(struct cal_sim *s);
 int cal_measure_centred(struct cal_sim *s, double err[SH2000_AXES],

@@ -28,6 +28,9 @@ struct sh2000_interp {
 void sh2000_interp_hold(struct sh2000_interp *ip, unsigned int axis, double x);
 void sh2000_interp_push(struct sh2000_interp *ip, unsigned int axis, double x);
 double sh2000_interp_last(const struct sh2000_interp *ip, unsigned int axis);
+/* The window's jerk (constant over it), per s^3. */
+double sh2000_interp_jerk(const struct sh2000_interp *ip, unsigned int axis,
+			  double coarse_s);
 /* Position, velocity (counts/s) and acceleration (counts/s^2) at t. */
 void sh2000_interp_eval(const struct sh2000_interp *ip, unsigned int axis,
 			double t, double coarse_s, double *x, double *v,
@@ -46,6 +49,7 @@ struct sh2000_pid {
 	/* this sample's terms (data gathering): P, I = u - P - D, D and the
 	 * feed-forward, DAC codes */
 	double p, i, d, ff;
+	double carry;		/* the last code's rounding (the fine loop's) */
 };
 
 void sh2000_pid_reset(struct sh2000_pid *p);
@@ -53,6 +57,23 @@ void sh2000_pid_reset(struct sh2000_pid *p);
  * (counts/s^2), sampling period tau (s). Returns the DAC code. */
 int16_t sh2000_pid_step(struct sh2000_pid *p, const struct sh2000_pid_gains *g,
 			double e, double v, double a, double tau);
+/* The same on an error finer than a count (observer.c's): e as it is,
+ * at rest too (sh2000_pid_step holds a set-point between two counts on
+ * the count's edge, all a counter can say). */
+int16_t sh2000_pid_step_fine(struct sh2000_pid *p,
+			     const struct sh2000_pid_gains *g, double e,
+			     double v, double a, double tau);
+
+/* ---- observer.c: the position finer than a count ---- */
+
+struct sh2000_obs {
+	int on;			/* a model and an estimate */
+	double x;		/* the reading, counts (counter + fraction) */
+	double v;		/* the carriage's velocity, model counts/s */
+	double dm;		/* the model's last step, counts */
+	double sum_m;		/* the model's recent travel, counts */
+	double rate;		/* the scale's counts per model count */
+};
 
 /* ---- firmware.c: protocol v1 ---- */
 
@@ -96,8 +117,11 @@ struct sh2000_fw_axis {
 	int index_seen;		/* the FPGA latched an index mark */
 	uint32_t index_latch;	/* the counter at that mark */
 	double cmd, cmd_v, cmd_a;	/* set-point and its derivatives */
+	double cmd_j;		/* its jerk: the B-spline's, else 0 */
 	double stop_a;		/* deceleration of a controlled stop */
 	int16_t dac;
+	struct sh2000_obs obs;	/* the reading finer than a count */
+	double loop_e;		/* the error the PID closed on (counts) */
 	unsigned int sat_cycles;
 	int prev_limit;		/* switch bits last cycle, for edges */
 	/* a disabled axis: its position in the first record taken since the
@@ -111,6 +135,18 @@ struct sh2000_fw_axis {
 	double home_latch;	/* counter (extended) at the reference */
 	struct sh2000_fw_index ix;
 };
+
+/* observer.c: forget the estimate (the axis disabled or enabled): the
+ * next cycle starts from the middle of the count read. */
+void sh2000_obs_reset(struct sh2000_obs *o);
+/* At the cycle's start, the counter read: the estimate kept within its
+ * count; returns the error the loop closes on for corrected set-point sp,
+ * sp + 1/2 less the estimate (sp less the counter without a model: model
+ * 0, or KVFF or KAFF 0). */
+double sh2000_obs_error(struct sh2000_fw_axis *ax, double sp, int model,
+			double T);
+/* The DAC code chosen: the estimate moved over the period it holds. */
+void sh2000_obs_predict(struct sh2000_fw_axis *ax, double T);
 
 /* ---- gather.c: data gathering (protocol 1.2) ---- */
 

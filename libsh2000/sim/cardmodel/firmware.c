@@ -50,6 +50,7 @@ void sh2000_fw_hold_at(struct sh2000_dsp *fw, unsigned int a, double x)
 	ax->cmd = x;
 	ax->cmd_v = 0.0;
 	ax->cmd_a = 0.0;
+	ax->cmd_j = 0.0;
 	sh2000_interp_hold(&fw->ip, a, x);
 }
 
@@ -141,6 +142,7 @@ static void stop_step(struct sh2000_dsp *fw, double T)
 		v = fw->stop_left == 1 ? 0.0 : ax->cmd_v - ax->stop_a * T;
 		ax->cmd += 0.5 * (ax->cmd_v + v) * T;
 		ax->cmd_a = (v - ax->cmd_v) / T;
+		ax->cmd_j = 0.0;
 		ax->cmd_v = v;
 	}
 	if (--fw->stop_left == 0)
@@ -331,6 +333,7 @@ static uint16_t cmd_enable(struct sh2000_dsp *fw, uint32_t mask, int on)
 		if (!(mask & (1u << a)) || is_enabled(ax))
 			continue;
 		sh2000_pid_reset(&ax->pid);
+		sh2000_obs_reset(&ax->obs);
 		sh2000_fw_hold_here(fw, a);
 		ax->sat_cycles = 0;
 		ax->state |= SH2000_AXIS_ENABLED;
@@ -371,6 +374,8 @@ void sh2000_fw_set_position(struct sh2000_dsp *fw, unsigned int a, int64_t pos)
 	SETREG(fw, a, SH2000_HWREG_PRESET,
 	       (uint32_t)((uint64_t)pos & SH2000_COUNTER_MASK));
 	ax->counter = REG(fw, a, SH2000_HWREG_COUNTER);
+	/* the preset moves the count, not the scale's fraction in it */
+	ax->obs.x += (double)(pos - ax->act);
 	ax->act = pos;
 	ax->pid.e1 = 0.0;
 	ax->pid.e2 = 0.0;
@@ -609,6 +614,7 @@ static void eval_window(struct sh2000_dsp *fw, double t)
 		fw->tb_a[a] = acc;
 		ax->cmd_v = s * v;
 		ax->cmd_a = s * s * acc + fw->tb_rate * v;
+		ax->cmd_j = s * s * s * sh2000_interp_jerk(&fw->ip, a, Tc);
 	}
 }
 
@@ -749,6 +755,44 @@ static void count_saturation(struct sh2000_dsp *fw, unsigned int ran)
 	}
 }
 
+/* The DAC holds over the coming period: the feed-forward takes the
+ * set-point's mean velocity and acceleration over it, from the B-spline's
+ * acceleration and jerk (cmd_j is 0 off the B-spline, whose ramps' cmd_a
+ * is the period's already). */
+static double lead_v(const struct sh2000_dsp *fw,
+		     const struct sh2000_fw_axis *ax, double T)
+{
+	if (fw->state != SH2000_STATE_RUNNING)
+		return 0.0;
+	return ax->cmd_a * T / 2 + ax->cmd_j * T * T / 6;
+}
+
+/* Axis a's PID on the corrected set-point, against the observer's
+ * reading finer than a count (observer.c; a gantry pair's sides, which
+ * the beam couples, against the counter). */
+static void loop_step(struct sh2000_dsp *fw, unsigned int a, double T)
+{
+	struct sh2000_fw_axis *ax = &fw->ax[a];
+	struct sh2000_pid_gains g;
+	unsigned int ga, gb;
+	int model = !sh2000_gantry_axes(fw, &ga, &gb) || (a != ga && a != gb);
+	double v = ax->cmd_v + fw->comp.v[a] + lead_v(fw, ax, T);
+	double acc = ax->cmd_a + fw->comp.a[a] + ax->cmd_j * T / 2;
+
+	g.kp = ax->prm.kp;
+	g.ti = ax->prm.ti;
+	g.td = ax->prm.td;
+	g.kvff = ax->prm.kvff;
+	g.kaff = ax->prm.kaff;
+	g.dac_limit = ax->prm.dac_limit;
+	ax->loop_e = sh2000_obs_error(ax, ax->cmd + fw->comp.off[a], model, T);
+	if (ax->obs.on)
+		ax->dac = sh2000_pid_step_fine(&ax->pid, &g, ax->loop_e, v,
+					       acc, T);
+	else
+		ax->dac = sh2000_pid_step(&ax->pid, &g, ax->loop_e, v, acc, T);
+}
+
 static void servo(struct sh2000_dsp *fw, double T)
 {
 	unsigned int a, ran = 0;
@@ -758,11 +802,11 @@ static void servo(struct sh2000_dsp *fw, double T)
 	sh2000_comp_cycle(fw, T);
 	for (a = 0; a < SH2000_AXES; a++) {
 		struct sh2000_fw_axis *ax = &fw->ax[a];
-		struct sh2000_pid_gains g;
 		double e;
 
 		if (!is_enabled(ax)) {
 			ax->dac = 0;
+			sh2000_obs_reset(&ax->obs);
 			sh2000_fw_hold_here(fw, a);
 			continue;
 		}
@@ -784,19 +828,15 @@ static void servo(struct sh2000_dsp *fw, double T)
 			axis_fault(fw, a, SH2000_AXIS_FAULT_FERR, 1);
 			continue;
 		}
-		g.kp = ax->prm.kp;
-		g.ti = ax->prm.ti;
-		g.td = ax->prm.td;
-		g.kvff = ax->prm.kvff;
-		g.kaff = ax->prm.kaff;
-		g.dac_limit = ax->prm.dac_limit;
-		ax->dac = sh2000_pid_step(&ax->pid, &g, e,
-					  ax->cmd_v + fw->comp.v[a],
-					  ax->cmd_a + fw->comp.a[a], T);
+		loop_step(fw, a, T);
 		ran |= 1u << a;
 	}
 	sh2000_gantry_servo(fw, T);
 	count_saturation(fw, ran);
+	/* the codes the DACs hold now, the gantry's share included */
+	for (a = 0; a < SH2000_AXES; a++)
+		if (ran & (1u << a))
+			sh2000_obs_predict(&fw->ax[a], T);
 }
 
 static void put32(struct sh2000_dsp *fw, unsigned int w, uint32_t v)

@@ -28,6 +28,15 @@ double sh2000_interp_last(const struct sh2000_interp *ip, unsigned int axis)
 	return ip->w[axis][3];
 }
 
+double sh2000_interp_jerk(const struct sh2000_interp *ip, unsigned int axis,
+			  double coarse_s)
+{
+	const double *w = ip->w[axis];
+
+	return (-w[0] + 3.0 * w[1] - 3.0 * w[2] + w[3]) /
+	       (coarse_s * coarse_s * coarse_s);
+}
+
 void sh2000_interp_eval(const struct sh2000_interp *ip, unsigned int axis,
 			double t, double coarse_s, double *x, double *v,
 			double *a)

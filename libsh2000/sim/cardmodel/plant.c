@@ -73,10 +73,14 @@ void sh2000_plant_init(struct sh2000_plant *p,
 }
 
 /* The home switch at x, without its chatter (what the FPGA's mask input
- * shows at an index edge). */
+ * shows at an index edge). A mark placed at the switch's point is on the
+ * switch: the carriage's place at the edge is interpolated within the
+ * step, and its last bits of rounding (a picometre allowed) must not
+ * decide which side of the switch a mark at its point lies. */
+#define HOME_AT_ROUNDING_MM	1e-9
 static int home_at(const struct sh2000_plant *p, double x_mm)
 {
-	return x_mm <= p->cfg.home_mm;
+	return x_mm <= p->cfg.home_mm + HOME_AT_ROUNDING_MM;
 }
 
 /* Edge positions pos + k * per + off that lie in (lo, hi]: the first one

@@ -4,8 +4,10 @@
  * moves anything: the first byte picks the format ('G' G-code, 'C' rs274
  * canonical output, 'V' CSV, 'J' NURBS JSON; any other byte by its value),
  * the rest is the program. Every block the reader accepts goes to a
- * planner with the default limits whose sink checks each point and throws
- * it away.
+ * planner whose sink checks each point and throws it away, twice: with
+ * the planner's default limits, and with the card model's (400 mm/s,
+ * 5000 mm/s^2), where the S-curve ramps within two periods and the
+ * controller holds one jerk a period.
  *
  * Promises checked: a rejected block says why (sh2000_path_error), every
  * point is finite, and the plan has no more points than the program's own
@@ -328,14 +330,57 @@ static void plan(const struct sh2000_program *prog, struct plan_check *pc)
 	sh2000_path_destroy(p);
 }
 
+/* The card model's default axis limits (docs/cardmodel.md): there the
+ * S-curve ramps to amax within two periods, and the planner holds one
+ * jerk a period; the planner's own defaults (50000 mm/s^2) do not. */
+#define CARD_VMAX	400.0
+#define CARD_AMAX	5000.0
+
+/* Plan prog with every axis at vmax and amax (0: the planner's defaults)
+ * and check its fine set-points. */
+static void check_at(const struct sh2000_program *prog, double vmax,
+		     double amax, int verbose)
+{
+	struct plan_check pc;
+	double seconds = 0;
+
+	memset(&pc, 0, sizeof(pc));
+	sh2000_path_config_default(&pc.cfg);
+	/* the card's usual scale: the planner refuses what counts cannot
+	 * hold */
+	for (unsigned int a = 0; a < SH2000_AXES; a++) {
+		pc.cfg.counts_per_mm[a] = 1000.0;
+		if (vmax > 0) {
+			pc.cfg.vmax[a] = vmax;
+			pc.cfg.amax[a] = amax;
+		}
+	}
+	for (size_t i = 0; i < prog->count; i++)
+		seconds += block_seconds(&pc.cfg, &prog->blocks[i]);
+	pc.budget = BUDGET_FACTOR * seconds / pc.cfg.period_s + 1000.0;
+	if (sp_path_build(&pc.path, prog) == 0) {
+		sp_init(&pc.sp, &pc.cfg, pc.cfg.start, &pc.path,
+			geo_tol(prog, &pc.cfg) + pc.path.flat);
+		plan(prog, &pc);
+		if (verbose)
+			fprintf(stderr, "amax %g: fine set-points: v %.4f a %.4f j %.4f of the limits, %.6f mm from the path (allowed %.6f)\n",
+				pc.cfg.amax[0], pc.sp.v_ratio, pc.sp.a_ratio,
+				pc.sp.j_ratio, pc.sp.dev, pc.sp.tol);
+		check_setpoints(&pc, prog);
+	}
+	sp_path_free(&pc.path);
+	if (verbose)
+		fprintf(stderr, "amax %g: %zu blocks, at most %.3f s: %llu points\n",
+			pc.cfg.amax[0], prog->count, seconds,
+			(unsigned long long)pc.points);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
 	static int verbose = -1;
 	struct sh2000_prog_options po;
 	struct sh2000_prog_diags d;
 	struct sh2000_program prog;
-	struct plan_check pc;
-	double seconds = 0;
 	int r;
 
 	if (verbose < 0)
@@ -351,29 +396,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	if (verbose)
 		sh2000_prog_diags_print(&d, stderr);
 	sh2000_prog_diags_free(&d);
-	memset(&pc, 0, sizeof(pc));
-	sh2000_path_config_default(&pc.cfg);
-	/* the card's usual scale: the planner refuses what counts cannot
-	 * hold */
-	for (unsigned int a = 0; a < SH2000_AXES; a++)
-		pc.cfg.counts_per_mm[a] = 1000.0;
-	for (size_t i = 0; r == 0 && i < prog.count; i++)
-		seconds += block_seconds(&pc.cfg, &prog.blocks[i]);
-	pc.budget = BUDGET_FACTOR * seconds / pc.cfg.period_s + 1000.0;
-	if (r == 0 && sp_path_build(&pc.path, &prog) == 0) {
-		sp_init(&pc.sp, &pc.cfg, pc.cfg.start, &pc.path,
-			geo_tol(&prog, &pc.cfg) + pc.path.flat);
-		plan(&prog, &pc);
-		if (verbose)
-			fprintf(stderr, "fine set-points: v %.4f a %.4f j %.4f of the limits, %.6f mm from the path (allowed %.6f)\n",
-				pc.sp.v_ratio, pc.sp.a_ratio, pc.sp.j_ratio,
-				pc.sp.dev, pc.sp.tol);
-		check_setpoints(&pc, &prog);
+	if (r == 0) {
+		/* the planner's own defaults, then the card model's limits,
+		 * where the controller holds one jerk a period */
+		check_at(&prog, 0, 0, verbose);
+		check_at(&prog, CARD_VMAX, CARD_AMAX, verbose);
 	}
-	sp_path_free(&pc.path);
-	if (verbose)
-		fprintf(stderr, "read %d, %zu blocks, at most %.3f s: %llu points\n",
-			r, prog.count, seconds, (unsigned long long)pc.points);
 	sh2000_program_free(&prog);
 	return 0;
 }

@@ -17,27 +17,15 @@ int hsc_comp_wanted(const char *path)
 	return path && path[0] && strcmp(path, "-") != 0;
 }
 
-/* The file read and checked against the card's scales and limits, as the
- * loader will: a bad table on any card fails the load before any card's
- * tables change. */
+/* The file read and checked against the card's scales and limits by the
+ * loader's own check (sh2000_comp_check_file): a bad table on any card
+ * fails the load before any card's tables change. */
 int hsc_comp_check(struct hsc_card *c, const char *path, char *msg, size_t len)
 {
-	struct sh2000_comp_limits lim;
-	struct sh2000_comp_file *f = NULL;
-	double scale[SH2000_AXES];
-	unsigned int a;
-	int r = sh2000_comp_limits_get(c->h, &lim);
+	int r = sh2000_comp_check_file(c->h, path);
 
-	for (a = 0; !r && a < SH2000_AXES; a++)
-		r = sh2000_param_get(c->h, (int)a, SH2000_P_SCALE, &scale[a]);
-	if (r < 0) {
+	if (r < 0)
 		snprintf(msg, len, "%s", sh2000_last_error(c->h));
-		return r;
-	}
-	r = sh2000_comp_file_read(&f, path, scale, msg, len);
-	if (!r)
-		r = sh2000_comp_file_check(f, &lim, msg, len);
-	sh2000_comp_file_free(f);
 	return r;
 }
 

@@ -221,6 +221,19 @@ void sh2000_comp_cycle(struct sh2000_dsp *fw, double T)
 	}
 }
 
+void sh2000_comp_rebase(struct sh2000_dsp *fw)
+{
+	struct sh2000_fw_comp *c = &fw->comp;
+	double pos[SH2000_AXES];
+	unsigned int a;
+
+	if (!c->has[0] && !c->has[1])
+		return;
+	for (a = 0; a < SH2000_AXES; a++)
+		pos[a] = fw->ax[a].cmd;
+	offsets_at(c, pos, c->off);
+}
+
 /*
  * The correction is a function of the nominal position, so the nominal
  * set-point x whose corrected set-point x + off(x) is sp is found by

@@ -42,6 +42,12 @@ void sh2000_comp_cycle(struct sh2000_dsp *fw, double T);
  * that keeps the motor where it is holds. */
 double sh2000_comp_nominal_at(const struct sh2000_dsp *fw, unsigned int a,
 			      double sp);
+/* The corrections made fresh at the nominal set-points as they are now,
+ * after one was moved by a preset rather than by motion: the next cycle
+ * sees no step in a correction, so feeds forward no velocity or
+ * acceleration for one (a preset over a steep table would kick the motor
+ * by the difference of its corrections at the two places in one cycle). */
+void sh2000_comp_rebase(struct sh2000_dsp *fw);
 /* The counter as the host sees it in the snapshot: in nominal counts
  * (the correction taken out), 28 bits. */
 uint32_t sh2000_comp_nominal_counter(const struct sh2000_dsp *fw,

@@ -82,6 +82,7 @@ void hsc_close(struct hsc_card *c)
 {
 	if (!c->h)
 		return;
+	hsc_comp_watch_stop(c);
 	/* a motion left running would underrun: stop it (not real-time) */
 	if (c->streaming)
 		sh2000_stop(c->h);
@@ -232,6 +233,7 @@ void hsc_read(struct hsc_card *c, const struct hsc_in *in,
 	if (c->cmd_busy)
 		finish_command(c);
 	hsc_index_read(c, in);
+	hsc_comp_take(c);
 
 	/* the estop input: ask until the card shows ESTOP */
 	if (in->estop && c->st.card_state != SH2000_STATE_ESTOP &&

@@ -6,9 +6,20 @@
  * sh2000ctl comp load uses, so the file's format, its checks and their
  * FILE:LINE messages have one owner. Not real-time: called from
  * rtapi_app_main only.
+ *
+ * Then the card's tables are watched: another program may load or clear
+ * them later (sh2000ctl comp, at rest), and sh2000.N.comp-id, comp-sum and
+ * comp-tables follow the card. Reading them is not a real-time call, so a
+ * thread beside the servo thread reads them every HSC_COMP_WATCH_MS (8
+ * words, some 10 port cycles) and the servo thread takes the result when
+ * the lock is free (trylock, never waits). A tick whose poll meets the
+ * watch's read on the handle's lock finds the status not fresh, as after
+ * a torn snapshot, and reads it next tick.
  */
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
 
 #include "hsc.h"
 
@@ -41,4 +52,105 @@ int hsc_comp_load(struct hsc_card *c, const char *path, char *msg, size_t len)
 	if (r < 0)
 		snprintf(msg, len, "%s", sh2000_last_error(c->h));
 	return r;
+}
+
+int hsc_comp_refresh(struct hsc_card *c)
+{
+	struct sh2000_comp_status st;
+	int r = sh2000_comp_status(c->h, &st);
+
+	pthread_mutex_lock(&c->cw.lock);
+	if (r == 0) {
+		c->cw.seen = st;
+		c->cw.fresh = 1;
+	}
+	c->cw.reads++;
+	pthread_mutex_unlock(&c->cw.lock);
+	return r;
+}
+
+/* Until stopped: a read, then period_ms of sleep that stop cuts short. A
+ * card without tables in its protocol (-EOPNOTSUPP) is left alone; any
+ * other failure (a card gone for a while) is read again next period. */
+static void *watch(void *arg)
+{
+	struct hsc_card *c = arg;
+	struct timespec until;
+	int stop = 0;
+
+	while (!stop) {
+		if (hsc_comp_refresh(c) == -EOPNOTSUPP)
+			break;
+		clock_gettime(CLOCK_MONOTONIC, &until);
+		until.tv_sec += c->cw.period_ms / 1000u;
+		until.tv_nsec += (long)(c->cw.period_ms % 1000u) * 1000000L;
+		if (until.tv_nsec >= 1000000000L) {
+			until.tv_sec++;
+			until.tv_nsec -= 1000000000L;
+		}
+		pthread_mutex_lock(&c->cw.lock);
+		while (!c->cw.stop &&
+		       pthread_cond_timedwait(&c->cw.wake, &c->cw.lock, &until) == 0)
+			;
+		stop = c->cw.stop;
+		pthread_mutex_unlock(&c->cw.lock);
+	}
+	return NULL;
+}
+
+int hsc_comp_watch_start(struct hsc_card *c, unsigned int period_ms)
+{
+	pthread_condattr_t ca;
+	int r;
+
+	if (c->cw.started || !period_ms)
+		return -EINVAL;
+	pthread_condattr_init(&ca);
+	pthread_condattr_setclock(&ca, CLOCK_MONOTONIC);
+	r = pthread_cond_init(&c->cw.wake, &ca);
+	pthread_condattr_destroy(&ca);
+	if (r)
+		return -r;
+	r = pthread_mutex_init(&c->cw.lock, NULL);
+	if (r) {
+		pthread_cond_destroy(&c->cw.wake);
+		return -r;
+	}
+	c->cw.period_ms = period_ms;
+	c->cw.stop = 0;
+	c->cw.fresh = 0;
+	c->cw.reads = 0;
+	r = pthread_create(&c->cw.thread, NULL, watch, c);
+	if (r) {
+		pthread_mutex_destroy(&c->cw.lock);
+		pthread_cond_destroy(&c->cw.wake);
+		return -r;
+	}
+	c->cw.started = 1;
+	return 0;
+}
+
+void hsc_comp_watch_stop(struct hsc_card *c)
+{
+	if (!c->cw.started)
+		return;
+	pthread_mutex_lock(&c->cw.lock);
+	c->cw.stop = 1;
+	pthread_cond_signal(&c->cw.wake);
+	pthread_mutex_unlock(&c->cw.lock);
+	pthread_join(c->cw.thread, NULL);
+	pthread_mutex_destroy(&c->cw.lock);
+	pthread_cond_destroy(&c->cw.wake);
+	c->cw.started = 0;
+}
+
+void hsc_comp_take(struct hsc_card *c)
+{
+	if (!c->cw.started || pthread_mutex_trylock(&c->cw.lock))
+		return;
+	if (c->cw.fresh) {
+		c->comp = c->cw.seen;
+		c->cw.fresh = 0;
+	}
+	pthread_mutex_unlock(&c->cw.lock);
 }

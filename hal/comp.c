@@ -70,13 +70,14 @@ int hsc_comp_refresh(struct hsc_card *c)
 }
 
 /* Until stopped: a read, then period_ms of sleep that stop cuts short. A
- * card without tables in its protocol (-EOPNOTSUPP) is left alone; any
- * other failure (a card gone for a while) is read again next period. */
+ * card without tables in its protocol (-EOPNOTSUPP) is left alone, and so
+ * is an io: card whose ports this thread may not use; any other failure
+ * (a card gone for a while) is read again next period. */
 static void *watch(void *arg)
 {
 	struct hsc_card *c = arg;
 	struct timespec until;
-	int stop = 0;
+	int stop = hsc_io_thread(c->device) < 0;
 
 	while (!stop) {
 		if (hsc_comp_refresh(c) == -EOPNOTSUPP)

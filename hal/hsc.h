@@ -275,6 +275,9 @@ struct hsc_card {
 int hsc_open(struct hsc_card *c, int index, const char *device, char *msg,
 	     size_t len);
 void hsc_close(struct hsc_card *c);
+/* io: devices: the card's four ports for the calling thread (ioperm() is
+ * per thread); 0, or -errno. Nothing for other devices. */
+int hsc_io_thread(const char *device);
 /* Default position-scale of an axis: the card's own scale (counts/mm). */
 double hsc_default_scale(struct hsc_card *c, unsigned int axis);
 /* comp.c: a table file for the card at start (not real-time). wanted: a

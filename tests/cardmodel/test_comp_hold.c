@@ -173,12 +173,16 @@ static void disable_at_rest(void **state)
  * from the counter changes from the cycle before the preset to the one
  * after by the move's last step to its target (the set-point is put on
  * it when within AMAX T^2 + 0.5, some 10 counts) and one cycle of the
- * loop, far less than a correction's step. */
+ * loop, far less than a correction's step. Nor may the preset's step in
+ * the correction (8 um) be fed forward as one cycle's velocity: that
+ * slammed the DAC from one end to the other (a swing of 65534); the
+ * settling after the return swings it by some 600. */
 static void homing_no_jump(void **state)
 {
 	struct harness *h = start(3.0, 0.0);
 	unsigned int n = 0;
-	double before = 0.0, after;
+	double before = 0.0, after, swing = 0.0;
+	int16_t dac;
 
 	(void)state;
 	assert_int_equal(h_set_i(h, 0, SH2000_P_HOME_OFFSET, 5000000), SH2000_RES_OK);
@@ -194,6 +198,13 @@ static void homing_no_jump(void **state)
 	printf("# homed: set-point %.2f counts from the counter, %.2f the cycle before\n",
 	       after, before);
 	assert_true(fabs(after - before) < 20.0);
+	dac = h->fw->dsp.ax[0].dac;
+	for (n = 0; n < 300; n++) {
+		h_cycles(h, 1);
+		swing = fmax(swing, fabs((double)h->fw->dsp.ax[0].dac - dac));
+	}
+	printf("# the DAC swung by %.0f in the 300 cycles after the preset\n", swing);
+	assert_true(swing < 4096.0);
 	rests_at(h, corrected(h), 5000, "after homing");
 	/* at rest on the reference: the counter reads HOME_OFFSET on the
 	 * switch's edge, give or take the following error the preset kept

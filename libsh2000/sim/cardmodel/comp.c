@@ -221,17 +221,43 @@ void sh2000_comp_cycle(struct sh2000_dsp *fw, double T)
 	}
 }
 
-void sh2000_comp_rebase(struct sh2000_dsp *fw)
+/* The corrections at the nominal set-points as they are, axis a's at x. */
+static void offsets_with(const struct sh2000_dsp *fw, unsigned int a, double x,
+			 double off[SH2000_AXES])
 {
-	struct sh2000_fw_comp *c = &fw->comp;
 	double pos[SH2000_AXES];
-	unsigned int a;
+	unsigned int i;
 
-	if (!c->has[0] && !c->has[1])
+	for (i = 0; i < SH2000_AXES; i++)
+		pos[i] = fw->ax[i].cmd;
+	pos[a] = x;
+	offsets_at(&fw->comp, pos, off);
+}
+
+double sh2000_comp_corrected(const struct sh2000_dsp *fw, unsigned int a)
+{
+	double off[SH2000_AXES];
+
+	if (!fw->comp.has[0] && !fw->comp.has[1])
+		return fw->ax[a].cmd;
+	offsets_with(fw, a, fw->ax[a].cmd, off);
+	return fw->ax[a].cmd + off[a];
+}
+
+/* The last cycle's corrections take the step the preset made in them
+ * (axis a's own, and those of axes a cross table reads it for): the next
+ * cycle's change of each is then what the motion made alone. */
+void sh2000_comp_rebase(struct sh2000_dsp *fw, unsigned int a, double was)
+{
+	double now[SH2000_AXES], before[SH2000_AXES];
+	unsigned int i;
+
+	if (!fw->comp.has[0] && !fw->comp.has[1])
 		return;
-	for (a = 0; a < SH2000_AXES; a++)
-		pos[a] = fw->ax[a].cmd;
-	offsets_at(c, pos, c->off);
+	offsets_with(fw, a, fw->ax[a].cmd, now);
+	offsets_with(fw, a, was, before);
+	for (i = 0; i < SH2000_AXES; i++)
+		fw->comp.off[i] += now[i] - before[i];
 }
 
 /*

@@ -163,6 +163,39 @@ static void disable_at_rest(void **state)
 	h_fini(h);
 }
 
+/* How far the DAC swings from `from` over `cycles` cycles. */
+static double dac_swing(struct harness *h, int16_t from, unsigned int cycles)
+{
+	double swing = fabs((double)h->fw->dsp.ax[0].dac - from);
+	unsigned int i;
+
+	for (i = 0; i < cycles; i++) {
+		h_cycles(h, 1);
+		swing = fmax(swing, fabs((double)h->fw->dsp.ax[0].dac - from));
+	}
+	return swing;
+}
+
+/* The host's SET_POSITION at rest, to 50 mm where the table corrects 8 um
+ * more than where the motor is: the motor stays, held at the new count,
+ * and the step the preset makes in the correction is not fed forward
+ * (that swung the DAC from one end to the other). */
+static void set_position_at_rest(void **state)
+{
+	struct harness *h = start(0.0, -1000.0);
+	int16_t dac = h->fw->dsp.ax[0].dac;
+	double swing;
+
+	(void)state;
+	assert_int_equal(h_cmd(h, SH2000_CMD_SET_POSITION, 0, 0, 5000000, NULL),
+			 SH2000_RES_OK);
+	swing = dac_swing(h, dac, 300);
+	printf("# SET_POSITION: the DAC swung by %.0f\n", swing);
+	assert_true(swing < 4096.0);
+	rests_at(h, 5000000.0, 5000, "after SET_POSITION");
+	h_fini(h);
+}
+
 /* Homing on the switch with the table loaded: from HOMED on the motor
  * stays where the homing left it, in the preset counter's frame. The
  * reference is 50 mm (HOME_OFFSET) from the switch, where the table
@@ -181,8 +214,7 @@ static void homing_no_jump(void **state)
 {
 	struct harness *h = start(3.0, 0.0);
 	unsigned int n = 0;
-	double before = 0.0, after, swing = 0.0;
-	int16_t dac;
+	double before = 0.0, after, swing;
 
 	(void)state;
 	assert_int_equal(h_set_i(h, 0, SH2000_P_HOME_OFFSET, 5000000), SH2000_RES_OK);
@@ -198,11 +230,7 @@ static void homing_no_jump(void **state)
 	printf("# homed: set-point %.2f counts from the counter, %.2f the cycle before\n",
 	       after, before);
 	assert_true(fabs(after - before) < 20.0);
-	dac = h->fw->dsp.ax[0].dac;
-	for (n = 0; n < 300; n++) {
-		h_cycles(h, 1);
-		swing = fmax(swing, fabs((double)h->fw->dsp.ax[0].dac - dac));
-	}
+	swing = dac_swing(h, h->fw->dsp.ax[0].dac, 300);
 	printf("# the DAC swung by %.0f in the 300 cycles after the preset\n", swing);
 	assert_true(swing < 4096.0);
 	rests_at(h, corrected(h), 5000, "after homing");
@@ -221,6 +249,7 @@ int main(void)
 		cmocka_unit_test(estop_at_rest),
 		cmocka_unit_test(estop_mid_move),
 		cmocka_unit_test(disable_at_rest),
+		cmocka_unit_test(set_position_at_rest),
 		cmocka_unit_test(homing_no_jump),
 	};
 

@@ -180,13 +180,14 @@ void sh2000_home_cycle(struct sh2000_dsp *fw, double T)
 void sh2000_home_preset(struct sh2000_dsp *fw, unsigned int a, int64_t delta)
 {
 	struct sh2000_fw_axis *ax = &fw->ax[a];
-	double was = ax->cmd;
+	double was;
 	/* the corrected set-point as it is in this cycle: the last cycle's
 	 * correction is stale when the set-point moved since (a gantry side's
 	 * own homing preset it in this cycle) */
 	double sp = sh2000_comp_corrected(fw, a) + (double)delta;
 
-	sh2000_fw_set_position(fw, a, ax->act + delta);
+	sh2000_fw_set_position(fw, a, ax->act + delta);	/* re-bases its hold */
+	was = ax->cmd;
 	sh2000_fw_hold_at(fw, a, sh2000_comp_nominal_at(fw, a, sp));
 	sh2000_comp_rebase(fw, a, was);
 }

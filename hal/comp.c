@@ -11,10 +11,12 @@
  * them later (sh2000ctl comp, at rest), and sh2000.N.comp-id, comp-sum and
  * comp-tables follow the card. Reading them is not a real-time call, so a
  * thread beside the servo thread reads them every HSC_COMP_WATCH_MS (8
- * words, some 10 port cycles) and the servo thread takes the result when
- * the lock is free (trylock, never waits). A tick whose poll meets the
- * watch's read on the handle's lock finds the status not fresh, as after
- * a torn snapshot, and reads it next tick.
+ * words, some 10 port cycles) through a handle of its own, as another
+ * program beside LinuxCNC would (sh2000ctl comp show): it never holds the
+ * servo thread's handle, whose calls would find it busy for as long as
+ * this thread, which is no real-time one, is kept off the CPU. The servo
+ * thread takes the result when the watch's lock is free (trylock, never
+ * waits).
  */
 #include <errno.h>
 #include <stdio.h>
@@ -57,7 +59,7 @@ int hsc_comp_load(struct hsc_card *c, const char *path, char *msg, size_t len)
 int hsc_comp_refresh(struct hsc_card *c)
 {
 	struct sh2000_comp_status st;
-	int r = sh2000_comp_status(c->h, &st);
+	int r = sh2000_comp_status(c->cw.h ? c->cw.h : c->h, &st);
 
 	pthread_mutex_lock(&c->cw.lock);
 	if (r == 0) {
@@ -99,36 +101,55 @@ static void *watch(void *arg)
 	return NULL;
 }
 
-int hsc_comp_watch_start(struct hsc_card *c, unsigned int period_ms)
+/* The watch's own handle: the card opened again (the in-process sim is
+ * one handle's card: that one). */
+static int watch_open(struct hsc_card *c, char *msg, size_t len)
+{
+	c->cw.h = NULL;
+	if (!strcmp(c->device, "sim"))
+		return 0;
+	return sh2000_open(&c->cw.h, c->device, msg, len);
+}
+
+int hsc_comp_watch_start(struct hsc_card *c, unsigned int period_ms,
+			 char *msg, size_t len)
 {
 	pthread_condattr_t ca;
 	int r;
 
+	snprintf(msg, len, "the tables' watch: %s", strerror(EINVAL));
 	if (c->cw.started || !period_ms)
 		return -EINVAL;
+	r = watch_open(c, msg, len);
+	if (r < 0)
+		return r;
 	pthread_condattr_init(&ca);
 	pthread_condattr_setclock(&ca, CLOCK_MONOTONIC);
 	r = pthread_cond_init(&c->cw.wake, &ca);
 	pthread_condattr_destroy(&ca);
-	if (r)
-		return -r;
-	r = pthread_mutex_init(&c->cw.lock, NULL);
-	if (r) {
-		pthread_cond_destroy(&c->cw.wake);
-		return -r;
+	if (!r) {
+		r = pthread_mutex_init(&c->cw.lock, NULL);
+		if (r)
+			pthread_cond_destroy(&c->cw.wake);
 	}
+	if (r)
+		goto fail;
 	c->cw.period_ms = period_ms;
 	c->cw.stop = 0;
 	c->cw.fresh = 0;
 	c->cw.reads = 0;
 	r = pthread_create(&c->cw.thread, NULL, watch, c);
-	if (r) {
-		pthread_mutex_destroy(&c->cw.lock);
-		pthread_cond_destroy(&c->cw.wake);
-		return -r;
+	if (!r) {
+		c->cw.started = 1;
+		return 0;
 	}
-	c->cw.started = 1;
-	return 0;
+	pthread_mutex_destroy(&c->cw.lock);
+	pthread_cond_destroy(&c->cw.wake);
+fail:
+	snprintf(msg, len, "the tables' watch: %s", strerror(r));
+	sh2000_close(c->cw.h);
+	c->cw.h = NULL;
+	return -r;
 }
 
 void hsc_comp_watch_stop(struct hsc_card *c)
@@ -142,6 +163,8 @@ void hsc_comp_watch_stop(struct hsc_card *c)
 	pthread_join(c->cw.thread, NULL);
 	pthread_mutex_destroy(&c->cw.lock);
 	pthread_cond_destroy(&c->cw.wake);
+	sh2000_close(c->cw.h);
+	c->cw.h = NULL;
 	c->cw.started = 0;
 }
 

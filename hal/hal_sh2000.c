@@ -363,11 +363,11 @@ int rtapi_app_main(void)
 	if (r < 0)
 		goto fail;
 	for (i = 0; i < ncards; i++) {
-		r = hsc_comp_watch_start(&inst[i].card, HSC_COMP_WATCH_MS);
+		r = hsc_comp_watch_start(&inst[i].card, HSC_COMP_WATCH_MS, msg,
+					 sizeof(msg));
 		if (r < 0) {
-			rtapi_print_msg(RTAPI_MSG_ERR,
-					"hal_sh2000: sh2000.%d: the tables' watch: %s\n",
-					i, strerror(-r));
+			rtapi_print_msg(RTAPI_MSG_ERR, "hal_sh2000: sh2000.%d: %s\n",
+					i, msg);
 			goto fail;
 		}
 	}

@@ -167,11 +167,15 @@ struct hsc_index {
 /*
  * comp.c's watch of the card's tables. sh2000_comp_status() is not a
  * real-time call (it waits for the handle's and the card's locks), so a
- * thread of its own reads it every period_ms and leaves it in `seen`; the
- * servo thread only tries the lock and takes it when fresh.
+ * thread of its own reads it every period_ms through a handle of its own
+ * (as another program would: it never holds the servo thread's handle)
+ * and leaves it in `seen`; the servo thread only tries the lock and takes
+ * it when fresh.
  */
 struct hsc_comp_watch {
 	pthread_t thread;
+	struct sh2000 *h;	/* the watch's handle; NULL: the card's (the
+				 * in-process sim, which has one handle) */
 	pthread_mutex_t lock;	/* the fields below */
 	pthread_cond_t wake;	/* stop */
 	int started;		/* set before the servo thread runs */
@@ -295,8 +299,9 @@ int hsc_comp_refresh(struct hsc_card *c);
  * started after the tables at start are loaded and before the servo
  * thread runs; stopped by hsc_close (and by stop, at once). A card older
  * than protocol 1.5 has no tables to watch: the thread ends at its first
- * read. 0 or -errno. */
-int hsc_comp_watch_start(struct hsc_card *c, unsigned int period_ms);
+ * read. 0, or a negative code with the reason in msg. */
+int hsc_comp_watch_start(struct hsc_card *c, unsigned int period_ms,
+			 char *msg, size_t len);
 void hsc_comp_watch_stop(struct hsc_card *c);
 /* Real-time (the read half): c->comp becomes what the watch last read,
  * when it has read since and its lock is free now. */

@@ -133,7 +133,7 @@ static void watched(void **state)
 	if (hsc_comp_load(&c, path, msg, sizeof(msg)) < 0)
 		fail_msg("hsc_comp_load: %s", msg);
 	first = c.comp.sum;
-	assert_int_equal(hsc_comp_watch_start(&c, 20), 0);
+	assert_int_equal(hsc_comp_watch_start(&c, 20, msg, sizeof(msg)), 0);
 	assert_int_equal(sh2000_comp_clear(c.h), 0);
 	assert_true(shows(&c, 0));
 	assert_int_equal(c.comp.tables, 0);
@@ -156,11 +156,12 @@ static void take_never_waits(void **state)
 {
 	const struct timespec ms = { 0, 1000000L };
 	struct hsc_card c;
+	char msg[256];
 	int i;
 
 	(void)state;
 	open_card(&c);
-	assert_int_equal(hsc_comp_watch_start(&c, 60000), 0);
+	assert_int_equal(hsc_comp_watch_start(&c, 60000, msg, sizeof(msg)), 0);
 	/* the watch's first read done, it sleeps for a minute (the stop cuts
 	 * that short) */
 	for (i = 0; i < 10000; i++) {

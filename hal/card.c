@@ -82,6 +82,7 @@ void hsc_close(struct hsc_card *c)
 {
 	if (!c->h)
 		return;
+	hsc_comp_watch_stop(c);
 	/* a motion left running would underrun: stop it (not real-time) */
 	if (c->streaming)
 		sh2000_stop(c->h);
@@ -100,21 +101,28 @@ double hsc_default_scale(struct hsc_card *c, unsigned int axis)
 	return v;
 }
 
+int hsc_io_thread(const char *device)
+{
+#ifdef HSC_HAVE_IOPERM
+	if (!strncmp(device, "io:", 3) &&
+	    ioperm(strtoul(device + 3, NULL, 0), 4, 1) < 0)
+		return -errno;
+#else
+	(void)device;
+#endif
+	return 0;
+}
+
 /* io: is port I/O from this thread: ioperm() is per thread, so the
  * servo thread asks for the four ports itself. */
 static void io_thread_setup(struct hsc_card *c)
 {
-	c->io_thread_ready = 1;
-#ifdef HSC_HAVE_IOPERM
-	if (!strncmp(c->device, "io:", 3)) {
-		unsigned long base = strtoul(c->device + 3, NULL, 0);
+	int r = hsc_io_thread(c->device);
 
-		if (ioperm(base, 4, 1) < 0)
-			snprintf(c->err, sizeof(c->err),
-				 "%s: ioperm in the servo thread: %s",
-				 c->device, strerror(errno));
-	}
-#endif
+	c->io_thread_ready = 1;
+	if (r < 0)
+		snprintf(c->err, sizeof(c->err), "%s: ioperm in the servo thread: %s",
+			 c->device, strerror(-r));
 }
 
 /* ---- read half ---- */
@@ -232,6 +240,7 @@ void hsc_read(struct hsc_card *c, const struct hsc_in *in,
 	if (c->cmd_busy)
 		finish_command(c);
 	hsc_index_read(c, in);
+	hsc_comp_take(c);
 
 	/* the estop input: ask until the card shows ESTOP */
 	if (in->estop && c->st.card_state != SH2000_STATE_ESTOP &&

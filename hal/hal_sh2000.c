@@ -55,7 +55,8 @@ struct pins_card {
 	hal_float_t *delay_ms;
 	hal_u32_t *underruns, *port_cycles;
 	hal_s32_t queue_target;
-	/* the tables loaded at start: identity, checksum, how many */
+	/* the card's active tables: identity, checksum, how many (loaded at
+	 * start or later by another program: hal/comp.c's watch) */
 	hal_u32_t comp_id, comp_sum, comp_tables;
 	struct pins_axis axis[SH2000_AXES];
 };
@@ -128,6 +129,9 @@ static void pins_out(struct instance *t, int read_half)
 		if (read_half && *x->index_enable && !o->index_enable)
 			*x->index_enable = 0;
 	}
+	p->comp_id = t->card.comp.id;
+	p->comp_sum = t->card.comp.sum;
+	p->comp_tables = t->card.comp.tables;
 }
 
 /* A new reason the card stopped is worth one line in the log. */
@@ -358,6 +362,15 @@ int rtapi_app_main(void)
 	r = load_tables();
 	if (r < 0)
 		goto fail;
+	for (i = 0; i < ncards; i++) {
+		r = hsc_comp_watch_start(&inst[i].card, HSC_COMP_WATCH_MS, msg,
+					 sizeof(msg));
+		if (r < 0) {
+			rtapi_print_msg(RTAPI_MSG_ERR, "hal_sh2000: sh2000.%d: %s\n",
+					i, msg);
+			goto fail;
+		}
+	}
 	if (!ncards) {
 		rtapi_print_msg(RTAPI_MSG_ERR,
 				"hal_sh2000: no card: give device=/dev/sh2000-0[,sim:NAME,...]\n");

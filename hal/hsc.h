@@ -10,6 +10,7 @@
 #ifndef HSC_H
 #define HSC_H
 
+#include <pthread.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -55,6 +56,10 @@
  * record with the phase of its clock against the thread's, so its
  * allowance is a record wider. */
 #define HSC_LOW_SLACK		2
+/* How often a thread beside the servo thread reads the card's tables
+ * again (sh2000.N.comp-*), so that a load or clear by another program
+ * (sh2000ctl comp) shows within this; ms. */
+#define HSC_COMP_WATCH_MS	500
 /* Readings of the fill kept per window (a fill beyond counts as the last
  * bin: only a low median is judged). */
 #define HSC_FILL_BINS		128
@@ -159,6 +164,28 @@ struct hsc_index {
 
 #define HSC_HISTORY	256u	/* records of commands kept (power of 2) */
 
+/*
+ * comp.c's watch of the card's tables. sh2000_comp_status() is not a
+ * real-time call (it waits for the handle's and the card's locks), so a
+ * thread of its own reads it every period_ms through a handle of its own
+ * (as another program would: it never holds the servo thread's handle)
+ * and leaves it in `seen`; the servo thread only tries the lock and takes
+ * it when fresh.
+ */
+struct hsc_comp_watch {
+	pthread_t thread;
+	struct sh2000 *h;	/* the watch's handle; NULL: the card's (the
+				 * in-process sim, which has one handle) */
+	pthread_mutex_t lock;	/* the fields below */
+	pthread_cond_t wake;	/* stop */
+	int started;		/* set before the servo thread runs */
+	int stop;
+	unsigned int period_ms;
+	struct sh2000_comp_status seen;	/* the last read */
+	int fresh;		/* seen not taken yet */
+	uint32_t reads;		/* reads done (tests wait on it) */
+};
+
 struct hsc_card {
 	struct sh2000 *h;
 	char device[128];
@@ -241,8 +268,10 @@ struct hsc_card {
 	uint32_t port_cycles;
 	struct hsc_timebase tb;
 	char err[256];
-	/* the tables hsc_comp_load() made active at start (zero: none) */
+	/* the card's tables: as hsc_comp_load() made them at start, then as
+	 * the watch last read them (zero: none) */
 	struct sh2000_comp_status comp;
+	struct hsc_comp_watch cw;
 };
 
 /* Open and check the card (not real-time: at module load). msg gets the
@@ -250,6 +279,9 @@ struct hsc_card {
 int hsc_open(struct hsc_card *c, int index, const char *device, char *msg,
 	     size_t len);
 void hsc_close(struct hsc_card *c);
+/* io: devices: the card's four ports for the calling thread (ioperm() is
+ * per thread); 0, or -errno. Nothing for other devices. */
+int hsc_io_thread(const char *device);
 /* Default position-scale of an axis: the card's own scale (counts/mm). */
 double hsc_default_scale(struct hsc_card *c, unsigned int axis);
 /* comp.c: a table file for the card at start (not real-time). wanted: a
@@ -260,6 +292,20 @@ double hsc_default_scale(struct hsc_card *c, unsigned int axis);
 int hsc_comp_wanted(const char *path);
 int hsc_comp_check(struct hsc_card *c, const char *path, char *msg, size_t len);
 int hsc_comp_load(struct hsc_card *c, const char *path, char *msg, size_t len);
+/* The card's tables read once into the watch's `seen` (not real-time):
+ * 0 or the library's error. The watch thread's work, one period. */
+int hsc_comp_refresh(struct hsc_card *c);
+/* The watch thread, every period_ms (HSC_COMP_WATCH_MS for the module),
+ * started after the tables at start are loaded and before the servo
+ * thread runs; stopped by hsc_close (and by stop, at once). A card older
+ * than protocol 1.5 has no tables to watch: the thread ends at its first
+ * read. 0, or a negative code with the reason in msg. */
+int hsc_comp_watch_start(struct hsc_card *c, unsigned int period_ms,
+			 char *msg, size_t len);
+void hsc_comp_watch_stop(struct hsc_card *c);
+/* Real-time (the read half): c->comp becomes what the watch last read,
+ * when it has read since and its lock is free now. */
+void hsc_comp_take(struct hsc_card *c);
 
 /*
  * One servo tick, in two halves: read first in the thread (status,

@@ -478,16 +478,20 @@ int sh2000_comp_file_check(const struct sh2000_comp_file *f,
 	return 0;
 }
 
-int sh2000_comp_load_file(struct sh2000 *h, const char *path)
+/* The file read with the card's scales and checked against the card's
+ * limits: 0 and *out, or an error with the message in sh2000_last_error
+ * (FILE:LINE: why when a table is at fault). Nothing is sent. */
+static int read_checked(struct sh2000 *h, const char *path,
+			struct sh2000_comp_file **out)
 {
 	struct sh2000_comp_limits lim;
 	struct sh2000_comp_file *f = NULL;
-	struct sh2000_comp_fault why;
 	double scale[SH2000_AXES];
 	char msg[512] = "comp: out of memory";
 	unsigned int a;
 	int r = 0;
 
+	*out = NULL;
 	if (!h || !path)
 		return -EINVAL;
 	for (a = 0; !r && a < SH2000_AXES; a++)
@@ -503,6 +507,28 @@ int sh2000_comp_load_file(struct sh2000 *h, const char *path)
 		sh2000_comp_file_free(f);
 		return sh2000_fail(h, r, "%s", msg);
 	}
+	*out = f;
+	return 0;
+}
+
+int sh2000_comp_check_file(struct sh2000 *h, const char *path)
+{
+	struct sh2000_comp_file *f;
+	int r = read_checked(h, path, &f);
+
+	sh2000_comp_file_free(f);
+	return r;
+}
+
+int sh2000_comp_load_file(struct sh2000 *h, const char *path)
+{
+	struct sh2000_comp_file *f;
+	struct sh2000_comp_fault why;
+	char msg[512];
+	int r = read_checked(h, path, &f);
+
+	if (r < 0)
+		return r;
 	r = sh2000_comp_load_image(h, f->w, f->words, &why);
 	if (r == -SH2000_ECMD_VALUE || r == -SH2000_ECMD_CHECKSUM)
 		r = sh2000_fail(h, r, "%s (the card's check)",

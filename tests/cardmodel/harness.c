@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "harness.h"
+#include "sh2000/sh2000.h"
 
 static void observe(void *ctx, const struct sh2000_probe *p)
 {
@@ -224,6 +227,64 @@ unsigned int h_trapezoid(double from, double to, double v, double a,
 }
 
 static struct harness fixture;
+
+/* The image's pages through the RAM window, then the switch: the first
+ * command's result that was not OK (with its op), or OK. */
+static uint16_t comp_send(struct harness *h, const uint16_t *w, size_t n,
+			  uint16_t *op)
+{
+	size_t first, k, i;
+	uint16_t r;
+
+	*op = SH2000_CMD_COMP_BEGIN;
+	r = h_cmd(h, *op, 0, 0, (uint32_t)n, NULL);
+	for (first = 0; r == SH2000_RES_OK && first < n; first += k) {
+		k = n - first < SH2000_COMP_PAGE_WORDS ? n - first : SH2000_COMP_PAGE_WORDS;
+		for (i = 0; i < k; i++)
+			sh2000_dpram_write(h->ram, SH2000_W_COMP_PAGE + 1u + (unsigned int)i,
+					   w[first + i]);
+		sh2000_dpram_write(h->ram, SH2000_W_COMP_PAGE,
+				   sh2000_comp_page_check((uint32_t)first, &w[first],
+							  (unsigned int)k));
+		*op = SH2000_CMD_COMP_PAGE;
+		r = h_cmd(h, *op, 0, (uint16_t)k, (uint32_t)first, NULL);
+	}
+	if (r != SH2000_RES_OK)
+		return r;
+	*op = SH2000_CMD_COMP_COMMIT;
+	return h_cmd(h, *op, 0, 0, sh2000_comp_sum(w, n), NULL);
+}
+
+int h_comp_load(struct harness *h, const char *text, char *msg,
+		unsigned int len)
+{
+	static const double scale[SH2000_AXES] = { 1e5, 1e5, 1e5, 1e5 };
+	char path[] = "/tmp/h_comp_XXXXXX";
+	struct sh2000_comp_file *f = NULL;
+	const uint16_t *w;
+	size_t n;
+	FILE *out;
+	uint16_t res, op;
+	int fd = mkstemp(path), r;
+
+	if (fd < 0 || !(out = fdopen(fd, "w"))) {
+		snprintf(msg, len, "comp: no temporary file");
+		return -1;
+	}
+	fputs(text, out);
+	r = fclose(out) ? -1 : sh2000_comp_file_read(&f, path, scale, msg, len);
+	unlink(path);
+	if (r)
+		return -1;
+	w = sh2000_comp_file_image(f, &n);
+	res = comp_send(h, w, n, &op);
+	sh2000_comp_file_free(f);
+	if (res == SH2000_RES_OK)
+		return 0;
+	snprintf(msg, len, "comp: command %u answered %u (value 0x%04x%04x)", op,
+		 res, h_word(h, SH2000_W_CMD_VALUE_HI), h_word(h, SH2000_W_CMD_VALUE_LO));
+	return -1;
+}
 
 int h_setup(void **state)
 {

@@ -61,6 +61,15 @@ unsigned int h_trapezoid(double from, double to, double v, double a,
 			 double coarse_s, double *out, unsigned int cap);
 
 /*
+ * Compensation tables (docs/compensation.md's file text, every axis at
+ * 1e5 counts/mm) read by the library's file reader and paged in, then
+ * committed, as the library would send them: one owner of the file's
+ * format. Does not wait for the blend. 0, or -1 with the reason in msg.
+ */
+int h_comp_load(struct harness *h, const char *text, char *msg,
+		unsigned int len);
+
+/*
  * cmocka fixtures: a fresh card with axes 0 and 1 enabled (h_setup_enabled)
  * or just booted (h_setup); h_teardown frees it. *state is the harness.
  */

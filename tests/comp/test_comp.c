@@ -229,16 +229,20 @@ static void unchanged(struct sh2000 *h, struct sh2000_fw *fw,
 	assert_memory_equal(now.off, before->off, sizeof(now.off));
 }
 
-/* A file the host refuses: FILE:LINE and the words in the message. */
+/* A file the host refuses: FILE:LINE and the words in the message, the
+ * same refusal and message from the check alone as from the loader. */
 static void host_refuses(struct sh2000 *h, const char *text, unsigned int line,
 			 const char *words)
 {
-	char want[96];
+	char want[96], checked[512];
 	const char *msg;
 
 	write_file(text);
+	assert_int_equal(sh2000_comp_check_file(h, path), -SH2000_EPARAM);
+	snprintf(checked, sizeof(checked), "%s", sh2000_last_error(h));
 	assert_int_equal(sh2000_comp_load_file(h, path), -SH2000_EPARAM);
 	msg = sh2000_last_error(h);
+	assert_string_equal(msg, checked);
 	snprintf(want, sizeof(want), "%s:%u: ", path, line);
 	if (!strstr(msg, want) || !strstr(msg, words))
 		fail_msg("want '%s' ... '%s' in: %s", want, words, msg);
@@ -270,6 +274,10 @@ static void host_refusals(void **state)
 		at += (size_t)sprintf(big + at, "%d 0\n", i);
 	host_refuses(h, big, 1, "the card holds 16384");
 	free(big);
+	unchanged(h, fw, &before);
+	/* a good file passes the check and still changes nothing */
+	write_file("id 0x77\npitch Y\n0 0\n100 0.001\n");
+	assert_int_equal(sh2000_comp_check_file(h, path), 0);
 	unchanged(h, fw, &before);
 	sh2000_close(h);
 }

@@ -16,7 +16,9 @@ SH2000_TEST_PROGRAM (the G-code file), SH2000_TEST_FEED (feed override,
 default 1), SH2000_TEST_TIMEOUT (seconds the program may take, default 120),
 SH2000_TEST_COMP (the table file hal_sh2000 loaded at start, if any: the
 card's status shows those tables active, before and after the program, and
-hal_sh2000's sh2000.0.comp-sum is their sum).
+hal_sh2000's sh2000.0.comp-sum is their sum; with the machine off,
+sh2000ctl comp clear and then comp load of the same file from beside
+LinuxCNC: sh2000.0.comp-* follow the card within 5 s each time).
 """
 import os
 import re
@@ -112,6 +114,28 @@ def comp_active(when):
               "%#x, card %s" % (hal, m.group(1)))
 
 
+def comp_follows():
+    """sh2000ctl clears the card's tables and loads them again, from
+    beside LinuxCNC (the machine off, the card at rest): hal_sh2000's
+    comp-* parameters follow the card (its watch reads them twice a
+    second)."""
+    def params():
+        return tuple(int(halget("sh2000.0.comp-" + p), 0) for p in ("id", "sum", "tables"))
+
+    loaded = params()
+    r = subprocess.run([CTL, "-d", DEVICE, "comp", "clear"], capture_output=True, text=True)
+    check("sh2000ctl comp clear beside LinuxCNC", r.returncode == 0,
+          (r.stdout + r.stderr).strip())
+    check("sh2000.0.comp-* show no tables after the clear",
+          wait(lambda: params() == (0, 0, 0), 5), "%s" % (params(),))
+    r = subprocess.run([CTL, "-d", DEVICE, "comp", "load", COMP], capture_output=True,
+                       text=True)
+    check("sh2000ctl comp load beside LinuxCNC", r.returncode == 0,
+          (r.stdout + r.stderr).strip())
+    check("sh2000.0.comp-* show the tables again after the load",
+          wait(lambda: params() == loaded, 5), "%s, at start %s" % (params(), loaded))
+
+
 def run():
     check("LinuxCNC up", wait(lambda: s.task_state != 0, 30))
     if COMP:
@@ -150,6 +174,8 @@ def run():
         check("no card fault, no axis fault", not bad, " ".join(bad))
     c.feedrate(1.0)
     machine_off()
+    if COMP:
+        comp_follows()
 
 
 if __name__ == "__main__":

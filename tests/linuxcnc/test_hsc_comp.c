@@ -4,7 +4,9 @@
  * a good table file is checked, loaded and shown (its identity, sum and
  * count, the card's status the same); a bad one is refused by the check
  * with the library's FILE:LINE message and the card's tables do not
- * change; "" and "-" are no table.
+ * change; "" and "-" are no table. Tables loaded and cleared later by
+ * another program show in what the servo thread takes from the watch
+ * thread, which it never waits for.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -12,6 +14,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 #include <cmocka.h>
 
@@ -98,12 +101,95 @@ static void bad_table(void **state)
 	hsc_close(&c);
 }
 
+/* The servo thread's take, every ms of wall time for up to 10 s, until
+ * the card's tables are sum `sum`: 1 if they came. */
+static int shows(struct hsc_card *c, uint32_t sum)
+{
+	const struct timespec ms = { 0, 1000000L };
+	int i;
+
+	for (i = 0; i < 10000; i++) {
+		hsc_comp_take(c);
+		if (c->comp.sum == sum)
+			return 1;
+		nanosleep(&ms, NULL);
+	}
+	return 0;
+}
+
+/* Loaded at start, then cleared and loaded again through the card (as
+ * sh2000ctl comp would from another program): what the servo thread
+ * takes follows within the watch's period, the card's status the same. */
+static void watched(void **state)
+{
+	struct sh2000_comp_status st;
+	struct hsc_card c;
+	char msg[512] = "";
+	uint32_t first;
+
+	(void)state;
+	write_file("id 0x12345678\npitch X\n0 0\n100 0.002\n200 0.001\n");
+	open_card(&c);
+	if (hsc_comp_load(&c, path, msg, sizeof(msg)) < 0)
+		fail_msg("hsc_comp_load: %s", msg);
+	first = c.comp.sum;
+	assert_int_equal(hsc_comp_watch_start(&c, 20, msg, sizeof(msg)), 0);
+	assert_int_equal(sh2000_comp_clear(c.h), 0);
+	assert_true(shows(&c, 0));
+	assert_int_equal(c.comp.tables, 0);
+	assert_int_equal(c.comp.id, 0);
+	write_file("id 0xabcd\npitch Y\n0 0\n100 0.001\n");
+	if (sh2000_comp_load_file(c.h, path) < 0)
+		fail_msg("load: %s", sh2000_last_error(c.h));
+	assert_int_equal(sh2000_comp_status(c.h, &st), 0);
+	assert_int_not_equal(st.sum, first);
+	assert_true(shows(&c, st.sum));
+	assert_int_equal(c.comp.id, 0xabcdu);
+	assert_int_equal(c.comp.tables, 1);
+	hsc_close(&c);	/* stops the watch */
+	assert_int_equal(c.cw.started, 0);
+}
+
+/* The servo thread never waits for the watch: with the watch's lock
+ * held, the take changes nothing and returns; freed, it takes. */
+static void take_never_waits(void **state)
+{
+	const struct timespec ms = { 0, 1000000L };
+	struct hsc_card c;
+	char msg[256];
+	int i;
+
+	(void)state;
+	open_card(&c);
+	assert_int_equal(hsc_comp_watch_start(&c, 60000, msg, sizeof(msg)), 0);
+	/* the watch's first read done, it sleeps for a minute (the stop cuts
+	 * that short) */
+	for (i = 0; i < 10000; i++) {
+		pthread_mutex_lock(&c.cw.lock);
+		if (c.cw.reads)
+			break;
+		pthread_mutex_unlock(&c.cw.lock);
+		nanosleep(&ms, NULL);
+	}
+	assert_true(i < 10000);
+	c.cw.seen.sum = 0x5eed;
+	c.cw.fresh = 1;
+	hsc_comp_take(&c);
+	assert_int_equal(c.comp.sum, 0);
+	pthread_mutex_unlock(&c.cw.lock);
+	hsc_comp_take(&c);
+	assert_int_equal(c.comp.sum, 0x5eed);
+	hsc_close(&c);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(wanted),
 		cmocka_unit_test(good_table),
 		cmocka_unit_test(bad_table),
+		cmocka_unit_test(watched),
+		cmocka_unit_test(take_never_waits),
 	};
 	int fd, r;
 

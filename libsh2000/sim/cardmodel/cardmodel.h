@@ -375,6 +375,11 @@ void sh2000_home_abort(struct sh2000_fw_axis *ax);
  * there (the gantry's squaring move). */
 int sh2000_home_move_to(struct sh2000_fw_axis *ax, double target,
 			double vcap, double T);
+/* Axis a's counter preset by delta at rest (a homing's reference, the
+ * gantry's squaring): the corrected set-point moves with it, no more, and
+ * the nominal set-point is the one whose correction is there (the
+ * compensation tables'; without them it moves by delta too). */
+void sh2000_home_preset(struct sh2000_dsp *fw, unsigned int a, int64_t delta);
 
 /* index.c: INDEX_ARM (value: the arm's number) and INDEX_DISARM; results
  * SH2000_RES_*. sh2000_fw_index_cycle runs for each axis every cycle once

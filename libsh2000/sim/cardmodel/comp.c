@@ -221,6 +221,45 @@ void sh2000_comp_cycle(struct sh2000_dsp *fw, double T)
 	}
 }
 
+/* The corrections at the nominal set-points as they are, axis a's at x. */
+static void offsets_with(const struct sh2000_dsp *fw, unsigned int a, double x,
+			 double off[SH2000_AXES])
+{
+	double pos[SH2000_AXES];
+	unsigned int i;
+
+	for (i = 0; i < SH2000_AXES; i++)
+		pos[i] = fw->ax[i].cmd;
+	pos[a] = x;
+	offsets_at(&fw->comp, pos, off);
+}
+
+double sh2000_comp_corrected(const struct sh2000_dsp *fw, unsigned int a)
+{
+	double off[SH2000_AXES];
+
+	if (!fw->comp.has[0] && !fw->comp.has[1])
+		return fw->ax[a].cmd;
+	offsets_with(fw, a, fw->ax[a].cmd, off);
+	return fw->ax[a].cmd + off[a];
+}
+
+/* The last cycle's corrections take the step the preset made in them
+ * (axis a's own, and those of axes a cross table reads it for): the next
+ * cycle's change of each is then what the motion made alone. */
+void sh2000_comp_rebase(struct sh2000_dsp *fw, unsigned int a, double was)
+{
+	double now[SH2000_AXES], before[SH2000_AXES];
+	unsigned int i;
+
+	if (!fw->comp.has[0] && !fw->comp.has[1])
+		return;
+	offsets_with(fw, a, fw->ax[a].cmd, now);
+	offsets_with(fw, a, was, before);
+	for (i = 0; i < SH2000_AXES; i++)
+		fw->comp.off[i] += now[i] - before[i];
+}
+
 /*
  * The correction is a function of the nominal position, so the nominal
  * set-point x whose corrected set-point x + off(x) is sp is found by

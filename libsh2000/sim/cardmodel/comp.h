@@ -42,6 +42,16 @@ void sh2000_comp_cycle(struct sh2000_dsp *fw, double T);
  * that keeps the motor where it is holds. */
 double sh2000_comp_nominal_at(const struct sh2000_dsp *fw, unsigned int a,
 			      double sp);
+/* Axis a's corrected set-point now (its nominal one plus the tables'
+ * correction at the nominal set-points as they are in this cycle; the
+ * last cycle's correction is stale once a set-point moved). */
+double sh2000_comp_corrected(const struct sh2000_dsp *fw, unsigned int a);
+/* Axis a's nominal set-point was moved from `was` by a preset, not by
+ * motion: the next cycle must not see the step this made in the
+ * corrections (a preset over a steep table would feed forward the
+ * difference of its corrections at the two places as one cycle's
+ * velocity, a kick), only what the motion changes, for every axis. */
+void sh2000_comp_rebase(struct sh2000_dsp *fw, unsigned int a, double was);
 /* The counter as the host sees it in the snapshot: in nominal counts
  * (the correction taken out), 28 bits. */
 uint32_t sh2000_comp_nominal_counter(const struct sh2000_dsp *fw,

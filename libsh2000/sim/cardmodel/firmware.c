@@ -370,6 +370,7 @@ static void reset(struct sh2000_dsp *fw)
 void sh2000_fw_set_position(struct sh2000_dsp *fw, unsigned int a, int64_t pos)
 {
 	struct sh2000_fw_axis *ax = &fw->ax[a];
+	double was = ax->cmd;
 
 	SETREG(fw, a, SH2000_HWREG_PRESET,
 	       (uint32_t)((uint64_t)pos & SH2000_COUNTER_MASK));
@@ -380,8 +381,10 @@ void sh2000_fw_set_position(struct sh2000_dsp *fw, unsigned int a, int64_t pos)
 	ax->pid.e1 = 0.0;
 	ax->pid.e2 = 0.0;
 	/* the carriage stays: held at the nominal position whose corrected
-	 * set-point is the new count */
+	 * set-point is the new count, and the step that made in the tables'
+	 * corrections is no motion to feed forward */
 	sh2000_fw_hold_here(fw, a);
+	sh2000_comp_rebase(fw, a, was);
 }
 
 static uint16_t execute(struct sh2000_dsp *fw, uint16_t seq, uint16_t op,

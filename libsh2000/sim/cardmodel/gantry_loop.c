@@ -262,10 +262,9 @@ void sh2000_gantry_home_cycle(struct sh2000_dsp *fw, double T)
 		return;
 	}
 	if (g->squaring == GANTRY_SQ_HOMING) {
-		double cmd = xb->cmd + (double)g->square;
-
-		sh2000_fw_set_position(fw, b, xb->act + g->square);
-		sh2000_fw_hold_at(fw, b, cmd);
+		/* as a homing's preset: with tables the corrected set-point
+		 * moves by gantry_square, not the nominal one */
+		sh2000_home_preset(fw, b, g->square);
 		g->squaring = GANTRY_SQ_MOVE;
 	}
 	fw->state = SH2000_STATE_HOMING;

@@ -91,7 +91,7 @@ static int move_to(struct sh2000_fw_axis *ax, double target, double vcap,
 static void home_step(struct sh2000_dsp *fw, unsigned int a, double T)
 {
 	struct sh2000_fw_axis *ax = &fw->ax[a];
-	double speed = fabs(ax->prm.home_vel), dir, sp;
+	double speed = fabs(ax->prm.home_vel), dir;
 	int64_t delta;
 
 	if (speed > ax->prm.vmax)
@@ -147,14 +147,14 @@ static void home_step(struct sh2000_dsp *fw, unsigned int a, double T)
 			ax->home = HOME_RETURN;
 		break;
 	case HOME_RETURN:
-		if (!move_to(ax, ax->home_latch, speed, T))
+		/* back to the reference: the latch is a counter reading, so
+		 * the nominal set-point goes where its correction puts the
+		 * motor on the latch (the latch itself without tables) */
+		if (!move_to(ax, sh2000_comp_nominal_at(fw, a, ax->home_latch),
+			     speed, T))
 			break;
 		delta = (int64_t)ax->prm.home_offset - (int64_t)ax->home_latch;
-		/* the corrected set-point moves with the preset, no more: the
-		 * nominal one is home_offset only where no table corrects */
-		sp = ax->cmd + fw->comp.off[a] + (double)delta;
-		sh2000_fw_set_position(fw, a, ax->act + delta);
-		sh2000_fw_hold_at(fw, a, sh2000_comp_nominal_at(fw, a, sp));
+		sh2000_home_preset(fw, a, delta);
 		ax->home = HOME_NONE;
 		ax->state &= (uint16_t)~SH2000_AXIS_HOMING;
 		ax->state |= SH2000_AXIS_HOMED;
@@ -175,6 +175,21 @@ void sh2000_home_cycle(struct sh2000_dsp *fw, double T)
 		}
 	if (!busy && fw->state == SH2000_STATE_HOMING)
 		fw->state = SH2000_STATE_IDLE;
+}
+
+void sh2000_home_preset(struct sh2000_dsp *fw, unsigned int a, int64_t delta)
+{
+	struct sh2000_fw_axis *ax = &fw->ax[a];
+	double was;
+	/* the corrected set-point as it is in this cycle: the last cycle's
+	 * correction is stale when the set-point moved since (a gantry side's
+	 * own homing preset it in this cycle) */
+	double sp = sh2000_comp_corrected(fw, a) + (double)delta;
+
+	sh2000_fw_set_position(fw, a, ax->act + delta);	/* re-bases its hold */
+	was = ax->cmd;
+	sh2000_fw_hold_at(fw, a, sh2000_comp_nominal_at(fw, a, sp));
+	sh2000_comp_rebase(fw, a, was);
 }
 
 int sh2000_home_move_to(struct sh2000_fw_axis *ax, double target,

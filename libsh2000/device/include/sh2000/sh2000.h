@@ -691,8 +691,14 @@ const char *sh2000_comp_file_explain(const struct sh2000_comp_file *f,
 int sh2000_comp_file_check(const struct sh2000_comp_file *f,
 			   const struct sh2000_comp_limits *lim, char *msg,
 			   size_t len);
+/* Read `path` with the card's scales and check it against the card's
+ * limits, as sh2000_comp_load_file() does, without sending anything: 0,
+ * or the same error and message (sh2000_last_error, FILE:LINE when a
+ * table is at fault) the loader would give. The card is not changed; a
+ * caller with several cards checks every file before loading any. */
+int sh2000_comp_check_file(struct sh2000 *h, const char *path);
 /* Read `path` with the card's scales, check it against the card's limits
- * and load it: 0, or an error whose message (sh2000_last_error) names
+ * (sh2000_comp_check_file()) and load it: 0, or an error whose message (sh2000_last_error) names
  * FILE:LINE when a table is at fault. Nothing changes on a refusal. */
 int sh2000_comp_load_file(struct sh2000 *h, const char *path);
 

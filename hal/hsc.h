@@ -259,6 +259,9 @@ struct hsc_card {
 	uint16_t fill_hist[HSC_FILL_BINS];
 	int fill_n;
 	double raise_left;	/* records */
+	/* a queue-target changed while streaming: records still to add
+	 * (negative: to leave out), HSC_SLIP_RATE a tick */
+	double target_left;
 
 	struct hsc_index ix[SH2000_AXES];
 	uint64_t ix_fail_tick;	/* tick + 1 of the last index failure */

@@ -283,6 +283,7 @@ static void start_stream(struct hsc_card *c, int target)
 	c->recentring = 0;
 	fill_window_reset(c);
 	c->raise_left = 0.0;
+	c->target_left = 0.0;
 	c->delay_valid = 0;
 	c->stream_ticks = -1;	/* this tick's point is in the batch */
 }
@@ -304,8 +305,9 @@ static double low_fill(struct hsc_card *c, int ahead, int target)
 	long sum = 0, n = 0;
 	double d;
 
-	if (c->recentring) {
-		if (c->fill_n)	/* a slip's readings judge nothing */
+	if (c->recentring || c->target_left != 0.0) {
+		/* a slip's readings, or a target's change, judge nothing */
+		if (c->fill_n)
 			fill_window_reset(c);
 	} else if (c->raise_left <= 0.0) {
 		b = ahead < 0 ? 0 : ahead >= HSC_FILL_BINS ?
@@ -364,6 +366,12 @@ static void stream(struct hsc_card *c, int target)
 	if (c->stream_ticks++ < 0)
 		return;
 	c->due += step;
+	if (c->target_left != 0.0) {
+		double d = fmax(-HSC_SLIP_RATE, fmin(HSC_SLIP_RATE, c->target_left));
+
+		c->target_left -= d;
+		c->due += d * step;
+	}
 	if (c->st_fresh) {
 		int ahead = fill + (int)(c->late_ns / c->period_ns);
 		int slack = target / 2 > HSC_FILL_SLACK ? target / 2 :
@@ -380,7 +388,8 @@ static void stream(struct hsc_card *c, int target)
 		 * nothing: the records wait (the loop below stops at a full
 		 * ring) and go out when there is room.
 		 */
-		c->over_ticks = ahead > target + slack ? c->over_ticks + 1 : 0;
+		c->over_ticks = ahead > target + slack &&
+				c->target_left == 0.0 ? c->over_ticks + 1 : 0;
 		if (c->over_ticks >= HSC_SLIP_TICKS)
 			c->recentring = 1;
 		if (c->recentring && ahead <= target)
@@ -458,6 +467,29 @@ static void commands(struct hsc_card *c, const struct hsc_in *in, int target)
 		start_stream(c, target);
 }
 
+/*
+ * queue-target changed. Before the stream starts, the first batch is the
+ * new target. While it streams, the schedule (stream(): record k holds
+ * the command of clock k - target + 1) would jump by the difference: as
+ * many records of past commands at once, or none for as many ticks, a
+ * step back or ahead the card rejects as too fast while it moves. So the
+ * schedule keeps its place and takes the difference HSC_SLIP_RATE a tick
+ * (the card plays the motion that much slower or faster a while, as when
+ * it re-centres). The fill read for the old target judges nothing, and
+ * what the low side owed is not owed.
+ */
+static void target_changed(struct hsc_card *c, int target)
+{
+	if (c->streaming && c->queue_target > 0) {
+		double d = (double)(target - c->queue_target);
+
+		c->due -= d;
+		c->target_left += d;
+	}
+	fill_window_reset(c);
+	c->raise_left = 0.0;
+}
+
 void hsc_write(struct hsc_card *c, const struct hsc_in *in,
 	       struct hsc_out *out)
 {
@@ -470,6 +502,8 @@ void hsc_write(struct hsc_card *c, const struct hsc_in *in,
 		return;
 	if (target > (int)sh2000_queue_size(c->h) - 4)
 		target = (int)sh2000_queue_size(c->h) - 4;
+	if (target != c->queue_target)
+		target_changed(c, target);
 	c->queue_target = target;
 	c->want_mask = 0;
 	for (a = 0; a < SH2000_AXES; a++)

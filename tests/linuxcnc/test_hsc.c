@@ -483,6 +483,53 @@ static void test_lost_refilled(void **state)
 	rig_close(r);
 }
 
+/* queue-target raised while the stream runs (the stage test's 30 to 40):
+ * the stream fills to the new target at once, and the readings taken
+ * for the old one are no reason to add more: the fill stays at it. */
+static void test_target_raised(void **state)
+{
+	double cmd[SH2000_AXES] = { 0 }, v = 100.0;
+	struct rig *r = moving_rig(v, cmd);
+	unsigned int high = 0, fill;
+	int k;
+
+	(void)state;
+	for (k = 0; k < HSC_SLIP_TICKS / 2; k++) {
+		cmd[0] += v * PERIOD_NS * 1e-9;
+		tick(r, cmd);
+	}
+	fill = r->c.st.queue_fill;
+	r->in.queue_target += 10;
+	for (k = 0; k < 4 * HSC_SLIP_TICKS; k++) {
+		cmd[0] += v * PERIOD_NS * 1e-9;
+		tick(r, cmd);
+		if (!r->out.ok)
+			fail_msg("tick %d: %s (fill %u)", k, r->c.err,
+				 r->c.st.queue_fill);
+		if (r->c.st.queue_fill > high)
+			high = r->c.st.queue_fill;
+	}
+	print_message("queue-target %d to %d: fill %u, at most %u, at the end %u\n",
+		      r->in.queue_target - 10, r->in.queue_target, fill, high,
+		      r->c.st.queue_fill);
+	assert_true(high <= (unsigned int)r->in.queue_target + 2);
+	assert_true(abs((int)r->c.st.queue_fill - r->in.queue_target) <= 2);
+	/* and back down, still moving: no record skipped ahead either */
+	r->in.queue_target -= 10;
+	for (k = 0; k < 4 * HSC_SLIP_TICKS; k++) {
+		cmd[0] += v * PERIOD_NS * 1e-9;
+		tick(r, cmd);
+		if (!r->out.ok)
+			fail_msg("down, tick %d: %s (fill %u)", k, r->c.err,
+				 r->c.st.queue_fill);
+	}
+	print_message("and back to %d: fill %u\n", r->in.queue_target,
+		      r->c.st.queue_fill);
+	assert_true(abs((int)r->c.st.queue_fill - r->in.queue_target) <= 2);
+	assert_int_equal(r->out.underruns, 0);
+	rig_close(r);
+}
+
 /* ---- two cards on their own clocks (the drift test) ---- */
 
 #define DRIFT_PPM	100.0
@@ -825,6 +872,7 @@ int main(void)
 		cmocka_unit_test(test_stall_caught_up),
 		cmocka_unit_test(test_slip_recentred),
 		cmocka_unit_test(test_lost_refilled),
+		cmocka_unit_test(test_target_raised),
 		cmocka_unit_test(test_two_cards_drift),
 		cmocka_unit_test(test_two_cards_stalls),
 	};

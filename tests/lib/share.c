@@ -51,7 +51,13 @@ static int one_command(struct sh2000 *h, unsigned int c, unsigned int i,
 
 	switch (i % 4) {
 	case 0:
-		v = (double)(float)(0.001 * (rand() % 1000 + 1) + c * 1e-6);
+		/* values a stable loop takes (kp up to 1 count/code, td up
+		 * to the default 4 ms): the axes are enabled between the
+		 * sets, and with td up to 1 s an axis left where a motion
+		 * ended ran its carriage away by millimetres into a
+		 * following-error fault, which failed every later enable */
+		v = (double)(float)((param == SH2000_P_TD ? 4e-6 : 0.001) *
+				    (rand() % 1000 + 1) + c * 1e-6);
 		r = sh2000_param_set(h, (int)axis, param, v);
 		if (!r)
 			*set = v;

@@ -388,11 +388,16 @@ static uint16_t *map_dsp(const char *path, size_t *maplen)
 }
 
 /* The card model in a thread of its own at SCHED_FIFO 50 (the thread
- * inherits the policy of this one, which then goes back to SCHED_OTHER):
- * the DSP it stands for is never delayed by a host program. */
+ * inherits the policy of this one): the DSP it stands for is never
+ * delayed by a host program. This one, the host that streams, then goes
+ * down to SCHED_FIFO 40, as a machine's motion host runs (below the
+ * card, above everything else): on the one emulated CPU of the VM suite
+ * a host at SCHED_OTHER let the ring run dry once the card model's
+ * servo took more of that CPU. */
 static struct sh2000_sim_server *start_model(uint16_t *ram, const char *path)
 {
-	const struct sched_param fifo = { .sched_priority = 50 }, other = { 0 };
+	const struct sched_param fifo = { .sched_priority = 50 },
+				 host = { .sched_priority = 40 };
 	struct sh2000_sim_server *s = NULL;
 	char msg[256] = "";
 	int rt = sched_setscheduler(0, SCHED_FIFO, &fifo) == 0;
@@ -407,7 +412,7 @@ static struct sh2000_sim_server *start_model(uint16_t *ram, const char *path)
 		s = NULL;
 	}
 	if (rt)
-		sched_setscheduler(0, SCHED_OTHER, &other);
+		sched_setscheduler(0, SCHED_FIFO, &host);
 	return s;
 }
 

@@ -73,6 +73,10 @@ struct sh2000_obs {
 	double dm;		/* the model's last step, counts */
 	double sum_m;		/* the model's recent travel, counts */
 	double rate;		/* the scale's counts per model count */
+	/* exp(-alpha T) of the last step, kept while alpha T stays: one
+	 * exp() per change, not per cycle (the VM suite's card model runs
+	 * on an emulated CPU beside its host) */
+	double at, decay;
 };
 
 /* ---- firmware.c: protocol v1 ---- */

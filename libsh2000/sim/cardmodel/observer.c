@@ -102,7 +102,11 @@ void sh2000_obs_predict(struct sh2000_fw_axis *ax, double T)
 	 * the period, in the model's counts; the scale's are rate times) */
 	alpha = ax->prm.kvff / ax->prm.kaff;
 	vss = (double)ax->dac / ax->prm.kvff;
-	e = exp(-alpha * T);
+	if (alpha * T != o->at || o->decay == 0.0) {
+		o->at = alpha * T;
+		o->decay = exp(-o->at);
+	}
+	e = o->decay;
 	o->dm = vss * T + (o->v - vss) * (1.0 - e) / alpha;
 	o->x += o->rate * o->dm;
 	o->v = vss + (o->v - vss) * e;

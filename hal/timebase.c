@@ -38,7 +38,8 @@
  * (a tick that runs a period or more late is not read at all):
  * skipped, until TB_SETTLE readings in a row agree on a new phase (a card
  * that restarted, the card's timing changed) or TB_PERSIST readings were
- * skipped (longer than a served card catches up: 50 ms). */
+ * skipped (a hundred ticks: a served card's server stalled for up to
+ * 50 ms and caught up; longer stalls end in a new reference). */
 #define TB_OUTLIER	0.3
 #define TB_SETTLE	5
 #define TB_PERSIST	100

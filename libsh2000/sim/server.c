@@ -259,13 +259,17 @@ int sh2000_sim_server_attach(struct sh2000_sim_server **out, uint16_t *ram,
 /*
  * How far behind its schedule a server may fall and still catch up: the
  * card's oscillator does not stop when the system deschedules the server,
- * so its cycles per host second stay exact on a loaded machine. Half the
- * default host timeout: when the host was descheduled too, a longer run of
- * cycles without its heartbeat would latch a host timeout on a moving
- * card. Further behind the server resumes from now and those cycles are
- * lost.
+ * so its cycles per host second stay exact on a loaded machine, and a
+ * host that went on pushing points while the server was away finds them
+ * taken at the card's own rate (its queue holds up to 64). A host
+ * stalled with the server resumes with it and writes its heartbeat
+ * within the first replayed cycles (the replay is paced, below), so the
+ * replay does not time it out (lib_server_stall stops both for 110 ms,
+ * over the host timeout). A second is longer than any scheduler's
+ * hiccup: further behind, the server was stopped (SIGSTOP, a suspended
+ * machine), and it resumes from now; those cycles are lost.
  */
-#define SERVER_CATCH_UP_NS	50000000ull
+#define SERVER_CATCH_UP_NS	1000000000ull
 
 /*
  * How fast it catches up: at most this many cycles per servo period, not

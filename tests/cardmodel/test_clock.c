@@ -146,7 +146,7 @@ static uint64_t sample(struct sh2000_sim_server *s[2], uint64_t c[2])
  * show in a second); measured against CLOCK_MONOTONIC. The servers' threads
  * run at SCHED_FIFO, as a card's DSP is never delayed by the host's load:
  * a server falls behind its schedule only by the kernel's wake-up latency
- * and catches up at once (more than 50 ms behind it would lose cycles), so
+ * and catches up at once (more than a second behind it would lose cycles), so
  * each rate is within 1 % of its oscillator over 2 s (20 ms) whatever runs
  * beside, and their ratio is 0.9608 (1 if the oscillators were ignored).
  */

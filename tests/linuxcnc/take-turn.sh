@@ -31,6 +31,13 @@ end_orphans() {
 		[ "$(awk '/^Uid:/ { print $5 }' /proc/"$p"/status 2>/dev/null)" = "$uid" ] &&
 			pids+=("$p")
 	done
+	# zombies are gone already (their parent, init here, may never reap
+	# them): nothing to end, and kill -0 would wait on them
+	for i in "${!pids[@]}"; do
+		[ "$(awk '/^State:/ { print $2 }' /proc/"${pids[$i]}"/status 2>/dev/null)" = Z ] &&
+			unset 'pids[i]'
+	done
+	pids=("${pids[@]}")
 	if [ ${#pids[@]} -gt 0 ]; then
 		echo "-- ending what a killed run left running as $turn_user (pids ${pids[*]})"
 		kill -TERM "${pids[@]}" 2>/dev/null

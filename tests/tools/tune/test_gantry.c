@@ -313,24 +313,31 @@ static void auto_recovers_square(void **state)
 	}
 }
 
-/* stderr of fn(h, o) into buf (what the tool said). */
+/* stdout and stderr of fn(h, o) into buf (what the tool said: its
+ * "tried" lines and its message). */
 static int said(int (*fn)(struct sh2000 *, const struct tune_opts *),
 		struct sh2000 *h, const struct tune_opts *o, char *buf,
 		size_t len)
 {
 	FILE *f = tmpfile();
-	int saved, r;
+	int saved[2], r;
 	size_t n;
 
 	assert_non_null(f);
+	fflush(stdout);
 	fflush(stderr);
-	saved = dup(2);
-	assert_true(saved >= 0);
-	assert_true(dup2(fileno(f), 2) >= 0);
+	for (int fd = 1; fd <= 2; fd++) {
+		saved[fd - 1] = dup(fd);
+		assert_true(saved[fd - 1] >= 0);
+		assert_true(dup2(fileno(f), fd) >= 0);
+	}
 	r = fn(h, o);
+	fflush(stdout);
 	fflush(stderr);
-	assert_true(dup2(saved, 2) >= 0);
-	close(saved);
+	for (int fd = 1; fd <= 2; fd++) {
+		assert_true(dup2(saved[fd - 1], fd) >= 0);
+		close(saved[fd - 1]);
+	}
 	rewind(f);
 	n = fread(buf, 1, len - 1, f);
 	buf[n] = '\0';
@@ -339,10 +346,33 @@ static int said(int (*fn)(struct sh2000 *, const struct tune_opts *),
 	return r;
 }
 
+/* The count the refusal gives right before phrase (0 if absent). */
+static unsigned int count_before(const char *msg, const char *phrase)
+{
+	const char *p = strstr(msg, phrase);
+
+	if (!p)
+		return 0;
+	while (p > msg && p[-1] >= '0' && p[-1] <= '9')
+		p--;
+	return (unsigned int)strtoul(p, NULL, 10);
+}
+
+/* Lines of msg that start with prefix. */
+static unsigned int lines_starting(const char *msg, const char *prefix)
+{
+	unsigned int n = 0;
+
+	for (const char *l = msg; l && *l; l = strchr(l, '\n') ? strchr(l, '\n') + 1 : NULL)
+		n += !strncmp(l, prefix, strlen(prefix));
+	return n;
+}
+
 /* --gantry --auto --apply on a pair made with carriage_mm and
  * stiffness_n_per_m (open_machine), asking gm_db: refused (exit 1) with
- * a message holding want; nothing written: the card's gains, limits and
- * enables as they were, the pair back at its start, idle, unfaulted. */
+ * a message holding want, and a "tried" line for every candidate the
+ * message counts; nothing written: the card's gains, limits and enables
+ * as they were, the pair back at its start, idle, unfaulted. */
 static void refusal(double carriage_mm, double stiffness_n_per_m,
 		    double gm_db, const char *want)
 {
@@ -352,7 +382,7 @@ static void refusal(double carriage_mm, double stiffness_n_per_m,
 	struct sh2000 *h = open_machine(1, &fw, carriage_mm, stiffness_n_per_m);
 	struct sh2000_status st;
 	double before[10], after[10];
-	char msg[2048];
+	char msg[16384];
 
 	card_state(h, before);
 	assert_int_equal(said(tune_run_gantry_auto, h, &o, msg, sizeof(msg)),
@@ -361,6 +391,11 @@ static void refusal(double carriage_mm, double stiffness_n_per_m,
 	assert_non_null(strstr(msg, "(nothing written)"));
 	assert_non_null(strstr(msg, want));
 	assert_null(strstr(msg, "written                 "));
+	/* a "tried" line for every candidate the refusal counts */
+	assert_int_equal(lines_starting(msg, "tried "),
+			 count_before(msg, " tripped the following-error") +
+			 count_before(msg, " did not hold with") +
+			 count_before(msg, " did not cut the peak"));
 	for (int k = 0; k < 10; k++)
 		assert_true(after[k] == before[k]);
 	assert_int_equal(sh2000_poll(h, &st), 0);

@@ -2,9 +2,9 @@
 /*
  * The card's parameters in user units: names and units, validation
  * against the protocol's table (sh2000_param_lookup()) before anything is
- * written, the conversion to the card's words, get and set one at a time
- * or an axis' whole set all or none. Each goes to the card as a command
- * (command.c).
+ * written (the soft limits' position rule: softlimits.c), the conversion
+ * to the card's words, get and set one at a time or an axis' whole set all
+ * or none. Each goes to the card as a command (command.c).
  */
 #include <errno.h>
 #include <float.h>
@@ -295,6 +295,13 @@ int sh2000_param_set(struct sh2000 *h, int axis, unsigned int id, double v)
 					other / scale);
 			goto out;
 		}
+		/* a scale alone keeps the card's counts: only new limits
+		 * can leave the axis outside */
+		r = id == SH2000_P_SOFT_MIN ?
+		    sh2000_soft_limits_locked(h, axis, "parameter soft_min", word, other, scale) :
+		    sh2000_soft_limits_locked(h, axis, "parameter soft_max", other, word, scale);
+		if (r)
+			goto out;
 	}
 	if (is_global(id)) {
 		r = sh2000_global_set_locked(h, id, word);
@@ -381,6 +388,10 @@ int sh2000_axis_params_set(struct sh2000 *h, unsigned int axis,
 				"axis %c parameters soft_min %g mm and soft_max %g mm: out of order",
 				sh2000_axis_letter((int)axis), ap->v[SH2000_P_SOFT_MIN],
 				ap->v[SH2000_P_SOFT_MAX]);
+	if (!r)
+		r = sh2000_soft_limits_locked(h, (int)axis, "parameters",
+					      word[SH2000_P_SOFT_MIN],
+					      word[SH2000_P_SOFT_MAX], scale);
 	if (!r) {
 		/* The card keeps soft_min < soft_max after every single set:
 		 * moving the window up sends max first, else min first. */

@@ -177,6 +177,12 @@ int sh2000_param_check(struct sh2000 *h, int axis, unsigned int id,
 		       double v, int32_t *word);
 int sh2000_global_get_locked(struct sh2000 *h, unsigned int id, int32_t *word);
 int sh2000_global_set_locked(struct sh2000 *h, unsigned int id, int32_t word);
+/* softlimits.c, with the lock held: polls the card and judges the window
+ * lo..hi (counts, going with scale) against axis' position as
+ * sh2000_soft_limits_check() does; 0, or -SH2000_EPARAM with its reason
+ * after "axis x WHAT: " (or the poll's error). */
+int sh2000_soft_limits_locked(struct sh2000 *h, int axis, const char *what,
+			      int32_t lo, int32_t hi, double scale);
 
 /* command.c, with the lock held (it may release it while waiting) */
 int sh2000_command_locked(struct sh2000 *h, unsigned int op,

@@ -110,35 +110,22 @@ static int later_line(const struct ctl_plan *p, unsigned int s,
 }
 
 /*
- * New soft limits (or a new scale) around an axis whose position counts:
- * enabled (the card holds a set-point there) or homed. If the position
- * ends up outside them, the card refuses every set-point of that axis and
- * nothing could move it back, so the plan is refused (docs/tools.md
- * "Parameter file"). A disabled axis never homed is not judged: where it
- * is means nothing yet.
+ * New soft limits (or a new scale with them) judged by the library's rule
+ * (sh2000_soft_limits_check(): an enabled or homed axis must not be left
+ * outside them), reported at the plan's line that set them.
  */
 static void position_check(struct ctl_plan *p, unsigned int s,
 			   const struct sh2000_status *st,
-			   double cur[SH2000_AXES + 1][SH2000_GP_END],
 			   const double card[SH2000_GP_END], double scale)
 {
-	const struct sh2000_axis_status *ax = &st->axis[s];
-	int enabled = (ax->state & SH2000_AXIS_ENABLED) != 0;
-	double at, counts, lo = card[SH2000_P_SOFT_MIN], hi = card[SH2000_P_SOFT_MAX];
+	int line = later_line(p, s, SH2000_P_SOFT_MIN, SH2000_P_SOFT_MAX);
+	char why[400];
 
-	if (!enabled && !(ax->state & SH2000_AXIS_HOMED))
-		return;
-	/* the card keeps the position in counts: the new scale reads it anew */
-	counts = nearbyint((enabled ? ax->cmd_mm : ax->pos_mm) * cur[s][SH2000_P_SCALE]);
-	if (counts >= lo && counts <= hi)
-		return;
-	at = counts / scale;
-	ctl_plan_error(p, later_line(p, s, SH2000_P_SOFT_MIN, SH2000_P_SOFT_MAX) > 0 ?
-		       later_line(p, s, SH2000_P_SOFT_MIN, SH2000_P_SOFT_MAX) :
-		       p->line[s][SH2000_P_SCALE],
-		       "%s soft limits %g..%g mm would leave axis %s (%s, at %.4f mm) outside them: the card refuses every set-point outside its soft limits, so nothing could move it back; move it inside first, or give limits around it",
-		       ctl_plan_section(s), lo / scale, hi / scale, ctl_plan_section(s),
-		       enabled ? "enabled" : "homed", at);
+	if (sh2000_soft_limits_check(st, s, card[SH2000_P_SOFT_MIN] / scale,
+				     card[SH2000_P_SOFT_MAX] / scale, scale,
+				     why, sizeof(why)) < 0)
+		ctl_plan_error(p, line > 0 ? line : p->line[s][SH2000_P_SCALE],
+			       "%s", why);
 }
 
 /* The rules across values of section s: soft_min below soft_max, the
@@ -146,7 +133,6 @@ static void position_check(struct ctl_plan *p, unsigned int s,
  * it needs was refused already (every error of a file is printed). */
 static void cross_check(struct ctl_plan *p, unsigned int s,
 			const struct sh2000_status *st,
-			double cur[SH2000_AXES + 1][SH2000_GP_END],
 			const double card[SH2000_GP_END], const int bad[SH2000_GP_END],
 			double scale)
 {
@@ -162,7 +148,7 @@ static void cross_check(struct ctl_plan *p, unsigned int s,
 					       ctl_plan_section(s), card[SH2000_P_SOFT_MIN] / scale,
 					       card[SH2000_P_SOFT_MAX] / scale);
 		} else if (set[SH2000_P_SOFT_MIN] || set[SH2000_P_SOFT_MAX]) {
-			position_check(p, s, st, cur, card, scale);
+			position_check(p, s, st, card, scale);
 		}
 	}
 	if (s == CTL_SECT_GLOBAL &&
@@ -206,7 +192,7 @@ static int plan_check(struct ctl *c, struct ctl_plan *p,
 		if (s == CTL_SECT_GLOBAL)
 			scale = 1.0;
 		section_values(p, s, scale, cur, card, bad);
-		cross_check(p, s, &st, cur, card, bad, scale);
+		cross_check(p, s, &st, card, bad, scale);
 	}
 	return p->errors ? SH2000_EXIT_CARD : 0;
 }
@@ -218,8 +204,33 @@ static int set_one(struct ctl *c, int axis, unsigned int id, double v)
 	return r < 0 ? sh2000_tool_fail(c->h, r, "set parameter") : 0;
 }
 
+/*
+ * Whether axis a's new soft_min goes to the card before its soft_max. The
+ * card takes one at a time and the library judges each window on the way
+ * (in counts, as the card compares them; scale goes first, so the new min
+ * is in the new scale, the current max in the old): min first when the
+ * window new min..current max is in order and keeps the axis inside it
+ * (sh2000_soft_limits_check()), else max first, which then is legal: the
+ * new min is at or above the current max, or the axis above the current
+ * max and (the plan was checked) inside the new window.
+ */
+static int limits_min_first(const struct ctl_plan *p, unsigned int a,
+			    const struct sh2000_status *st,
+			    double cur[SH2000_AXES + 1][SH2000_GP_END])
+{
+	double k, lo, hi;
+
+	if (!p->set[a][SH2000_P_SOFT_MIN])
+		return 1;
+	k = p->set[a][SH2000_P_SCALE] ? p->v[a][SH2000_P_SCALE] : cur[a][SH2000_P_SCALE];
+	lo = nearbyint(p->v[a][SH2000_P_SOFT_MIN] * k);
+	hi = nearbyint(cur[a][SH2000_P_SOFT_MAX] * cur[a][SH2000_P_SCALE]);
+	return lo < hi && !sh2000_soft_limits_check(st, a, lo / k, hi / k, k, NULL, 0);
+}
+
 /* Send a checked plan: globals, then each axis (scale first, the soft
- * limits in the order that keeps soft_min < soft_max on the card). */
+ * limits in the order that keeps soft_min < soft_max on the card and the
+ * axis inside them: limits_min_first()). */
 static int plan_apply(struct ctl *c, struct ctl_plan *p,
 		      double cur[SH2000_AXES + 1][SH2000_GP_END])
 {
@@ -270,16 +281,7 @@ static int plan_apply(struct ctl *c, struct ctl_plan *p,
 		for (unsigned int id = 0; id < SH2000_AXIS_PARAMS; id++)
 			if (id != SH2000_P_SOFT_MIN && id != SH2000_P_SOFT_MAX)
 				order[n++] = id;
-		/* new min below the current max: min first, else max first.
-		 * In counts, as the card compares them: scale goes first, so
-		 * the new min is in the new scale, the current max in the old */
-		min_first = !p->set[a][SH2000_P_SOFT_MIN] ||
-			    nearbyint(p->v[a][SH2000_P_SOFT_MIN] *
-				      (p->set[a][SH2000_P_SCALE] ?
-				       p->v[a][SH2000_P_SCALE] :
-				       cur[a][SH2000_P_SCALE])) <
-			    nearbyint(cur[a][SH2000_P_SOFT_MAX] *
-				      cur[a][SH2000_P_SCALE]);
+		min_first = limits_min_first(p, a, &st, cur);
 		order[n++] = min_first ? SH2000_P_SOFT_MIN : SH2000_P_SOFT_MAX;
 		order[n++] = min_first ? SH2000_P_SOFT_MAX : SH2000_P_SOFT_MIN;
 		for (unsigned int k = 0; k < n; k++)

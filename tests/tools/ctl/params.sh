@@ -122,8 +122,22 @@ printf '[x]\nsoft_min = 50\n' >"$T/s3.params"
 expect 1 "$CTL" "${D[@]}" params load "$T/s3.params" &&
 	err_has "^sh2000ctl: $T/s3.params:2: x soft limits 50\.\.200 mm would leave axis x" && err_has "nothing set$"
 expect 0 "$CTL" "${D[@]}" params x soft_min && out_has "^soft_min = -100$"
-# limits around it are fine
+# limits around it are fine; the plan sends them in an order whose every
+# window on the way keeps the axis inside (the library judges each set):
+# narrowing around it, widening, the window moved up past it (the new min
+# on the old max, the position on both) and back, a new scale with them
 expect 0 "$CTL" "${D[@]}" params x soft_min=5 soft_max=15
+expect 0 "$CTL" "${D[@]}" params x soft_min=9.5 soft_max=10.5 + params x soft_min=-300 soft_max=300 + \
+	params x soft_min=9 soft_max=10 + params x soft_min=10 soft_max=20 + params x soft_min=0 soft_max=10 + \
+	params x soft_min soft_max &&
+	{ checks=$((checks + 1)); [ "$out" = "$(printf 'soft_min = 0\nsoft_max = 10')" ] || fail "moved windows: $out"; }
+expect 0 "$CTL" "${D[@]}" params x scale=200000 soft_min=4 soft_max=6 + params x scale=100000 soft_min=5 soft_max=15 +\
+	params x soft_min soft_max && out_has "^soft_min = 5$" && out_has "^soft_max = 15$"
+# an axis above its window (enabled while not judged): a new window
+# around it goes max first, as min first would leave it outside on the way
+expect 0 "$CTL" "${D[@]}" params a soft_min=-200 soft_max=-50 + enable a +\
+	params a soft_min=-100 soft_max=10 + params a soft_min soft_max + disable a &&
+	out_has "^soft_min = -100$" && out_has "^soft_max = 10$"
 # a disabled axis never homed is not judged; enabled there, it cannot
 # move, and move and jog say so in the operator's terms with the way back
 expect 0 "$CTL" "${D[@]}" params y soft_min=50 soft_max=200 + enable y

@@ -397,8 +397,10 @@ int sh2000_motion_holder(struct sh2000 *h, char *buf, size_t len);
  *
  * Validation happens before anything is written: NaN or infinity, values
  * outside the protocol's range (negative gains...), soft limits out of
- * order, values the card cannot represent -> -SH2000_EPARAM with a message
- * naming the axis and the parameter.
+ * order, values the card cannot represent, soft limits that would leave an
+ * enabled or homed axis outside them (sh2000_soft_limits_check(), judged
+ * on a poll of the card) -> -SH2000_EPARAM with a message naming the axis
+ * and the parameter.
  */
 int sh2000_param_set(struct sh2000 *h, int axis, unsigned int param,
 		     double value);
@@ -419,6 +421,27 @@ const char *sh2000_param_unit(unsigned int param);
  */
 int sh2000_param_value_check(unsigned int param, double v, double scale,
 			     double *card, char *why, size_t len);
+/*
+ * Whether soft limits soft_min..soft_max mm, with scale counts/mm (the
+ * card keeps them in counts: mm * scale rounded, as
+ * sh2000_param_value_check() converts them), keep axis `axis` (0..3) of
+ * status st inside them where its position counts: an enabled axis' set-
+ * point (cmd_counts), a homed axis' position (pos_counts); a disabled
+ * axis never homed is not judged. The card refuses every set-point
+ * outside its soft limits, so an axis left outside could not move at
+ * all, not even back. 0, or -SH2000_EPARAM with the reason in why, e.g.
+ * "x soft limits 50..200 mm would leave axis x (enabled, at 10.0000 mm)
+ * outside them: the card refuses every set-point outside its soft limits,
+ * so nothing could move it back; move it inside first, or give limits
+ * around it". sh2000_param_set() and sh2000_axis_params_set() refuse new
+ * soft limits with it (after "axis x parameter NAME: "), and sh2000ctl
+ * judges its plans with it: one rule, one wording. Reads no card: st is
+ * from sh2000_poll(). A new scale alone moves nothing (the card keeps
+ * limits and position in counts); with new limits, pass the new scale.
+ */
+int sh2000_soft_limits_check(const struct sh2000_status *st, unsigned int axis,
+			     double soft_min, double soft_max, double scale,
+			     char *why, size_t len);
 
 /*
  * The card's timing: coarse_period_us and fine_steps changed together
@@ -462,8 +485,9 @@ struct sh2000_axis_params {
 void sh2000_axis_params_default(struct sh2000_axis_params *p);
 int sh2000_axis_params_get(struct sh2000 *h, unsigned int axis,
 			   struct sh2000_axis_params *p);
-/* Validates all of p (scale first, the rest in the new scale), then sets
- * them: nothing is sent if any value is bad. */
+/* Validates all of p (scale first, the rest in the new scale; the soft
+ * limits against the axis' position, sh2000_soft_limits_check()), then
+ * sets them: nothing is sent if any value is bad. */
 int sh2000_axis_params_set(struct sh2000 *h, unsigned int axis,
 			   const struct sh2000_axis_params *p);
 

@@ -99,8 +99,9 @@ static void home_pair(double start_a, double start_b, double index_b,
 
 static void print_homed(const char *what, const struct homed *r)
 {
-	print_message("%s: sides at %.6f and %.6f mm (yaw %.1f counts), reading %d and %d, following error %.0f counts at most\n",
-		      what, r->xa_mm, r->xb_mm,
+	print_message("# %s: sides at %.6f and %.6f mm (%.2f and %.2f counts past the mark, yaw %.1f counts), reading %d and %d, following error %.0f counts at most\n",
+		      what, r->xa_mm, r->xb_mm, (r->xa_mm + 0.5) * COUNTS_PER_MM,
+		      (r->xb_mm + 0.5) * COUNTS_PER_MM,
 		      (r->xa_mm - r->xb_mm) * COUNTS_PER_MM, r->act_a, r->act_b,
 		      r->peak_ferr);
 }
@@ -207,7 +208,7 @@ static void test_home_with_tables(void **state)
 	print_homed("steep tables, from 20 / 20 mm", &r[0]);
 	print_homed("steep tables, from 20 / 20.2 mm (skewed)", &r[1]);
 	for (i = 0; i < 2; i++) {
-		print_message("  nominal set-points %.3g and %.3g counts\n",
+		print_message("#   nominal set-points %.3g and %.3g counts\n",
 			      r[i].cmd_a, r[i].cmd_b);
 		assert_int_equal(r[i].faults_b, 0);
 		/* on the mark as without tables: both read 0, both in the
@@ -268,7 +269,7 @@ static void test_single_axis(void **state)
 	home_single(NULL, &r[0]);
 	home_single(steep, &r[1]);
 	for (i = 0; i < 2; i++) {
-		print_message("single axis %s: at %.7f mm (%.2f counts past the mark), reading %d, corrected set-point %.3g\n",
+		print_message("# single axis %s: at %.7f mm (%.2f counts past the mark), reading %d, corrected set-point %.3g\n",
 			      i ? "steep tables" : "no tables", r[i].xa_mm,
 			      (r[i].xa_mm + 0.5) * COUNTS_PER_MM, r[i].act_a,
 			      r[i].cmd_a);

@@ -48,6 +48,40 @@ static void clamp_and_ff(void **state)
 	assert_true(p.u == 0.0);
 }
 
+/* u after n steps at rest (no set-point velocity or acceleration) on the
+ * error e, from a reset. */
+static double rest_u(double e, unsigned int n)
+{
+	struct sh2000_pid p;
+	struct sh2000_pid_gains g = { 1.0, 0.01, 0.0, 0.0, 0.0, 32767 };
+	unsigned int k;
+
+	sh2000_pid_reset(&p);
+	for (k = 0; k < n; k++)
+		(void)sh2000_pid_step(&p, &g, e, 0, 0, 1e-4);
+	return p.u;
+}
+
+/* At rest the loop on the counter holds a set-point between two counts on
+ * the edge above it (half a count either side), one on a whole count
+ * anywhere in that count. A set-point the tables' correction put on a
+ * count to its rounding (a homing's end: 8.9e-13 over it) is on the
+ * count: taken for a fraction, the loop pushed the carriage a count up. */
+static void rest_whole_count(void **state)
+{
+	(void)state;
+	assert_true(rest_u(0.0, 10) == 0.0);
+	assert_true(rest_u(8.9e-13, 10) == 0.0);
+	assert_true(rest_u(-8.9e-13, 10) == 0.0);
+	/* the counter a count above such a set-point: e = -1 */
+	assert_true(rest_u(8.9e-13 - 1.0, 10) == rest_u(-1.0, 10));
+	assert_true(rest_u(-1.0, 10) < 0.0);
+	/* a fraction a table means still holds on the edge ceil(S) */
+	assert_true(rest_u(0.3, 10) == rest_u(0.5, 10));
+	assert_true(rest_u(1e-5, 10) == rest_u(0.5, 10));
+	assert_true(rest_u(0.3 - 1.0, 10) == rest_u(-0.5, 10));
+}
+
 static void step_response(void **state)
 {
 	static uint16_t ram[SH2000_RAM_WORDS];
@@ -99,6 +133,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(formula),
 		cmocka_unit_test(clamp_and_ff),
+		cmocka_unit_test(rest_whole_count),
 		cmocka_unit_test(step_response),
 	};
 

@@ -29,6 +29,13 @@ static double clamp(double x, double lim)
 	return x;
 }
 
+/* How near a whole count a corrected set-point is on it (counts, 10 fm):
+ * far above the rounding left in a set-point the tables' correction put
+ * on a count (a hold's or a homing's inversion, some 1e-12 count; a
+ * double's last bit at 2^28 counts is 6e-8), far below any fraction a
+ * table means. */
+#define WHOLE_COUNT	1e-6
+
 /*
  * The error the loop closes on. Moving, or further than a count: e. At
  * rest within a count of a set-point S between two counts (a compensation
@@ -39,13 +46,19 @@ static double clamp(double x, double lim)
  * it creeps through a count for a fraction near 0 or 1 and hunts over
  * two. Half a count either side of the edge instead: the loop holds the
  * reading on ceil(S), the same way whatever the fraction. A set-point on
- * a whole count (no table) keeps e: it rests anywhere in its count,
- * without hunting.
+ * a whole count (no table, or a hold or homing the tables' correction put
+ * on the count, to its rounding) rests anywhere in its count, without
+ * hunting: that rounding taken for a fraction held the carriage on the
+ * count's edge above (S a hair over the count) or below, a count off.
  */
 static double at_rest(double e, double v, double a)
 {
-	if (v != 0.0 || a != 0.0 || fabs(e) > 1.0 || e == floor(e))
+	double n = nearbyint(e);
+
+	if (v != 0.0 || a != 0.0 || fabs(e) > 1.0)
 		return e;
+	if (fabs(e - n) <= WHOLE_COUNT)
+		return n;
 	return ceil(e) - 0.5;
 }
 

@@ -272,6 +272,33 @@ int sh2000_wait_idle(struct sh2000 *h, int timeout_ms)
 	return r < 0 ? r : 0;
 }
 
+int sh2000_wait_rest(struct sh2000 *h, int timeout_ms)
+{
+	uint64_t t0 = sh2000_now_ns(h), limit;
+	struct sh2000_status st;
+	int r;
+
+	limit = timeout_ms < 0 ? UINT64_MAX : (uint64_t)timeout_ms * 1000000ull;
+	for (;;) {
+		r = sh2000_poll(h, &st);
+		if (r < 0)
+			return r;
+		if (!sh2000_state_moving(st.card_state))
+			return 0;
+		if (sh2000_now_ns(h) - t0 >= limit)
+			break;
+		/* a stop lasts tens of milliseconds: a poll each */
+		r = sh2000_sleep_ns(h, 1000000ull);
+		if (r < 0)
+			return r;
+	}
+	pthread_mutex_lock(&h->lock);
+	r = sh2000_fail(h, -SH2000_ETIMEOUT, "still %s after %g s",
+			sh2000_state_name(st.card_state), timeout_ms / 1e3);
+	pthread_mutex_unlock(&h->lock);
+	return r;
+}
+
 unsigned int sh2000_queue_size(const struct sh2000 *h)
 {
 	(void)h;	/* one ring size in protocol v1 */

@@ -218,6 +218,7 @@ static PyMethodDef card_methods[] = {
 	M("wait_space", sh2k_card_wait_space, METH_VARARGS,
 	  "wait_space(n, timeout_ms)"),
 	M("wait_idle", sh2k_card_wait_idle, METH_VARARGS, "wait_idle(timeout_ms)"),
+	M("wait_rest", sh2k_card_wait_rest, METH_VARARGS, "wait_rest(timeout_ms)"),
 	M("queue_free", sh2k_card_queue_free, METH_NOARGS, "queue_free()"),
 	M("now_ns", sh2k_card_now_ns, METH_NOARGS, "now_ns(): the card's clock"),
 	M("sleep_ns", sh2k_card_sleep_ns, METH_VARARGS,

@@ -16,6 +16,7 @@ PyObject *sh2k_card_push_mm(PyCard *c, PyObject *args);
 PyObject *sh2k_card_push_counts(PyCard *c, PyObject *args);
 PyObject *sh2k_card_wait_space(PyCard *c, PyObject *args);
 PyObject *sh2k_card_wait_idle(PyCard *c, PyObject *args);
+PyObject *sh2k_card_wait_rest(PyCard *c, PyObject *args);
 PyObject *sh2k_card_queue_free(PyCard *c, PyObject *unused);
 PyObject *sh2k_card_now_ns(PyCard *c, PyObject *unused);
 PyObject *sh2k_card_sleep_ns(PyCard *c, PyObject *args);

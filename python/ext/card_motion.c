@@ -231,6 +231,11 @@ PyObject *sh2k_card_wait_idle(PyCard *c, PyObject *args)
 	return call_i(c, args, sh2000_wait_idle);
 }
 
+PyObject *sh2k_card_wait_rest(PyCard *c, PyObject *args)
+{
+	return call_i(c, args, sh2000_wait_rest);
+}
+
 PyObject *sh2k_card_queue_free(PyCard *c, PyObject *unused)
 {
 	(void)unused;

@@ -107,6 +107,13 @@ PyObject *sh2k_status_dict(struct sh2000 *h, const struct sh2000_status *st)
 			Py_CLEAR(d);
 		Py_DECREF(b);
 	}
+	if (d) {
+		PyObject *b = PyBool_FromLong(sh2000_state_moving(st->card_state));
+
+		if (PyDict_SetItemString(d, "moving", b) < 0)
+			Py_CLEAR(d);
+		Py_DECREF(b);
+	}
 	if (d && h) {
 		PyObject *f = status_fault(h, st);
 

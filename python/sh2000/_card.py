@@ -133,6 +133,11 @@ class Card:
         """Wait until the card is idle with an empty ring."""
         self._c.wait_idle(_ms(timeout))
 
+    def wait_rest(self, timeout=None):
+        """Wait until the card is at rest (not moving, as
+        Status.moving says): after stop(), whatever latched."""
+        self._c.wait_rest(_ms(timeout))
+
     def queue_free(self):
         return self._c.queue_free()
 

@@ -65,7 +65,8 @@ class Status:
     """struct sh2000_status (one sh2000_poll). fault is the sh2000.Error the
     latched faults stand for (sh2000_status_error), or None; faulted is
     whether there is one (sh2000_status_faulted: a latched fault, or the
-    card in FAULT or ESTOP)."""
+    card in FAULT or ESTOP); moving is whether the card moves
+    (sh2000_state_moving: RUNNING, STOPPING or HOMING)."""
     card_state: int
     card_state_name: str
     card_faults: int
@@ -82,6 +83,7 @@ class Status:
     first_fault: Optional[FirstFault]
     fault: Optional[Error]
     faulted: bool
+    moving: bool
 
     @classmethod
     def from_c(cls, d):

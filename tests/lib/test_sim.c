@@ -423,14 +423,22 @@ static void test_stop_and_home(void **state)
 	simtest_cmd(h, p);
 	CHECK(simtest_line(h, p, 0, 4000, 64, 64, 0));
 	CHECK(sh2000_sleep_ns(h, 20000000));
-	CHECK(sh2000_stop(h));
-	CHECK(sh2000_wait_idle(h, 1000));
 	CHECK(sh2000_poll(h, &st));
+	assert_true(sh2000_state_moving(st.card_state));
+	CHECK(sh2000_stop(h));
+	CHECK(sh2000_wait_rest(h, 1000));
+	CHECK(sh2000_poll(h, &st));
+	assert_false(sh2000_state_moving(st.card_state));
 	assert_int_equal(st.card_faults, 0);
 	assert_int_equal(st.queue_fill, 0);
+	/* at rest already: at once */
+	CHECK(sh2000_wait_rest(h, 0));
 	/* homing axis 2 onto its switch at 0 mm, from 300 mm at 20 mm/s */
 	CHECK(sh2000_param_set(h, 2, SH2000_P_HOME_VEL, -100.0));
 	CHECK(sh2000_home(h, 2, 0));
+	/* a homing that lasts: the wait for rest gives up, naming it */
+	assert_int_equal(sh2000_wait_rest(h, 50), -SH2000_ETIMEOUT);
+	assert_non_null(strstr(sh2000_last_error(h), "still homing after 0.05 s"));
 	CHECK(sh2000_wait_idle(h, 10000));
 	CHECK(sh2000_poll(h, &st));
 	assert_true(st.axis[2].state & SH2000_AXIS_HOMED);

@@ -136,6 +136,21 @@ def test_push_points_moves_the_card(card):
     assert x.cmd_mm == pytest.approx(x0 + 1.0, abs=1e-5)
 
 
+def test_stop_then_wait_rest(card):
+    # a stop mid-motion: the card brakes, and wait_rest returns once it
+    # no longer moves, short of where the points went
+    card.enable("x")
+    x0 = card.status().axis("x").pos_mm
+    card.push(_ramp(x0, 5.0, 60), end=True)
+    card.sleep(0.02)
+    assert card.status().moving
+    card.stop()
+    card.wait_rest(timeout=5)
+    st = card.status()
+    assert not st.moving and st.fault is None
+    assert x0 < st.axis("x").cmd_mm < x0 + 5.0
+
+
 def test_push_counts_and_numpy_points(card):
     np = pytest.importorskip("numpy")
     card.enable("x")

@@ -72,29 +72,6 @@ static int no_args(int argc, char **argv)
 	return 0;
 }
 
-/* Poll until the card is neither RUNNING nor STOPPING (nor HOMING). */
-static int wait_rest(struct ctl *c, double seconds)
-{
-	uint64_t end = sh2000_now_ns(c->h) + (uint64_t)(seconds * 1e9);
-	struct sh2000_status st;
-	int r;
-
-	for (;;) {
-		r = sh2000_poll(c->h, &st);
-		if (r < 0)
-			return sh2000_tool_fail(c->h, r, "status");
-		if (!sh2000_state_moving(st.card_state))
-			return 0;
-		if (sh2000_now_ns(c->h) > end) {
-			sh2000_tool_msg("%s: still %s after %.1f s",
-					sh2000_device(c->h),
-					sh2000_state_name(st.card_state), seconds);
-			return SH2000_EXIT_CARD;
-		}
-		sh2000_sleep_ns(c->h, 1000000);
-	}
-}
-
 int ctl_stop(struct ctl *c, int argc, char **argv)
 {
 	int r, nowait = argc == 2 && !strcmp(argv[1], "--no-wait");
@@ -106,9 +83,9 @@ int ctl_stop(struct ctl *c, int argc, char **argv)
 	if ((r = ctl_open(c)))
 		return r;
 	r = sh2000_stop(c->h);
-	if (r < 0)
-		return sh2000_tool_fail(c->h, r, "stop");
-	return nowait ? 0 : wait_rest(c, 10.0);
+	if (r >= 0 && !nowait)
+		r = sh2000_wait_rest(c->h, 10000);
+	return r < 0 ? sh2000_tool_fail(c->h, r, "stop") : 0;
 }
 
 int ctl_estop(struct ctl *c, int argc, char **argv)

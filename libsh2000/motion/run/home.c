@@ -19,7 +19,7 @@
 /* How often the wait looks at the caller's stop check and the clock. */
 #define HOME_SLICE_MS	20
 /* The controlled stop's longest way to rest. */
-#define HOME_REST_NS	10000000000ull
+#define HOME_REST_MS	10000
 
 /* The axis as the messages name it: x y z a. */
 static char letter(unsigned int axis)
@@ -38,22 +38,10 @@ static int fail(struct sh2000 *h, int r, char *msg, size_t len)
 /* The caller ended the homing: a STOP, then the card at rest. */
 static int stop_to_rest(struct sh2000 *h, char *msg, size_t len)
 {
-	uint64_t end = sh2000_now_ns(h) + HOME_REST_NS;
-	struct sh2000_status st;
 	int r = sh2000_stop(h);
 
-	while (r >= 0) {
-		r = sh2000_poll(h, &st);
-		if (r < 0 || !sh2000_state_moving(st.card_state))
-			break;
-		if (sh2000_now_ns(h) > end) {
-			if (msg && len)
-				snprintf(msg, len, "%s: still %s 10 s after the stop",
-					 sh2000_device(h), sh2000_state_name(st.card_state));
-			return -SH2000_ETIMEOUT;
-		}
-		sh2000_sleep_ns(h, 1000000);
-	}
+	if (r >= 0)
+		r = sh2000_wait_rest(h, HOME_REST_MS);
 	return r < 0 ? fail(h, r, msg, len) : 0;
 }
 

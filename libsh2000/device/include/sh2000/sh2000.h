@@ -520,6 +520,13 @@ int sh2000_queue_free(struct sh2000 *h);
  * timeout_ms (negative: no limit). Waits keep the host heartbeat going. */
 int sh2000_wait_space(struct sh2000 *h, unsigned int n, int timeout_ms);
 int sh2000_wait_idle(struct sh2000 *h, int timeout_ms);
+/* Wait until the card is at rest: not moving as sh2000_state_moving()
+ * says (after a STOP it ends IDLE; FAULT and ESTOP are at rest too). A
+ * latched fault does not end the wait: the caller of a stop wants the
+ * card at rest whatever latched, and reads the faults itself. Polls,
+ * which keeps the host heartbeat going; -SH2000_ETIMEOUT after
+ * timeout_ms (negative: no limit), the message naming the state. */
+int sh2000_wait_rest(struct sh2000 *h, int timeout_ms);
 
 /* ---- calls for a real-time thread: they never wait ------------------- */
 

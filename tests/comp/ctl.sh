@@ -38,6 +38,12 @@ expect 0 "$CTL" -d sim comp load "$T/laser.comp"
 printf '0,0\n10,x\n' >"$T/broken.csv"
 expect 5 "$COMP" csv x "$T/broken.csv"
 err_has 'broken.csv:2:'
+# a file that cannot be read is 1 in every tool; 5 is for errors in it
+expect 1 "$COMP" csv x "$T/none.csv" -o "$T/none.comp"
+err_has 'none.csv: cannot read: No such file'
+expect 1 "$CTL" -d sim comp show "$T/none.comp"
+err_has 'none.comp: No such file'
+expect 1 "$CTL" -d sim comp load "$T/none.comp"
 # every export the card would refuse is refused here, naming the CSV's
 # row, with nothing written: out of order, a repeat (also the first step,
 # which the point before the table is made from), a repeat after rounding

@@ -32,12 +32,16 @@
 enum sh2000_tool_exit {
 	SH2000_EXIT_OK = 0,	/* done */
 	SH2000_EXIT_CARD = 1,	/* the card or the library refused or failed
-				 * (command error, timeout, bad file, I/O) */
+				 * (command error, timeout, bad value, I/O),
+				 * an input file cannot be read, a parameter
+				 * file has errors */
 	SH2000_EXIT_USAGE = 2,	/* bad command line */
 	SH2000_EXIT_DEVICE = 3,	/* the device cannot be opened */
 	SH2000_EXIT_FAULT = 4,	/* a fault or emergency stop is latched */
-	SH2000_EXIT_INPUT = 5,	/* the input (a program) has errors: nothing
-				 * moved */
+	SH2000_EXIT_INPUT = 5,	/* an input file (a program, a tool table, a
+				 * compensation table, a laser CSV) has
+				 * errors in it: nothing moved, nothing
+				 * changed on the card */
 	SH2000_EXIT_HELPER = 6,	/* a helper program (rs274, gnuplot) is
 				 * missing or failed */
 	SH2000_EXIT_STOPPED = 7, /* stopped by the operator (SIGINT, SIGTERM)

@@ -50,7 +50,8 @@ int cal_tables_save(const struct cal_tables *t, const char *path,
  * Only the CSV's own form is checked here (two whole finite numbers a row,
  * 2 rows or more); whether the table is one the card takes is
  * cal_csv_check's. lines (CAL_MAX_POINTS, may be NULL): each row's line,
- * before the end points are added. 0, or -1 with "FILE:LINE: why" in msg. */
+ * before the end points are added. 0, or -1 with "FILE:LINE: why" in msg,
+ * or -errno with "FILE: why" when the file cannot be read. */
 int cal_from_csv(struct cal_line *out, unsigned int *lines, const char *path,
 		 int cross, char *msg, size_t len);
 

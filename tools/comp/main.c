@@ -78,7 +78,8 @@ static int csv_table(struct cal_tables *t, int a, int cross, const char *csv,
 	if (r < 0) {
 		sh2000_tool_msg("%s", msg);
 		free(lines);
-		return SH2000_EXIT_INPUT;
+		/* errors in the CSV; one that cannot be read is any tool's 1 */
+		return r == -1 ? SH2000_EXIT_INPUT : SH2000_EXIT_CARD;
 	}
 	r = sh2000_tool_open(&h, dev);
 	if (r == SH2000_EXIT_OK) {

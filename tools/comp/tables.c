@@ -143,8 +143,10 @@ int cal_from_csv(struct cal_line *out, unsigned int *lines, const char *path,
 
 	out->n = 0;
 	if (!f) {
-		snprintf(msg, len, "%s: %s", path, strerror(errno));
-		return -1;
+		int e = errno;
+
+		snprintf(msg, len, "%s: cannot read: %s", path, strerror(e));
+		return -e;
 	}
 	while (!r && fgets(buf, sizeof(buf), f)) {
 		char *s = buf;

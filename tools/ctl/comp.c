@@ -43,7 +43,8 @@ static int show(struct ctl *c, const char *file)
 	r = sh2000_comp_file_read(&f, file, scale, msg, sizeof(msg));
 	if (r < 0) {
 		sh2000_tool_msg("%s", msg);
-		return SH2000_EXIT_INPUT;
+		/* errors in the table; one that cannot be read is any tool's 1 */
+		return r == -SH2000_EPARAM ? SH2000_EXIT_INPUT : SH2000_EXIT_CARD;
 	}
 	const uint16_t *w = sh2000_comp_file_image(f, &n);
 	uint32_t sum = sh2000_comp_sum(w, n);

@@ -100,15 +100,30 @@ struct ctl {
 	/* where the acceleration allowed drops: pairs (distance, acceleration) */
 	const double *drops;
 	unsigned int nd;
+	/* the head block's acceleration at a speed (a blend's grows as the
+	 * speed falls); lim.A is its value at the state the step starts
+	 * from, and the limits ahead hold the others' alone */
+	struct pl_accel_fn af;
 };
+
+static double peak_speed(const struct ctl *c, double v, double a);
+
+/* The head block's acceleration for the motion from (v, a): at the
+ * fastest it gets before it brakes (its speed only falls then). */
+static double head_accel(const struct ctl *c, double v, double a)
+{
+	if (!c->af.dyn)
+		return c->lim.A;
+	return pl_accel_at(c->p, &c->af, a > 0.0 ? peak_speed(c, v, a) : v);
+}
 
 /* Distance to slow to limit i from (v, a), at the acceleration allowed on
  * the way to it. */
 static double cons_brake(const struct ctl *c, unsigned int i, double v,
 			 double a)
 {
-	struct pl_limits L = { c->cons[3 * i + 2],
-			       model_jerk(c->p, c->cons[3 * i + 2]) };
+	double A = pl_min(c->cons[3 * i + 2], head_accel(c, v, a));
+	struct pl_limits L = { A, model_jerk(c->p, A) };
 
 	return pl_brake_dist(&L, v, c->trap ? 0.0 : a, c->cons[3 * i + 1]);
 }
@@ -186,6 +201,9 @@ static int cons_ok(const struct ctl *c, double s, double v, double a)
 {
 	unsigned int i;
 
+	if (c->af.dyn && !c->trap &&
+	    a > head_accel(c, v, a) * (1.0 + 1e-12))
+		return 0;
 	for (i = 0; i < c->n; i++) {
 		double d = c->cons[3 * i] - s, V = c->cons[3 * i + 1];
 
@@ -218,6 +236,8 @@ static double upper_slack(const struct ctl *c, double j)
 
 	step_state(c, j, &s, &v, &a);
 	m = c->trap ? INFINITY : c->lim.A * (1.0 + 1e-12) - a;
+	if (c->af.dyn && !c->trap)
+		m = pl_min(m, head_accel(c, v, a) * (1.0 + 1e-12) - a);
 	/* the speed at the start counts only when it is too high: as a
 	 * constant room it would hide how the others change with j */
 	if (c->v > c->vcur + V_EPS)
@@ -277,7 +297,7 @@ static double danger(const struct ctl *c, double *A, double *d)
 		if (r < slack) {
 			slack = r;
 			vt = fmin(c->vcur, c->cons[3 * i + 1]);
-			*A = c->cons[3 * i + 2];
+			*A = pl_min(c->cons[3 * i + 2], c->lim.A);
 			/* a limit already in force binds the speed alone */
 			*d = vt < c->cons[3 * i + 1] || c->cons[3 * i] <= 0.0 ?
 			     INFINITY : c->cons[3 * i];
@@ -626,16 +646,24 @@ static int substep(struct sh2000_path *p, double h)
 	c.vcur = halt ? 0.0 : pl_cap(p, b);
 	/* a stop has no zone: s a rounding below zero (a curve's arc
 	 * accounting) must not hold the carriage at the corner for ever */
+	pl_accel_fn_init(p, b, &c.af);
 	if (b->corner && b->vj > 0.0 && p->s < zone * b->vj) {
 		c.vcur = fmin(c.vcur, b->vj);
 		c.lim.A = fmin(c.lim.A, p->lim.A);
+		c.af.dyn = 0;
+	} else if (c.af.dyn) {
+		/* at the fastest this state gets to before braking (the
+		 * floor's jerk: the highest peak) */
+		c.lim.J = model_jerk(p, c.lim.A);
+		c.lim.A = head_accel(&c, c.v, c.a);
 	}
 	/* a higher feed only once the lower one is feed_zone behind */
 	if (!halt && b->feed > b->prev_feed &&
 	    p->s < p->feed_zone * pl_prev_cap(p, b))
 		c.vcur = fmin(c.vcur, fmax(pl_prev_cap(p, b), 0.0));
 	c.lim.J = model_jerk(p, c.lim.A);
-	n = limits_ahead(p, h, c.vcur, halt, c.lim.A, &c.nd);
+	n = limits_ahead(p, h, c.vcur, halt,
+			 c.af.dyn ? c.af.Amax : c.lim.A, &c.nd);
 	c.cons = p->cons;
 	c.n = n;
 	c.drops = p->drops;

@@ -342,6 +342,23 @@ void pl_curve_block_vlim(const struct sh2000_path *p, struct pl_block *k,
  * most loaded axis reaches its amax (times the margin); a curve's
  * tangential share (a_curve). */
 double pl_block_accel(const struct sh2000_path *p, const struct pl_block *b);
+/* The path acceleration block b allows at speed v and below, as the
+ * controller reads it (pl_accel_at()): a blend arc of a turn under 45
+ * degrees gives the centripetal acceleration v^2 / R only what the speed
+ * reached needs (never less than the configured share), the rest goes
+ * along the path; every other block has its constant A. */
+struct pl_accel_fn {
+	int dyn;		/* 0: the constant A */
+	double A;		/* the block's A: the least at any speed */
+	double Amax;		/* at rest: the most */
+	double s0, s1;		/* the share's bounds ... */
+	double kM;		/* ... and v^2 kM the share at v */
+	double T[SH2000_AXES], N[SH2000_AXES];	/* per axis (limits.c) */
+};
+void pl_accel_fn_init(const struct sh2000_path *p, const struct pl_block *b,
+		      struct pl_accel_fn *f);
+double pl_accel_at(const struct sh2000_path *p, const struct pl_accel_fn *f,
+		   double v);
 /* The fastest the motion can leave block b (or be anywhere in it): from
  * its entry bound vin at no more than any block's acceleration. */
 double pl_fwd_exit(const struct sh2000_path *p, const struct pl_block *b);

@@ -93,11 +93,12 @@ struct ctl {
 	double jmax;	/* the jerk allowed; lim.J is the one planned with */
 	struct sh2000_path *p;	/* the landing under way (qj, qi, qn) */
 	double h, v, a, vcur;
-	/* the limits ahead: triples (distance, speed, the smallest
-	 * acceleration allowed up to there) */
+	/* the limits ahead: (distance, speed, the acceleration allowed up to
+	 * there as acc_at() reads it), PL_CONS each */
 	const double *cons;
 	unsigned int n;
-	/* where the acceleration allowed drops: pairs (distance, acceleration) */
+	/* where the acceleration allowed drops: (distance, the acceleration
+	 * as acc_at() reads it), PL_DROP each */
 	const double *drops;
 	unsigned int nd;
 	/* the head block's acceleration at a speed (a blend's grows as the
@@ -108,13 +109,39 @@ struct ctl {
 
 static double peak_speed(const struct ctl *c, double v, double a);
 
-/* The head block's acceleration for the motion from (v, a): at the
- * fastest it gets before it brakes (its speed only falls then). */
+/* The fastest the motion from (v, a) gets before it brakes (its speed
+ * only falls then). */
+static double state_top(const struct ctl *c, double v, double a)
+{
+	return !c->trap && a > 0.0 ? peak_speed(c, v, a) : v;
+}
+
+/* The head block's acceleration for the motion from (v, a). */
 static double head_accel(const struct ctl *c, double v, double a)
 {
 	if (!c->af.dyn)
 		return c->lim.A;
-	return pl_accel_at(c->p, &c->af, a > 0.0 ? peak_speed(c, v, a) : v);
+	return pl_accel_at(c->p, &c->af, state_top(c, v, a));
+}
+
+/* The least acceleration of the blocks after the head up to a limit or a
+ * drop, at speeds up to v: x = (the least of those whose A is constant,
+ * the least floor of the short blends' (pl_accel_fn) and their largest
+ * curvature); each blend allows at least its floor and at least what that
+ * curvature leaves at v (pl_accel_curv()), so this bounds them all. */
+static double acc_at(const struct ctl *c, const double x[3], double v)
+{
+	if (isinf(x[1]))
+		return x[0];
+	return pl_min(x[0], pl_max(x[1], pl_accel_curv(c->p, v, x[2])));
+}
+
+/* The acceleration of limit i, from (v, a): the head's and those after. */
+static double cons_accel(const struct ctl *c, unsigned int i, double v,
+			 double a)
+{
+	return pl_min(acc_at(c, c->cons + PL_CONS * i + 2, state_top(c, v, a)),
+		      head_accel(c, v, a));
 }
 
 /* Distance to slow to limit i from (v, a), at the acceleration allowed on
@@ -122,10 +149,10 @@ static double head_accel(const struct ctl *c, double v, double a)
 static double cons_brake(const struct ctl *c, unsigned int i, double v,
 			 double a)
 {
-	double A = pl_min(c->cons[3 * i + 2], head_accel(c, v, a));
+	double A = cons_accel(c, i, v, a);
 	struct pl_limits L = { A, model_jerk(c->p, A) };
 
-	return pl_brake_dist(&L, v, c->trap ? 0.0 : a, c->cons[3 * i + 1]);
+	return pl_brake_dist(&L, v, c->trap ? 0.0 : a, c->cons[PL_CONS * i + 1]);
 }
 
 /* Room left, after a step to (s, v, a), to bring the acceleration down to
@@ -138,8 +165,9 @@ static double cons_brake(const struct ctl *c, unsigned int i, double v,
 static double drop_room(const struct ctl *c, unsigned int i, double s,
 			double v, double a)
 {
-	double Ad = c->drops[2 * i + 1], J = c->lim.J, t;
-	double dd = c->drops[2 * i] - s - 2.0 * v * c->h;
+	const double *x = c->drops + PL_DROP * i;
+	double Ad = acc_at(c, x + 1, state_top(c, v, a)), J = c->lim.J, t;
+	double dd = x[0] - s - 2.0 * v * c->h;
 
 	if (a <= Ad && (!c->quant || a >= -Ad))
 		return INFINITY;
@@ -205,7 +233,7 @@ static int cons_ok(const struct ctl *c, double s, double v, double a)
 	    a > head_accel(c, v, a) * (1.0 + 1e-12))
 		return 0;
 	for (i = 0; i < c->n; i++) {
-		double d = c->cons[3 * i] - s, V = c->cons[3 * i + 1];
+		double d = c->cons[PL_CONS * i] - s, V = c->cons[PL_CONS * i + 1];
 
 		if (d <= 0.0) {
 			if (v > V + V_EPS)
@@ -249,7 +277,7 @@ static double upper_slack(const struct ctl *c, double j)
 	if (!c->trap && a > 0.0)
 		m = pl_min(m, c->vcur + V_EPS - peak_speed(c, v, a));
 	for (i = 0; i < c->n && m >= 0.0; i++) {
-		double d = c->cons[3 * i] - s, V = c->cons[3 * i + 1];
+		double d = c->cons[PL_CONS * i] - s, V = c->cons[PL_CONS * i + 1];
 
 		if (d > 0.0) {
 			m = pl_min(m, d + 1e-12 - cons_brake(c, i, v, a));
@@ -292,15 +320,16 @@ static double danger(const struct ctl *c, double *A, double *d)
 	    peak_speed(c, c->v, c->a) > c->vcur + V_EPS))
 		return c->vcur;
 	for (i = 0; i < c->n; i++) {
-		double r = c->cons[3 * i] - cons_brake(c, i, c->v, c->a);
+		double r = c->cons[PL_CONS * i] - cons_brake(c, i, c->v, c->a);
 
 		if (r < slack) {
 			slack = r;
-			vt = fmin(c->vcur, c->cons[3 * i + 1]);
-			*A = pl_min(c->cons[3 * i + 2], c->lim.A);
+			vt = fmin(c->vcur, c->cons[PL_CONS * i + 1]);
+			*A = pl_min(cons_accel(c, i, c->v, c->a), c->lim.A);
 			/* a limit already in force binds the speed alone */
-			*d = vt < c->cons[3 * i + 1] || c->cons[3 * i] <= 0.0 ?
-			     INFINITY : c->cons[3 * i];
+			*d = vt < c->cons[PL_CONS * i + 1] ||
+			     c->cons[PL_CONS * i] <= 0.0 ?
+			     INFINITY : c->cons[PL_CONS * i];
 		}
 	}
 	return vt;
@@ -379,6 +408,35 @@ static struct pl_block *head(struct sh2000_path *p)
  * that is not blended, over the two periods of its speed, the
  * acceleration is lim.A: the corner's turn takes the rest of the axes'.
  */
+/* The acceleration of the blocks so far, as acc_at() reads it. */
+struct acc_run {
+	double x[3];
+};
+
+/* Block k into the run (Ak: its A, or with fixed set the A of the
+ * corner zone at its start, which holds whatever the speed); 1 if that
+ * lowered what the run allows at some speed. */
+static int acc_run_add(const struct sh2000_path *p, struct acc_run *r,
+		       const struct pl_block *k, double Ak, int fixed)
+{
+	struct pl_accel_fn f;
+	double kappa;
+
+	pl_accel_fn_init(p, k, &f);
+	if (!f.dyn || fixed) {
+		if (Ak >= r->x[0])
+			return 0;
+		r->x[0] = Ak;
+		return 1;
+	}
+	kappa = 1.0 / k->g.blend.R;
+	if (f.A >= r->x[0] || (f.A >= r->x[1] && kappa <= r->x[2]))
+		return 0;
+	r->x[1] = pl_min(r->x[1], f.A);
+	r->x[2] = pl_max(r->x[2], kappa);
+	return 1;
+}
+
 static unsigned int limits_ahead(struct sh2000_path *p, double h,
 				 double level, int halt, double A0,
 				 unsigned int *nd)
@@ -388,7 +446,7 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 	const struct pl_limits *lim = &L;
 	int trap = isinf(lim->J);
 	double zone = 2.0 * p->cfg.period_s, vup = p->v + p->a_top * h, dh, d;
-	double amin = A0;
+	struct acc_run run = { { A0, INFINITY, 0.0 } };
 	unsigned int i, n = 0, m = 0;
 
 	dh = vup * (h + zone) +
@@ -401,35 +459,39 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 		double V = halt ? 0.0 : pl_entry_limit(p, i);
 		/* the card's spline spans two periods either side of a
 		 * corner: the corner speed holds over them */
-		double t = k->corner ? zone : 0.0, Ak = k->A, ab = amin;
+		double t = k->corner ? zone : 0.0, Ak = k->A;
+		int fixed = k->corner && k->vj > 0.0;
+		double *x;
 
-		if (k->corner && k->vj > 0.0)
-			ab = Ak = fmin(Ak, lim->A);
+		if (fixed)
+			Ak = fmin(Ak, lim->A);
 		if (V < level) {
 			/* a lower feed holds from feed_zone before; the
 			 * braking to it runs in the blocks before (a corner's
 			 * zone at lim.A), ending at a = 0 */
 			if (k->feed < k->prev_feed)
 				t = fmax(t, p->feed_zone);
-			p->cons[3 * n] = d - t * V;
-			p->cons[3 * n + 1] = V;
-			p->cons[3 * n + 2] = fmin(amin, ab);
-			n++;
+			x = p->cons + PL_CONS * n++;
+			x[0] = d - t * V;
+			x[1] = V;
+			memcpy(x + 2, run.x, sizeof(run.x));
+			if (fixed)
+				x[2] = fmin(x[2], Ak);
 			level = V;
 		}
-		if (Ak < amin) {
-			amin = Ak;
-			p->drops[2 * m] = d - (k->corner ? zone : 0.0) * V;
-			p->drops[2 * m + 1] = Ak;
-			m++;
+		if (acc_run_add(p, &run, k, Ak, fixed)) {
+			x = p->drops + PL_DROP * m++;
+			x[0] = d - (k->corner ? zone : 0.0) * V;
+			memcpy(x + 1, run.x, sizeof(run.x));
 		}
 		d += k->L;
 	}
 	if (i == p->count && d <= dh && level > 0.0) {
-		p->cons[3 * n] = d;
-		p->cons[3 * n + 1] = 0.0;
-		p->cons[3 * n + 2] = amin;
-		n++;
+		double *x = p->cons + PL_CONS * n++;
+
+		x[0] = d;
+		x[1] = 0.0;
+		memcpy(x + 2, run.x, sizeof(run.x));
 	}
 	*nd = m;
 	return n;
@@ -509,13 +571,14 @@ static void brake(const struct ctl *c, double *ds, double *v, double *a)
 
 		follow(c, vt, A, ds, v, a);
 		for (k = 0; k < c->n; k++) {
-			double dd = c->cons[3 * k] - *ds, V = c->cons[3 * k + 1];
+			double dd = c->cons[PL_CONS * k] - *ds;
+			double V = c->cons[PL_CONS * k + 1];
 
 			if (V < lowest &&
 			    (dd <= 0.0 ? *v > V + V_EPS :
 			     cons_brake(c, k, *v, *a) > dd + 1e-12)) {
 				lowest = V;
-				A = pl_min(A, c->cons[3 * k + 2]);
+				A = pl_min(A, cons_accel(c, k, c->v, c->a));
 			}
 		}
 		if (lowest == vt)
@@ -667,11 +730,12 @@ static int substep(struct sh2000_path *p, double h)
 	c.cons = p->cons;
 	c.n = n;
 	c.drops = p->drops;
-	if (n && p->cons[3 * n - 2] == 0.0 && p->cons[3 * n - 3] < 1e-6 &&
+	if (n && p->cons[PL_CONS * (n - 1) + 1] == 0.0 &&
+	    p->cons[PL_CONS * (n - 1)] < 1e-6 &&
 	    p->v < 1e-4 && !halt) {
 		/* at rest a hair before a stop (exact stop, end of the
 		 * queue): the transitions land within rounding of it */
-		ds = fmax(p->cons[3 * n - 3], 0.0);
+		ds = fmax(p->cons[PL_CONS * (n - 1)], 0.0);
 		v = a = 0.0;
 	} else {
 		choose_step(&c, &ds, &v, &a);

@@ -159,6 +159,18 @@ double pl_accel_at(const struct sh2000_path *p, const struct pl_accel_fn *f,
 			p, f, share_at(f, v))), p->a_top));
 }
 
+double pl_accel_curv(const struct sh2000_path *p, double v, double kappa)
+{
+	const struct sh2000_path_config *c = &p->cfg;
+	double M = c->margin * p->amin;
+	double s = pl_max(c->centripetal_share, v * v * kappa / M);
+
+	if (s >= 1.0)
+		return 0.0;
+	return pl_min(pl_accel_room(p, sqrt(1.0 - s * s) * M * p->a_scale),
+		      p->a_top);
+}
+
 double pl_block_accel(const struct sh2000_path *p, const struct pl_block *b)
 {
 	const struct sh2000_path_config *c = &p->cfg;

@@ -30,6 +30,12 @@ struct pl_nurbs {
 	size_t bytes;		/* what the copy holds */
 };
 
+/* The controller's scratch per limit ahead (distance, speed and three
+ * for the acceleration) and per drop of the acceleration (distance and
+ * three), control.c */
+#define PL_CONS 5u
+#define PL_DROP 4u
+
 /* Points the planner can hold for a sink that cannot take them yet: one
  * period's plus a whole compensation flush (2 * 64 + 3 at most). */
 #define PL_OUTQ 160u
@@ -357,6 +363,9 @@ struct pl_accel_fn {
 };
 void pl_accel_fn_init(const struct sh2000_path *p, const struct pl_block *b,
 		      struct pl_accel_fn *f);
+/* What such a blend of curvature kappa allows at speed v at least, by
+ * its curvature alone (not less than 0). */
+double pl_accel_curv(const struct sh2000_path *p, double v, double kappa);
 double pl_accel_at(const struct sh2000_path *p, const struct pl_accel_fn *f,
 		   double v);
 /* The fastest the motion can leave block b (or be anywhere in it): from

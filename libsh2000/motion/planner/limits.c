@@ -8,6 +8,7 @@
  * tangential share).
  */
 #include <math.h>
+#include <string.h>
 
 #include "planner.h"
 
@@ -251,6 +252,58 @@ double pl_junction(const struct sh2000_path *p, const double t1[SH2000_AXES],
 		if (k > 1.0)
 			v = fmin(v, c->margin * c->vmax[a] /
 				    (fmax(fabs(t0[a]), fabs(t1[a])) + 0.37 * dt));
+	}
+	return v;
+}
+
+/* The curvature vector (d^2 x / ds^2) of block b at its start (end 0) or
+ * its end: 0 on a line, n / R on a blend, by a second difference of its
+ * exact points on an arc; 0 with *known 0 for a NURBS (its own expansion
+ * bounds the steps inside it). */
+static void block_curv(const struct pl_block *b, int end,
+		       double k[SH2000_AXES], int *known)
+{
+	unsigned int a;
+
+	memset(k, 0, SH2000_AXES * sizeof(k[0]));
+	*known = b->type != BLK_NURBS;
+	if (b->type == BLK_BLEND) {
+		double th = end ? b->g.blend.phi : 0.0;
+
+		for (a = 0; a < SH2000_AXES; a++)
+			k[a] = -(b->g.blend.u[a] * cos(th) +
+				 b->g.blend.w[a] * sin(th)) / b->g.blend.R;
+	} else if (b->type == BLK_ARC) {
+		double h = pl_min(b->L / 8.0, 0.01), x[3][SH2000_AXES];
+		unsigned int i;
+
+		for (i = 0; i < 3; i++)
+			pl_block_pos(b, end ? b->L - i * h : i * h, x[i]);
+		for (a = 0; a < SH2000_AXES; a++)
+			k[a] = (x[0][a] - 2.0 * x[1][a] + x[2][a]) / (h * h);
+	}
+}
+
+double pl_curv_step(const struct sh2000_path *p, const struct pl_block *b0,
+		    const struct pl_block *b1)
+{
+	const struct sh2000_path_config *c = &p->cfg;
+	double k0[SH2000_AXES], k1[SH2000_AXES], v = INFINITY;
+	int n0, n1;
+	unsigned int a;
+
+	if (c->output != SH2000_OUTPUT_COMPENSATED)
+		return INFINITY;
+	block_curv(b0, 1, k0, &n0);
+	block_curv(b1, 0, k1, &n1);
+	if (!n0 || !n1)
+		return INFINITY;
+	for (a = 0; a < SH2000_AXES; a++) {
+		double q = pl_max(fabs(k0[a]), fabs(k1[a])) +
+			   PL_CURV_RING * fabs(k1[a] - k0[a]);
+
+		if (q > 1e-12)
+			v = pl_min(v, sqrt(c->margin * c->amax[a] / q));
 	}
 	return v;
 }

@@ -379,6 +379,16 @@ static inline double pl_accel_room(const struct sh2000_path *p, double A)
 {
 	return A - p->a_ring > A / 1.4 ? A - p->a_ring : A / 1.4;
 }
+/* Speed allowed through the tangent junction from block b0 into b1 where
+ * the curvature steps (a line into a blend, a blend into one turning
+ * another way): the compensated spline through a step of the path's
+ * acceleration overshoots it by about PL_CURV_RING of the step on the
+ * card's servo cycles, so each axis' centripetal acceleration there plus
+ * that stays within its amax (times the margin). INFINITY raw or next to
+ * a NURBS. */
+#define PL_CURV_RING 0.4
+double pl_curv_step(const struct sh2000_path *p, const struct pl_block *b0,
+		    const struct pl_block *b1);
 /* Speed allowed through the corner from tangent t1 (in) to t0 (out). */
 double pl_junction(const struct sh2000_path *p, const double t1[SH2000_AXES],
 		   const double t0[SH2000_AXES]);

@@ -386,7 +386,7 @@ static inline double pl_accel_room(const struct sh2000_path *p, double A)
  * card's servo cycles, so each axis' centripetal acceleration there plus
  * that stays within its amax (times the margin). INFINITY raw or next to
  * a NURBS. */
-#define PL_CURV_RING 0.4
+#define PL_CURV_RING 0.5
 double pl_curv_step(const struct sh2000_path *p, const struct pl_block *b0,
 		    const struct pl_block *b1);
 /* Speed allowed through the corner from tangent t1 (in) to t0 (out). */

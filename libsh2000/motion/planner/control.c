@@ -129,18 +129,20 @@ static double head_accel(const struct ctl *c, double v, double a)
  * the least floor of the short blends' (pl_accel_fn) and their largest
  * curvature); each blend allows at least its floor and at least what that
  * curvature leaves at v (pl_accel_curv()), so this bounds them all. */
-static double acc_at(const struct ctl *c, const double x[3], double v)
+static double acc_at(const struct sh2000_path *p, const double x[3],
+		     double v)
 {
 	if (isinf(x[1]))
 		return x[0];
-	return pl_min(x[0], pl_max(x[1], pl_accel_curv(c->p, v, x[2])));
+	return pl_min(x[0], pl_max(x[1], pl_accel_curv(p, v, x[2])));
 }
 
 /* The acceleration of limit i, from (v, a): the head's and those after. */
 static double cons_accel(const struct ctl *c, unsigned int i, double v,
 			 double a)
 {
-	return pl_min(acc_at(c, c->cons + PL_CONS * i + 2, state_top(c, v, a)),
+	return pl_min(acc_at(c->p, c->cons + PL_CONS * i + 2,
+			     state_top(c, v, a)),
 		      head_accel(c, v, a));
 }
 
@@ -155,6 +157,30 @@ static double cons_brake(const struct ctl *c, unsigned int i, double v,
 	return pl_brake_dist(&L, v, c->trap ? 0.0 : a, c->cons[PL_CONS * i + 1]);
 }
 
+/* Room left, after a step to (s, v, a), to slow to limit i ahead (at its
+ * distance d - s > 0): negative when it no longer can. Either all the way
+ * at the least acceleration of the blocks up to it, or, while the motion
+ * is before the first drop of the acceleration, by slowing at the head's
+ * (every block before the drop allows as much) to the speed from which
+ * the blocks after the drop can still slow to the limit at theirs, on
+ * the drop with a = 0 (limits_ahead()); once past the drop, the first way
+ * holds from there, since that speed is its own braking curve. */
+static double cons_room(const struct ctl *c, unsigned int i, double s,
+			double v, double a)
+{
+	const double *x = c->cons + PL_CONS * i;
+	double r = x[0] - s - cons_brake(c, i, v, a);
+
+	if (x[5] - s > 0.0 && x[6] >= 0.0 && r < 0.0) {
+		double A = head_accel(c, v, a);
+		struct pl_limits L = { A, model_jerk(c->p, A) };
+
+		r = pl_max(r, x[5] - s - pl_brake_dist(&L, v, c->trap ? 0.0 :
+							a, x[6]));
+	}
+	return r;
+}
+
 /* Room left, after a step to (s, v, a), to bring the acceleration down to
  * drop i's before it: negative when it no longer can. The step that
  * crosses a drop is checked only at its end, so the drop counts two
@@ -166,7 +192,7 @@ static double drop_room(const struct ctl *c, unsigned int i, double s,
 			double v, double a)
 {
 	const double *x = c->drops + PL_DROP * i;
-	double Ad = acc_at(c, x + 1, state_top(c, v, a)), J = c->lim.J, t;
+	double Ad = acc_at(c->p, x + 1, state_top(c, v, a)), J = c->lim.J, t;
 	double dd = x[0] - s - 2.0 * v * c->h;
 
 	if (a <= Ad && (!c->quant || a >= -Ad))
@@ -241,7 +267,7 @@ static int cons_ok(const struct ctl *c, double s, double v, double a)
 			if (!c->trap && a > 0.0 &&
 			    peak_speed(c, v, a) > V + V_EPS)
 				return 0;
-		} else if (cons_brake(c, i, v, a) > d + 1e-12) {
+		} else if (cons_room(c, i, s, v, a) < -1e-12) {
 			return 0;
 		}
 	}
@@ -280,7 +306,7 @@ static double upper_slack(const struct ctl *c, double j)
 		double d = c->cons[PL_CONS * i] - s, V = c->cons[PL_CONS * i + 1];
 
 		if (d > 0.0) {
-			m = pl_min(m, d + 1e-12 - cons_brake(c, i, v, a));
+			m = pl_min(m, 1e-12 + cons_room(c, i, s, v, a));
 			continue;
 		}
 		m = pl_min(m, V + V_EPS - v);
@@ -320,16 +346,20 @@ static double danger(const struct ctl *c, double *A, double *d)
 	    peak_speed(c, c->v, c->a) > c->vcur + V_EPS))
 		return c->vcur;
 	for (i = 0; i < c->n; i++) {
-		double r = c->cons[PL_CONS * i] - cons_brake(c, i, c->v, c->a);
+		const double *x = c->cons + PL_CONS * i;
+		double r = cons_room(c, i, 0.0, c->v, c->a);
+		/* slowing to the speed at the drop where that is what holds */
+		int at_drop = x[0] > 0.0 &&
+			      x[0] - cons_brake(c, i, c->v, c->a) < r;
 
 		if (r < slack) {
 			slack = r;
-			vt = fmin(c->vcur, c->cons[PL_CONS * i + 1]);
-			*A = pl_min(cons_accel(c, i, c->v, c->a), c->lim.A);
+			vt = fmin(c->vcur, at_drop ? x[6] : x[1]);
+			*A = at_drop ? c->lim.A :
+			     pl_min(cons_accel(c, i, c->v, c->a), c->lim.A);
 			/* a limit already in force binds the speed alone */
-			*d = vt < c->cons[PL_CONS * i + 1] ||
-			     c->cons[PL_CONS * i] <= 0.0 ?
-			     INFINITY : c->cons[PL_CONS * i];
+			*d = vt < (at_drop ? x[6] : x[1]) || x[0] <= 0.0 ?
+			     INFINITY : at_drop ? x[5] : x[0];
 		}
 	}
 	return vt;
@@ -437,6 +467,26 @@ static int acc_run_add(const struct sh2000_path *p, struct acc_run *r,
 	return 1;
 }
 
+/* For each of the n limits beyond the first drop of the acceleration, at
+ * dk: the fastest the motion may pass dk at, with a = 0, and still slow
+ * to it at the least acceleration of the blocks up to it (read at vtop,
+ * the fastest the motion can be); -1 for the others (cons_room()). */
+static void past_drop(struct sh2000_path *p, unsigned int n, double dk,
+		      double vtop)
+{
+	unsigned int j;
+
+	for (j = 0; j < n; j++) {
+		double *x = p->cons + PL_CONS * j;
+		double A = acc_at(p, x + 2, vtop);
+		struct pl_limits L = { A, model_jerk(p, A) };
+
+		x[5] = dk;
+		x[6] = dk > 0.0 && x[0] > dk ?
+		       pl_reach_back(&L, x[1], x[0] - dk) : -1.0;
+	}
+}
+
 static unsigned int limits_ahead(struct sh2000_path *p, double h,
 				 double level, int halt, double A0,
 				 unsigned int *nd)
@@ -493,6 +543,8 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 		x[1] = 0.0;
 		memcpy(x + 2, run.x, sizeof(run.x));
 	}
+	past_drop(p, n, m ? p->drops[0] : 0.0,
+		  vup + (trap ? 0.0 : p->a_top * p->a_top / (2.0 * lim->J)));
 	*nd = m;
 	return n;
 }
@@ -576,7 +628,7 @@ static void brake(const struct ctl *c, double *ds, double *v, double *a)
 
 			if (V < lowest &&
 			    (dd <= 0.0 ? *v > V + V_EPS :
-			     cons_brake(c, k, *v, *a) > dd + 1e-12)) {
+			     cons_room(c, k, *ds, *v, *a) < -1e-12)) {
 				lowest = V;
 				A = pl_min(A, cons_accel(c, k, c->v, c->a));
 			}

@@ -30,10 +30,11 @@ struct pl_nurbs {
 	size_t bytes;		/* what the copy holds */
 };
 
-/* The controller's scratch per limit ahead (distance, speed and three
- * for the acceleration) and per drop of the acceleration (distance and
+/* The controller's scratch per limit ahead (distance, speed, three for
+ * the acceleration, and where the acceleration first drops with the
+ * speed to pass there) and per drop of the acceleration (distance and
  * three), control.c */
-#define PL_CONS 5u
+#define PL_CONS 7u
 #define PL_DROP 4u
 
 /* Points the planner can hold for a sink that cannot take them yet: one

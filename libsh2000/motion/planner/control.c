@@ -157,6 +157,25 @@ static double cons_brake(const struct ctl *c, unsigned int i, double v,
 	return pl_brake_dist(&L, v, c->trap ? 0.0 : a, c->cons[PL_CONS * i + 1]);
 }
 
+/* For limit x beyond the first drop of the acceleration (at x[5]): the
+ * fastest the motion may pass the drop at, with a = 0, and still slow to
+ * it at the least acceleration of the blocks up to it, read at the
+ * fastest the motion can be in this substep of length h (as
+ * limits_ahead() bounds it). */
+static double drop_speed(const struct sh2000_path *p, const double *x,
+			 double h)
+{
+	double vtop = p->v + p->a_top * h, A;
+	struct pl_limits L;
+
+	if (!isinf(p->lim.J))
+		vtop += p->a_top * p->a_top / (2.0 * model_jerk(p, p->lim.A));
+	A = acc_at(p, x + 2, vtop);
+	L.A = A;
+	L.J = model_jerk(p, A);
+	return pl_reach_back(&L, x[1], x[0] - x[5]);
+}
+
 /* Room left, after a step to (s, v, a), to slow to limit i ahead (at its
  * distance d - s > 0): negative when it no longer can. Either all the way
  * at the least acceleration of the blocks up to it, or, while the motion
@@ -168,9 +187,11 @@ static double cons_brake(const struct ctl *c, unsigned int i, double v,
 static double cons_room(const struct ctl *c, unsigned int i, double s,
 			double v, double a)
 {
-	const double *x = c->cons + PL_CONS * i;
+	double *x = c->p->cons + PL_CONS * i;
 	double r = x[0] - s - cons_brake(c, i, v, a);
 
+	if (r < 0.0 && x[5] - s > 0.0 && isnan(x[6]))
+		x[6] = drop_speed(c->p, x, c->h);
 	if (x[5] - s > 0.0 && x[6] >= 0.0 && r < 0.0) {
 		double A = head_accel(c, v, a);
 		struct pl_limits L = { A, model_jerk(c->p, A) };
@@ -446,45 +467,23 @@ struct acc_run {
 /* Block k into the run (Ak: its A, or with fixed set the A of the
  * corner zone at its start, which holds whatever the speed); 1 if that
  * lowered what the run allows at some speed. */
-static int acc_run_add(const struct sh2000_path *p, struct acc_run *r,
-		       const struct pl_block *k, double Ak, int fixed)
+static int acc_run_add(struct acc_run *r, const struct pl_block *k,
+		       double Ak, int fixed)
 {
-	struct pl_accel_fn f;
 	double kappa;
 
-	pl_accel_fn_init(p, k, &f);
-	if (!f.dyn || fixed) {
+	if (!pl_accel_dyn(k) || fixed) {
 		if (Ak >= r->x[0])
 			return 0;
 		r->x[0] = Ak;
 		return 1;
 	}
 	kappa = 1.0 / k->g.blend.R;
-	if (f.A >= r->x[0] || (f.A >= r->x[1] && kappa <= r->x[2]))
+	if (k->A >= r->x[0] || (k->A >= r->x[1] && kappa <= r->x[2]))
 		return 0;
-	r->x[1] = pl_min(r->x[1], f.A);
+	r->x[1] = pl_min(r->x[1], k->A);
 	r->x[2] = pl_max(r->x[2], kappa);
 	return 1;
-}
-
-/* For each of the n limits beyond the first drop of the acceleration, at
- * dk: the fastest the motion may pass dk at, with a = 0, and still slow
- * to it at the least acceleration of the blocks up to it (read at vtop,
- * the fastest the motion can be); -1 for the others (cons_room()). */
-static void past_drop(struct sh2000_path *p, unsigned int n, double dk,
-		      double vtop)
-{
-	unsigned int j;
-
-	for (j = 0; j < n; j++) {
-		double *x = p->cons + PL_CONS * j;
-		double A = acc_at(p, x + 2, vtop);
-		struct pl_limits L = { A, model_jerk(p, A) };
-
-		x[5] = dk;
-		x[6] = dk > 0.0 && x[0] > dk ?
-		       pl_reach_back(&L, x[1], x[0] - dk) : -1.0;
-	}
 }
 
 static unsigned int limits_ahead(struct sh2000_path *p, double h,
@@ -529,7 +528,7 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 				x[2] = fmin(x[2], Ak);
 			level = V;
 		}
-		if (acc_run_add(p, &run, k, Ak, fixed)) {
+		if (acc_run_add(&run, k, Ak, fixed)) {
 			x = p->drops + PL_DROP * m++;
 			x[0] = d - (k->corner ? zone : 0.0) * V;
 			memcpy(x + 1, run.x, sizeof(run.x));
@@ -543,8 +542,12 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 		x[1] = 0.0;
 		memcpy(x + 2, run.x, sizeof(run.x));
 	}
-	past_drop(p, n, m ? p->drops[0] : 0.0,
-		  vup + (trap ? 0.0 : p->a_top * p->a_top / (2.0 * lim->J)));
+	for (i = 0; i < n; i++) {	/* cons_room(): when it needs them */
+		p->cons[PL_CONS * i + 5] = m ? p->drops[0] : 0.0;
+		p->cons[PL_CONS * i + 6] = m && p->drops[0] > 0.0 &&
+					   p->cons[PL_CONS * i] > p->drops[0] ?
+					   NAN : -1.0;
+	}
 	*nd = m;
 	return n;
 }

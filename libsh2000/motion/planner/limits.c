@@ -130,7 +130,7 @@ static double share_at(const struct pl_accel_fn *f, double v)
 
 /* Blend arcs of turns under 45 degrees take the share their speed gives
  * them; wider turns keep their block's (pl_block_accel()). */
-static int blend_speed_share(const struct pl_block *b)
+int pl_accel_dyn(const struct pl_block *b)
 {
 	return b->type == BLK_BLEND && b->g.blend.phi < M_PI / 4.0;
 }
@@ -141,7 +141,7 @@ void pl_accel_fn_init(const struct sh2000_path *p, const struct pl_block *b,
 	const struct sh2000_path_config *c = &p->cfg;
 
 	f->A = f->Amax = b->A;
-	f->dyn = blend_speed_share(b);
+	f->dyn = pl_accel_dyn(b);
 	if (!f->dyn)
 		return;
 	f->s0 = c->centripetal_share;
@@ -186,7 +186,7 @@ double pl_block_accel(const struct sh2000_path *p, const struct pl_block *b)
 		double At = sqrt(1.0 - s * s) * c->margin * p->amin *
 			    p->a_scale;
 
-		if (blend_speed_share(b)) {
+		if (pl_accel_dyn(b)) {
 			/* the centripetal acceleration the speed the motion
 			 * can reach in it gives it, if that is less; not on
 			 * wide turns, where an axis takes the tangential

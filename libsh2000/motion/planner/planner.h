@@ -364,6 +364,9 @@ struct pl_accel_fn {
 };
 void pl_accel_fn_init(const struct sh2000_path *p, const struct pl_block *b,
 		      struct pl_accel_fn *f);
+/* Whether block b's acceleration follows the speed (a short blend; its
+ * curvature is 1 / R). */
+int pl_accel_dyn(const struct pl_block *b);
 /* What such a blend of curvature kappa allows at speed v at least, by
  * its curvature alone (not less than 0). */
 double pl_accel_curv(const struct sh2000_path *p, double v, double kappa);

@@ -93,24 +93,113 @@ struct ctl {
 	double jmax;	/* the jerk allowed; lim.J is the one planned with */
 	struct sh2000_path *p;	/* the landing under way (qj, qi, qn) */
 	double h, v, a, vcur;
-	/* the limits ahead: triples (distance, speed, the smallest
-	 * acceleration allowed up to there) */
+	/* the limits ahead: (distance, speed, the acceleration allowed up to
+	 * there as acc_at() reads it), PL_CONS each */
 	const double *cons;
 	unsigned int n;
-	/* where the acceleration allowed drops: pairs (distance, acceleration) */
+	/* where the acceleration allowed drops: (distance, the acceleration
+	 * as acc_at() reads it), PL_DROP each */
 	const double *drops;
 	unsigned int nd;
+	/* the head block's acceleration at a speed (a blend's grows as the
+	 * speed falls); lim.A is its value at the state the step starts
+	 * from, and the limits ahead hold the others' alone */
+	struct pl_accel_fn af;
 };
+
+static double peak_speed(const struct ctl *c, double v, double a);
+
+/* The fastest the motion from (v, a) gets before it brakes (its speed
+ * only falls then). */
+static double state_top(const struct ctl *c, double v, double a)
+{
+	return !c->trap && a > 0.0 ? peak_speed(c, v, a) : v;
+}
+
+/* The head block's acceleration for the motion from (v, a). */
+static double head_accel(const struct ctl *c, double v, double a)
+{
+	if (!c->af.dyn)
+		return c->lim.A;
+	return pl_accel_at(c->p, &c->af, state_top(c, v, a));
+}
+
+/* The least acceleration of the blocks after the head up to a limit or a
+ * drop, at speeds up to v: x = (the least of those whose A is constant,
+ * the least floor of the short blends' (pl_accel_fn) and their largest
+ * curvature); each blend allows at least its floor and at least what that
+ * curvature leaves at v (pl_accel_curv()), so this bounds them all. */
+static double acc_at(const struct sh2000_path *p, const double x[3],
+		     double v)
+{
+	if (isinf(x[1]))
+		return x[0];
+	return pl_min(x[0], pl_max(x[1], pl_accel_curv(p, v, x[2])));
+}
+
+/* The acceleration of limit i, from (v, a): the head's and those after. */
+static double cons_accel(const struct ctl *c, unsigned int i, double v,
+			 double a)
+{
+	return pl_min(acc_at(c->p, c->cons + PL_CONS * i + 2,
+			     state_top(c, v, a)),
+		      head_accel(c, v, a));
+}
 
 /* Distance to slow to limit i from (v, a), at the acceleration allowed on
  * the way to it. */
 static double cons_brake(const struct ctl *c, unsigned int i, double v,
 			 double a)
 {
-	struct pl_limits L = { c->cons[3 * i + 2],
-			       model_jerk(c->p, c->cons[3 * i + 2]) };
+	double A = cons_accel(c, i, v, a);
+	struct pl_limits L = { A, model_jerk(c->p, A) };
 
-	return pl_brake_dist(&L, v, c->trap ? 0.0 : a, c->cons[3 * i + 1]);
+	return pl_brake_dist(&L, v, c->trap ? 0.0 : a, c->cons[PL_CONS * i + 1]);
+}
+
+/* For limit x beyond the first drop of the acceleration (at x[5]): the
+ * fastest the motion may pass the drop at, with a = 0, and still slow to
+ * it at the least acceleration of the blocks up to it, read at the
+ * fastest the motion can be in this substep of length h (as
+ * limits_ahead() bounds it). */
+static double drop_speed(const struct sh2000_path *p, const double *x,
+			 double h)
+{
+	double vtop = p->v + p->a_top * h, A;
+	struct pl_limits L;
+
+	if (!isinf(p->lim.J))
+		vtop += p->a_top * p->a_top / (2.0 * model_jerk(p, p->lim.A));
+	A = acc_at(p, x + 2, vtop);
+	L.A = A;
+	L.J = model_jerk(p, A);
+	return pl_reach_back(&L, x[1], x[0] - x[5]);
+}
+
+/* Room left, after a step to (s, v, a), to slow to limit i ahead (at its
+ * distance d - s > 0): negative when it no longer can. Either all the way
+ * at the least acceleration of the blocks up to it, or, while the motion
+ * is before the first drop of the acceleration, by slowing at the head's
+ * (every block before the drop allows as much) to the speed from which
+ * the blocks after the drop can still slow to the limit at theirs, on
+ * the drop with a = 0 (limits_ahead()); once past the drop, the first way
+ * holds from there, since that speed is its own braking curve. */
+static double cons_room(const struct ctl *c, unsigned int i, double s,
+			double v, double a)
+{
+	double *x = c->p->cons + PL_CONS * i;
+	double r = x[0] - s - cons_brake(c, i, v, a);
+
+	if (r < 0.0 && x[5] - s > 0.0 && isnan(x[6]))
+		x[6] = drop_speed(c->p, x, c->h);
+	if (x[5] - s > 0.0 && x[6] >= 0.0 && r < 0.0) {
+		double A = head_accel(c, v, a);
+		struct pl_limits L = { A, model_jerk(c->p, A) };
+
+		r = pl_max(r, x[5] - s - pl_brake_dist(&L, v, c->trap ? 0.0 :
+							a, x[6]));
+	}
+	return r;
 }
 
 /* Room left, after a step to (s, v, a), to bring the acceleration down to
@@ -123,8 +212,9 @@ static double cons_brake(const struct ctl *c, unsigned int i, double v,
 static double drop_room(const struct ctl *c, unsigned int i, double s,
 			double v, double a)
 {
-	double Ad = c->drops[2 * i + 1], J = c->lim.J, t;
-	double dd = c->drops[2 * i] - s - 2.0 * v * c->h;
+	const double *x = c->drops + PL_DROP * i;
+	double Ad = acc_at(c->p, x + 1, state_top(c, v, a)), J = c->lim.J, t;
+	double dd = x[0] - s - 2.0 * v * c->h;
 
 	if (a <= Ad && (!c->quant || a >= -Ad))
 		return INFINITY;
@@ -186,8 +276,11 @@ static int cons_ok(const struct ctl *c, double s, double v, double a)
 {
 	unsigned int i;
 
+	if (c->af.dyn && !c->trap &&
+	    a > head_accel(c, v, a) * (1.0 + 1e-12))
+		return 0;
 	for (i = 0; i < c->n; i++) {
-		double d = c->cons[3 * i] - s, V = c->cons[3 * i + 1];
+		double d = c->cons[PL_CONS * i] - s, V = c->cons[PL_CONS * i + 1];
 
 		if (d <= 0.0) {
 			if (v > V + V_EPS)
@@ -195,7 +288,7 @@ static int cons_ok(const struct ctl *c, double s, double v, double a)
 			if (!c->trap && a > 0.0 &&
 			    peak_speed(c, v, a) > V + V_EPS)
 				return 0;
-		} else if (cons_brake(c, i, v, a) > d + 1e-12) {
+		} else if (cons_room(c, i, s, v, a) < -1e-12) {
 			return 0;
 		}
 	}
@@ -218,6 +311,8 @@ static double upper_slack(const struct ctl *c, double j)
 
 	step_state(c, j, &s, &v, &a);
 	m = c->trap ? INFINITY : c->lim.A * (1.0 + 1e-12) - a;
+	if (c->af.dyn && !c->trap)
+		m = pl_min(m, head_accel(c, v, a) * (1.0 + 1e-12) - a);
 	/* the speed at the start counts only when it is too high: as a
 	 * constant room it would hide how the others change with j */
 	if (c->v > c->vcur + V_EPS)
@@ -229,10 +324,10 @@ static double upper_slack(const struct ctl *c, double j)
 	if (!c->trap && a > 0.0)
 		m = pl_min(m, c->vcur + V_EPS - peak_speed(c, v, a));
 	for (i = 0; i < c->n && m >= 0.0; i++) {
-		double d = c->cons[3 * i] - s, V = c->cons[3 * i + 1];
+		double d = c->cons[PL_CONS * i] - s, V = c->cons[PL_CONS * i + 1];
 
 		if (d > 0.0) {
-			m = pl_min(m, d + 1e-12 - cons_brake(c, i, v, a));
+			m = pl_min(m, 1e-12 + cons_room(c, i, s, v, a));
 			continue;
 		}
 		m = pl_min(m, V + V_EPS - v);
@@ -272,15 +367,20 @@ static double danger(const struct ctl *c, double *A, double *d)
 	    peak_speed(c, c->v, c->a) > c->vcur + V_EPS))
 		return c->vcur;
 	for (i = 0; i < c->n; i++) {
-		double r = c->cons[3 * i] - cons_brake(c, i, c->v, c->a);
+		const double *x = c->cons + PL_CONS * i;
+		double r = cons_room(c, i, 0.0, c->v, c->a);
+		/* slowing to the speed at the drop where that is what holds */
+		int at_drop = x[0] > 0.0 &&
+			      x[0] - cons_brake(c, i, c->v, c->a) < r;
 
 		if (r < slack) {
 			slack = r;
-			vt = fmin(c->vcur, c->cons[3 * i + 1]);
-			*A = c->cons[3 * i + 2];
+			vt = fmin(c->vcur, at_drop ? x[6] : x[1]);
+			*A = at_drop ? c->lim.A :
+			     pl_min(cons_accel(c, i, c->v, c->a), c->lim.A);
 			/* a limit already in force binds the speed alone */
-			*d = vt < c->cons[3 * i + 1] || c->cons[3 * i] <= 0.0 ?
-			     INFINITY : c->cons[3 * i];
+			*d = vt < (at_drop ? x[6] : x[1]) || x[0] <= 0.0 ?
+			     INFINITY : at_drop ? x[5] : x[0];
 		}
 	}
 	return vt;
@@ -359,6 +459,33 @@ static struct pl_block *head(struct sh2000_path *p)
  * that is not blended, over the two periods of its speed, the
  * acceleration is lim.A: the corner's turn takes the rest of the axes'.
  */
+/* The acceleration of the blocks so far, as acc_at() reads it. */
+struct acc_run {
+	double x[3];
+};
+
+/* Block k into the run (Ak: its A, or with fixed set the A of the
+ * corner zone at its start, which holds whatever the speed); 1 if that
+ * lowered what the run allows at some speed. */
+static int acc_run_add(struct acc_run *r, const struct pl_block *k,
+		       double Ak, int fixed)
+{
+	double kappa;
+
+	if (!pl_accel_dyn(k) || fixed) {
+		if (Ak >= r->x[0])
+			return 0;
+		r->x[0] = Ak;
+		return 1;
+	}
+	kappa = 1.0 / k->g.blend.R;
+	if (k->A >= r->x[0] || (k->A >= r->x[1] && kappa <= r->x[2]))
+		return 0;
+	r->x[1] = pl_min(r->x[1], k->A);
+	r->x[2] = pl_max(r->x[2], kappa);
+	return 1;
+}
+
 static unsigned int limits_ahead(struct sh2000_path *p, double h,
 				 double level, int halt, double A0,
 				 unsigned int *nd)
@@ -368,7 +495,7 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 	const struct pl_limits *lim = &L;
 	int trap = isinf(lim->J);
 	double zone = 2.0 * p->cfg.period_s, vup = p->v + p->a_top * h, dh, d;
-	double amin = A0;
+	struct acc_run run = { { A0, INFINITY, 0.0 } };
 	unsigned int i, n = 0, m = 0;
 
 	dh = vup * (h + zone) +
@@ -381,35 +508,45 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 		double V = halt ? 0.0 : pl_entry_limit(p, i);
 		/* the card's spline spans two periods either side of a
 		 * corner: the corner speed holds over them */
-		double t = k->corner ? zone : 0.0, Ak = k->A, ab = amin;
+		double t = k->corner ? zone : 0.0, Ak = k->A;
+		int fixed = k->corner && k->vj > 0.0;
+		double *x;
 
-		if (k->corner && k->vj > 0.0)
-			ab = Ak = fmin(Ak, lim->A);
+		if (fixed)
+			Ak = fmin(Ak, lim->A);
 		if (V < level) {
 			/* a lower feed holds from feed_zone before; the
 			 * braking to it runs in the blocks before (a corner's
 			 * zone at lim.A), ending at a = 0 */
 			if (k->feed < k->prev_feed)
 				t = fmax(t, p->feed_zone);
-			p->cons[3 * n] = d - t * V;
-			p->cons[3 * n + 1] = V;
-			p->cons[3 * n + 2] = fmin(amin, ab);
-			n++;
+			x = p->cons + PL_CONS * n++;
+			x[0] = d - t * V;
+			x[1] = V;
+			memcpy(x + 2, run.x, sizeof(run.x));
+			if (fixed)
+				x[2] = fmin(x[2], Ak);
 			level = V;
 		}
-		if (Ak < amin) {
-			amin = Ak;
-			p->drops[2 * m] = d - (k->corner ? zone : 0.0) * V;
-			p->drops[2 * m + 1] = Ak;
-			m++;
+		if (acc_run_add(&run, k, Ak, fixed)) {
+			x = p->drops + PL_DROP * m++;
+			x[0] = d - (k->corner ? zone : 0.0) * V;
+			memcpy(x + 1, run.x, sizeof(run.x));
 		}
 		d += k->L;
 	}
 	if (i == p->count && d <= dh && level > 0.0) {
-		p->cons[3 * n] = d;
-		p->cons[3 * n + 1] = 0.0;
-		p->cons[3 * n + 2] = amin;
-		n++;
+		double *x = p->cons + PL_CONS * n++;
+
+		x[0] = d;
+		x[1] = 0.0;
+		memcpy(x + 2, run.x, sizeof(run.x));
+	}
+	for (i = 0; i < n; i++) {	/* cons_room(): when it needs them */
+		p->cons[PL_CONS * i + 5] = m ? p->drops[0] : 0.0;
+		p->cons[PL_CONS * i + 6] = m && p->drops[0] > 0.0 &&
+					   p->cons[PL_CONS * i] > p->drops[0] ?
+					   NAN : -1.0;
 	}
 	*nd = m;
 	return n;
@@ -489,13 +626,14 @@ static void brake(const struct ctl *c, double *ds, double *v, double *a)
 
 		follow(c, vt, A, ds, v, a);
 		for (k = 0; k < c->n; k++) {
-			double dd = c->cons[3 * k] - *ds, V = c->cons[3 * k + 1];
+			double dd = c->cons[PL_CONS * k] - *ds;
+			double V = c->cons[PL_CONS * k + 1];
 
 			if (V < lowest &&
 			    (dd <= 0.0 ? *v > V + V_EPS :
-			     cons_brake(c, k, *v, *a) > dd + 1e-12)) {
+			     cons_room(c, k, *ds, *v, *a) < -1e-12)) {
 				lowest = V;
-				A = pl_min(A, c->cons[3 * k + 2]);
+				A = pl_min(A, cons_accel(c, k, c->v, c->a));
 			}
 		}
 		if (lowest == vt)
@@ -626,24 +764,33 @@ static int substep(struct sh2000_path *p, double h)
 	c.vcur = halt ? 0.0 : pl_cap(p, b);
 	/* a stop has no zone: s a rounding below zero (a curve's arc
 	 * accounting) must not hold the carriage at the corner for ever */
+	pl_accel_fn_init(p, b, &c.af);
 	if (b->corner && b->vj > 0.0 && p->s < zone * b->vj) {
 		c.vcur = fmin(c.vcur, b->vj);
 		c.lim.A = fmin(c.lim.A, p->lim.A);
+		c.af.dyn = 0;
+	} else if (c.af.dyn) {
+		/* at the fastest this state gets to before braking (the
+		 * floor's jerk: the highest peak) */
+		c.lim.J = model_jerk(p, c.lim.A);
+		c.lim.A = head_accel(&c, c.v, c.a);
 	}
 	/* a higher feed only once the lower one is feed_zone behind */
 	if (!halt && b->feed > b->prev_feed &&
 	    p->s < p->feed_zone * pl_prev_cap(p, b))
 		c.vcur = fmin(c.vcur, fmax(pl_prev_cap(p, b), 0.0));
 	c.lim.J = model_jerk(p, c.lim.A);
-	n = limits_ahead(p, h, c.vcur, halt, c.lim.A, &c.nd);
+	n = limits_ahead(p, h, c.vcur, halt,
+			 c.af.dyn ? c.af.Amax : c.lim.A, &c.nd);
 	c.cons = p->cons;
 	c.n = n;
 	c.drops = p->drops;
-	if (n && p->cons[3 * n - 2] == 0.0 && p->cons[3 * n - 3] < 1e-6 &&
+	if (n && p->cons[PL_CONS * (n - 1) + 1] == 0.0 &&
+	    p->cons[PL_CONS * (n - 1)] < 1e-6 &&
 	    p->v < 1e-4 && !halt) {
 		/* at rest a hair before a stop (exact stop, end of the
 		 * queue): the transitions land within rounding of it */
-		ds = fmax(p->cons[3 * n - 3], 0.0);
+		ds = fmax(p->cons[PL_CONS * (n - 1)], 0.0);
 		v = a = 0.0;
 	} else {
 		choose_step(&c, &ds, &v, &a);

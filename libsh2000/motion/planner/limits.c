@@ -8,6 +8,7 @@
  * tangential share).
  */
 #include <math.h>
+#include <string.h>
 
 #include "planner.h"
 
@@ -85,25 +86,90 @@ static double sweep_max(double x, double y, double phi)
  * tangential acceleration A and an N_i of the centripetal an, T_i and N_i
  * the largest share of the tangent and of the normal it takes over the
  * arc's sweep (a short arc keeps close to the direction of its tangent,
- * as a line does); A is the most that keeps every axis within its amax
- * (as a line's, each axis up to its own). */
-static double blend_box_accel(const struct sh2000_path *p,
-			      const struct pl_block *b, double s)
+ * as a line does). */
+static void blend_box_coef(const struct pl_block *b, double T[SH2000_AXES],
+			   double N[SH2000_AXES])
+{
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++) {
+		double u = b->g.blend.u[a], w = b->g.blend.w[a];
+
+		/* t = w cos - u sin, n = -(u cos + w sin) */
+		T[a] = sweep_max(w, -u, b->g.blend.phi);
+		N[a] = sweep_max(u, w, b->g.blend.phi);
+	}
+}
+
+/* The tangential acceleration along a blend with the centripetal share s:
+ * at right angles to the centripetal part (their sum within the smallest
+ * amax whatever the direction), or where more, the most that keeps every
+ * axis within its own amax (as a line's), from blend_box_coef(); before
+ * the ringing allowance. */
+static double blend_accel_share(const struct sh2000_path *p,
+				const struct pl_accel_fn *f, double s)
 {
 	const struct sh2000_path_config *c = &p->cfg;
 	double an = s * c->margin * p->amin, A = INFINITY;
 	unsigned int a;
 
-	for (a = 0; a < SH2000_AXES; a++) {
-		double u = b->g.blend.u[a], w = b->g.blend.w[a];
-		/* t = w cos - u sin, n = -(u cos + w sin) */
-		double T = sweep_max(w, -u, b->g.blend.phi);
-		double N = sweep_max(u, w, b->g.blend.phi);
+	for (a = 0; a < SH2000_AXES; a++)
+		if (f->T[a] > 1e-12)
+			A = fmin(A, (c->margin * c->amax[a] - an * f->N[a]) /
+				    f->T[a]);
+	return fmax(sqrt(1.0 - s * s) * c->margin * p->amin,
+		    fmax(A, 0.0)) * p->a_scale;
+}
 
-		if (T > 1e-12)
-			A = fmin(A, (c->margin * c->amax[a] - an * N) / T);
-	}
-	return fmax(A, 0.0) * p->a_scale;
+/* The centripetal share the speed v gives a blend: v^2 / R of the
+ * smallest amax, within [s0, s1]. */
+static double share_at(const struct pl_accel_fn *f, double v)
+{
+	return pl_max(f->s0, pl_min(f->s1, v * v * f->kM));
+}
+
+/* Blend arcs of turns under 45 degrees take the share their speed gives
+ * them; wider turns keep their block's (pl_block_accel()). */
+int pl_accel_dyn(const struct pl_block *b)
+{
+	return b->type == BLK_BLEND && b->g.blend.phi < M_PI / 4.0;
+}
+
+void pl_accel_fn_init(const struct sh2000_path *p, const struct pl_block *b,
+		      struct pl_accel_fn *f)
+{
+	const struct sh2000_path_config *c = &p->cfg;
+
+	f->A = f->Amax = b->A;
+	f->dyn = pl_accel_dyn(b);
+	if (!f->dyn)
+		return;
+	f->s0 = c->centripetal_share;
+	f->s1 = pl_max(b->share, f->s0);
+	f->kM = 1.0 / (b->g.blend.R * c->margin * p->amin);
+	blend_box_coef(b, f->T, f->N);
+	f->Amax = pl_accel_at(p, f, 0.0);
+}
+
+double pl_accel_at(const struct sh2000_path *p, const struct pl_accel_fn *f,
+		   double v)
+{
+	if (!f->dyn)
+		return f->A;
+	return pl_max(f->A, pl_min(pl_accel_room(p, blend_accel_share(
+			p, f, share_at(f, v))), p->a_top));
+}
+
+double pl_accel_curv(const struct sh2000_path *p, double v, double kappa)
+{
+	const struct sh2000_path_config *c = &p->cfg;
+	double M = c->margin * p->amin;
+	double s = pl_max(c->centripetal_share, v * v * kappa / M);
+
+	if (s >= 1.0)
+		return 0.0;
+	return pl_min(pl_accel_room(p, sqrt(1.0 - s * s) * M * p->a_scale),
+		      p->a_top);
 }
 
 double pl_block_accel(const struct sh2000_path *p, const struct pl_block *b)
@@ -120,21 +186,25 @@ double pl_block_accel(const struct sh2000_path *p, const struct pl_block *b)
 		double At = sqrt(1.0 - s * s) * c->margin * p->amin *
 			    p->a_scale;
 
-		if (b->type == BLK_BLEND) {
+		if (pl_accel_dyn(b)) {
 			/* the centripetal acceleration the speed the motion
 			 * can reach in it gives it, if that is less; not on
 			 * wide turns, where an axis takes the tangential
 			 * braking and then the centripetal, both along it
 			 * (blend.c, BLEND_SHARE_TURN) */
-			double v = pl_peak(p, b);
+			struct pl_accel_fn f = { .A = 0.0, .dyn = 1 };
 
-			if (b->g.blend.phi < M_PI / 4.0)
-				s = fmax(c->centripetal_share,
-					 fmin(s, v * v / (b->g.blend.R *
-							  c->margin *
-							  p->amin)));
-			At = fmax(sqrt(1.0 - s * s) * c->margin * p->amin *
-				  p->a_scale, blend_box_accel(p, b, s));
+			f.s0 = c->centripetal_share;
+			f.s1 = s;
+			f.kM = 1.0 / (b->g.blend.R * c->margin * p->amin);
+			blend_box_coef(b, f.T, f.N);
+			At = blend_accel_share(p, &f, share_at(&f,
+							       pl_peak(p, b)));
+		} else if (b->type == BLK_BLEND) {
+			struct pl_accel_fn f;
+
+			blend_box_coef(b, f.T, f.N);
+			At = blend_accel_share(p, &f, s);
 		}
 		return fmin(pl_accel_room(p, At), p->a_top);
 	}
@@ -182,6 +252,58 @@ double pl_junction(const struct sh2000_path *p, const double t1[SH2000_AXES],
 		if (k > 1.0)
 			v = fmin(v, c->margin * c->vmax[a] /
 				    (fmax(fabs(t0[a]), fabs(t1[a])) + 0.37 * dt));
+	}
+	return v;
+}
+
+/* The curvature vector (d^2 x / ds^2) of block b at its start (end 0) or
+ * its end: 0 on a line, n / R on a blend, by a second difference of its
+ * exact points on an arc; 0 with *known 0 for a NURBS (its own expansion
+ * bounds the steps inside it). */
+static void block_curv(const struct pl_block *b, int end,
+		       double k[SH2000_AXES], int *known)
+{
+	unsigned int a;
+
+	memset(k, 0, SH2000_AXES * sizeof(k[0]));
+	*known = b->type != BLK_NURBS;
+	if (b->type == BLK_BLEND) {
+		double th = end ? b->g.blend.phi : 0.0;
+
+		for (a = 0; a < SH2000_AXES; a++)
+			k[a] = -(b->g.blend.u[a] * cos(th) +
+				 b->g.blend.w[a] * sin(th)) / b->g.blend.R;
+	} else if (b->type == BLK_ARC) {
+		double h = pl_min(b->L / 8.0, 0.01), x[3][SH2000_AXES];
+		unsigned int i;
+
+		for (i = 0; i < 3; i++)
+			pl_block_pos(b, end ? b->L - i * h : i * h, x[i]);
+		for (a = 0; a < SH2000_AXES; a++)
+			k[a] = (x[0][a] - 2.0 * x[1][a] + x[2][a]) / (h * h);
+	}
+}
+
+double pl_curv_step(const struct sh2000_path *p, const struct pl_block *b0,
+		    const struct pl_block *b1)
+{
+	const struct sh2000_path_config *c = &p->cfg;
+	double k0[SH2000_AXES], k1[SH2000_AXES], v = INFINITY;
+	int n0, n1;
+	unsigned int a;
+
+	if (c->output != SH2000_OUTPUT_COMPENSATED)
+		return INFINITY;
+	block_curv(b0, 1, k0, &n0);
+	block_curv(b1, 0, k1, &n1);
+	if (!n0 || !n1)
+		return INFINITY;
+	for (a = 0; a < SH2000_AXES; a++) {
+		double q = pl_max(fabs(k0[a]), fabs(k1[a])) +
+			   PL_CURV_RING * fabs(k1[a] - k0[a]);
+
+		if (q > 1e-12)
+			v = pl_min(v, sqrt(c->margin * c->amax[a] / q));
 	}
 	return v;
 }

@@ -247,8 +247,9 @@ int sh2000_path_create(struct sh2000_path **out,
 		free(p);
 		return -ENOMEM;
 	}
-	p->cons = pl_alloc(p, 5 * (p->cap + 2) * sizeof(double));
-	p->drops = p->cons ? p->cons + 3 * (p->cap + 2) : NULL;
+	p->cons = pl_alloc(p, (PL_CONS + PL_DROP) * (p->cap + 2) *
+			   sizeof(double));
+	p->drops = p->cons ? p->cons + PL_CONS * (p->cap + 2) : NULL;
 	if (!p->cons) {
 		free(p->blk);
 		free(p);

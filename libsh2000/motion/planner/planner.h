@@ -30,6 +30,13 @@ struct pl_nurbs {
 	size_t bytes;		/* what the copy holds */
 };
 
+/* The controller's scratch per limit ahead (distance, speed, three for
+ * the acceleration, and where the acceleration first drops with the
+ * speed to pass there) and per drop of the acceleration (distance and
+ * three), control.c */
+#define PL_CONS 7u
+#define PL_DROP 4u
+
 /* Points the planner can hold for a sink that cannot take them yet: one
  * period's plus a whole compensation flush (2 * 64 + 3 at most). */
 #define PL_OUTQ 160u
@@ -342,6 +349,29 @@ void pl_curve_block_vlim(const struct sh2000_path *p, struct pl_block *k,
  * most loaded axis reaches its amax (times the margin); a curve's
  * tangential share (a_curve). */
 double pl_block_accel(const struct sh2000_path *p, const struct pl_block *b);
+/* The path acceleration block b allows at speed v and below, as the
+ * controller reads it (pl_accel_at()): a blend arc of a turn under 45
+ * degrees gives the centripetal acceleration v^2 / R only what the speed
+ * reached needs (never less than the configured share), the rest goes
+ * along the path; every other block has its constant A. */
+struct pl_accel_fn {
+	int dyn;		/* 0: the constant A */
+	double A;		/* the block's A: the least at any speed */
+	double Amax;		/* at rest: the most */
+	double s0, s1;		/* the share's bounds ... */
+	double kM;		/* ... and v^2 kM the share at v */
+	double T[SH2000_AXES], N[SH2000_AXES];	/* per axis (limits.c) */
+};
+void pl_accel_fn_init(const struct sh2000_path *p, const struct pl_block *b,
+		      struct pl_accel_fn *f);
+/* Whether block b's acceleration follows the speed (a short blend; its
+ * curvature is 1 / R). */
+int pl_accel_dyn(const struct pl_block *b);
+/* What such a blend of curvature kappa allows at speed v at least, by
+ * its curvature alone (not less than 0). */
+double pl_accel_curv(const struct sh2000_path *p, double v, double kappa);
+double pl_accel_at(const struct sh2000_path *p, const struct pl_accel_fn *f,
+		   double v);
 /* The fastest the motion can leave block b (or be anywhere in it): from
  * its entry bound vin at no more than any block's acceleration. */
 double pl_fwd_exit(const struct sh2000_path *p, const struct pl_block *b);
@@ -353,6 +383,16 @@ static inline double pl_accel_room(const struct sh2000_path *p, double A)
 {
 	return A - p->a_ring > A / 1.4 ? A - p->a_ring : A / 1.4;
 }
+/* Speed allowed through the tangent junction from block b0 into b1 where
+ * the curvature steps (a line into a blend, a blend into one turning
+ * another way): the compensated spline through a step of the path's
+ * acceleration overshoots it by about PL_CURV_RING of the step on the
+ * card's servo cycles, so each axis' centripetal acceleration there plus
+ * that stays within its amax (times the margin). INFINITY raw or next to
+ * a NURBS. */
+#define PL_CURV_RING 0.5
+double pl_curv_step(const struct sh2000_path *p, const struct pl_block *b0,
+		    const struct pl_block *b1);
 /* Speed allowed through the corner from tangent t1 (in) to t0 (out). */
 double pl_junction(const struct sh2000_path *p, const double t1[SH2000_AXES],
 		   const double t0[SH2000_AXES]);

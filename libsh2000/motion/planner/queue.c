@@ -100,6 +100,10 @@ static void push_one(struct sh2000_path *p, struct pl_block *b)
 	else
 		b->vj = pl_junction(p, p->tend, b->t0);
 	b->corner = !isinf(b->vj);
+	/* a tangent junction: where the curvature steps (not a corner: no
+	 * zone of the corner's acceleration around it) */
+	if (!b->corner && p->count)
+		b->vj = pl_curv_step(p, pl_block_at(p, p->count - 1), b);
 	/* an empty window: the motion is at rest */
 	b->vin = pl_min(b->vj, b->vlim);
 	b->vin = p->count ? pl_min(b->vin, pl_fwd_exit(p, pl_block_at(

@@ -275,7 +275,7 @@ static int axis_error(struct sh2000 *h, const struct sh2000_status *st,
 	for (i = 0; i < sizeof(axis_faults) / sizeof(axis_faults[0]); i++)
 		if (bits & axis_faults[i].bit)
 			return sh2000_fail(h, -axis_faults[i].code,
-					   "axis %c: %s (axis faults 0x%04x, following error %.6f mm)",
+					   "axis %c: %s (axis faults 0x%04x, following error now %.6f mm)",
 					   sh2000_axis_letter((int)a), axis_faults[i].what,
 					   st->axis[a].faults, st->axis[a].ferr_mm);
 	return sh2000_fail(h, -SH2000_EFAULTED,

@@ -12,7 +12,8 @@
  * comp-tables follow the card. Reading them is not a real-time call, so a
  * thread beside the servo thread reads them every HSC_COMP_WATCH_MS (8
  * words, some 10 port cycles) through a handle of its own, as another
- * program beside LinuxCNC would (sh2000ctl comp show): it never holds the
+ * program beside LinuxCNC would (sh2000ctl comp show; the in-process sim,
+ * which no other program reaches, has no watch): it never holds the
  * servo thread's handle, whose calls would find it busy for as long as
  * this thread, which is no real-time one, is kept off the CPU. The servo
  * thread takes the result when the watch's lock is free (trylock, never
@@ -59,7 +60,7 @@ int hsc_comp_load(struct hsc_card *c, const char *path, char *msg, size_t len)
 int hsc_comp_refresh(struct hsc_card *c)
 {
 	struct sh2000_comp_status st;
-	int r = sh2000_comp_status(c->cw.h ? c->cw.h : c->h, &st);
+	int r = sh2000_comp_status(c->cw.h, &st);
 
 	pthread_mutex_lock(&c->cw.lock);
 	if (r == 0) {
@@ -101,13 +102,10 @@ static void *watch(void *arg)
 	return NULL;
 }
 
-/* The watch's own handle: the card opened again (the in-process sim is
- * one handle's card: that one). */
+/* The watch's own handle: the card opened again. */
 static int watch_open(struct hsc_card *c, char *msg, size_t len)
 {
 	c->cw.h = NULL;
-	if (!strcmp(c->device, "sim"))
-		return 0;
 	return sh2000_open(&c->cw.h, c->device, msg, len);
 }
 
@@ -120,6 +118,11 @@ int hsc_comp_watch_start(struct hsc_card *c, unsigned int period_ms,
 	snprintf(msg, len, "the tables' watch: %s", strerror(EINVAL));
 	if (c->cw.started || !period_ms)
 		return -EINVAL;
+	/* the in-process card is this handle's alone: no other program can
+	 * change its tables, and a watch would have to share the servo
+	 * thread's handle */
+	if (!strcmp(c->device, "sim"))
+		return 0;
 	r = watch_open(c, msg, len);
 	if (r < 0)
 		return r;

@@ -5,8 +5,9 @@
  * count, the card's status the same); a bad one is refused by the check
  * with the library's FILE:LINE message and the card's tables do not
  * change; "" and "-" are no table. Tables loaded and cleared later by
- * another program show in what the servo thread takes from the watch
- * thread, which it never waits for.
+ * another program (a served card's second handle) show in what the servo
+ * thread takes from the watch thread, which it never waits for; the
+ * in-process card, which no other program reaches, has no watch.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -19,6 +20,7 @@
 #include <cmocka.h>
 
 #include "hsc.h"
+#include "sh2000/sim.h"
 
 static char path[64];
 
@@ -37,6 +39,23 @@ static void open_card(struct hsc_card *c)
 
 	if (hsc_open(c, 0, "sim", msg, sizeof(msg)) < 0)
 		fail_msg("hsc_open: %s", msg);
+}
+
+/* A card served in this process (sim:NAME), as another program reaches
+ * it, and hal_sh2000's card on it. */
+static struct sh2000_sim_server *serve_card(struct hsc_card *c, char *dev,
+					    size_t len)
+{
+	struct sh2000_sim_server *s = NULL;
+	char msg[256];
+
+	snprintf(dev, len, "sim:hsc-comp-%d", (int)getpid());
+	if (sh2000_sim_server_create(&s, dev + 4, NULL, 0, msg, sizeof(msg)) < 0 ||
+	    sh2000_sim_server_start(s) < 0)
+		fail_msg("server %s: %s", dev, msg);
+	if (hsc_open(c, 0, dev, msg, sizeof(msg)) < 0)
+		fail_msg("hsc_open %s: %s", dev, msg);
+	return s;
 }
 
 static void wanted(void **state)
@@ -127,27 +146,52 @@ static void watched(void **state)
 	char msg[512] = "";
 	uint32_t first;
 
+	struct sh2000_sim_server *s;
+	struct sh2000 *other = NULL;
+	char dev[64];
+
 	(void)state;
 	write_file("id 0x12345678\npitch X\n0 0\n100 0.002\n200 0.001\n");
-	open_card(&c);
+	s = serve_card(&c, dev, sizeof(dev));
 	if (hsc_comp_load(&c, path, msg, sizeof(msg)) < 0)
 		fail_msg("hsc_comp_load: %s", msg);
 	first = c.comp.sum;
 	assert_int_equal(hsc_comp_watch_start(&c, 20, msg, sizeof(msg)), 0);
-	assert_int_equal(sh2000_comp_clear(c.h), 0);
+	assert_int_equal(c.cw.started, 1);
+	if (sh2000_open(&other, dev, msg, sizeof(msg)) < 0)
+		fail_msg("open %s: %s", dev, msg);
+	assert_int_equal(sh2000_comp_clear(other), 0);
 	assert_true(shows(&c, 0));
 	assert_int_equal(c.comp.tables, 0);
 	assert_int_equal(c.comp.id, 0);
 	write_file("id 0xabcd\npitch Y\n0 0\n100 0.001\n");
-	if (sh2000_comp_load_file(c.h, path) < 0)
-		fail_msg("load: %s", sh2000_last_error(c.h));
-	assert_int_equal(sh2000_comp_status(c.h, &st), 0);
+	if (sh2000_comp_load_file(other, path) < 0)
+		fail_msg("load: %s", sh2000_last_error(other));
+	assert_int_equal(sh2000_comp_status(other, &st), 0);
 	assert_int_not_equal(st.sum, first);
 	assert_true(shows(&c, st.sum));
 	assert_int_equal(c.comp.id, 0xabcdu);
 	assert_int_equal(c.comp.tables, 1);
+	sh2000_close(other);
 	hsc_close(&c);	/* stops the watch */
 	assert_int_equal(c.cw.started, 0);
+	sh2000_sim_server_destroy(s);
+}
+
+/* The in-process card is this module's handle's alone: no watch (it
+ * would share the servo thread's handle), and the tables stay what the
+ * load set. */
+static void no_watch_in_process(void **state)
+{
+	struct hsc_card c;
+	char msg[256];
+
+	(void)state;
+	open_card(&c);
+	assert_int_equal(hsc_comp_watch_start(&c, 20, msg, sizeof(msg)), 0);
+	assert_int_equal(c.cw.started, 0);
+	hsc_comp_take(&c);
+	hsc_close(&c);
 }
 
 /* The servo thread never waits for the watch: with the watch's lock
@@ -159,8 +203,11 @@ static void take_never_waits(void **state)
 	char msg[256];
 	int i;
 
+	struct sh2000_sim_server *s;
+	char dev[64];
+
 	(void)state;
-	open_card(&c);
+	s = serve_card(&c, dev, sizeof(dev));
 	assert_int_equal(hsc_comp_watch_start(&c, 60000, msg, sizeof(msg)), 0);
 	/* the watch's first read done, it sleeps for a minute (the stop cuts
 	 * that short) */
@@ -180,6 +227,7 @@ static void take_never_waits(void **state)
 	hsc_comp_take(&c);
 	assert_int_equal(c.comp.sum, 0x5eed);
 	hsc_close(&c);
+	sh2000_sim_server_destroy(s);
 }
 
 int main(void)
@@ -189,6 +237,7 @@ int main(void)
 		cmocka_unit_test(good_table),
 		cmocka_unit_test(bad_table),
 		cmocka_unit_test(watched),
+		cmocka_unit_test(no_watch_in_process),
 		cmocka_unit_test(take_never_waits),
 	};
 	int fd, r;

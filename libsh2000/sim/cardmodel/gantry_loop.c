@@ -23,7 +23,9 @@
  * (then a way back of the two sides by different distances latched
  * SKEW). The partner latches no bit of its own: the faulted side's bit
  * and the first-fault record say why. After a skew fault, which holds
- * both sides where they stopped, the other side stays held.
+ * both sides where they stopped, the other side stays held, its
+ * following-error check off only while it brakes (a side the beam then
+ * drags away faults too); in ESTOP, which has no such check, it goes.
  * HOME on either side homes both, each on its own switch, and with
  * HOME_F_INDEX then on its own scale's index mark; then side b's count is
  * shifted by gantry_square (where its reference, switch or mark, is

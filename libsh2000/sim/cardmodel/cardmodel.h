@@ -127,6 +127,13 @@ struct sh2000_fw_axis {
 	struct sh2000_obs obs;	/* the reading finer than a count */
 	double loop_e;		/* the error the PID closed on (counts) */
 	unsigned int sat_cycles;
+	/* a gantry side the skew fault held, braking to where it was held
+	 * (gantry_loop.c's sh2000_gantry_brake_exempt): SKEW_BRAKE_*, the
+	 * direction it moves in (-1, 0, 1), and how far (counts) beyond
+	 * the held point its brake took it */
+	int skew_brake;
+	int brake_dir;
+	double brake_peak_e;
 	int prev_limit;		/* switch bits last cycle, for edges */
 	/* a disabled axis: its position in the first record taken since the
 	 * motion started or the axis was disabled (REJECT_DISABLED) */
@@ -217,6 +224,13 @@ int sh2000_gantry_axes(const struct sh2000_dsp *fw, unsigned int *a,
  * pair must be disabled with it, else 0. */
 int sh2000_gantry_partner(const struct sh2000_dsp *fw, unsigned int axis,
 			  unsigned int *other);
+enum { SKEW_BRAKE_NONE = 0, SKEW_BRAKE_STOPPING, SKEW_BRAKE_RETURNING };
+
+/* Every servo cycle of an enabled axis with its following error e
+ * (counts): 1 while the skew fault's hold lets it be beyond FERR_LIMIT,
+ * braking to the held point; 0 when the check applies (one the beam
+ * drags away from the held point faults). */
+int sh2000_gantry_brake_exempt(struct sh2000_fw_axis *ax, double e);
 /* GANTRY_PAIR set: the coupling loop starts from rest. */
 void sh2000_gantry_paired(struct sh2000_dsp *fw);
 /* After every axis' PID: the skew check and the coupling loop's share

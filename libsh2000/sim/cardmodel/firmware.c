@@ -190,6 +190,21 @@ static void axis_fault(struct sh2000_dsp *fw, unsigned int a, uint16_t bit,
 
 /* ---- emergency stop ---- */
 
+/* The emergency stop suspends the following-error check, which is what
+ * would fault a gantry side held alone while the beam swings its
+ * disabled partner: no side of the pair is held alone in ESTOP. */
+static void estop_pair(struct sh2000_dsp *fw)
+{
+	unsigned int a, b;
+
+	if (!sh2000_gantry_axes(fw, &a, &b))
+		return;
+	if (!is_enabled(&fw->ax[a]) && is_enabled(&fw->ax[b]))
+		disable_axis(fw, b);
+	else if (is_enabled(&fw->ax[a]) && !is_enabled(&fw->ax[b]))
+		disable_axis(fw, a);
+}
+
 static void estop(struct sh2000_dsp *fw)
 {
 	unsigned int a;
@@ -204,6 +219,7 @@ static void estop(struct sh2000_dsp *fw)
 		ax->pid.e1 = 0.0;
 		ax->pid.e2 = 0.0;
 	}
+	estop_pair(fw);
 	discard_ring(fw);
 	fw->ending = 0;
 	fw->pad_left = 0;
@@ -336,6 +352,7 @@ static uint16_t cmd_enable(struct sh2000_dsp *fw, uint32_t mask, int on)
 		sh2000_obs_reset(&ax->obs);
 		sh2000_fw_hold_here(fw, a);
 		ax->sat_cycles = 0;
+		ax->skew_brake = 0;
 		ax->state |= SH2000_AXIS_ENABLED;
 	}
 	return SH2000_RES_OK;
@@ -350,6 +367,7 @@ static void reset(struct sh2000_dsp *fw)
 
 		ax->faults = 0;
 		ax->sat_cycles = 0;
+		ax->skew_brake = 0;
 		sh2000_home_abort(ax);
 		sh2000_pid_reset(&ax->pid);
 		sh2000_fw_hold_here(fw, a);
@@ -806,6 +824,7 @@ static void servo(struct sh2000_dsp *fw, double T)
 	for (a = 0; a < SH2000_AXES; a++) {
 		struct sh2000_fw_axis *ax = &fw->ax[a];
 		double e;
+		int braking;
 
 		if (!is_enabled(ax)) {
 			ax->dac = 0;
@@ -824,10 +843,11 @@ static void servo(struct sh2000_dsp *fw, double T)
 			axis_fault(fw, a, SH2000_AXIS_FAULT_SOFT_LIMIT, 0);
 		e = sh2000_fw_ferr(fw, a);
 		/* an emergency stop or a gantry's skew fault held the
-		 * set-point where the carriage was: it brakes to there */
+		 * set-point where the carriage was: it brakes to there (a
+		 * side the beam drags away from it cannot hold it) */
+		braking = sh2000_gantry_brake_exempt(ax, e);
 		if (fabs(e) > (double)ax->prm.ferr_limit &&
-		    fw->state != SH2000_STATE_ESTOP &&
-		    !(ax->faults & SH2000_AXIS_FAULT_SKEW)) {
+		    fw->state != SH2000_STATE_ESTOP && !braking) {
 			axis_fault(fw, a, SH2000_AXIS_FAULT_FERR, 1);
 			continue;
 		}

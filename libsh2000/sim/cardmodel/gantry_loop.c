@@ -23,7 +23,9 @@
  * (then a way back of the two sides by different distances latched
  * SKEW). The partner latches no bit of its own: the faulted side's bit
  * and the first-fault record say why. After a skew fault, which holds
- * both sides where they stopped, the other side stays held.
+ * both sides where they stopped, the other side stays held, its
+ * following-error check off only while it brakes (a side the beam then
+ * drags away faults too); in ESTOP, which has no such check, it goes.
  * HOME on either side homes both, each on its own switch, and with
  * HOME_F_INDEX then on its own scale's index mark; then side b's count is
  * shifted by gantry_square (where its reference, switch or mark, is
@@ -66,8 +68,12 @@ int sh2000_gantry_partner(const struct sh2000_dsp *fw, unsigned int axis,
 		return 0;
 	*other = axis == a ? b : a;
 	/* the skew fault already stopped both and holds the other where it
-	 * stopped (a jammed side saturating its DAC afterwards): it stays */
-	return !(fw->ax[*other].faults & SH2000_AXIS_FAULT_SKEW);
+	 * stopped (a jammed side saturating its DAC afterwards): it stays,
+	 * under its following-error check once it is back where it was
+	 * held (firmware.c's servo); in ESTOP that check is off, so it
+	 * goes with the faulted side */
+	return !(fw->ax[*other].faults & SH2000_AXIS_FAULT_SKEW) ||
+	       fw->state == SH2000_STATE_ESTOP;
 }
 
 void sh2000_gantry_paired(struct sh2000_dsp *fw)
@@ -96,12 +102,46 @@ static void pair_fault(struct sh2000_dsp *fw, unsigned int a, unsigned int b,
 		ax->pid.e2 = 0.0;
 		ax->pid.ff = 0.0;
 		ax->dac = (int16_t)lrint(ax->pid.u);
+		ax->skew_brake = bits[i] == SH2000_AXIS_FAULT_SKEW ?
+					 SKEW_BRAKE_STOPPING : SKEW_BRAKE_NONE;
+		ax->brake_dir = (ax->delta > 0) - (ax->delta < 0);
 		if (bits[i])
 			sh2000_fw_latch(fw, s[i], bits[i]);
 	}
 	sh2000_pid_reset(&fw->gantry.pid);
 	fw->gantry.squaring = 0;
 	sh2000_fw_card_fault(fw, SH2000_FAULT_AXIS);
+}
+
+/* The brake is over when the side stands or turns back, where it is
+ * furthest from the held point; its return may swing (its loop's
+ * integral, wound up by the brake), but a side that gets further from
+ * the held point than its brake took it, by more than FERR_LIMIT, is
+ * dragged away by the beam and cannot hold it. A turn within FERR_LIMIT
+ * ends the brake: the side is an axis like any other again. */
+int sh2000_gantry_brake_exempt(struct sh2000_fw_axis *ax, double e)
+{
+	double lim = (double)ax->prm.ferr_limit, d = fabs(e);
+	int dir = (ax->delta > 0) - (ax->delta < 0);
+
+	if (ax->skew_brake == SKEW_BRAKE_NONE)
+		return 0;
+	if (ax->skew_brake == SKEW_BRAKE_RETURNING &&
+	    d > ax->brake_peak_e + lim) {
+		ax->skew_brake = SKEW_BRAKE_NONE;	/* dragged */
+		return 0;
+	}
+	if (ax->brake_dir == 0 || (dir != 0 && dir != ax->brake_dir)) {
+		if (ax->skew_brake == SKEW_BRAKE_STOPPING)
+			ax->brake_peak_e = d;
+		ax->skew_brake = SKEW_BRAKE_RETURNING;
+		ax->brake_dir = dir;
+		if (d <= lim) {
+			ax->skew_brake = SKEW_BRAKE_NONE;
+			return 0;
+		}
+	}
+	return 1;
 }
 
 static void skew_fault(struct sh2000_dsp *fw, unsigned int a, unsigned int b)

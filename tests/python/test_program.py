@@ -55,6 +55,28 @@ def test_program_error_raises_with_file_line(card, ngc):
     assert card.status().axis("x").pos_mm == 0
 
 
+def test_program_errors_are_all_in_the_diagnostics(card, ngc):
+    """Every error of the first pass, as sh2000-upload -n lists them, and
+    the same again (not one more) from a second check()."""
+    path = ngc("G21 G90\nG1 X10 F600\nG5 X3\nG1 X1e9\nG1 Q5\nG7\nM2\n")
+    prog = card.program(path)
+    for _ in range(2):
+        with pytest.raises(sh2000.Error) as e:
+            prog.check()
+        assert e.value.code == sh2000.EPROGRAM
+        assert e.value.where == f"{path}:3:1"
+        diags = e.value.diagnostics
+        assert [d.split(": error:")[0] for d in diags] == [
+            f"{path}:3:1", f"{path}:4:6", f"{path}:5:4", f"{path}:6:1"]
+        assert "G5" in diags[0] and "exponent" in diags[1]
+        assert "Q word" in diags[2] and "G7" in diags[3]
+        assert prog.diagnostics == diags
+    with pytest.raises(sh2000.Error) as e:
+        prog.run()
+    assert e.value.code == sh2000.EPROGRAM and len(e.value.diagnostics) == 4
+    assert card.status().axis("x").pos_mm == 0
+
+
 def test_program_beyond_soft_limit_raises_with_where(card, ngc):
     card.set_param("x", "soft_max", 5)
     path = ngc("G21 G90\nG1 X2 F600\nG1 X8\nM2\n")

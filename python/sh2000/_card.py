@@ -84,7 +84,7 @@ class Card:
             if name not in ids:
                 _sh2000.param_id(name)      # sh2000.Error for an unknown name
                 raise Error(_sh2000.EPARAM, _sh2000.strerror(_sh2000.EPARAM),
-                            f"parameter {name}: is global (set it with set_param)")
+                            f"parameter {name}: a global parameter: set it with set_param")
             new[ids[name]] = float(v)
         self._c.axis_params_set(a, new)
 

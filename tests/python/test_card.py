@@ -66,7 +66,7 @@ def test_bad_parameter_name_raises(card):
 @pytest.mark.parametrize("axis, name, value, words", [
     ("x", "kp", -1, "axis x parameter kp: -1 DAC/count is outside 0..1000 DAC/count"),
     ("x", "vmax", math.nan, "is not a finite number"),
-    ("x", "host_timeout_ms", 10, "is global"),
+    ("x", "host_timeout_ms", 10, "a global parameter"),
     (None, "kp", 1, "needs an axis"),
 ])
 def test_bad_parameter_value_raises_with_library_message(card, axis, name, value, words):
@@ -104,6 +104,7 @@ def test_enable_estop_reset(card):
     st = card.status()
     assert st.card_state_name == "estop"
     assert isinstance(st.fault, sh2000.Error) and st.fault.code == sh2000.EESTOP
+    assert st.fault.message.endswith("; a reset clears it")   # no C name
     assert st.faulted
     ff = st.first_fault     # protocol 1.4: the card's first-fault record
     assert isinstance(ff, sh2000.FirstFault)

@@ -92,7 +92,7 @@ def test_stopped_record_keeps_what_it_holds(card):
     rec = card.gather_start("z", ["dac"], samples=100, trigger="motion")
     with pytest.raises(sh2000.Error) as e:
         card.gather_start("x", ["dac"])
-    assert e.value.code == sh2000.ECMD_BUSY and "gather_stop" in e.value.message
+    assert e.value.code == sh2000.ECMD_BUSY and "stop the gathering first" in e.value.message
     assert card.gather_info().state == sh2000.GATHER_ARMED
     card.gather_stop()
     info = card.gather_info()

@@ -26,6 +26,10 @@ def test_check_and_run_part_with_progress(card, part):
     assert times == sorted(times)
     assert all(-1 <= p.line <= lines for p in seen)
     assert max(p.line for p in seen) > 1
+    # -1 until the card took its first point (docs/python.md), then a line
+    assert seen[0].line == -1
+    first = next(k for k, p in enumerate(seen) if p.line != -1)
+    assert all(p.line >= 1 for p in seen[first:])
     assert isinstance(seen[-1].status, sh2000.Status)
     assert stats.time_s == pytest.approx(plan.seconds, rel=0.05)
     assert stats.distance_mm > 100 and stats.underruns == 0

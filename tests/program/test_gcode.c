@@ -537,6 +537,12 @@ static void test_syntax_errors(void **state)
 	exponent("G0 X1e-30\n", 6, "(1e-30): write 0.000000000000000000000000000001");
 	exponent("G0 X1e99\n", 6, "numbers take no exponent (1e99)");
 	assert_false(has_message("write"));
+	exponent("G0 X1e-99999999999999999999\n", 6, "(1e-99999999999999999999)");
+	assert_false(has_message("write"));
+	/* more digits than are written out; the message shows 60 bytes */
+	exponent("G0 X1234567890123456789012345678901234567890123456789012345678901234e1\n",
+		 69, "(123456789012345678901234567890123456789012345678901234567890)");
+	assert_false(has_message("write"));
 	expect_error(G, "G1 X1 F-5\n", SH2000_PD_RANGE, 1, 7);
 	expect_error(G, "G1 X1\n", SH2000_PD_FEED, 1, 1);
 	{

@@ -111,7 +111,7 @@ static int configure_and_arm(struct sh2000 *h,
 		r = sh2000_cmd_exchange(h, SH2000_CMD_GATHER_ARM, 0, 0, 0, &record,
 					SH2000_CMD_TIMEOUT_MS);
 	if (r == -SH2000_ECMD_BUSY)
-		r = sh2000_fail(h, r, "gather: a record is armed or recording (sh2000_gather_stop() first)");
+		r = sh2000_fail(h, r, "gather: a record is armed or recording (stop the gathering first)");
 	return r < 0 ? r : (int)(record & 0xffff);
 }
 

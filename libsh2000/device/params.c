@@ -114,7 +114,7 @@ static const struct sh2000_param_info *check_id(struct sh2000 *h, int axis,
 		   (axis < 0 || axis >= (int)SH2000_AXES)) {
 		*r = sh2000_fail(h, -SH2000_EPARAM,
 				 "parameter %s: %s", p->name,
-				 is_global(id) ? "is global (use SH2000_GLOBAL)" :
+				 is_global(id) ? "a global parameter: no axis" :
 				 "needs an axis 0..3");
 	} else {
 		/* an older card would answer "unknown parameter": say why,

@@ -304,7 +304,7 @@ static int card_error(struct sh2000 *h, const struct sh2000_status *st,
 	switch (bit) {
 	case SH2000_FAULT_ESTOP:
 		return sh2000_fail(h, -SH2000_EESTOP,
-				   "emergency stop latched (card state %s, faults 0x%04x); sh2000_reset() clears it",
+				   "emergency stop latched (card state %s, faults 0x%04x); a reset clears it",
 				   sh2000_state_name(st->card_state), f);
 	case SH2000_FAULT_REJECTED:
 		return rejected_error(h, st);

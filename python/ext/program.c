@@ -143,7 +143,14 @@ static PyObject *program_check(PyProgram *p, PyObject *args)
 	SH2K_CALL(p->card, r = sh2000_limits_get(h, &lim));
 	if (r < 0)
 		return sh2k_raise(r, h, NULL, NULL);
-	r = sh2000_prog_reader_rewind(p->reader);
+	/* a program read with errors has them all in the diagnostics: the
+	 * same error again (a rewound reader stops at its first error) */
+	if (p->diags.errors)
+		return sh2k_program_raise(p, -SH2000_EPROGRAM, NULL, NULL);
+	/* the first pass reads a fresh reader: rewinding it would make it
+	 * a replay, which stops at the first error instead of listing all */
+	r = p->read ? sh2000_prog_reader_rewind(p->reader) : 0;
+	p->read = 1;
 	if (r == 0)
 		SH2K_CALL(p->card, r = sh2000_program_plan(p->reader, &p->pc, &o,
 							   &p->plan));

@@ -13,6 +13,7 @@ typedef struct {
 	struct sh2000_prog_diags diags;
 	struct sh2000_path_config pc;	/* the card's, at open */
 	struct sh2000_program_plan plan;
+	int read;			/* a check() has read the reader */
 	int checked;			/* plan is the last check()'s */
 	int running;
 } PyProgram;

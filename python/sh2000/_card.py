@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: MIT
 """sh2000.Card: an open card, over the extension's Card (one libsh2000 call
 per method). Axes are "x", "y", "z", "a" (or 0..3); times in seconds."""
+import numbers
 import os
 from dataclasses import asdict
 
@@ -21,9 +22,29 @@ _BACKENDS = {_sh2000.BACKEND_DEV: "dev", _sh2000.BACKEND_IO: "io",
 _GLOBAL = -1    # SH2000_GLOBAL
 
 
+def _number(value, what):
+    """A real number as a float: TypeError for anything else, a bool too
+    (True is not 1.0 mm)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{what} {value!r}: not a number")
+    return float(value)
+
+
+def _seconds(value, what):
+    """A time in s, a number 0 or more: ValueError for a negative or NaN
+    one (None, "no limit", is the caller's)."""
+    s = _number(value, what)
+    if not s >= 0:
+        raise ValueError(f"{what} {value!r}: a time in s, 0 or more")
+    return s
+
+
 def _ms(timeout):
-    """Seconds (None: no limit) -> the library's milliseconds."""
-    return -1 if timeout is None else max(0, int(round(timeout * 1000)))
+    """Seconds (None: no limit) -> the library's milliseconds (where a
+    negative count means no limit: here only None says that)."""
+    if timeout is None:
+        return -1
+    return int(round(_seconds(timeout, "timeout") * 1000))
 
 
 def _param_axis(axis):
@@ -65,7 +86,8 @@ class Card:
 
     def set_param(self, axis, name, value):
         """Set one parameter (the library checks it before it is sent)."""
-        self._c.param_set(_param_axis(axis), _sh2000.param_id(name), float(value))
+        self._c.param_set(_param_axis(axis), _sh2000.param_id(name),
+                          _number(value, f"parameter {name}:"))
 
     def params(self, axis):
         """Every parameter of an axis (or None/"global") as {name: value}."""
@@ -84,8 +106,8 @@ class Card:
             if name not in ids:
                 _sh2000.param_id(name)      # sh2000.Error for an unknown name
                 raise Error(_sh2000.EPARAM, _sh2000.strerror(_sh2000.EPARAM),
-                            f"parameter {name}: is global (set it with set_param)")
-            new[ids[name]] = float(v)
+                            f"parameter {name}: a global parameter: set it with set_param")
+            new[ids[name]] = _number(v, f"parameter {name}:")
         self._c.axis_params_set(a, new)
 
     # ---- commands --------------------------------------------------------
@@ -114,7 +136,7 @@ class Card:
                      _ms(timeout))
 
     def set_position(self, axis, mm):
-        self._c.set_position(axis_index(axis), float(mm))
+        self._c.set_position(axis_index(axis), _number(mm, "position"))
 
     # ---- points ------------------------------------------------------------
     def push(self, points, end=False):
@@ -148,7 +170,7 @@ class Card:
 
     def sleep(self, seconds):
         """Let card time pass (advances a "sim" card; sleeps otherwise)."""
-        self._c.sleep_ns(max(0, int(round(seconds * 1e9))))
+        self._c.sleep_ns(int(round(_seconds(seconds, "sleep") * 1e9)))
 
     # ---- data gathering (protocol 1.2) --------------------------------------
     def gather_start(self, axes, signals, period=None, samples=None,
@@ -156,7 +178,9 @@ class Card:
         """Arm a record (sh2000_gather_start): signals ("setpoint,encoder",
         a list of names, or "all") of each axis in axes, every period servo
         cycles; trigger "now", "motion" or "fault". Unset values are the
-        library's defaults. Returns the record's number."""
+        library's defaults. Returns the record's number. Without numpy an
+        ImportError, before anything is armed (the record could not be read)."""
+        _gather.need_numpy()
         return self._c.gather_start(*_gather.config(axes, signals, period, samples,
                                                     trigger, pretrigger))
 
@@ -184,7 +208,6 @@ class Card:
                pretrigger=None, timeout=60.0):
         """gather_start, gather_wait and gather_read in one: the record as
         a Gather (t in s, g["x.setpoint"] ...)."""
-        _gather.need_numpy()
         rec = self.gather_start(axes, signals, period, samples, trigger, pretrigger)
         return self.gather_read(self.gather_wait(rec, timeout))
 

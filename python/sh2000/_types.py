@@ -161,14 +161,18 @@ def axis_index(axis):
 
 
 def axis_mask(axes):
-    """"xy", ["x", "y"], a Plan's moved, or a mask int -> mask."""
+    """"xy", ["x", "y"], a Plan's moved, or a mask int -> mask, at least
+    one axis; ValueError otherwise."""
     if isinstance(axes, int) and not isinstance(axes, bool):
         if not 0 <= axes < 1 << _sh2000.AXES:
             raise ValueError(f"axis mask {axes:#x}: bits 0..3 only")
-        return axes
-    if isinstance(axes, str) and axes == "all":
-        return (1 << _sh2000.AXES) - 1
-    mask = 0
-    for a in axes:
-        mask |= 1 << axis_index(a)
+        mask = axes
+    elif isinstance(axes, str) and axes == "all":
+        mask = (1 << _sh2000.AXES) - 1
+    else:
+        mask = 0
+        for a in axes:
+            mask |= 1 << axis_index(a)
+    if not mask:
+        raise ValueError(f"axes {axes!r}: no axis (x, y, z, a, or \"all\")")
     return mask

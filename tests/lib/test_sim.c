@@ -189,7 +189,7 @@ static void test_params_rejected(void **state)
 	bad(h, 1, SH2000_P_DAC_LIMIT, 40000, "outside");
 	bad(h, 1, SH2000_P_HOME_VEL, 0.0, "home_vel");
 	bad(h, SH2000_GLOBAL, SH2000_GP_FINE_STEPS, 0, "global parameter fine_steps");
-	bad(h, 1, SH2000_GP_FINE_STEPS, 10, "is global");
+	bad(h, 1, SH2000_GP_FINE_STEPS, 10, "a global parameter");
 	bad(h, SH2000_GLOBAL, SH2000_P_KP, 1, "needs an axis");
 	bad(h, 0, 99, 1, "unknown");
 	CHECK(sh2000_param_get(h, 2, SH2000_P_KP, &v));
@@ -349,6 +349,9 @@ static void test_estop_latency(void **state)
 	assert_int_equal(sh2000_push_counts(h, (const int32_t (*)[SH2000_AXES])one,
 					    1, 0), -SH2000_EESTOP);
 	assert_int_equal(sh2000_wait_idle(h, 10), -SH2000_EESTOP);
+	/* words for every front end: no C function named */
+	assert_non_null(strstr(sh2000_last_error(h), "; a reset clears it"));
+	assert_null(strstr(sh2000_last_error(h), "sh2000_"));
 	assert_int_equal(sh2000_enable(h, 1), -SH2000_ECMD_FAULTED);
 	CHECK(sh2000_reset(h));
 	CHECK(sh2000_poll(h, &st));

@@ -6,8 +6,8 @@
  * once rounded its sweep to nothing and became a whole circle of that
  * radius), and an end so close to the start that the sweep is within the
  * rounding of the angles. The largest radius that is resolved still draws
- * the arc it was asked for. (G-code has no exponents: R1e18 would be R1
- * and an E word, so the texts spell the numbers out.)
+ * the arc it was asked for. (G-code has no exponents: the reader refuses
+ * R1e18, so the texts spell the numbers out.)
  */
 #include "progtest.h"
 

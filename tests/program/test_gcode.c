@@ -503,6 +503,15 @@ static void test_unknown_and_unsupported(void **state)
 	expect_error(G, "/G0 X1\n", SH2000_PD_UNSUPPORTED, 1, 1);
 }
 
+/* An exponent right after a number: refused at the E, the number written
+ * out where that is short. */
+static void exponent(const char *text, unsigned int col, const char *words)
+{
+	expect_error(G, text, SH2000_PD_UNSUPPORTED, 1, col);
+	if (!strstr(first_error()->message, words))
+		fail_msg("\"%s\" for %s", first_error()->message, text);
+}
+
 static void test_syntax_errors(void **state)
 {
 	(void)state;
@@ -514,6 +523,26 @@ static void test_syntax_errors(void **state)
 	expect_error(G, "(a (b) )\n", SH2000_PD_SYNTAX, 1, 4);
 	expect_error(G, "G0 N5 X1\n", SH2000_PD_SYNTAX, 1, 4);
 	expect_error(G, "G0 X1e3\n", SH2000_PD_UNSUPPORTED, 1, 6);
+	assert_string_equal(first_error()->message,
+			    "numbers take no exponent (1e3): write 1000");
+	expect_error(G, "G0 X1 E3\n", SH2000_PD_UNSUPPORTED, 1, 7);
+	assert_true(has_message("E word is not in the built-in parser's subset"));
+	expect_error(G, "G0 X1e\n", SH2000_PD_SYNTAX, 1, 6);
+	assert_true(has_message("E word without a number"));
+	exponent("G0 X-1.5E-3\n", 9, "(-1.5E-3): write -0.0015");
+	exponent("G0 X+.5e+1\n", 8, "(+.5e+1): write 5");
+	exponent("G0 X0012.50e1\n", 12, "(0012.50e1): write 125");
+	exponent("G0 X0.0e5\n", 8, "(0.0e5): write 0");
+	exponent("G0 X5.e-1\n", 7, "(5.e-1): write 0.5");
+	exponent("G0 X1e-30\n", 6, "(1e-30): write 0.000000000000000000000000000001");
+	exponent("G0 X1e99\n", 6, "numbers take no exponent (1e99)");
+	assert_false(has_message("write"));
+	exponent("G0 X1e-99999999999999999999\n", 6, "(1e-99999999999999999999)");
+	assert_false(has_message("write"));
+	/* more digits than are written out; the message shows 60 bytes */
+	exponent("G0 X1234567890123456789012345678901234567890123456789012345678901234e1\n",
+		 69, "(123456789012345678901234567890123456789012345678901234567890)");
+	assert_false(has_message("write"));
 	expect_error(G, "G1 X1 F-5\n", SH2000_PD_RANGE, 1, 7);
 	expect_error(G, "G1 X1\n", SH2000_PD_FEED, 1, 1);
 	{

@@ -66,7 +66,7 @@ def test_bad_parameter_name_raises(card):
 @pytest.mark.parametrize("axis, name, value, words", [
     ("x", "kp", -1, "axis x parameter kp: -1 DAC/count is outside 0..1000 DAC/count"),
     ("x", "vmax", math.nan, "is not a finite number"),
-    ("x", "host_timeout_ms", 10, "is global"),
+    ("x", "host_timeout_ms", 10, "a global parameter"),
     (None, "kp", 1, "needs an axis"),
 ])
 def test_bad_parameter_value_raises_with_library_message(card, axis, name, value, words):
@@ -96,6 +96,52 @@ def test_bad_axis_is_a_value_error(card):
         card.enable("xq")
 
 
+@pytest.mark.parametrize("call", [
+    lambda c: c.enable(""), lambda c: c.disable([]), lambda c: c.enable(0),
+    lambda c: c.gather_start("", "setpoint"),
+])
+def test_no_axis_is_a_value_error(card, call):
+    with pytest.raises(ValueError, match="no axis"):
+        call(card)
+    assert card.gather_info().state == sh2000.GATHER_OFF
+
+
+@pytest.mark.parametrize("call, words", [
+    (lambda c: c.sleep(-1), "sleep -1"),
+    (lambda c: c.sleep(math.nan), "sleep nan"),
+    (lambda c: c.wait_idle(timeout=-1), "timeout -1"),
+    (lambda c: c.wait_rest(timeout=-0.001), "timeout -0.001"),
+    (lambda c: c.wait_space(1, timeout=-1), "timeout -1"),
+    (lambda c: c.estop(timeout=-1), "timeout -1"),
+    (lambda c: c.home("x", timeout=-5), "timeout -5"),
+    (lambda c: c.gather_wait(1, timeout=-1), "timeout -1"),
+])
+def test_negative_time_is_a_value_error(card, call, words):
+    """None is "no limit"; a negative time is a mistake, refused before
+    the library is asked (whose negative timeout would mean no limit)."""
+    with pytest.raises(ValueError, match=words):
+        call(card)
+    st = card.status()
+    assert st.card_state == sh2000.STATE_IDLE and not st.axis("x").homed
+    card.sleep(0)                                   # 0 is a time
+    card.wait_idle(timeout=0)
+
+
+@pytest.mark.parametrize("call", [
+    lambda c: c.set_param("x", "kp", True),
+    lambda c: c.set_param("x", "kp", "0.5"),
+    lambda c: c.set_params("x", {"kp": False}),
+    lambda c: c.set_position("x", True),
+    lambda c: c.sleep(True),
+    lambda c: c.wait_idle(timeout="1"),
+])
+def test_a_bool_or_text_is_not_a_number(card, call):
+    before = card.params("x")
+    with pytest.raises(TypeError, match="not a number"):
+        call(card)
+    assert card.params("x") == before and card.status().axis("x").pos_mm == 0
+
+
 def test_enable_estop_reset(card):
     card.enable("xz")
     st = card.status()
@@ -104,6 +150,7 @@ def test_enable_estop_reset(card):
     st = card.status()
     assert st.card_state_name == "estop"
     assert isinstance(st.fault, sh2000.Error) and st.fault.code == sh2000.EESTOP
+    assert st.fault.message.endswith("; a reset clears it")   # no C name
     assert st.faulted
     ff = st.first_fault     # protocol 1.4: the card's first-fault record
     assert isinstance(ff, sh2000.FirstFault)

@@ -26,6 +26,10 @@ def test_check_and_run_part_with_progress(card, part):
     assert times == sorted(times)
     assert all(-1 <= p.line <= lines for p in seen)
     assert max(p.line for p in seen) > 1
+    # -1 until the card took its first point (docs/python.md), then a line
+    assert seen[0].line == -1
+    first = next(k for k, p in enumerate(seen) if p.line != -1)
+    assert all(p.line >= 1 for p in seen[first:])
     assert isinstance(seen[-1].status, sh2000.Status)
     assert stats.time_s == pytest.approx(plan.seconds, rel=0.05)
     assert stats.distance_mm > 100 and stats.underruns == 0
@@ -52,6 +56,28 @@ def test_program_error_raises_with_file_line(card, ngc):
     assert any(f"{path}:3:" in d and "error" in d for d in e.value.diagnostics)
     with pytest.raises(RuntimeError):
         prog._p.run(None, None)     # never streamed unchecked
+    assert card.status().axis("x").pos_mm == 0
+
+
+def test_program_errors_are_all_in_the_diagnostics(card, ngc):
+    """Every error of the first pass, as sh2000-upload -n lists them, and
+    the same again (not one more) from a second check()."""
+    path = ngc("G21 G90\nG1 X10 F600\nG5 X3\nG1 X1e9\nG1 Q5\nG7\nM2\n")
+    prog = card.program(path)
+    for _ in range(2):
+        with pytest.raises(sh2000.Error) as e:
+            prog.check()
+        assert e.value.code == sh2000.EPROGRAM
+        assert e.value.where == f"{path}:3:1"
+        diags = e.value.diagnostics
+        assert [d.split(": error:")[0] for d in diags] == [
+            f"{path}:3:1", f"{path}:4:6", f"{path}:5:4", f"{path}:6:1"]
+        assert "G5" in diags[0] and "exponent" in diags[1]
+        assert "Q word" in diags[2] and "G7" in diags[3]
+        assert prog.diagnostics == diags
+    with pytest.raises(sh2000.Error) as e:
+        prog.run()
+    assert e.value.code == sh2000.EPROGRAM and len(e.value.diagnostics) == 4
     assert card.status().axis("x").pos_mm == 0
 
 

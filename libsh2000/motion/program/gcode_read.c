@@ -103,12 +103,83 @@ static bool starts_ci(const char *s, size_t n, const char *pre)
 	return true;
 }
 
+/* The number s[start..end) ("-1.5e-3") written out without its exponent
+ * ("-0.0015") into out (160 bytes); false when that would be long (more
+ * than 40 digits or an exponent beyond 30). */
+static bool plain_decimal(const char *s, size_t start, size_t end, char *out)
+{
+	char d[40];
+	long nd = 0, point = -1, exp, o = 0, k = (long)start, w;
+
+	if (s[k] == '-')
+		out[o++] = '-';
+	if (s[k] == '+' || s[k] == '-')
+		k++;
+	for (; k < (long)end && s[k] != 'e' && s[k] != 'E'; k++) {
+		if (s[k] == '.')
+			point = nd;
+		else if (nd < (long)sizeof(d))
+			d[nd++] = s[k];
+		else
+			return false;
+	}
+	exp = strtol(s + k + 1, NULL, 10);
+	if (exp < -30 || exp > 30)
+		return false;
+	point = (point < 0 ? nd : point) + exp;	/* digits before the point */
+	for (w = 0; w < point - 1 && (w >= nd || d[w] == '0'); w++)
+		;		/* leading zeros of the whole part */
+	if (w >= nd && point > 0)
+		w = point - 1;	/* all zeros: one stays */
+	if (point <= 0)
+		out[o++] = '0';
+	for (k = w; k < point; k++)
+		out[o++] = k < nd ? d[k] : '0';
+	w = point > 0 ? point : 0;	/* the fraction's first digit */
+	while (nd > w && d[nd - 1] == '0')
+		nd--;		/* trailing zeros of the fraction */
+	if (nd > w)
+		out[o++] = '.';
+	for (k = point < 0 ? point : w; k < nd; k++)
+		out[o++] = k < 0 ? '0' : d[k];
+	out[o] = 0;
+	return true;
+}
+
+/* An exponent right after a number ("1e9"): RS274NGC numbers have none, and
+ * the E would be read as a word of its own; say so, with the number
+ * written out. Column of the E, as the E word's error was. 0 when there
+ * is no exponent at s[j]. */
+static int exponent_err(struct prog_ctx *c, const char *s, size_t n,
+			size_t start, size_t j, unsigned int line)
+{
+	size_t k = j + 1, e;
+	char plain[160];
+
+	if (j >= n || (s[j] != 'e' && s[j] != 'E'))
+		return 0;
+	if (k < n && (s[k] == '+' || s[k] == '-'))
+		k++;
+	for (e = k; e < n && isdigit((unsigned char)s[e]); e++)
+		;
+	if (e == k)
+		return 0;	/* "X1E" or "X1 E-": an E word of its own */
+	if (e - start > 60 || !plain_decimal(s, start, e, plain))
+		return prog_err(c, SH2000_PD_UNSUPPORTED, line, (unsigned)j + 1,
+				"numbers take no exponent (%.*s)",
+				(int)(e - start < 60 ? e - start : 60), s + start);
+	return prog_err(c, SH2000_PD_UNSUPPORTED, line, (unsigned)j + 1,
+			"numbers take no exponent (%.*s): write %s",
+			(int)(e - start), s + start, plain);
+}
+
 /* Read one word's number at s[*i]; LinuxCNC's form: sign, digits, point. */
 static int read_number(struct prog_ctx *c, const char *s, size_t n,
 		       size_t *i, unsigned int line, char letter,
 		       unsigned int lcol, double *out)
 {
 	size_t j = *i, start, digits = 0;
+	int err;
 	char buf[128];
 
 	while (j < n && gcode_is_blank(s[j]))
@@ -130,6 +201,8 @@ static int read_number(struct prog_ctx *c, const char *s, size_t n,
 	if (digits == 0)
 		return prog_err(c, SH2000_PD_SYNTAX, line, lcol,
 				"%c word without a number", letter);
+	if ((err = exponent_err(c, s, n, start, j, line)))
+		return err;
 	if (j - start >= sizeof(buf))
 		return prog_err(c, SH2000_PD_RANGE, line, lcol,
 				"%c word: number too long", letter);

@@ -516,16 +516,16 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 			Ak = fmin(Ak, lim->A);
 		if (V < level) {
 			/* a lower feed holds from feed_zone before; the
-			 * braking to it runs in the blocks before (a corner's
-			 * zone at lim.A), ending at a = 0 */
+			 * braking to it runs in the blocks before, at their
+			 * acceleration, ending at a = 0 where a corner's
+			 * zone starts (the zone's lim.A is a drop there,
+			 * which a = 0 meets) */
 			if (k->feed < k->prev_feed)
 				t = fmax(t, p->feed_zone);
 			x = p->cons + PL_CONS * n++;
 			x[0] = d - t * V;
 			x[1] = V;
 			memcpy(x + 2, run.x, sizeof(run.x));
-			if (fixed)
-				x[2] = fmin(x[2], Ak);
 			level = V;
 		}
 		if (acc_run_add(&run, k, Ak, fixed)) {

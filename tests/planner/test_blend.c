@@ -64,6 +64,10 @@ struct meas {
 	double v_ratio, a_ratio;
 	/* the largest deceleration of X (of amax) while Y has not moved */
 	double brake_x;
+	/* the most X went back (up) before the card reached the first
+	 * corner, pg->corner[0] (test_stop_landing) */
+	double back_x, min_x;
+	int reached;
 	double tau;
 };
 
@@ -151,6 +155,12 @@ static void on_fine(void *ctx, const double x[4], const double act[4])
 		m->a_ratio = fmax(m->a_ratio,
 				  fabs(x[a] - 2 * m->prev[1][a] + m->prev[0][a]) /
 				  (m->tau * m->tau) / AMAX);
+	if (m->pg->ncorner && !m->reached) {
+		m->back_x = fmax(m->back_x, p[0] - m->min_x);
+		m->min_x = fmin(m->min_x, p[0]);
+		m->reached = pl_seg_dist(p, m->pg->corner[0],
+					 m->pg->corner[0]) <= 1e-5;
+	}
 	if (m->n >= 2 && x[1] == m->o[1])
 		m->brake_x = fmax(m->brake_x, -(x[0] - 2 * m->prev[1][0] +
 						 m->prev[0][0]) /
@@ -199,6 +209,7 @@ static void run(const struct prog *pg, enum sh2000_path_mode mode, double tol,
 	memset(m, 0, sizeof(*m));
 	reference(m, pg);
 	m->pg = pg;
+	m->min_x = INFINITY;
 	for (i = 0; i < MAXEL; i++)
 		m->near[i] = INFINITY;
 	sh2000_path_config_default(&c);
@@ -536,6 +547,48 @@ static void test_corner_brake(void **s)
 	assert_true(m.brake_x >= 0.75);
 }
 
+/* A stop under G61 at the end of a long line that is nearly along X (a
+ * leg of LinuxCNC's cds.ngc): the controller lands on it in whole
+ * periods. A landing the controller did not take (a limit ahead refused
+ * it) went on the next period from a state it was not planned from: it
+ * ended below zero speed, and the motion crept back and forth before
+ * the corner: X went back by 1.3 um, the card's set-points reached 1.016
+ * of amax and left the path by 65 nm. Now X never goes back before the
+ * corner, the path is kept to a count and no axis passes its limits. */
+static void test_stop_landing(void **s)
+{
+	static struct prog pg;
+	struct meas m;
+	double back = 0.0, dev = 0.0, vr = 0.0, ar = 0.0;
+
+	(void)s;
+	/* cds.ngc's moves (N3100 to N3130 in mm, from (101.6, 96.8375,
+	 * 34.798)), and lengths that put the stop at other points of a
+	 * period */
+	for (unsigned int k = 0; k < 8; k++) {
+		memset(&pg, 0, sizeof(pg));
+		pg.name = "stop";
+		line(&pg, -50.8, 0.127, 0.127);
+		line(&pg, -101.6 - 0.0131 * k, 0.0, 0.0);
+		line(&pg, -96.8375 - 0.0131 * k, 4.7625, 0.0);
+		for (unsigned int i = 0; i < pg.n; i++)
+			pg.el[i].feed = 254.0;
+		corner_at(&pg, 2);
+		run(&pg, SH2000_PATH_EXACT_PATH, 0, 0.0, &m);
+		assert_true(m.reached);
+		back = fmax(back, m.back_x);
+		dev = fmax(dev, m.max);
+		vr = fmax(vr, m.v_ratio);
+		ar = fmax(ar, m.a_ratio);
+	}
+	print_message("%-12s G61        max deviation %.6f mm, axes at %.3f of vmax, %.3f of amax, X back by %.6f mm before the corner\n",
+		      pg.name, dev, vr, ar, back);
+	assert_true(back <= 1e-6);
+	assert_true(dev <= 1e-5);
+	assert_true(vr <= 1.0);
+	assert_true(ar <= 1.0);
+}
+
 /* Rapids (G0) under G64 P0.5: the corners between rapids are blended
  * within P like feed moves (rounded, about as fast as G61), where a rapid
  * meets a feed move the carriage stops on the corner (as LinuxCNC's
@@ -697,6 +750,7 @@ int main(void)
 		cmocka_unit_test(test_surface),
 		cmocka_unit_test(test_line_accel),
 		cmocka_unit_test(test_corner_brake),
+		cmocka_unit_test(test_stop_landing),
 		cmocka_unit_test(test_rapids),
 		cmocka_unit_test(test_short_curve),
 		cmocka_unit_test(test_short_accel),

@@ -617,9 +617,14 @@ static void brake(const struct ctl *c, double *ds, double *v, double *a)
 	unsigned int i, k;
 
 
-	if (c->quant && quant_step(c, d, vt, A, ds, v, a) &&
-	    cons_ok(c, *ds, *v, *a))
-		return;
+	if (c->quant && quant_step(c, d, vt, A, ds, v, a)) {
+		if (cons_ok(c, *ds, *v, *a))
+			return;
+		/* not taken: its jerks, kept by quant_try(), must not go on
+		 * from a state they were not planned from (they ran a stop
+		 * below zero speed: tests/planner test_stop_landing) */
+		c->p->qn = 0;
+	}
 
 	for (i = 0; i <= c->n; i++) {
 		double lowest = vt;

@@ -337,9 +337,11 @@ static void check(const struct prog *pg, double tol)
 		      m.v_ratio, m.a_ratio);
 	/* within the tolerance on the card's own set-points */
 	assert_true(m.max <= tol + 0.0005);
-	/* every corner next to an arc is rounded, not visited */
+	/* every corner next to an arc is rounded, or, where stopping on it
+	 * is faster than the blend (a turn wider than 57 degrees between
+	 * moves much faster than the blend, blend.c), visited to a count */
 	for (i = 0; i < pg->ncorner; i++)
-		assert_true(m.near[i] > tol / 10);
+		assert_true(m.near[i] > tol / 10 || m.near[i] <= 1e-5);
 	assert_true(m.v_ratio <= 1.0);
 	assert_true(m.a_ratio <= 1.0);
 }

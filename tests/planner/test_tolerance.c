@@ -139,9 +139,13 @@ static void test_blend_tolerances(void **s)
 		/* within the tolerance and a count on the card's own
 		 * set-points */
 		assert_true(d.max <= tols[i] + COUNT);
-		/* a corner is rounded, not visited, when the tolerance allows */
+		/* a corner is rounded when the tolerance allows, or, where
+		 * stopping on it is faster than the blend (a turn wider than
+		 * 57 degrees between moves much faster than the blend,
+		 * blend.c), visited to a count: never cut short of P */
 		if (tols[i] >= 0.05)
-			assert_true(d.near[1] > tols[i] / 10);
+			assert_true(d.near[1] > tols[i] / 10 ||
+				    d.near[1] <= COUNT);
 		/* a narrower tolerance is never faster than the widest, and
 		 * somewhere slower */
 		if (i == 0)

@@ -277,6 +277,27 @@ static void corner_at(struct prog *pg, unsigned int i)
 		memcpy(c, pg->el[i - 1].e, 4 * sizeof(*c));
 }
 
+/* An empty program called name. */
+static void new_prog(struct prog *pg, const char *name)
+{
+	memset(pg, 0, sizeof(*pg));
+	pg->name = name;
+}
+
+/* Every move of pg at feed f (mm/s). */
+static void feed_all(struct prog *pg, double f)
+{
+	for (unsigned int i = 0; i < pg->n; i++)
+		pg->el[i].feed = f;
+}
+
+/* No axis past its vmax or amax on the card's servo cycles. */
+static void within_limits(const struct meas *m)
+{
+	assert_true(m->v_ratio <= 1.0);
+	assert_true(m->a_ratio <= 1.0);
+}
+
 /* Line-arc and arc-line in XY: 45 degree corners into and out of an arc
  * of radius 7.07 whose Z rises by rise (a helix when not 0). */
 static void prog_line_arc(struct prog *pg, double rise)
@@ -496,21 +517,18 @@ static void test_line_accel(void **s)
 	struct meas m;
 
 	(void)s;
-	memset(&pg, 0, sizeof(pg));
-	pg.name = "lines";
+	new_prog(&pg, "lines");
 	line(&pg, 60, 60, 0);
 	line(&pg, 0, 60, 0);
 	line(&pg, 40, 20, 30);
-	for (unsigned int i = 0; i < pg.n; i++)
-		pg.el[i].feed = 380.0;
+	feed_all(&pg, 380.0);
 	run(&pg, SH2000_PATH_EXACT_STOP, 0, 0, &m);
 	print_message("%-12s G61.1      max deviation %.4f mm, %llu servo cycles, axes at %.3f of vmax, %.3f of amax\n",
 		      pg.name, m.max, (unsigned long long)m.cycles, m.v_ratio,
 		      m.a_ratio);
 	/* a stop rings by about J T^3 / 70 (docs/planner.md) */
 	assert_true(m.max <= 0.001);
-	assert_true(m.v_ratio <= 1.0);
-	assert_true(m.a_ratio <= 1.0);
+	within_limits(&m);
 	/* the path acceleration of before (0.475 amax whatever the
 	 * direction) gave an axis 0.34 of amax on the diagonal and at most
 	 * 0.67 anywhere with the spline's ringing (the blend table of
@@ -532,19 +550,16 @@ static void test_corner_brake(void **s)
 	struct meas m;
 
 	(void)s;
-	memset(&pg, 0, sizeof(pg));
-	pg.name = "corner";
+	new_prog(&pg, "corner");
 	line(&pg, 60, 0, 0);
 	line(&pg, 60, 60, 0);
-	for (unsigned int i = 0; i < pg.n; i++)
-		pg.el[i].feed = 380.0;
+	feed_all(&pg, 380.0);
 	run(&pg, SH2000_PATH_BLEND, 1e-7, 0.0, &m);
 	print_message("%-12s G64 P1e-7  max deviation %.6f mm, %llu servo cycles, axes at %.3f of vmax, %.3f of amax, X braking at %.3f of amax\n",
 		      pg.name, m.max, (unsigned long long)m.cycles, m.v_ratio,
 		      m.a_ratio, m.brake_x);
 	assert_true(m.max <= 1e-7 + 1e-4);
-	assert_true(m.v_ratio <= 1.0);
-	assert_true(m.a_ratio <= 1.0);
+	within_limits(&m);
 	/* at the zone's acceleration all the way it braked at 0.475 */
 	assert_true(m.brake_x >= 0.75);
 }
@@ -568,13 +583,11 @@ static void test_stop_landing(void **s)
 	 * 34.798)), and lengths that put the stop at other points of a
 	 * period */
 	for (unsigned int k = 0; k < 8; k++) {
-		memset(&pg, 0, sizeof(pg));
-		pg.name = "stop";
+		new_prog(&pg, "stop");
 		line(&pg, -50.8, 0.127, 0.127);
 		line(&pg, -101.6 - 0.0131 * k, 0.0, 0.0);
 		line(&pg, -96.8375 - 0.0131 * k, 4.7625, 0.0);
-		for (unsigned int i = 0; i < pg.n; i++)
-			pg.el[i].feed = 254.0;
+		feed_all(&pg, 254.0);
 		corner_at(&pg, 2);
 		run(&pg, SH2000_PATH_EXACT_PATH, 0, 0.0, &m);
 		assert_true(m.reached);

@@ -10,7 +10,10 @@ while slow: the share of slow time spent changing speed at more than 90 %
 of its path acceleration ("accel"), and the largest axis acceleration and
 jerk there.
 
-    slow.py KEEPDIR NAME [--by=angle|length|kinds]...
+    slow.py KEEPDIR NAME [--by=angle|length|kinds]... [--worst=N]
+
+--worst=N lists the N junctions where ours loses most time against
+LinuxCNC, each with both sides' time near it and slowest speed at it.
 
 KEEPDIR: what `SH2000_LCNC_KEEP=KEEPDIR bench/lcnc-compare/run` kept.
 """
@@ -60,24 +63,34 @@ def label(junction, by):
     return "?"
 
 
-def side_stats(ref, pos, js, by):
-    """{class: [time, slow time, accel share of slow, min speeds, peak a, peak j]}"""
+def nearest(ref, pos, js):
+    """The moving samples: (positions, path speed, index of the junction
+    each is nearest to), or None when nothing moved."""
     span = judge.moving_span(pos)
     if span is None:
-        return {}
+        return None
     run = pos[span[0]:span[1] + 1]
     _, where = canon.locate(ref, run)
     speed = np.zeros(len(run))
     speed[1:-1] = np.linalg.norm(run[2:] - run[:-2], axis=1) / (2 * judge.T)
+    jpos = np.array([j[0] for j in js])
+    after = np.minimum(np.searchsorted(jpos, where), len(jpos) - 1)
+    before = np.maximum(after - 1, 0)
+    near = np.where(np.abs(jpos[before] - where) < np.abs(jpos[after] - where), before, after)
+    return run, speed, near
+
+
+def side_stats(ref, pos, js, by):
+    """{class: [time, slow time, accel share of slow, min speeds, peak a, peak j]}"""
+    got = nearest(ref, pos, js)
+    if got is None:
+        return {}
+    run, speed, near = got
     acc_t = np.gradient(speed, judge.T)
     acc = np.zeros_like(run)
     acc[1:-1] = (run[2:] - 2 * run[1:-1] + run[:-2]) / judge.T ** 2
     jerk = np.zeros_like(run)
     jerk[2:-1] = (run[3:] - 3 * run[2:-1] + 3 * run[1:-2] - run[:-3]) / judge.T ** 3
-    jpos = np.array([j[0] for j in js])
-    after = np.minimum(np.searchsorted(jpos, where), len(jpos) - 1)
-    before = np.maximum(after - 1, 0)
-    near = np.where(np.abs(jpos[before] - where) < np.abs(jpos[after] - where), before, after)
     amax_t = np.max(np.abs(acc_t))
     out = {}
     slowest = {}
@@ -98,13 +111,9 @@ def side_stats(ref, pos, js, by):
 
 
 def report(keep, name, by):
-    with open(os.path.join(keep, "programs.txt")) as f:
-        marker = [ln.split()[0] for ln in f].index(name) + 1
-    ref = canon.read(os.path.join(keep, name + ".canon"))
-    js = junctions(ref)
-    ours = side_stats(ref, judge.load_ours(os.path.join(keep, name + ".ours.csv"))[0], js, by)
-    rows = np.loadtxt(os.path.join(keep, "lcnc", "samples.txt"), ndmin=2)
-    lcnc = side_stats(ref, judge.load_lcnc(rows, marker)[0], js, by)
+    ref, js, ours_pos, lcnc_pos = load_sides(keep, name)
+    ours = side_stats(ref, ours_pos, js, by)
+    lcnc = side_stats(ref, lcnc_pos, js, by)
     count = {}
     for j in js:
         count[label(j, by)] = count.get(label(j, by), 0) + 1
@@ -123,10 +132,52 @@ def report(keep, name, by):
                   o[4], lc[4], o[5], lc[5]))
 
 
+def per_junction(ref, pos, js):
+    """Per junction: (time of the samples nearest to it, slowest speed)."""
+    got = nearest(ref, pos, js)
+    out = np.zeros((len(js), 2))
+    out[:, 1] = np.inf
+    if got is not None:
+        _, speed, near = got
+        np.add.at(out[:, 0], near, judge.T)
+        np.minimum.at(out[:, 1], near, speed)
+    return out
+
+
+def worst(keep, name, count):
+    """The junctions where ours loses most against LinuxCNC."""
+    ref, js, ours, lcnc = load_sides(keep, name)
+    o = per_junction(ref, ours, js)
+    lc = per_junction(ref, lcnc, js)
+    loss = o[:, 0] - lc[:, 0]
+    print("%s: the %d junctions where ours loses most (time near it ours / LinuxCNC, "
+          "slowest speed there), of %.2f s lost in all" % (name, count, float(np.sum(loss))))
+    for k in np.argsort(-loss)[:count]:
+        at, turn, shorter, kinds = js[k]
+        print("  #%-5d at %9.2f mm %-8s turn %6.1f deg shorter move %7.2f mm | %6.3f / %6.3f s"
+              " (+%5.1f ms) | vmin %6.1f / %6.1f" % (k, at, kinds, turn, shorter, o[k, 0],
+                                                     lc[k, 0], 1e3 * loss[k], o[k, 1], lc[k, 1]))
+
+
+def load_sides(keep, name):
+    """The reference, its junctions and both recordings of one program."""
+    with open(os.path.join(keep, "programs.txt")) as f:
+        marker = [ln.split()[0] for ln in f].index(name) + 1
+    ref = canon.read(os.path.join(keep, name + ".canon"))
+    ours = judge.load_ours(os.path.join(keep, name + ".ours.csv"))[0]
+    rows = np.loadtxt(os.path.join(keep, "lcnc", "samples.txt"), ndmin=2)
+    return ref, junctions(ref), ours, judge.load_lcnc(rows, marker)[0]
+
+
 def main(argv):
     if len(argv) < 2:
         sys.exit(__doc__)
-    bys = [a.split("=")[-1] for a in argv[2:] if a.startswith("--by")] or ["kinds", "angle", "length"]
+    bys = [a.split("=")[-1] for a in argv[2:] if a.startswith("--by")]
+    counts = [int(a.split("=")[-1]) for a in argv[2:] if a.startswith("--worst")]
+    for count in counts:
+        worst(argv[0], argv[1], count)
+    if not bys and not counts:
+        bys = ["kinds", "angle", "length"]
     for by in bys:
         report(argv[0], argv[1], by)
     return 0

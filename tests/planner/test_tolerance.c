@@ -128,10 +128,12 @@ static void test_blend_tolerances(void **s)
 {
 	static const double tols[] = { 0.1, 0.05, 0.01, 0.002 };
 	struct dev d;
-	uint64_t first = 0;
+	uint64_t first = 0, g61;
 	unsigned int i, slower = 0;
 
 	(void)s;
+	run(SH2000_PATH_EXACT_PATH, 0, 0, &d);
+	g61 = d.cycles;
 	for (i = 0; i < sizeof(tols) / sizeof(tols[0]); i++) {
 		run(SH2000_PATH_BLEND, tols[i], 0, &d);
 		print_message("G64 P%-6g  max deviation %.6f mm, %llu servo cycles\n",
@@ -139,15 +141,23 @@ static void test_blend_tolerances(void **s)
 		/* within the tolerance and a count on the card's own
 		 * set-points */
 		assert_true(d.max <= tols[i] + COUNT);
-		/* a corner is rounded, not visited, when the tolerance allows */
+		/* a corner is rounded when the tolerance allows, or, where
+		 * stopping on it is faster than the blend (a turn wider than
+		 * 57 degrees between moves much faster than the blend,
+		 * blend.c), visited to a count: never cut short of P */
 		if (tols[i] >= 0.05)
-			assert_true(d.near[1] > tols[i] / 10);
+			assert_true(d.near[1] > tols[i] / 10 ||
+				    d.near[1] <= COUNT);
 		/* a narrower tolerance is never faster than the widest, and
 		 * somewhere slower */
 		if (i == 0)
 			first = d.cycles;
 		assert_true(d.cycles >= first);
 		slower += d.cycles > first;
+		/* never slower than stopping on every corner (G61): a wide
+		 * corner is stopped on where that is faster than its blend
+		 * (at P0.01 the blends took 2723 servo cycles, G61 2543) */
+		assert_true(d.cycles <= g61);
 	}
 	assert_true(slower > 0);
 }

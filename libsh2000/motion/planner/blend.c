@@ -18,6 +18,9 @@
  * number of axes, and is made of the blend arcs the controller already
  * knows. Its depth has no closed form: it is measured against the pieces
  * cut away and the cut is shortened until it fits.
+ *
+ * A wide turn between moves much faster than its blend is not blended
+ * but visited at rest, exactly, where that is faster (stop_faster()).
  */
 #include <math.h>
 #include <string.h>
@@ -53,6 +56,12 @@
 #define BIARC_SAMPLES 9u
 /* Tries at shortening the cut of a biarc. */
 #define BIARC_TRIES 12u
+/* A corner is stopped on instead of blended (stop_faster()) only where
+ * the blend's speed is at most this share of the speed the moves reach
+ * on either side: the braking from well above it, which the comparison
+ * counts on (at 0.5, G64's zigzag of tests/planner test_tolerance took
+ * 10 % longer with its 135 degree corners stopped). */
+#define STOP_VB_SHARE 0.25
 
 /* The last block queued, if it is a line or an arc that can still be cut
  * short. */
@@ -239,11 +248,67 @@ static unsigned int blend_curves(struct sh2000_path *p, struct pl_block *t,
 	return 0;
 }
 
+/* What a side of the corner (piece x cut from x0, acceleration A) costs
+ * more when it stops instead of leaving the blend at vb: the braking from
+ * vb to rest, vb / A, less the braking's distance at the speed V the move
+ * reaches, plus the cut d (the piece the blend replaces) at V. */
+static double stop_cost(const struct sh2000_path *p,
+			const struct pl_block *x0, const struct pl_block *x,
+			double vb)
+{
+	double A = pl_block_accel(p, x), d = x0->L - x->L;
+	/* the fastest in the move, halfway (as it is on the way to the
+	 * next corner): at most its limit */
+	double V = pl_min(pl_cap(p, x0), sqrt(vb * vb + A * x0->L));
+
+	if (vb > STOP_VB_SHARE * V)
+		return INFINITY;
+	return vb / A - vb * vb / (2.0 * A * V) + d / V;
+}
+
+/*
+ * Whether stopping on the corner is faster than the blend k[0..n) the
+ * pieces t and b (cut from t0 and b0) would join through. The blend runs
+ * at its speed limit vb, so the motion brakes to vb and speeds up from it
+ * either way, and a stop adds the braking from vb to rest on each side
+ * (stop_cost()) where the blend takes its length at vb. For a circular
+ * blend of radius R at the centripetal share s of the acceleration M
+ * between moves much faster than vb, vb = sqrt(s M R): the blend costs
+ * R phi / vb, the stop 2 vb / M, so a turn phi wider than 2s radians (57
+ * degrees at the default share) is faster stopped, whatever the
+ * tolerance. Both moves must last what the S-curve covers from rest to
+ * rest in PL_REST_PERIODS, so that the stops are exact (control.c; the
+ * 0.05 mm step-overs of a surfacing raster took 0.36 s longer stopped).
+ * Compensated output with the S-curve only: raw output holds a rest point
+ * for two periods more, and the trapezoid's stops ring.
+ */
+static int stop_faster(const struct sh2000_path *p,
+		       const struct pl_block *t0, const struct pl_block *b0,
+		       const struct pl_block *t, const struct pl_block *b,
+		       const struct pl_block *k, unsigned int n)
+{
+	double vb = INFINITY, tb = 0.0, rt = PL_REST_PERIODS * p->cfg.period_s;
+	double lmin = p->lim.J * rt * rt * rt / 32.0;
+	unsigned int i;
+
+	if (p->cfg.output != SH2000_OUTPUT_COMPENSATED || isinf(p->lim.J) ||
+	    !n || t0->L < lmin || b0->L < lmin)
+		return 0;
+	for (i = 0; i < n; i++) {
+		vb = pl_min(vb, k[i].vlim);
+		tb += k[i].L / k[i].vlim;
+	}
+	/* a blend at the moves' own speed costs nothing */
+	if (!(vb < pl_min(pl_cap(p, t0), pl_cap(p, b0))))
+		return 0;
+	return tb > stop_cost(p, t0, t, vb) + stop_cost(p, b0, b, vb);
+}
+
 unsigned int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
 			     struct pl_block k[2])
 {
 	double tol = p->cfg.corner_tol, phi, share, smax, grow;
-	struct pl_block *t;
+	struct pl_block *t, t0, b0;
 	unsigned int n, i;
 
 	if ((b->type != BLK_LINE && b->type != BLK_ARC) ||
@@ -263,10 +328,19 @@ unsigned int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
 	share = p->cfg.output == SH2000_OUTPUT_RAW ? BLEND_SHARE_RAW :
 		pl_max(0.5, pl_min(0.95, 1.0 - BLEND_SPLINE_MM * grow * grow /
 					 tol));
+	t0 = *t;
+	b0 = *b;
 	if (t->type == BLK_LINE && b->type == BLK_LINE)
 		n = blend_lines(p, t, b, phi, share * tol, smax, k);
 	else
 		n = blend_curves(p, t, b, phi, share * tol, smax, k);
+	if (stop_faster(p, &t0, &b0, t, b, k, n)) {
+		/* the corner is visited at rest instead, uncut */
+		*t = t0;
+		*b = b0;
+		p->stop_next = 1;
+		return 0;
+	}
 	for (i = 0; i < n; i++)
 		raw_limit(p, share, &k[i]);
 	return n;

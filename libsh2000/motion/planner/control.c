@@ -516,16 +516,16 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 			Ak = fmin(Ak, lim->A);
 		if (V < level) {
 			/* a lower feed holds from feed_zone before; the
-			 * braking to it runs in the blocks before (a corner's
-			 * zone at lim.A), ending at a = 0 */
+			 * braking to it runs in the blocks before, at their
+			 * acceleration, ending at a = 0 where a corner's
+			 * zone starts (the zone's lim.A is a drop there,
+			 * which a = 0 meets) */
 			if (k->feed < k->prev_feed)
 				t = fmax(t, p->feed_zone);
 			x = p->cons + PL_CONS * n++;
 			x[0] = d - t * V;
 			x[1] = V;
 			memcpy(x + 2, run.x, sizeof(run.x));
-			if (fixed)
-				x[2] = fmin(x[2], Ak);
 			level = V;
 		}
 		if (acc_run_add(&run, k, Ak, fixed)) {
@@ -617,9 +617,14 @@ static void brake(const struct ctl *c, double *ds, double *v, double *a)
 	unsigned int i, k;
 
 
-	if (c->quant && quant_step(c, d, vt, A, ds, v, a) &&
-	    cons_ok(c, *ds, *v, *a))
-		return;
+	if (c->quant && quant_step(c, d, vt, A, ds, v, a)) {
+		if (cons_ok(c, *ds, *v, *a))
+			return;
+		/* not taken: its jerks, kept by quant_try(), must not go on
+		 * from a state they were not planned from (they ran a stop
+		 * below zero speed: tests/planner test_stop_landing) */
+		c->p->qn = 0;
+	}
 
 	for (i = 0; i <= c->n; i++) {
 		double lowest = vt;
@@ -856,12 +861,6 @@ static int drain(struct sh2000_path *p)
 	return 0;
 }
 
-/* Periods a motion between two rests lasts at least for its rests to be
- * exact: shorter ones bring the one-sided knots of both rests together,
- * and the card's jerk then reached 1.47 times the planned one (G0 X0.03;
- * 1.32 as the filter ran through) where longer moves stay as they were. */
-#define REST_PERIODS 7
-
 /* Whether the card's compensated spline may stop exactly on a rest point
  * whose stop and start accelerate at up to A (bscomp.c): the exact stop
  * keeps the card's acceleration within the S-curve's only where its ramp
@@ -869,16 +868,17 @@ static int drain(struct sh2000_path *p)
  * a stop exact in one period overshoots (1.14 of amax at 5000 mm/s^2 and
  * the default jerk, 1.03 at 9000, 0.96 at 10000 where A/J is 0.9 T):
  * there the stop rings as before. The trapezoid's steps never take it.
- * stop: the motion that ends there lasted REST_PERIODS (or there is none);
+ * stop: the motion that ends there lasted PL_REST_PERIODS (or there is
+ * none);
  * next: the length of the move that starts there (0: none), at least what
- * the S-curve covers from rest to rest in REST_PERIODS. */
+ * the S-curve covers from rest to rest in PL_REST_PERIODS. */
 static int exact_rest(const struct sh2000_path *p, double A, int stop,
 		      double next)
 {
-	double t = REST_PERIODS * p->cfg.period_s;
+	double t = PL_REST_PERIODS * p->cfg.period_s;
 
 	return !isinf(p->lim.J) && A >= p->lim.J * p->cfg.period_s &&
-	       (!stop || p->since_rest >= REST_PERIODS) &&
+	       (!stop || p->since_rest >= PL_REST_PERIODS) &&
 	       (next == 0.0 || next >= p->lim.J * t * t * t / 32.0);
 }
 

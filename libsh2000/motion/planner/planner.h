@@ -41,6 +41,13 @@ struct pl_nurbs {
  * period's plus a whole compensation flush (2 * 64 + 3 at most). */
 #define PL_OUTQ 160u
 
+/* Periods a motion between two rests lasts at least for its rests to be
+ * exact (control.c): shorter ones bring the one-sided knots of both rests
+ * together, and the card's jerk then reached 1.47 times the planned one
+ * (G0 X0.03; 1.32 as the filter ran through) where longer moves stay as
+ * they were. */
+#define PL_REST_PERIODS 7
+
 /* Moves merged into one line at most (G64 Q). */
 #define PL_MERGE_MAX 32u
 

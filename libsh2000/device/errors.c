@@ -44,6 +44,7 @@ static const char *const sh2000_errnames[SH2000_E_LAST - SH2000_E_BASE + 1] = {
 	[SH2000_EFORMAT - SH2000_E_BASE] = "unknown program format",
 	[SH2000_ELIMIT - SH2000_E_BASE] = "planned motion beyond a soft limit",
 	[SH2000_EMOVED - SH2000_E_BASE] = "the card moved since the program was checked",
+	[SH2000_EGANTRY - SH2000_E_BASE] = "a motion moves a gantry pair's sides apart",
 	[SH2000_EGATHER_CHECK - SH2000_E_BASE] = "gathered data kept failing its check word",
 	[SH2000_EGATHER_LOST - SH2000_E_BASE] = "the gathered record was replaced by a new one",
 };

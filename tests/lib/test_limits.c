@@ -224,12 +224,58 @@ static void test_policy(void **state)
 	assert_non_null(strstr(msg, "set-point"));
 }
 
+/* A gantry pair's rule (pair.c) over the same stream: the sides may
+ * stand apart (the beam's squaring) and move the same distance, to a
+ * count; further apart is refused, naming both; a plan without a pair,
+ * or with one side only, judges nothing. No soft limits here: the rule
+ * holds without them (a program's first pass may have none). */
+static void test_gantry_pair(void **state)
+{
+	struct sh2000_path_config pc;
+	struct sh2000_setpoints c;
+	double p[SH2000_AXES] = { 0, 10.0, 10.5, 0 };
+	char msg[256];
+
+	(void)state;
+	sh2000_path_config_default(&pc);
+	for (unsigned int a = 0; a < SH2000_AXES; a++)
+		pc.counts_per_mm[a] = 1e5;
+	memcpy(pc.start, p, sizeof(p));
+	pc.gantry_pair = 0x6;	/* y and z */
+	sh2000_setpoints_init(&c, NULL);
+	sh2000_setpoints_rest(&c, pc.start);
+	sh2000_setpoints_pair(&c, &pc);
+	p[1] = 11.0;
+	p[2] = 11.5 + 0.9e-5;	/* under a count apart */
+	assert_int_equal(sh2000_setpoints_point(&c, p, 0, msg, sizeof(msg)), 0);
+	p[2] = 11.5 + 2e-5;
+	assert_int_equal(sh2000_setpoints_point(&c, p, 0, msg, sizeof(msg)),
+			 -SH2000_EGANTRY);
+	assert_non_null(strstr(msg, "Y and Z are one gantry beam (gantry_pair): here Y has moved 1.000000 mm and Z 1.000020 mm since the motion began, 0.000020 mm apart"));
+	/* the end of a motion is where the next one's distances count from */
+	p[2] = 11.5;
+	assert_int_equal(sh2000_setpoints_point(&c, p, 1, msg, sizeof(msg)), 0);
+	p[1] = 12.0;
+	p[2] = 11.5;
+	assert_int_equal(sh2000_setpoints_point(&c, p, 0, msg, sizeof(msg)),
+			 -SH2000_EGANTRY);
+	/* one side only, or none: no pair to judge */
+	for (unsigned int mask = 0; mask <= 0x4; mask += 0x4) {
+		pc.gantry_pair = mask;
+		sh2000_setpoints_init(&c, NULL);
+		sh2000_setpoints_rest(&c, pc.start);
+		sh2000_setpoints_pair(&c, &pc);
+		assert_int_equal(sh2000_setpoints_point(&c, p, 0, msg, sizeof(msg)), 0);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_tangent),
 		cmocka_unit_test(test_beyond),
 		cmocka_unit_test(test_policy),
+		cmocka_unit_test(test_gantry_pair),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

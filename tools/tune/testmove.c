@@ -279,6 +279,9 @@ int tune_move_recover(struct tune_move *s, int fault)
 		return r;
 	if ((r = sh2000_run_path_config(s->h, &s->pc)) < 0)
 		return tune_move_fail(s, r, "recovering");
+	/* the way back squares a gantry pair again: each side to its own
+	 * start, by distances as different as the trip left them */
+	s->pc.gantry_pair = 0;
 	s->pc.amax[s->a] *= RECOVER_SLOWER;
 	sh2000_run_config_default(&rc);
 	r = sh2000_run_create(&run, s->h, &s->pc, &rc, err, sizeof(err));

@@ -44,6 +44,7 @@ static int plan_sink(void *ctx, const struct sh2000_path_point *pt)
 	struct plan_ctx *c = ctx;
 	double mm[SH2000_AXES];
 	unsigned int a;
+	int e;
 
 	c->plan->points++;
 	/* moved: half a count or more from the start. The planner's
@@ -55,17 +56,16 @@ static int plan_sink(void *ctx, const struct sh2000_path_point *pt)
 		if (fabs(pt->mm[a] - c->start[a]) * c->pc->counts_per_mm[a] >=
 		    0.5)
 			c->plan->moved |= 1u << a;
-	if (!c->limits)
-		return 0;
-	/* the runner applies the same rule to the same points later */
+	/* the runner applies the same rules to the same points later */
 	memcpy(mm, pt->mm, sizeof(mm));
-	if (sh2000_setpoints_point(&c->sp, mm, pt->flags & SH2000_PATH_F_END,
-				   c->plan->error, sizeof(c->plan->error)) < 0) {
+	e = sh2000_setpoints_point(&c->sp, mm, pt->flags & SH2000_PATH_F_END,
+				   c->plan->error, sizeof(c->plan->error));
+	if (e < 0) {
 		/* the point belongs to the block tagged with this line */
 		snprintf(c->plan->where, sizeof(c->plan->where), "%s:%u",
 			 c->file, pt->seq);
 		c->bad = 1;
-		return -SH2000_ELIMIT;
+		return e;
 	}
 	return 0;
 }
@@ -146,6 +146,7 @@ int sh2000_program_plan(struct sh2000_prog_reader *r,
 	memcpy(c.start, pc->start, sizeof(c.start));
 	sh2000_setpoints_init(&c.sp, o->limits);
 	sh2000_setpoints_rest(&c.sp, pc->start);
+	sh2000_setpoints_pair(&c.sp, pc);
 	e = sh2000_path_create(&p, pc, plan_sink, &c, plan->error,
 			       sizeof(plan->error));
 	if (e)

@@ -96,6 +96,36 @@ static int lib_fail(struct sh2000_run *r, int code, const char *what)
 	return code;
 }
 
+/*
+ * The card's gantry pair (protocol 1.7) into pc->gantry_pair when both
+ * sides are enabled: then the loops couple them and a motion must move
+ * them together (pair.c). With a side disabled the other may move alone
+ * and drag it, as the beam does.
+ */
+static int gantry_pair(struct sh2000 *h, const struct sh2000_status *st,
+		       struct sh2000_path_config *pc)
+{
+	unsigned int a, n = 0, mask;
+	double v;
+	int r;
+
+	pc->gantry_pair = 0;
+	if (SH2000_PROTO_VERSION_MINOR(sh2000_card_version(h)) <
+	    sh2000_param_since_minor(SH2000_GP_GANTRY_PAIR))
+		return 0;
+	r = sh2000_param_get(h, SH2000_GLOBAL, SH2000_GP_GANTRY_PAIR, &v);
+	if (r)
+		return r;
+	mask = (unsigned int)v;
+	for (a = 0; a < SH2000_AXES; a++)
+		if ((mask & (1u << a)) &&
+		    (st->axis[a].state & SH2000_AXIS_ENABLED))
+			n++;
+	if (n == 2)
+		pc->gantry_pair = mask;
+	return 0;
+}
+
 int sh2000_run_path_config(struct sh2000 *h, struct sh2000_path_config *pc)
 {
 	struct sh2000_status st;
@@ -133,7 +163,7 @@ int sh2000_run_path_config(struct sh2000 *h, struct sh2000_path_config *pc)
 	for (a = 0; a < SH2000_AXES && a < SH2000_AXES; a++)
 		pc->start[a] = (st.axis[a].state & SH2000_AXIS_ENABLED) ?
 			       st.axis[a].cmd_mm : st.axis[a].pos_mm;
-	return 0;
+	return gantry_pair(h, &st, pc);
 }
 
 static double cycle_time(const struct sh2000_run *r, uint64_t cycle)
@@ -615,6 +645,7 @@ int sh2000_run_create(struct sh2000_run **out, struct sh2000 *h,
 	}
 	sh2000_setpoints_init(&r->sp, &r->limits);
 	sh2000_setpoints_rest(&r->sp, pc->start);
+	sh2000_setpoints_pair(&r->sp, pc);
 	/* the distance counts from where the card stands: the first point
 	 * of a motion from rest is a period's travel away from it */
 	memcpy(r->last_mm, pc->start, sizeof(r->last_mm));

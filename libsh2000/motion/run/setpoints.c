@@ -39,10 +39,19 @@ void sh2000_setpoints_init(struct sh2000_setpoints *c,
 	c->limits = l;
 }
 
+void sh2000_setpoints_pair(struct sh2000_setpoints *c,
+			   const struct sh2000_path_config *pc)
+{
+	sh2000_pair_rule_init(&c->pair, pc);
+	if (c->have_rest)
+		sh2000_pair_rule_rest(&c->pair, c->rest);
+}
+
 void sh2000_setpoints_rest(struct sh2000_setpoints *c,
 			   const double mm[SH2000_AXES])
 {
 	memcpy(c->rest, mm, sizeof(c->rest));
+	sh2000_pair_rule_rest(&c->pair, mm);
 	c->have_rest = 1;
 	c->in_motion = 0;
 }
@@ -136,8 +145,15 @@ int sh2000_setpoints_point(struct sh2000_setpoints *c, double mm[SH2000_AXES],
 {
 	uint64_t k = c->points++;
 	const double *x;
-	int e;
+	int e = sh2000_pair_rule_point(&c->pair, mm, msg, len);
 
+	if (e)
+		return e;
+	if (!c->limits) {
+		if (end)
+			sh2000_setpoints_rest(c, mm);
+		return 0;
+	}
 	if (!c->in_motion) {
 		/* the card starts from its rest point (the planner's start
 		 * is within a micrometre of the first record) */

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The soft-limit policy over a stream of records (setpoints.c): what the
- * runner and the first pass of a program apply to every point they get.
+ * runner and the first pass of a program apply to every point they get,
+ * with the gantry pair's rule (pair.h).
  */
 #ifndef SH2000_RUN_SETPOINTS_H
 #define SH2000_RUN_SETPOINTS_H
@@ -9,10 +10,12 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "pair.h"
 #include "sh2000/run.h"
 
 struct sh2000_setpoints {
-	const struct sh2000_limits *limits;
+	const struct sh2000_limits *limits;	/* NULL: none */
+	struct sh2000_pair_rule pair;
 	double w[3][SH2000_AXES];	/* the last three records, as planned */
 	double rest[SH2000_AXES];	/* where the last motion ended */
 	int in_motion;			/* w holds this motion's window */
@@ -22,13 +25,17 @@ struct sh2000_setpoints {
 
 void sh2000_setpoints_init(struct sh2000_setpoints *c,
 			   const struct sh2000_limits *l);
+/* Judge the points by pc's gantry pair too (sh2000_pair_rule_init). */
+void sh2000_setpoints_pair(struct sh2000_setpoints *c,
+			   const struct sh2000_path_config *pc);
 /* The card rests at mm (a new plan starts there). */
 void sh2000_setpoints_rest(struct sh2000_setpoints *c,
 			   const double mm[SH2000_AXES]);
 /*
- * The next record mm (end: the last of a motion). Checks the card's
- * set-points up to it; then puts the record on a limit it is beyond.
- * 0, 1 (mm changed) or -SH2000_ELIMIT with msg.
+ * The next record mm (end: the last of a motion). Checks the gantry
+ * pair's rule, the card's set-points up to it; then puts the record on a
+ * limit it is beyond. 0, 1 (mm changed), -SH2000_EGANTRY or
+ * -SH2000_ELIMIT with msg.
  */
 int sh2000_setpoints_point(struct sh2000_setpoints *c, double mm[SH2000_AXES],
 			   int end, char *msg, size_t len);

@@ -83,6 +83,8 @@ enum sh2000_error {
 	SH2000_EMOVED = 1043,		/* the card moved since the program
 					   was checked (the message names the
 					   axis) */
+	SH2000_EGANTRY = 1044,		/* a motion moves the sides of the
+					   card's gantry pair apart */
 	/* data gathering (protocol 1.2) */
 	SH2000_EGATHER_CHECK = 1050,	/* a chunk of the record kept failing
 					   its check (the bus corrupts it) */

@@ -85,8 +85,15 @@ struct sh2000_path_config {
 	double start[SH2000_AXES];		/* position at create, mm */
 	unsigned int window;		/* look-ahead blocks (256) */
 	unsigned int comp_window;	/* compensation half-window (12) */
-	uint64_t reserved[16];	/* room to grow, zero (sh2000.h, above
-				 * struct sh2000_status) */
+	union {
+		struct {
+			/* the card's gantry pair (bits of its two axes;
+			 * 0: none): its sides must move together */
+			unsigned int gantry_pair;
+		};
+		uint64_t reserved[16];	/* room to grow, zero (sh2000.h,
+					 * above struct sh2000_status) */
+	};
 };
 
 /* Fills *cfg with the defaults (limits of a small linear-motor table). */

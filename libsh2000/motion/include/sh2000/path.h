@@ -85,14 +85,15 @@ struct sh2000_path_config {
 	double start[SH2000_AXES];		/* position at create, mm */
 	unsigned int window;		/* look-ahead blocks (256) */
 	unsigned int comp_window;	/* compensation half-window (12) */
+	/* The room to grow (sh2000.h, above struct sh2000_status) holds the
+	 * fields added since, over its first words: size and offsets stay.
+	 * An anonymous union of plain members, which C and C++ both take. */
 	union {
-		struct {
-			/* the card's gantry pair (bits of its two axes;
-			 * 0: none): its sides must move together */
-			unsigned int gantry_pair;
-		};
-		uint64_t reserved[16];	/* room to grow, zero (sh2000.h,
-					 * above struct sh2000_status) */
+		/* the card's gantry pair (bits of its two axes, both
+		 * enabled; 0: none): its sides must move together
+		 * (sh2000_run_path_config() fills it) */
+		unsigned int gantry_pair;
+		uint64_t reserved[16];	/* room to grow, zero */
 	};
 };
 

@@ -44,16 +44,10 @@ void sh2000_pair_rule_init(struct sh2000_pair_rule *p,
 			       pc->counts_per_mm[ax[0]] : 1e5,
 			       pc->counts_per_mm[ax[1]] > 0 ?
 			       pc->counts_per_mm[ax[1]] : 1e5);
-	memcpy(p->rest, pc->start, sizeof(p->rest));
-}
-
-void sh2000_pair_rule_rest(struct sh2000_pair_rule *p,
-			   const double mm[SH2000_AXES])
-{
-	memcpy(p->rest, mm, sizeof(p->rest));
 }
 
 int sh2000_pair_rule_point(const struct sh2000_pair_rule *p,
+			   const double rest[SH2000_AXES],
 			   const double mm[SH2000_AXES], char *msg, size_t len)
 {
 	static const char name[] = SH2000_AXIS_LETTERS;
@@ -61,8 +55,8 @@ int sh2000_pair_rule_point(const struct sh2000_pair_rule *p,
 
 	if (!p->on)
 		return 0;
-	da = mm[p->a] - p->rest[p->a];
-	db = mm[p->b] - p->rest[p->b];
+	da = mm[p->a] - rest[p->a];
+	db = mm[p->b] - rest[p->b];
 	if (fabs(da - db) <= p->tol_mm)
 		return 0;
 	if (msg && len)

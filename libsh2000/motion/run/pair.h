@@ -14,18 +14,16 @@ struct sh2000_pair_rule {
 	int on;
 	unsigned int a, b;		/* the sides' axes, a < b */
 	double tol_mm;			/* how far apart they may move */
-	double rest[SH2000_AXES];	/* where the motion began */
 };
 
 /* The rule of pc's gantry pair (off without one). */
 void sh2000_pair_rule_init(struct sh2000_pair_rule *p,
 			   const struct sh2000_path_config *pc);
-/* A motion begins at mm. */
-void sh2000_pair_rule_rest(struct sh2000_pair_rule *p,
-			   const double mm[SH2000_AXES]);
 /* 0, or -SH2000_EGANTRY with msg when the point mm has moved the sides
- * by distances that differ by more than the tolerance. */
+ * from rest (where the motion began) by distances that differ by more
+ * than the tolerance. */
 int sh2000_pair_rule_point(const struct sh2000_pair_rule *p,
+			   const double rest[SH2000_AXES],
 			   const double mm[SH2000_AXES], char *msg, size_t len);
 
 #endif

@@ -110,10 +110,9 @@ static int gantry_pair(struct sh2000 *h, const struct sh2000_status *st,
 	int r;
 
 	pc->gantry_pair = 0;
-	if (SH2000_PROTO_VERSION_MINOR(sh2000_card_version(h)) <
-	    sh2000_param_since_minor(SH2000_GP_GANTRY_PAIR))
-		return 0;
 	r = sh2000_param_get(h, SH2000_GLOBAL, SH2000_GP_GANTRY_PAIR, &v);
+	if (r == -EOPNOTSUPP)
+		return 0;	/* a card before gantry pairs (the library's gate) */
 	if (r)
 		return r;
 	mask = (unsigned int)v;

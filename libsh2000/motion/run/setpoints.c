@@ -43,15 +43,12 @@ void sh2000_setpoints_pair(struct sh2000_setpoints *c,
 			   const struct sh2000_path_config *pc)
 {
 	sh2000_pair_rule_init(&c->pair, pc);
-	if (c->have_rest)
-		sh2000_pair_rule_rest(&c->pair, c->rest);
 }
 
 void sh2000_setpoints_rest(struct sh2000_setpoints *c,
 			   const double mm[SH2000_AXES])
 {
 	memcpy(c->rest, mm, sizeof(c->rest));
-	sh2000_pair_rule_rest(&c->pair, mm);
 	c->have_rest = 1;
 	c->in_motion = 0;
 }
@@ -145,7 +142,9 @@ int sh2000_setpoints_point(struct sh2000_setpoints *c, double mm[SH2000_AXES],
 {
 	uint64_t k = c->points++;
 	const double *x;
-	int e = sh2000_pair_rule_point(&c->pair, mm, msg, len);
+	/* the motion began at rest (the planner's start, as the card's) */
+	int e = sh2000_pair_rule_point(&c->pair, c->have_rest ? c->rest : mm,
+				       mm, msg, len);
 
 	if (e)
 		return e;

@@ -207,6 +207,35 @@ static void test_exact_modes(void **s)
 	assert_true(stop.cycles >= path.cycles);
 }
 
+/* A tolerance under a micrometre takes every corner at rest, exactly
+ * (planner.h PL_TOL_REST_MM): a corner taken at a speed of nanometres a
+ * period, or blended by a fraction of a micrometre, was rung through by
+ * the card's compensated spline (88 nm past it at P1e-7, 0.4 um at
+ * P1e-6). Wider ones keep within P and a count, raw or compensated. */
+static void test_tiny_tolerances(void **s)
+{
+	static const double tols[] = { 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-9 };
+	struct dev d;
+	unsigned int i, raw;
+
+	(void)s;
+	for (raw = 0; raw <= 1; raw++)
+		for (i = 0; i < sizeof(tols) / sizeof(tols[0]); i++) {
+			run(SH2000_PATH_BLEND, tols[i], (int)raw, &d);
+			print_message("G64 P%-6g %s max deviation %.2f nm, %.2f nm past a corner\n",
+				      tols[i], raw ? "raw" : "compensated",
+				      d.max * 1e6, d.past * 1e6);
+			assert_true(d.max <= tols[i] + COUNT);
+			/* under a micrometre every corner is a stop, met to a
+			 * count and never passed */
+			if (tols[i] < 1e-3) {
+				assert_true(max_near(&d) <= COUNT);
+				assert_true(d.past <= COUNT);
+				assert_int_equal(d.leg, NPTS - 1);
+			}
+		}
+}
+
 /* G64 P Q: CAM-style tiny moves that wobble within Q of a line are taken
  * as that line (LinuxCNC's naive CAM detector), within Q of every point;
  * without Q (Q 0) each is its own block. */
@@ -250,6 +279,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_blend_tolerances),
 		cmocka_unit_test(test_exact_modes),
+		cmocka_unit_test(test_tiny_tolerances),
 		cmocka_unit_test(test_naive_cam),
 	};
 

@@ -312,8 +312,9 @@ unsigned int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
 	unsigned int n, i;
 
 	if ((b->type != BLK_LINE && b->type != BLK_ARC) ||
-	    p->cfg.mode != SH2000_PATH_BLEND || !(tol > 0.0) || p->stop_next)
-		return 0;
+	    p->cfg.mode != SH2000_PATH_BLEND || !(tol >= PL_TOL_REST_MM) ||
+	    p->stop_next)
+		return 0;	/* the corner's junction rule (pl_junction()) */
 	t = tail_block(p);
 	if (!t || memcmp(t->p1, b->p0, sizeof(t->p1)))
 		return 0;

@@ -755,6 +755,114 @@ static void test_s_bends(void **s)
 	assert_true(m.a_ratio <= 1.0);
 }
 
+/* 3D_Chips.ngc's moves N1420 to N1720 (Y, Z in mm, at X 48): a valley
+ * whose bottom, (-13.155, -3.577), is a 103 degree corner after a 0.012
+ * mm move, the moves after it short and nearly collinear (G64 Q merges
+ * them). */
+static const double chips_yz[][2] = {
+	{ -17.2250, -1.0540 },
+	{ -16.7250, -1.1490 },
+	{ -16.2880, -1.2330 },
+	{ -16.2410, -1.2420 },
+	{ -15.9750, -1.2980 },
+	{ -15.8500, -1.3340 },
+	{ -15.7250, -1.3790 },
+	{ -15.2250, -1.6490 },
+	{ -14.7250, -1.9770 },
+	{ -14.2880, -2.2640 },
+	{ -14.2330, -2.3000 },
+	{ -14.2250, -2.3050 },
+	{ -13.9750, -2.5030 },
+	{ -13.7250, -2.7740 },
+	{ -13.4750, -3.1280 },
+	{ -13.2560, -3.4420 },
+	{ -13.2250, -3.4860 },
+	{ -13.1630, -3.5680 },
+	{ -13.1550, -3.5770 },
+	{ -12.9750, -3.3320 },
+	{ -12.7880, -3.1280 },
+	{ -12.7250, -3.0710 },
+	{ -12.4750, -2.8800 },
+	{ -12.2250, -2.7380 },
+	{ -11.7250, -2.5560 },
+	{ -10.9750, -2.3300 },
+	{ -10.7250, -2.2690 },
+	{ -10.4750, -2.2350 },
+	{ -10.2250, -2.2290 },
+	{ -9.7250, -2.2930 },
+	{ -8.4750, -2.5520 }
+};
+#define CHIPS_N (sizeof(chips_yz) / sizeof(chips_yz[0]))
+#define CHIPS_BOTTOM 18		/* the valley's bottom in chips_yz */
+
+static void prog_chips(struct prog *pg)
+{
+	new_prog(pg, "chips");
+	for (unsigned int i = 1; i < CHIPS_N; i++)
+		line(pg, 0, chips_yz[i][0] - chips_yz[0][0],
+		     chips_yz[i][1] - chips_yz[0][1]);
+	feed_all(pg, VMAX);
+	corner_at(pg, CHIPS_BOTTOM);
+}
+
+/* A corner of turn th (degrees) after a 20 mm line along X, then a move
+ * of l1 and ten of 0.5 mm in the new direction (collinear: G64 Q merges
+ * them), after two moves that keep the controller out of the corner's
+ * blocks. */
+static void prog_turn(struct prog *pg, double th, double l1)
+{
+	double c = cos(th * M_PI / 180.0), s = sin(th * M_PI / 180.0);
+
+	new_prog(pg, "turn");
+	line(pg, 0, 10, 0);
+	line(pg, 0, 0, 0);
+	line(pg, 20, 0, 0);
+	for (unsigned int k = 0; k <= 10; k++)
+		line(pg, 20 + (l1 + 0.5 * k) * c, (l1 + 0.5 * k) * s, 0);
+	corner_at(pg, 3);
+}
+
+/* A corner into a short move that the moves after it extend (G64 Q merges
+ * them) is blended or stopped on (stop_faster() in blend.c), never cut
+ * beyond P: a 60 degree turn into a 0.4 mm move is blended within P, clear
+ * of the corner; a 90 degree turn into a 0.6 mm move is stopped on to a
+ * count (a blend within 0.1 mm at the share of a wide turn is slower);
+ * 3D_Chips' valley bottom (103 degrees after a 0.012 mm move) is stopped
+ * on or blended within P + Q (the merged line is within Q of the
+ * programmed moves), and merging makes it faster. */
+static void test_stop_or_blend(void **s)
+{
+	static struct prog pg;
+	struct meas m;
+	double t0;
+
+	(void)s;
+	prog_turn(&pg, 60.0, 0.4);
+	run(&pg, SH2000_PATH_BLEND, 0.1, 0.1, &m);
+	print_message("%-12s 60 deg  G64 P0.1 Q0.1 max deviation %.6f mm, %.6f mm from the corner\n",
+		      pg.name, m.max, m.near[0]);
+	assert_true(m.max <= 0.1 + 1e-5);
+	assert_true(m.near[0] > 0.01);
+	within_limits(&m);
+	prog_turn(&pg, 90.0, 0.6);
+	run(&pg, SH2000_PATH_BLEND, 0.1, 0.1, &m);
+	print_message("%-12s 90 deg  G64 P0.1 Q0.1 max deviation %.6f mm, %.6f mm from the corner\n",
+		      pg.name, m.max, m.near[0]);
+	assert_true(m.near[0] <= 1e-5);
+	assert_true(m.max <= 1e-5);
+	within_limits(&m);
+	prog_chips(&pg);
+	run(&pg, SH2000_PATH_BLEND, 0.1, 0.0, &m);
+	t0 = m.cycles * m.tau;
+	run(&pg, SH2000_PATH_BLEND, 0.1, 0.1, &m);
+	print_message("%-12s G64 P0.1 Q0.1 max deviation %.6f mm, %.4f s (Q0 %.4f s), %.6f mm from the bottom\n",
+		      pg.name, m.max, m.cycles * m.tau, t0, m.near[0]);
+	assert_true(m.max <= 0.2);
+	assert_true(m.near[0] <= 1e-5 || m.near[0] > 0.01);
+	assert_true(m.cycles * m.tau < t0);
+	within_limits(&m);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -770,6 +878,7 @@ int main(void)
 		cmocka_unit_test(test_short_curve),
 		cmocka_unit_test(test_short_accel),
 		cmocka_unit_test(test_s_bends),
+		cmocka_unit_test(test_stop_or_blend),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

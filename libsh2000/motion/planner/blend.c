@@ -59,9 +59,10 @@
 /* A corner is stopped on instead of blended (stop_faster()) only where
  * the blend's speed is at most this share of the speed the moves reach
  * on either side: the braking from well above it, which the comparison
- * counts on (at 0.5, G64's zigzag of tests/planner test_tolerance took
- * 10 % longer with its 135 degree corners stopped). */
-#define STOP_VB_SHARE 0.25
+ * counts on (at 0.4 and 0.5, G64's zigzag of tests/planner test_tolerance
+ * took 10 % longer with its 135 degree corners stopped; 3D_Chips.ngc
+ * planned 35.714 s at 0.25, 35.666 s at 0.35, 35.672 s at 0.5). */
+#define STOP_VB_SHARE 0.35
 
 /* The last block queued, if it is a line or an arc that can still be cut
  * short. */
@@ -251,15 +252,19 @@ static unsigned int blend_curves(struct sh2000_path *p, struct pl_block *t,
 /* What a side of the corner (piece x cut from x0, acceleration A) costs
  * more when it stops instead of leaving the blend at vb: the braking from
  * vb to rest, vb / A, less the braking's distance at the speed V the move
- * reaches, plus the cut d (the piece the blend replaces) at V. */
+ * reaches, plus the cut d (the piece the blend replaces) at V. V counts
+ * from v0, the fastest the motion can enter the move before the corner
+ * (its vin: a short move inside a curve is run at the curve's speed, not
+ * from the blend's), or from vb after the corner. */
 static double stop_cost(const struct sh2000_path *p,
 			const struct pl_block *x0, const struct pl_block *x,
-			double vb)
+			double vb, double v0)
 {
 	double A = pl_block_accel(p, x), d = x0->L - x->L;
-	/* the fastest in the move, halfway (as it is on the way to the
-	 * next corner): at most its limit */
-	double V = pl_min(pl_cap(p, x0), sqrt(vb * vb + A * x0->L));
+	/* the fastest in the move, from v0 (at least vb) halfway (as it is
+	 * on the way to the next corner): at most its limit */
+	double V = pl_min(pl_cap(p, x0), sqrt(pl_max(v0, vb) * pl_max(v0, vb) +
+					      A * x0->L));
 
 	if (vb > STOP_VB_SHARE * V)
 		return INFINITY;
@@ -301,7 +306,8 @@ static int stop_faster(const struct sh2000_path *p,
 	/* a blend at the moves' own speed costs nothing */
 	if (!(vb < pl_min(pl_cap(p, t0), pl_cap(p, b0))))
 		return 0;
-	return tb > stop_cost(p, t0, t, vb) + stop_cost(p, b0, b, vb);
+	return tb > stop_cost(p, t0, t, vb, t0->vin) +
+		    stop_cost(p, b0, b, vb, 0.0);
 }
 
 unsigned int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,

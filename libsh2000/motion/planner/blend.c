@@ -44,12 +44,23 @@
  * start has taken its half (a sliver stays: the move keeps its length and
  * tangent). */
 #define BLEND_TAIL_KEEP 0.98
-/* The largest turn (rad) whose blend may take more than the configured
- * centripetal share: past it an axis' own acceleration, the tangential
+/* The largest turn (rad) whose blend may take more than BLEND_SHARE_MIN
+ * (up to PL_SHARE_MAX): past it an axis' own acceleration, the tangential
  * braking and then the centripetal, both along it, went past its amax on
  * the card's compensated set-points (2.2 times, the surfacing raster's
  * 90 degree ends at 0.866; tests/planner test_blend). */
 #define BLEND_SHARE_TURN (M_PI / 4.0)
+/* The least centripetal share of any blend (the configured one where it
+ * is more). The blend's speed sqrt(s M R) grows with it and the braking
+ * into it, at sqrt(1 - s^2) M, costs more: measured on the card's fine
+ * set-points (bench/lcnc-compare's bench_peaks at margin 0.95), 0.7
+ * planned 3D_Chips in 35.284 s (0.5: 35.666), cds 34.412 (34.598), the
+ * pocket 11.072 (11.124), the surface 101.240 (101.252), every axis' peak
+ * acceleration over a servo cycle within main's (3D_Chips 1.0026 amax,
+ * main 1.0057); 0.6 was slower and 3D_Chips reached 1.0133, 0.8 slower
+ * on cds, and at 0.866 tests/planner test_tolerance and test_blend
+ * failed. */
+#define BLEND_SHARE_MIN 0.7
 /* Chords of a piece of an arc when measuring a biarc against it. */
 #define PIECE_CHORDS 16u
 /* Samples of each biarc arc, ends included. */
@@ -181,7 +192,7 @@ static double blend_smax(const struct sh2000_path *p,
 
 	return phi < BLEND_SHARE_TURN &&
 	       (by_length || b->L < f * f / (2.0 * p->a_top)) ?
-	       PL_SHARE_MAX : p->cfg.centripetal_share;
+	       PL_SHARE_MAX : pl_max(p->cfg.centripetal_share, BLEND_SHARE_MIN);
 }
 
 /* Two lines: the arc whose middle lies share * tol from the corner, its

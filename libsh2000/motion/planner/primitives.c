@@ -425,6 +425,35 @@ static int nurbs_point_in(const struct sh2000_path *p, const double *x)
 	return 1;
 }
 
+/* Samples of the span u0..u1: the furthest beyond a bound is refused. */
+static int nurbs_span_bounds(struct sh2000_path *p, const struct pl_nurbs *nb,
+			     double u0, double u1)
+{
+	double c[SH2000_AXES], worst = 0.0, uw = u0;
+	char what[80];
+	unsigned int k, a;
+
+	for (k = 0; k <= NURBS_BOUND_SAMPLES; k++) {
+		double u = u0 + (u1 - u0) * k / NURBS_BOUND_SAMPLES;
+
+		pl_nurbs_eval(nb, u, c, NULL, NULL);
+		for (a = 0; a < SH2000_AXES; a++) {
+			double d = fmax(p->bound_lo[a] - c[a],
+					c[a] - p->bound_hi[a]);
+
+			if (d > worst) {
+				worst = d;
+				uw = u;
+			}
+		}
+	}
+	if (!(worst > 0.0))
+		return 0;
+	pl_nurbs_eval(nb, uw, c, NULL, NULL);
+	snprintf(what, sizeof(what), "nurbs: the curve at u = %g", uw);
+	return check_bounds(p, what, c);
+}
+
 /*
  * The curve within the bounds. With positive weights a NURBS stays in the
  * convex hull of its control points, and a span in that of its degree + 1
@@ -438,10 +467,7 @@ static int nurbs_bounds(struct sh2000_path *p, const struct pl_nurbs *nb)
 {
 	const struct sh2000_nurbs *n = &nb->c;
 	const double *U = n->knots;
-	double c[SH2000_AXES];
-	char what[80];
 	size_t i, out = 0;	/* points outside among the span's */
-	unsigned int k;
 	int r;
 
 	if (!p->bounded)
@@ -452,16 +478,9 @@ static int nurbs_bounds(struct sh2000_path *p, const struct pl_nurbs *nb)
 			out -= !nurbs_point_in(p, n->points[i - n->degree - 1]);
 		if (i < n->degree || !out || U[i] >= U[i + 1])
 			continue;
-		for (k = 0; k <= NURBS_BOUND_SAMPLES; k++) {
-			double u = U[i] + (U[i + 1] - U[i]) * k /
-				   NURBS_BOUND_SAMPLES;
-
-			pl_nurbs_eval(nb, u, c, NULL, NULL);
-			snprintf(what, sizeof(what), "nurbs: the curve at u = %g", u);
-			r = check_bounds(p, what, c);
-			if (r)
-				return r;
-		}
+		r = nurbs_span_bounds(p, nb, U[i], U[i + 1]);
+		if (r)
+			return r;
 	}
 	return 0;
 }

@@ -8,6 +8,14 @@
  * And the policy itself on exact compensated records of a circle whose
  * records pass the limit by 12 um: judged on the records (the old rule,
  * sh2000_limits_apply) it is refused, on the set-points it runs.
+ *
+ * The ends and extremes of the primitives are judged when they are added
+ * (the runner gives the planner the limits with the slack, its bounds): a
+ * line or an arc beyond them is refused then, nothing queued and nothing
+ * moved, a line to the limit plus the slack runs; a NURBS is refused at a
+ * point of its curve beyond them, not for a control point alone. And
+ * sh2000_run_error() says the last failure: the run's, until a planner
+ * call fails later.
  */
 #include <errno.h>
 #include <math.h>
@@ -140,27 +148,183 @@ static void test_tangent(void **state)
 	sh2000_close(h);
 }
 
+/* The card at rest where it was, nothing queued, nothing latched. */
+static void card_still(struct sh2000 *h, double x, double y)
+{
+	struct sh2000_status st;
+
+	CHECK(sh2000_poll(h, &st));
+	assert_int_equal(st.card_state, SH2000_STATE_IDLE);
+	assert_int_equal(st.card_faults, 0);
+	assert_int_equal(st.queue_fill, 0);
+	assert_true(fabs(st.axis[0].cmd_mm - x) < 1e-6);
+	assert_true(fabs(st.axis[1].cmd_mm - y) < 1e-6);
+}
+
+/*
+ * The set-points of a circle that passes the limit by 10 um, with the
+ * planner's bounds taken off (its arc is refused when added otherwise):
+ * the guard on the set-points still finds it. sh2000_run_error() keeps
+ * the run's words through a later finish with nothing left and a later
+ * successful motion, and gives the planner's once a planner call fails.
+ */
 static void test_beyond(void **state)
 {
 	struct sh2000 *h = simtest_open();
 	struct seen o;
 	struct sh2000_run *r = start(h, &o);
 	struct sh2000_status st;
+	const double back[4] = { 1, 0, 0, 0 };
+	char first[512];
 
 	(void)state;
+	CHECK(sh2000_path_set_bounds(sh2000_run_path(r), NULL, NULL));
 	assert_int_equal(circle(r, LIMIT_MM - 10.0, 10.01, 300.0),
 			 -SH2000_ELIMIT);
 	print_message("%s\n", sh2000_run_error(r));
 	assert_non_null(strstr(sh2000_run_error(r),
 			       "is beyond the soft limit 100.0000 mm"));
 	assert_non_null(strstr(sh2000_run_error(r), "set-point"));
+	snprintf(first, sizeof(first), "%s", sh2000_run_error(r));
 	/* the records the card got were inside, and so was the card */
 	assert_true(o.max_cmd <= LIMIT_MM + 1e-6);
 	CHECK(sh2000_poll(h, &st));
 	assert_int_equal(st.card_faults, 0);
 	assert_int_equal(st.queue_fill, 0);
+	/* nothing left: 0, and the words stay the run's (not the planner's
+	 * "the sink failed" of the same failure) */
+	assert_int_equal(sh2000_run_finish(r), 0);
+	assert_string_equal(sh2000_run_error(r), first);
+	CHECK(sh2000_path_line(sh2000_run_path(r), back, 50.0));
+	assert_int_equal(sh2000_run_finish(r), 0);
+	assert_string_equal(sh2000_run_error(r), first);
+	/* a planner call that fails later has the last word */
+	assert_int_equal(sh2000_path_line(sh2000_run_path(r), back, -1.0),
+			 -EINVAL);
+	assert_string_equal(sh2000_run_error(r), "feed must be > 0: got -1");
 	sh2000_run_destroy(r);
 	sh2000_close(h);
+}
+
+/* A line beyond the limit is refused when it is added: nothing queued,
+ * the card where it was; the planner takes the next one, and one to the
+ * limit plus the slack runs and ends on the limit. */
+static void test_line_at_add(void **state)
+{
+	struct sh2000 *h = simtest_open();
+	struct seen o;
+	struct sh2000_run *r = start(h, &o);
+	struct sh2000_run_stats rs;
+	const double far[4] = { LIMIT_MM + 5.0, 0, 0, 0 };
+	const double edge[4] = { LIMIT_MM + SH2000_LIMIT_SLACK_MM, 0, 0, 0 };
+
+	(void)state;
+	assert_int_equal(sh2000_path_line(sh2000_run_path(r), far, 50.0),
+			 -SH2000_ELIMIT);
+	print_message("%s\n", sh2000_run_error(r));
+	assert_string_equal(sh2000_run_error(r),
+			    "line: end X 105.000000 mm is beyond the soft limit: the bound is 100.002000 mm");
+	assert_int_equal(sh2000_run_finish(r), 0);
+	sh2000_run_stats(r, &rs);
+	assert_int_equal(rs.points, 0);
+	card_still(h, 0.0, 0.0);
+	CHECK(sh2000_path_line(sh2000_run_path(r), edge, 300.0));
+	assert_int_equal(sh2000_run_finish(r), 0);
+	card_still(h, LIMIT_MM, 0.0);
+	assert_true(o.max_cmd <= LIMIT_MM + 1e-6);
+	sh2000_run_destroy(r);
+	sh2000_close(h);
+}
+
+/* An arc whose ends are inside and whose bulge is 2 mm beyond: refused
+ * when added; the line queued before it runs. */
+static void test_arc_at_add(void **state)
+{
+	struct sh2000 *h = simtest_open();
+	struct seen o;
+	struct sh2000_run *r = start(h, &o);
+	const double a[4] = { LIMIT_MM - 3.0, -5.0, 0, 0 };
+	struct sh2000_path_arc arc;
+
+	(void)state;
+	CHECK(sh2000_path_line(sh2000_run_path(r), a, 100.0));
+	memset(&arc, 0, sizeof(arc));
+	arc.plane = SH2000_PLANE_XY;
+	arc.end[0] = LIMIT_MM - 3.0;
+	arc.end[1] = 5.0;
+	arc.ccw = 1;
+	arc.centre[0] = LIMIT_MM - 3.0;
+	assert_int_equal(sh2000_path_arc(sh2000_run_path(r), &arc, 100.0),
+			 -SH2000_ELIMIT);
+	print_message("%s\n", sh2000_run_error(r));
+	assert_string_equal(sh2000_run_error(r),
+			    "arc: passes X 102.000000 mm is beyond the soft limit: the bound is 100.002000 mm");
+	card_still(h, 0.0, 0.0);
+	assert_int_equal(sh2000_run_finish(r), 0);
+	card_still(h, LIMIT_MM - 3.0, -5.0);
+	sh2000_run_destroy(r);
+	sh2000_close(h);
+}
+
+static int discard(void *ctx, const struct sh2000_path_point *pt)
+{
+	(void)ctx;
+	(void)pt;
+	return 0;
+}
+
+/* Back to (99, 0) and a quadratic NURBS from there over (xm, 1) to
+ * (99, 2): its curve reaches X (99 + xm) / 2 at u = 0.5. */
+static int add_nurbs(struct sh2000_path *p, double xm)
+{
+	const double pts[3][SH2000_AXES] = {
+		{ 99, 0, 0, 0 }, { xm, 1, 0, 0 }, { 99, 2, 0, 0 } };
+	const double knots[6] = { 0, 0, 0, 1, 1, 1 };
+	struct sh2000_nurbs n = { .degree = 2, .npoints = 3, .points = pts,
+				  .knots = knots };
+	int e = sh2000_path_line(p, pts[0], 50.0);
+
+	return e ? e : sh2000_path_nurbs(p, &n, 50.0);
+}
+
+/* The planner alone: a NURBS whose control point is beyond the bound
+ * but whose curve only touches it is taken; one whose curve passes it is
+ * refused, naming where; bad bounds are refused and change nothing. */
+static void test_nurbs_bounds(void **state)
+{
+	struct sh2000_path_config pc;
+	struct sh2000_path *p;
+	double lo[SH2000_AXES], hi[SH2000_AXES];
+	unsigned int a;
+
+	(void)state;
+	sh2000_path_config_default(&pc);
+	pc.start[0] = 99.0;
+	assert_int_equal(sh2000_path_create(&p, &pc, discard, NULL, NULL, 0), 0);
+	for (a = 0; a < SH2000_AXES; a++) {
+		lo[a] = -1000.0;
+		hi[a] = 1000.0;
+	}
+	hi[0] = LIMIT_MM;
+	assert_int_equal(sh2000_path_set_bounds(p, lo, hi), 0);
+	assert_int_equal(add_nurbs(p, 101.0), 0);	/* touches 100 */
+	assert_int_equal(sh2000_path_finish(p), 0);
+	assert_int_equal(add_nurbs(p, 101.2), -SH2000_ELIMIT);
+	print_message("%s\n", sh2000_path_error(p));
+	assert_string_equal(sh2000_path_error(p),
+			    "nurbs: the curve at u = 0.5 X 100.100000 mm is beyond the soft limit: the bound is 100.000000 mm");
+	/* one side only, lo > hi, NaN: refused, the bounds stay */
+	assert_int_equal(sh2000_path_set_bounds(p, lo, NULL), -EINVAL);
+	hi[1] = -2000.0;
+	assert_int_equal(sh2000_path_set_bounds(p, lo, hi), -EINVAL);
+	hi[1] = NAN;
+	assert_int_equal(sh2000_path_set_bounds(p, lo, hi), -EINVAL);
+	assert_int_equal(add_nurbs(p, 101.2), -SH2000_ELIMIT);
+	/* none: taken */
+	assert_int_equal(sh2000_path_set_bounds(p, NULL, NULL), 0);
+	assert_int_equal(add_nurbs(p, 101.2), 0);
+	assert_int_equal(sh2000_path_finish(p), 0);
+	sh2000_path_destroy(p);
 }
 
 /*
@@ -274,6 +438,9 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_tangent),
 		cmocka_unit_test(test_beyond),
+		cmocka_unit_test(test_line_at_add),
+		cmocka_unit_test(test_arc_at_add),
+		cmocka_unit_test(test_nurbs_bounds),
 		cmocka_unit_test(test_policy),
 		cmocka_unit_test(test_gantry_pair),
 	};

@@ -72,6 +72,28 @@ int sh2000_path_set_mode(struct sh2000_path *p, enum sh2000_path_mode mode,
 	return 0;
 }
 
+int sh2000_path_set_bounds(struct sh2000_path *p, const double lo[SH2000_AXES],
+			   const double hi[SH2000_AXES])
+{
+	unsigned int a;
+
+	if (!lo && !hi) {
+		p->bounded = 0;
+		return 0;
+	}
+	if (!lo || !hi)
+		return pl_err(p, -EINVAL, "bounds: give both lo and hi, or neither");
+	for (a = 0; a < SH2000_AXES; a++)
+		if (!(lo[a] <= hi[a]))
+			return pl_err(p, -EINVAL,
+				      "bounds: %c %g..%g mm: need lo <= hi, not NaN",
+				      axis_name[a], lo[a], hi[a]);
+	memcpy(p->bound_lo, lo, sizeof(p->bound_lo));
+	memcpy(p->bound_hi, hi, sizeof(p->bound_hi));
+	p->bounded = 1;
+	return 0;
+}
+
 void sh2000_path_set_seq(struct sh2000_path *p, uint32_t seq)
 {
 	p->seq = seq;

@@ -287,6 +287,11 @@ struct sh2000_path {
 	double chord_err, feed_fluct, feed_fluct_pred;
 	uint64_t nurbs_steps, nurbs_corr;
 	size_t mem, mem_peak;
+
+	/* the caller's bounds every primitive keeps within
+	 * (sh2000_path_set_bounds(); bounded 0: none) */
+	int bounded;
+	double bound_lo[SH2000_AXES], bound_hi[SH2000_AXES];
 };
 
 int pl_err(struct sh2000_path *p, int code, const char *fmt, ...)

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "planner.h"
+#include "sh2000/sh2000.h"
 
 static const char axis_name[] = SH2000_AXIS_LETTERS;
 
@@ -31,7 +32,28 @@ static int check_feed(struct sh2000_path *p, const char *what, double feed,
 	return 0;
 }
 
-static int check_point(struct sh2000_path *p, const char *what,
+/* Within the caller's bounds (sh2000_path_set_bounds()), if any. */
+static int check_bounds(struct sh2000_path *p, const char *what,
+			const double x[SH2000_AXES])
+{
+	unsigned int a;
+
+	if (!p->bounded)
+		return 0;
+	for (a = 0; a < SH2000_AXES; a++) {
+		double b = x[a] < p->bound_lo[a] ? p->bound_lo[a] :
+			   x[a] > p->bound_hi[a] ? p->bound_hi[a] : x[a];
+
+		if (b != x[a])
+			return pl_err(p, -SH2000_ELIMIT,
+				      "%s %c %.6f mm is beyond the soft limit: the bound is %.6f mm",
+				      what, axis_name[a], x[a], b);
+	}
+	return 0;
+}
+
+/* Finite and within the count range. */
+static int check_value(struct sh2000_path *p, const char *what,
 		       const double x[SH2000_AXES])
 {
 	unsigned int a;
@@ -52,6 +74,15 @@ static int check_point(struct sh2000_path *p, const char *what,
 				      2147483000.0 / sc);
 	}
 	return 0;
+}
+
+/* A point the primitive passes: a value, and within the bounds. */
+static int check_point(struct sh2000_path *p, const char *what,
+		       const double x[SH2000_AXES])
+{
+	int r = check_value(p, what, x);
+
+	return r ? r : check_bounds(p, what, x);
 }
 
 /* Entry of every primitive: the planner must be able to take one. */
@@ -380,6 +411,80 @@ static int nurbs_geometry(struct sh2000_path *p, const struct pl_nurbs *nb)
 	return 0;
 }
 
+/* Samples per knot span where the control polygon leaves the bounds. */
+#define NURBS_BOUND_SAMPLES 64u
+
+/* Whether a control point is within the bounds. */
+static int nurbs_point_in(const struct sh2000_path *p, const double *x)
+{
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++)
+		if (x[a] < p->bound_lo[a] || x[a] > p->bound_hi[a])
+			return 0;
+	return 1;
+}
+
+/* Samples of the span u0..u1: the furthest beyond a bound is refused. */
+static int nurbs_span_bounds(struct sh2000_path *p, const struct pl_nurbs *nb,
+			     double u0, double u1)
+{
+	double c[SH2000_AXES], worst = 0.0, uw = u0;
+	char what[80];
+	unsigned int k, a;
+
+	for (k = 0; k <= NURBS_BOUND_SAMPLES; k++) {
+		double u = u0 + (u1 - u0) * k / NURBS_BOUND_SAMPLES;
+
+		pl_nurbs_eval(nb, u, c, NULL, NULL);
+		for (a = 0; a < SH2000_AXES; a++) {
+			double d = fmax(p->bound_lo[a] - c[a],
+					c[a] - p->bound_hi[a]);
+
+			if (d > worst) {
+				worst = d;
+				uw = u;
+			}
+		}
+	}
+	if (!(worst > 0.0))
+		return 0;
+	pl_nurbs_eval(nb, uw, c, NULL, NULL);
+	snprintf(what, sizeof(what), "nurbs: the curve at u = %g", uw);
+	return check_bounds(p, what, c);
+}
+
+/*
+ * The curve within the bounds. With positive weights a NURBS stays in the
+ * convex hull of its control points, and a span in that of its degree + 1
+ * points: a span whose points are all inside is inside. A point outside
+ * does not prove the curve leaves (a control polygon lies outside the
+ * curve it shapes), so such a span is sampled and refused only at a point
+ * of the curve beyond a bound; what a sample misses the runner's check of
+ * the set-points still finds.
+ */
+static int nurbs_bounds(struct sh2000_path *p, const struct pl_nurbs *nb)
+{
+	const struct sh2000_nurbs *n = &nb->c;
+	const double *U = n->knots;
+	size_t i, out = 0;	/* points outside among the span's */
+	int r;
+
+	if (!p->bounded)
+		return 0;
+	for (i = 0; i < n->npoints; i++) {
+		out += !nurbs_point_in(p, n->points[i]);
+		if (i > n->degree)
+			out -= !nurbs_point_in(p, n->points[i - n->degree - 1]);
+		if (i < n->degree || !out || U[i] >= U[i + 1])
+			continue;
+		r = nurbs_span_bounds(p, nb, U[i], U[i + 1]);
+		if (r)
+			return r;
+	}
+	return 0;
+}
+
 int sh2000_path_nurbs(struct sh2000_path *p, const struct sh2000_nurbs *n,
 		      double feed)
 {
@@ -399,7 +504,7 @@ int sh2000_path_nurbs(struct sh2000_path *p, const struct sh2000_nurbs *n,
 	r = check_feed(p, "feed", feed, 0);
 	for (i = 0; !r && i < n->npoints; i++) {
 		snprintf(m, sizeof(m), "nurbs: points[%zu]", i);
-		r = check_point(p, m, n->points[i]);
+		r = check_value(p, m, n->points[i]);
 	}
 	if (r)
 		return r;
@@ -408,6 +513,8 @@ int sh2000_path_nurbs(struct sh2000_path *p, const struct sh2000_nurbs *n,
 		return pl_err(p, -ENOMEM, "nurbs: out of memory");
 	nb->id = ++p->nurbs_ids;
 	r = nurbs_geometry(p, nb);
+	if (!r)
+		r = nurbs_bounds(p, nb);
 	if (!r)
 		r = ready(p);
 	if (r) {

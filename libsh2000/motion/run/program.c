@@ -153,6 +153,11 @@ int sh2000_program_plan(struct sh2000_prog_reader *r,
 		return e;
 	e = sh2000_path_set_override(p, o->override);
 	if (!e)
+		e = sh2000_setpoints_bound(o->limits, p);
+	if (e)
+		snprintf(plan->error, sizeof(plan->error), "%s",
+			 sh2000_path_error(p));
+	else
 		e = plan_all(r, p, o, &c);
 	plan->seconds += (double)plan->points * pc->period_s;
 	sh2000_path_destroy(p);

@@ -45,7 +45,6 @@ struct sh2000_run {
 	unsigned int hold_still;	/* polls they stayed the same */
 	int failed;			/* the sink failed: r->err says why */
 	int halted;			/* ... and halt_card() ran for it */
-	int err_live;			/* r->err is about the last run call */
 	double last_mm[SH2000_AXES];
 	int have_last;
 	struct sh2000_status st;	/* last poll */
@@ -55,7 +54,10 @@ struct sh2000_run {
 	int sampled;			/* a poll gave a sample ... */
 	uint64_t sample_cycle;		/* ... of this snapshot */
 	struct sh2000_run_stats stats;
-	char err[512];
+	char err[512];			/* the run's last failure */
+	/* the planner's words when that was recorded: words other than
+	 * these are a planner failure since (sh2000_run_error()) */
+	char path_err[256];
 };
 
 void sh2000_run_config_default(struct sh2000_run_config *cfg)
@@ -66,6 +68,14 @@ void sh2000_run_config_default(struct sh2000_run_config *cfg)
 	cfg->stall_ms = 2000;
 }
 
+/* The planner's words now belong to the run's failure (they are older,
+ * or the planner's report of the sink failing with it). */
+static void seen_path_err(struct sh2000_run *r)
+{
+	snprintf(r->path_err, sizeof(r->path_err), "%s",
+		 r->path ? sh2000_path_error(r->path) : "");
+}
+
 static int fail(struct sh2000_run *r, int code, const char *fmt, ...)
 {
 	va_list ap;
@@ -73,7 +83,7 @@ static int fail(struct sh2000_run *r, int code, const char *fmt, ...)
 	va_start(ap, fmt);
 	vsnprintf(r->err, sizeof(r->err), fmt, ap);
 	va_end(ap);
-	r->err_live = 1;
+	seen_path_err(r);
 	return code;
 }
 
@@ -490,6 +500,8 @@ static void reset_plan(struct sh2000_run *r)
 	r->have_last = 1;
 	r->failed = 0;
 	memset(&r->moved, 0, sizeof(r->moved));
+	/* the planner said "the sink failed" of the run's failure */
+	seen_path_err(r);
 }
 
 /* A push that failed: -EAGAIN (a feed hold: the planner keeps the point)
@@ -658,6 +670,12 @@ int sh2000_run_create(struct sh2000_run **out, struct sh2000 *h,
 	e = sh2000_path_create(&r->path, pc, sink, r, r->err, sizeof(r->err));
 	if (e)
 		goto err;
+	e = sh2000_setpoints_bound(&r->limits, r->path);
+	if (e) {
+		fail(r, e, "run: the card's soft limits: %s",
+		     sh2000_path_error(r->path));
+		goto err;
+	}
 	if (sh2000_backend(h) == SH2000_BACKEND_SIM) {
 		r->sim = 1;
 		e = sh2000_watch_cycles(h, observe, r);
@@ -702,8 +720,6 @@ int sh2000_run_finish(struct sh2000_run *r)
 {
 	int e, paused;
 
-	if (!r->failed)
-		r->err_live = 0;
 	e = r->failed ? r->failed : sh2000_path_finish(r->path);
 	paused = e == -EAGAIN;
 	if (e && !paused) {
@@ -744,7 +760,6 @@ int sh2000_run_dwell(struct sh2000_run *r, double seconds)
 	uint64_t end, now;
 	int e;
 
-	r->err_live = 0;
 	if (r->failed)
 		return r->failed;
 	if (!(seconds >= 0.0) || seconds > 1e6)
@@ -849,9 +864,11 @@ int sh2000_run_hold_wait(struct sh2000_run *r, unsigned int ms)
 
 const char *sh2000_run_error(const struct sh2000_run *r)
 {
-	if (r->failed || r->err_live)
+	const char *pe = sh2000_path_error(r->path);
+
+	if (r->failed || !strcmp(pe, r->path_err))
 		return r->err;
-	return sh2000_path_error(r->path);
+	return pe;
 }
 
 void sh2000_run_stats(const struct sh2000_run *r, struct sh2000_run_stats *st)

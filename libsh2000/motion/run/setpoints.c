@@ -19,6 +19,12 @@
  * keeps the card's set-points inside, since a B-spline stays in the hull
  * of its control points, and moves them by no more than the records moved.
  *
+ * The ends and extremes of the primitives are known when they are added:
+ * the planner refuses one beyond the limits and their slack then
+ * (sh2000_setpoints_bound()), before any of it is queued, while this
+ * check, a ring ahead of the card, stays the guard for what only the
+ * points show (blends, the compensation, what a NURBS sample missed).
+ *
  * A span is known once its fourth record is: the check of a record's
  * neighbourhood ends two records after it (or at END), so a runner may
  * have pushed the records before; those are inside the limits all the
@@ -51,6 +57,21 @@ void sh2000_setpoints_rest(struct sh2000_setpoints *c,
 	memcpy(c->rest, mm, sizeof(c->rest));
 	c->have_rest = 1;
 	c->in_motion = 0;
+}
+
+int sh2000_setpoints_bound(const struct sh2000_limits *l,
+			   struct sh2000_path *p)
+{
+	double lo[SH2000_AXES], hi[SH2000_AXES];
+	unsigned int a;
+
+	if (!l)
+		return sh2000_path_set_bounds(p, NULL, NULL);
+	for (a = 0; a < SH2000_AXES; a++) {
+		lo[a] = l->lo[a] - SH2000_LIMIT_SLACK_MM;
+		hi[a] = l->hi[a] + SH2000_LIMIT_SLACK_MM;
+	}
+	return sh2000_path_set_bounds(p, lo, hi);
 }
 
 /* Lowest and highest value of the span's cubic on 0 <= t <= 1. */

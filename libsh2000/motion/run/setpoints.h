@@ -37,6 +37,14 @@ void sh2000_setpoints_rest(struct sh2000_setpoints *c,
  * limit it is beyond. 0, 1 (mm changed), -SH2000_EGANTRY or
  * -SH2000_ELIMIT with msg.
  */
+/*
+ * The same limits as bounds of the planner's primitives, with the same
+ * slack (sh2000_path_set_bounds()): a primitive whose end or extremes are
+ * beyond them is refused when it is added, before any of its points are
+ * made. l NULL: none. 0 or the planner's error.
+ */
+int sh2000_setpoints_bound(const struct sh2000_limits *l,
+			   struct sh2000_path *p);
 int sh2000_setpoints_point(struct sh2000_setpoints *c, double mm[SH2000_AXES],
 			   int end, char *msg, size_t len);
 

@@ -323,10 +323,10 @@ t_shm() {
 	"$PROBE" sim:$name >p3
 	cmp -s p1 p3 || { fail "the card changed after a plan error"; cat p1 p3; }
 	# the planning pass holds the program to the card's soft limits: the
-	# arc of arc.ngc's line 5 runs from X10 to X0
+	# arc of arc.ngc's line 5 runs from X10 to X0, refused when added
 	"$PROBE" sim:$name 0 soft_min 5 >/dev/null || fail "setting soft_min"
 	expect 5 "beyond a soft limit on sim:$name" -- "${UPLOAD_RT[@]}" -q -d sim:$name "$DATA/arc.ngc"
-	has "arc.ngc:5: error: X 4\.9[0-9]* mm is beyond the soft limit 5.0000 mm" err
+	has "arc.ngc:5:1: error: arc: end X 0\.000000 mm is beyond the soft limit: the bound is 4\.998000 mm" err
 	"$PROBE" sim:$name >p4
 	cmp -s p1 p4 || { fail "the card changed after a soft-limit error"; cat p1 p4; }
 	stop_sim

@@ -140,6 +140,21 @@ const char *sh2000_path_error(const struct sh2000_path *p);
 int sh2000_path_set_mode(struct sh2000_path *p, enum sh2000_path_mode mode,
 			 double tolerance, double naive_tolerance);
 
+/*
+ * Bounds every primitive added from now on must keep within, per axis in
+ * mm (lo[a] <= hi[a]; an infinite one bounds nothing): a line's or move's
+ * end, an arc's end and its extremes in its plane, a NURBS' curve. A
+ * primitive that leaves them is refused when it is added, with
+ * -SH2000_ELIMIT and "line: end X 15.000000 mm is beyond the soft limit:
+ * the bound is 10.002000 mm" in sh2000_path_error(); nothing of it is
+ * queued and the planner takes the next primitive. The runner and
+ * sh2000_program_plan() set the card's soft limits with their slack
+ * (sh2000/run.h). Both NULL: no bounds (the default). -EINVAL for one
+ * NULL, a NaN or lo[a] > hi[a] (the bounds stay as they were).
+ */
+int sh2000_path_set_bounds(struct sh2000_path *p, const double lo[SH2000_AXES],
+			   const double hi[SH2000_AXES]);
+
 /* Tag stored in the points of the primitives added from now on. */
 void sh2000_path_set_seq(struct sh2000_path *p, uint32_t seq);
 

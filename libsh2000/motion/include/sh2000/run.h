@@ -91,7 +91,10 @@ int sh2000_run_path_config(struct sh2000 *h, struct sh2000_path_config *pc);
  * legitimate); further beyond is -SH2000_ELIMIT: the rule for one target.
  * The runner and sh2000_program_plan() judge a planned stream on the
  * card's fine set-points (the B-spline of the records) by the same slack,
- * and put records on the limit they pass (docs/library.md).
+ * and put records on the limit they pass (docs/library.md). Before that,
+ * they give their planner the limits widened by the slack as its bounds
+ * (sh2000_path_set_bounds()): a primitive whose end or extremes are beyond
+ * them is refused when it is added, -SH2000_ELIMIT, nothing queued.
  */
 #define SH2000_LIMIT_SLACK_MM	0.002
 
@@ -138,7 +141,10 @@ int sh2000_run_create(struct sh2000_run **out, struct sh2000 *h,
 void sh2000_run_destroy(struct sh2000_run *r);
 
 /* The planner: add primitives to it. Adding may already stream points
- * (the look-ahead window is full), so its errors may be the card's. */
+ * (the look-ahead window is full), so its errors may be the card's. It
+ * has the card's soft limits, with SH2000_LIMIT_SLACK_MM, as its bounds:
+ * a primitive beyond them is refused when added (-SH2000_ELIMIT, the words
+ * in sh2000_run_error()), and nothing moves. */
 struct sh2000_path *sh2000_run_path(struct sh2000_run *r);
 
 /*
@@ -177,7 +183,15 @@ int sh2000_run_hold_wait(struct sh2000_run *r, unsigned int ms);
  * once), in the plan above it. */
 int sh2000_run_set_override(struct sh2000_run *r, double factor);
 
-/* What the last failure was, with the card's or planner's words. */
+/*
+ * The last failure in words. The run's own (a card error, a set-point
+ * beyond a soft limit, a planner failure sh2000_run_finish() met, a bad
+ * argument) stays the answer through later successful calls, and through
+ * the planner's own report of it ("the sink failed: ..."); a call on the
+ * planner (sh2000_run_path()) that fails after it, with other words than
+ * the planner had then, makes the planner's words (sh2000_path_error())
+ * the answer, until the run fails again. "" before any failure.
+ */
 const char *sh2000_run_error(const struct sh2000_run *r);
 
 struct sh2000_run_stats {
@@ -236,7 +250,9 @@ struct sh2000_program_plan {
 
 /*
  * The first pass: read r from where it stands to the end, plan every
- * block with pc and check each planned point against o->limits. 0 (plan
+ * block with pc and check each planned point against o->limits (a block
+ * whose end or extremes are beyond them, with the slack, is refused when
+ * it is added, sh2000_path_set_bounds()). 0 (plan
  * filled); -SH2000_EPROGRAM when the program has errors (they are in the
  * reader's diags); -SH2000_ELIMIT, -EINVAL... when a block cannot be
  * planned or leaves the limits (plan->where and plan->error say which and

@@ -24,6 +24,22 @@ for bad in order:4 jump:4; do
 	out_has 'tables: active, 1 table\(s\), id 0x00c0ffee'
 done
 
+# the card judges soft limits on nominal positions and adds the tables
+# after: load says each axis' correction inside the soft limits, and warns
+# (exit unchanged) when a soft limit's corrected position lies beyond it
+printf 'pitch X\n-100 0.5\n0 0.5\n100 0.5\n' >"$T/off.comp"
+expect 0 "$CTL" -d sim params x soft_max=10 + comp load "$T/off.comp"
+out_has 'axis x: the tables correct it by \+0\.500000\.\.\+0\.500000 mm inside the soft limits'
+err_has 'warning: axis x at its soft_max 10\.000000 mm: the tables put the tool up to 0\.500000 mm beyond it \(at 10\.500000 mm\)'
+expect 0 "$CTL" -d sim params x soft_min=-10 + comp load "$T/off.comp"
+err_lacks 'warning'
+# at soft_min -5 the table takes 0.00025 mm off; beyond +10 its slope
+# runs out over 16 end segments (no soft_max): +0.0045 mm at most
+printf 'pitch X\n-10 -0.0005\n0 0\n10 0.0005\n' >"$T/slope.comp"
+expect 0 "$CTL" -d sim params x soft_min=-5 + comp load "$T/slope.comp"
+err_has 'warning: axis x at its soft_min -5\.000000 mm: .* 0\.000250 mm beyond it \(at -5\.000250 mm\)'
+out_has 'axis x: the tables correct it by -0\.000250\.\.\+0\.004500 mm'
+
 expect 0 "$CTL" -d sim comp load "$T/good.comp" + comp clear + comp show
 out_has 'tables: none'
 expect 2 "$CTL" -d sim comp load

@@ -60,6 +60,12 @@ err_has 'none.csv: cannot read: No such file'
 expect 1 "$CTL" -d sim comp show "$T/none.comp"
 err_has 'none.comp: No such file'
 expect 1 "$CTL" -d sim comp load "$T/none.comp"
+# a directory opens for reading: said as what it is
+expect 1 "$CTL" -d sim comp load "$T"
+err_has "$T: not a table file: Is a directory"
+err_lacks 'out of memory'
+expect 1 "$CTL" -d sim comp show "$T"
+err_has "$T: not a table file: Is a directory"
 # every export the card would refuse is refused here, naming the CSV's
 # row, with nothing written: out of order, a repeat (also the first step,
 # which the point before the table is made from), a repeat after rounding

@@ -457,12 +457,29 @@ unsigned int sh2000_comp_file_line(const struct sh2000_comp_file *f,
 	return t->line;
 }
 
+/* A table as its keyword line names it: "pitch table X", "cross table Y
+ * by X", "square X by Y", "grid Z by X and Y". */
+static void table_name(const struct ctab *t, char *name, size_t len)
+{
+	char a = SH2000_AXIS_LETTERS[t->target], s1 = SH2000_AXIS_LETTERS[t->src1];
+
+	if (t->kind == SH2000_COMP_TABLE && t->target == t->src1)
+		snprintf(name, len, "pitch table %c", a);
+	else if (t->kind == SH2000_COMP_TABLE)
+		snprintf(name, len, "cross table %c by %c", a, s1);
+	else if (t->kind == SH2000_COMP_SQUARE)
+		snprintf(name, len, "square %c by %c", a, s1);
+	else
+		snprintf(name, len, "grid %c by %c and %c", a, s1,
+			 SH2000_AXIS_LETTERS[t->src2]);
+}
+
 const char *sh2000_comp_file_explain(const struct sh2000_comp_file *f,
 				     const struct sh2000_comp_fault *why,
 				     char *msg, size_t len)
 {
-	static const char *const kind[] = { "?", "table", "square", "grid" };
 	const struct ctab *t;
+	char name[48];
 
 	if (!msg || !len)
 		return msg;
@@ -472,10 +489,10 @@ const char *sh2000_comp_file_explain(const struct sh2000_comp_file *f,
 		return msg;
 	}
 	t = &f->t[why->table];
-	snprintf(msg, len, "%s:%u: %s %c by %c: %s", f->path,
-		 sh2000_comp_file_line(f, why->table, why->point),
-		 kind[t->kind <= 3 ? t->kind : 0], SH2000_AXIS_LETTERS[t->target],
-		 SH2000_AXIS_LETTERS[t->src1], sh2000_comp_reason_name(why->reason));
+	table_name(t, name, sizeof(name));
+	snprintf(msg, len, "%s:%u: %s: %s", f->path,
+		 sh2000_comp_file_line(f, why->table, why->point), name,
+		 sh2000_comp_reason_name(why->reason));
 	return msg;
 }
 

@@ -60,6 +60,17 @@ err_has 'none.csv: cannot read: No such file'
 expect 1 "$CTL" -d sim comp show "$T/none.comp"
 err_has 'none.comp: No such file'
 expect 1 "$CTL" -d sim comp load "$T/none.comp"
+# a table keyword with no points is too few points, as one point is; a
+# table is named as its keyword line says it
+printf 'pitch X\n' >"$T/empty.comp"
+printf 'pitch X\n0 0\n' >"$T/onepoint.comp"
+printf 'cross Y X\n0 0\n' >"$T/onecross.comp"
+for name in empty onepoint; do
+	expect 5 "$CTL" -d sim comp load "$T/$name.comp"
+	err_has "$name.comp:1: pitch table X: too few points: nothing changed"
+done
+expect 5 "$CTL" -d sim comp load "$T/onecross.comp"
+err_has 'onecross.comp:1: cross table Y by X: too few points'
 # a directory opens for reading: said as what it is
 expect 1 "$CTL" -d sim comp load "$T"
 err_has "$T: not a table file: Is a directory"

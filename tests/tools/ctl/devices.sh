@@ -22,6 +22,9 @@ head -c 2048 /dev/zero >"$T/ram"
 expect 3 "$CTL" -d "$T/ram" status && err_has "^sh2000ctl: $T/ram: "
 # the environment variable, and -d over it
 SH2000_DEVICE=sim:envcard-$$ expect 3 "$CTL" status && err_has "sim:envcard-$$"
+# an empty -d is the library's empty string: $SH2000_DEVICE (docs/library.md)
+SH2000_DEVICE=sim:envcard-$$ expect 3 "$CTL" -d "" status && err_has "sim:envcard-$$"
+SH2000_DEVICE=sim expect 0 "$CTL" --device= status
 SH2000_DEVICE=sim:envcard-$$ expect 0 "$CTL" -d sim status && out_has "^device  sim$"
 SH2000_DEVICE=sim expect 0 "$CTL" status && out_has "^device  sim$"
 # no -d, no variable: /dev/sh2000-0 (absent on the build host, unless a

@@ -171,11 +171,13 @@ int sh2000_status_alive(struct sh2000 *h, const uint16_t *w,
 				   SH2000_PROTO_MAGIC);
 	if (st->heartbeat_age_ns >= h->hb.limit_ns)
 		return sh2000_fail(h, -SH2000_EHEARTBEAT,
-				   "card heartbeat stuck at %u for %.1f ms (limit %.1f ms; card state %s, snapshot cycle %llu)",
+				   "the card is not answering: card heartbeat stuck at %u for %.1f ms (limit %.1f ms; its last snapshot: state %s, cycle %llu)%s",
 				   st->heartbeat, st->heartbeat_age_ns / 1e6,
 				   h->hb.limit_ns / 1e6,
 				   sh2000_state_name(st->card_state),
-				   (unsigned long long)st->card_cycle);
+				   (unsigned long long)st->card_cycle,
+				   !strncmp(h->device, "sim:", 4) ?
+				   "; is the sh2000-sim serving it still running?" : "");
 	return 0;
 }
 

@@ -118,11 +118,16 @@ int sh2000_io_open(struct sh2000 *h, const char *spec, char *msg, size_t len)
 	char *end;
 	unsigned long base;
 
+	/* hexadecimal with 0x only, as the switches and docs write a base:
+	 * io:300 read as decimal would be port 0x12c, a valid base, and the
+	 * port I/O would go to another board */
 	errno = 0;
-	base = strtoul(spec, &end, 0);
-	if (errno || end == spec || *end)
+	base = strtoul(spec + 2, &end, 16);
+	if (spec[0] != '0' || (spec[1] != 'x' && spec[1] != 'X') ||
+	    !spec[2] || strspn(spec + 2, "0123456789abcdefABCDEF") != strlen(spec + 2) ||
+	    errno || *end)
 		return sh2000_msg(msg, len, -EINVAL,
-				  "io:%s: not a port number (use io:0x300)",
+				  "io:%s: not a port base: write it in hexadecimal with 0x, as the card's address switches give it (io:0x300)",
 				  spec);
 	if (!sh2000_io_base_valid(base))
 		return sh2000_msg(msg, len, -EINVAL,
@@ -132,20 +137,20 @@ int sh2000_io_open(struct sh2000 *h, const char *spec, char *msg, size_t len)
 #if defined(__x86_64__) || defined(__i386__)
 	if (has_rawio() == 0)
 		return sh2000_msg(msg, len, -EPERM,
-				  "io:0x%lx: direct port I/O needs CAP_SYS_RAWIO (run as root or setcap cap_sys_rawio+ep; or use /dev/sh2000-N)",
-				  base);
+				  "io:%s: direct port I/O needs CAP_SYS_RAWIO (run as root or setcap cap_sys_rawio+ep; or use /dev/sh2000-N)",
+				  spec);
 	if (ioperm(base, SH2000_IO_EXTENT, 1) < 0) {
 		int e = errno;
 
-		return sh2000_msg(msg, len, -e, "io:0x%lx: ioperm: %s%s", base,
+		return sh2000_msg(msg, len, -e, "io:%s: ioperm: %s%s", spec,
 				  strerror(e),
 				  e == EPERM ? " (needs CAP_SYS_RAWIO)" : "");
 	}
 	h->priv = calloc(1, sizeof(struct io_priv));
 	if (!h->priv) {
 		ioperm(base, SH2000_IO_EXTENT, 0);
-		return sh2000_msg(msg, len, -ENOMEM, "io:0x%lx: out of memory",
-				  base);
+		return sh2000_msg(msg, len, -ENOMEM, "io:%s: out of memory",
+				  spec);
 	}
 	((struct io_priv *)h->priv)->base = base;
 	h->bus.pos = SH2000_SEEK_UNKNOWN;
@@ -153,6 +158,6 @@ int sh2000_io_open(struct sh2000 *h, const char *spec, char *msg, size_t len)
 	return 0;
 #else
 	return sh2000_msg(msg, len, -EOPNOTSUPP,
-			  "io:0x%lx: direct port I/O exists on x86 only", base);
+			  "io:%s: direct port I/O exists on x86 only", spec);
 #endif
 }

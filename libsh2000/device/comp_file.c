@@ -14,6 +14,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "sh2000_internal.h"
 
@@ -50,6 +51,16 @@ static int ferr(const struct sh2000_comp_file *f, unsigned int line,
 	if (msg && len)
 		snprintf(msg, len, "%s:%u: %s", f->path, line, why);
 	return -SH2000_EPARAM;
+}
+
+/* A failure that is not the table's: the file's name and what (never a
+ * bare code, so a caller's message says why). */
+static int syserr(const char *path, int code, char *msg, size_t len,
+		  const char *what)
+{
+	if (msg && len)
+		snprintf(msg, len, "%s: %s: %s", path, what, strerror(-code));
+	return code;
 }
 
 static int axis_of(const char *s)
@@ -122,7 +133,7 @@ static int data_line(struct sh2000_comp_file *f, char *s, unsigned int line,
 			return ferr(f, line, msg, len,
 				    "want: position correction, or LinuxCNC's nominal forward reverse");
 		if (grow(t, t->npts + 1))
-			return -ENOMEM;
+			return syserr(f->path, -ENOMEM, msg, len, "the table's points");
 		t->pos[t->npts] = num[0];
 		/* LinuxCNC's form: the positions to command going forward and
 		 * in reverse; the card's tables have one correction, the mean */
@@ -134,7 +145,7 @@ static int data_line(struct sh2000_comp_file *f, char *s, unsigned int line,
 		return ferr(f, line, msg, len, "a grid row of %u corrections (%u rows) wanted",
 			    t->n1, t->n2);
 	if (grow(t, t->npts + (size_t)n))
-		return -ENOMEM;
+		return syserr(f->path, -ENOMEM, msg, len, "the grid's points");
 	for (i = 0; i < n; i++)
 		t->val[t->npts++] = num[i];
 	t->lines[t->nlines++] = line;
@@ -219,6 +230,7 @@ static int read_lines(struct sh2000_comp_file *f, FILE *fp, char *msg,
 	unsigned int line = 0;
 	int r = 0;
 
+	errno = 0;
 	while (!r && fgets(buf, sizeof(buf), fp)) {
 		char *c = strchr(buf, '#'), *s = buf;
 
@@ -239,7 +251,7 @@ static int read_lines(struct sh2000_comp_file *f, FILE *fp, char *msg,
 	if (r)
 		return r;
 	if (ferror(fp))
-		return -EIO;
+		return syserr(f->path, errno ? -errno : -EIO, msg, len, "cannot read it");
 	if (f->tables && f->t[f->tables - 1].kind == SH2000_COMP_GRID &&
 	    f->t[f->tables - 1].nlines != f->t[f->tables - 1].n2)
 		return ferr(f, f->t[f->tables - 1].line, msg, len,
@@ -335,7 +347,7 @@ static int build(struct sh2000_comp_file *f, const double scale[SH2000_AXES],
 	}
 	f->w = calloc(n, sizeof(*f->w));
 	if (!f->w)
-		return -ENOMEM;
+		return syserr(f->path, -ENOMEM, msg, len, "the card's image");
 	f->w[SH2000_CI_MAGIC] = SH2000_COMP_MAGIC;
 	f->w[SH2000_CI_FORMAT] = SH2000_COMP_FORMAT;
 	put32(f->w, SH2000_CI_ID_LO, f->id);
@@ -367,6 +379,7 @@ int sh2000_comp_file_read(struct sh2000_comp_file **out, const char *path,
 			  size_t len)
 {
 	struct sh2000_comp_file *f;
+	struct stat sb;
 	FILE *fp;
 	int r;
 
@@ -380,10 +393,15 @@ int sh2000_comp_file_read(struct sh2000_comp_file **out, const char *path,
 			snprintf(msg, len, "%s: %s", path, strerror(-r));
 		return r;
 	}
+	/* a directory opens for reading; its first read fails */
+	if (fstat(fileno(fp), &sb) == 0 && S_ISDIR(sb.st_mode)) {
+		fclose(fp);
+		return syserr(path, -EISDIR, msg, len, "not a table file");
+	}
 	f = calloc(1, sizeof(*f));
 	if (!f) {
 		fclose(fp);
-		return -ENOMEM;
+		return syserr(path, -ENOMEM, msg, len, "reading it");
 	}
 	snprintf(f->path, sizeof(f->path), "%s", path);
 	f->id = name_id(path);
@@ -439,12 +457,29 @@ unsigned int sh2000_comp_file_line(const struct sh2000_comp_file *f,
 	return t->line;
 }
 
+/* A table as its keyword line names it: "pitch table X", "cross table Y
+ * by X", "square X by Y", "grid Z by X and Y". */
+static void table_name(const struct ctab *t, char *name, size_t len)
+{
+	char a = SH2000_AXIS_LETTERS[t->target], s1 = SH2000_AXIS_LETTERS[t->src1];
+
+	if (t->kind == SH2000_COMP_TABLE && t->target == t->src1)
+		snprintf(name, len, "pitch table %c", a);
+	else if (t->kind == SH2000_COMP_TABLE)
+		snprintf(name, len, "cross table %c by %c", a, s1);
+	else if (t->kind == SH2000_COMP_SQUARE)
+		snprintf(name, len, "square %c by %c", a, s1);
+	else
+		snprintf(name, len, "grid %c by %c and %c", a, s1,
+			 SH2000_AXIS_LETTERS[t->src2]);
+}
+
 const char *sh2000_comp_file_explain(const struct sh2000_comp_file *f,
 				     const struct sh2000_comp_fault *why,
 				     char *msg, size_t len)
 {
-	static const char *const kind[] = { "?", "table", "square", "grid" };
 	const struct ctab *t;
+	char name[48];
 
 	if (!msg || !len)
 		return msg;
@@ -454,10 +489,10 @@ const char *sh2000_comp_file_explain(const struct sh2000_comp_file *f,
 		return msg;
 	}
 	t = &f->t[why->table];
-	snprintf(msg, len, "%s:%u: %s %c by %c: %s", f->path,
-		 sh2000_comp_file_line(f, why->table, why->point),
-		 kind[t->kind <= 3 ? t->kind : 0], SH2000_AXIS_LETTERS[t->target],
-		 SH2000_AXIS_LETTERS[t->src1], sh2000_comp_reason_name(why->reason));
+	table_name(t, name, sizeof(name));
+	snprintf(msg, len, "%s:%u: %s: %s", f->path,
+		 sh2000_comp_file_line(f, why->table, why->point), name,
+		 sh2000_comp_reason_name(why->reason));
 	return msg;
 }
 
@@ -487,7 +522,7 @@ static int read_checked(struct sh2000 *h, const char *path,
 	struct sh2000_comp_limits lim;
 	struct sh2000_comp_file *f = NULL;
 	double scale[SH2000_AXES];
-	char msg[512] = "comp: out of memory";
+	char msg[512];
 	unsigned int a;
 	int r = 0;
 
@@ -500,6 +535,7 @@ static int read_checked(struct sh2000 *h, const char *path,
 		r = sh2000_comp_limits_get(h, &lim);
 	if (r < 0)
 		return r;
+	snprintf(msg, sizeof(msg), "%s: cannot be read", path);
 	r = sh2000_comp_file_read(&f, path, scale, msg, sizeof(msg));
 	if (!r)
 		r = sh2000_comp_file_check(f, &lim, msg, sizeof(msg));

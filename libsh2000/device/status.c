@@ -171,11 +171,13 @@ int sh2000_status_alive(struct sh2000 *h, const uint16_t *w,
 				   SH2000_PROTO_MAGIC);
 	if (st->heartbeat_age_ns >= h->hb.limit_ns)
 		return sh2000_fail(h, -SH2000_EHEARTBEAT,
-				   "card heartbeat stuck at %u for %.1f ms (limit %.1f ms; card state %s, snapshot cycle %llu)",
+				   "the card is not answering: card heartbeat stuck at %u for %.1f ms (limit %.1f ms; its last snapshot: state %s, cycle %llu)%s",
 				   st->heartbeat, st->heartbeat_age_ns / 1e6,
 				   h->hb.limit_ns / 1e6,
 				   sh2000_state_name(st->card_state),
-				   (unsigned long long)st->card_cycle);
+				   (unsigned long long)st->card_cycle,
+				   !strncmp(h->device, "sim:", 4) ?
+				   "; is the sh2000-sim serving it still running?" : "");
 	return 0;
 }
 
@@ -266,18 +268,35 @@ static const struct {
 	{ SH2000_AXIS_FAULT_SKEW, SH2000_ESKEW, "gantry skew limit" },
 };
 
-/* Axis a's fault: the first bit of `bits` in the table's order. */
+/* Axis a's fault: the first bit of `bits` in the table's order. The
+ * following error is worth saying only while the axis is enabled: a fault
+ * the card disabled the axis for leaves its set-point following the
+ * counter (0 mm), and the fault record (protocol.md 10.1) keeps no value
+ * of it at the trip. */
 static int axis_error(struct sh2000 *h, const struct sh2000_status *st,
 		      unsigned int a, unsigned int bits)
 {
+	const struct sh2000_axis_status *ax = &st->axis[a];
+	char an = sh2000_axis_letter((int)a);
 	unsigned int i;
 
-	for (i = 0; i < sizeof(axis_faults) / sizeof(axis_faults[0]); i++)
-		if (bits & axis_faults[i].bit)
-			return sh2000_fail(h, -axis_faults[i].code,
+	for (i = 0; i < sizeof(axis_faults) / sizeof(axis_faults[0]); i++) {
+		int code = -axis_faults[i].code;
+
+		if (!(bits & axis_faults[i].bit))
+			continue;
+		if (ax->state & SH2000_AXIS_ENABLED)
+			return sh2000_fail(h, code,
 					   "axis %c: %s (axis faults 0x%04x, following error now %.6f mm)",
-					   sh2000_axis_letter((int)a), axis_faults[i].what,
-					   st->axis[a].faults, st->axis[a].ferr_mm);
+					   an, axis_faults[i].what, ax->faults, ax->ferr_mm);
+		if (axis_faults[i].bit == SH2000_AXIS_FAULT_FERR)
+			return sh2000_fail(h, code,
+					   "axis %c: following error limit (axis faults 0x%04x): the following error passed ferr_limit and the card disabled the axis; its value at the trip is not kept",
+					   an, ax->faults);
+		return sh2000_fail(h, code,
+				   "axis %c: %s (axis faults 0x%04x): the card disabled the axis",
+				   an, axis_faults[i].what, ax->faults);
+	}
 	return sh2000_fail(h, -SH2000_EFAULTED,
 			   "axis %c: unknown fault bits 0x%04x",
 			   sh2000_axis_letter((int)a), bits);

@@ -301,7 +301,9 @@ static int desc_ok(const struct sh2000_comp_desc *t, int i,
 {
 	int grid = t->kind == SH2000_COMP_GRID;
 
-	if (!data_words(t))
+	/* the kind alone: a TABLE of no points has no data words either,
+	 * and is too few points, not an unknown kind */
+	if (t->kind != SH2000_COMP_TABLE && t->kind != SH2000_COMP_SQUARE && !grid)
 		return fault(why, i, -1, SH2000_COMP_R_KIND);
 	if (t->target >= SH2000_AXES || t->src1 >= SH2000_AXES ||
 	    (grid && (t->src2 >= SH2000_AXES || t->src2 == t->src1)) ||

@@ -24,6 +24,22 @@ for bad in order:4 jump:4; do
 	out_has 'tables: active, 1 table\(s\), id 0x00c0ffee'
 done
 
+# the card judges soft limits on nominal positions and adds the tables
+# after: load says each axis' correction inside the soft limits, and warns
+# (exit unchanged) when a soft limit's corrected position lies beyond it
+printf 'pitch X\n-100 0.5\n0 0.5\n100 0.5\n' >"$T/off.comp"
+expect 0 "$CTL" -d sim params x soft_max=10 + comp load "$T/off.comp"
+out_has 'axis x: the tables correct it by \+0\.500000\.\.\+0\.500000 mm inside the soft limits'
+err_has 'warning: axis x at its soft_max 10\.000000 mm: the tables put the tool up to 0\.500000 mm beyond it \(at 10\.500000 mm\)'
+expect 0 "$CTL" -d sim params x soft_min=-10 + comp load "$T/off.comp"
+err_lacks 'warning'
+# at soft_min -5 the table takes 0.00025 mm off; beyond +10 its slope
+# runs out over 16 end segments (no soft_max): +0.0045 mm at most
+printf 'pitch X\n-10 -0.0005\n0 0\n10 0.0005\n' >"$T/slope.comp"
+expect 0 "$CTL" -d sim params x soft_min=-5 + comp load "$T/slope.comp"
+err_has 'warning: axis x at its soft_min -5\.000000 mm: .* 0\.000250 mm beyond it \(at -5\.000250 mm\)'
+out_has 'axis x: the tables correct it by -0\.000250\.\.\+0\.004500 mm'
+
 expect 0 "$CTL" -d sim comp load "$T/good.comp" + comp clear + comp show
 out_has 'tables: none'
 expect 2 "$CTL" -d sim comp load
@@ -44,6 +60,23 @@ err_has 'none.csv: cannot read: No such file'
 expect 1 "$CTL" -d sim comp show "$T/none.comp"
 err_has 'none.comp: No such file'
 expect 1 "$CTL" -d sim comp load "$T/none.comp"
+# a table keyword with no points is too few points, as one point is; a
+# table is named as its keyword line says it
+printf 'pitch X\n' >"$T/empty.comp"
+printf 'pitch X\n0 0\n' >"$T/onepoint.comp"
+printf 'cross Y X\n0 0\n' >"$T/onecross.comp"
+for name in empty onepoint; do
+	expect 5 "$CTL" -d sim comp load "$T/$name.comp"
+	err_has "$name.comp:1: pitch table X: too few points: nothing changed"
+done
+expect 5 "$CTL" -d sim comp load "$T/onecross.comp"
+err_has 'onecross.comp:1: cross table Y by X: too few points'
+# a directory opens for reading: said as what it is
+expect 1 "$CTL" -d sim comp load "$T"
+err_has "$T: not a table file: Is a directory"
+err_lacks 'out of memory'
+expect 1 "$CTL" -d sim comp show "$T"
+err_has "$T: not a table file: Is a directory"
 # every export the card would refuse is refused here, naming the CSV's
 # row, with nothing written: out of order, a repeat (also the first step,
 # which the point before the table is made from), a repeat after rounding

@@ -130,6 +130,11 @@ static void test_jam(void **state)
 			 -SH2000_EFERR : sh2000_wait_idle(h, 2000),
 			 -SH2000_EFERR);
 	assert_non_null(strstr(sh2000_last_error(h), "axis y: following error"));
+	/* the card disabled y: its following error now is 0 and the fault
+	 * record keeps none at the trip; the message says that, no 0 mm */
+	assert_non_null(strstr(sh2000_last_error(h),
+			       "passed ferr_limit and the card disabled the axis; its value at the trip is not kept"));
+	assert_null(strstr(sh2000_last_error(h), "following error now"));
 	sh2000_close(h);
 }
 

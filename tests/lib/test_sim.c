@@ -464,6 +464,10 @@ static void test_open_errors(void **state)
 	assert_null(h);
 	assert_non_null(strstr(msg, "io:0x301"));
 	assert_int_equal(sh2000_open(&h, "io:zz", msg, sizeof(msg)), -EINVAL);
+	/* decimal is refused: 300 would be port 0x12c, another board's */
+	assert_int_equal(sh2000_open(&h, "io:300", msg, sizeof(msg)), -EINVAL);
+	assert_null(h);
+	assert_non_null(strstr(msg, "io:300: not a port base"));
 	assert_int_equal(sh2000_open(&h, "/nonexistent/sh2000-9", msg, sizeof(msg)),
 			 -ENOENT);
 	assert_non_null(strstr(msg, "/nonexistent/sh2000-9"));

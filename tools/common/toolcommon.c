@@ -115,6 +115,10 @@ int sh2000_tool_fail(struct sh2000 *h, int code, const char *what)
 	 * motion is held by ..."): one prefix, not two */
 	if (wn && !strncmp(d, what, wn) && !strncmp(d + wn, ": ", 2))
 		what = NULL;
+	/* a card that stopped answering is not about the call that found it
+	 * ("get parameter: card heartbeat stuck"): the reason alone */
+	if (code == -SH2000_EHEARTBEAT || code == -SH2000_EMAGIC)
+		what = NULL;
 	sh2000_tool_msg("%s: %s%s%s", dev, what ? what : "", what ? ": " : "", d);
 	return sh2000_tool_exit_code(code);
 }

@@ -87,5 +87,6 @@ int ctl_comp(struct ctl *c, int argc, char **argv)
 	}
 	if (r < 0)
 		return sh2000_tool_fail(c->h, r, "comp load");
-	return show(c, NULL);
+	r = show(c, NULL);
+	return r ? r : ctl_comp_reach(c, argv[2]);
 }

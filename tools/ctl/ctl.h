@@ -43,6 +43,9 @@ int ctl_reset(struct ctl *c, int argc, char **argv);
 int ctl_dump(struct ctl *c, int argc, char **argv);
 int ctl_gather(struct ctl *c, int argc, char **argv);
 int ctl_comp(struct ctl *c, int argc, char **argv);
+/* After comp load: each corrected axis' correction inside its soft limits,
+ * a warning where it carries the tool beyond one (compreach.c). */
+int ctl_comp_reach(struct ctl *c, const char *file);
 
 /* --help of a subcommand on stdout; 1 if argv holds -h/--help (then the
  * subcommand returns 0 at once). */

@@ -252,8 +252,7 @@ int main(int argc, char **argv)
 			return SH2000_EXIT_USAGE;
 		if (k == 0)
 			return sh2000_tool_usage(NULL, "unknown option '%s'", a);
-		if (!*v)
-			return sh2000_tool_usage(NULL, "--device: empty device string");
+		/* an empty one is the library's: $SH2000_DEVICE, as in every tool */
 		c.device_arg = v;
 		i++;
 	}

@@ -324,12 +324,14 @@ static int run_ended(struct ctl *c, struct sh2000_run *run, int r)
 		sh2000_tool_msg("%s: interrupted: card stopped", sh2000_device(c->h));
 		return SH2000_EXIT_STOPPED;
 	}
-	sh2000_tool_msg("%s", sh2000_run_error(run));
+	/* another program's STOP: one line says it (the runner's own words,
+	 * "the card stopped the motion", would say it twice) */
 	if (r == -SH2000_ESTOPPED) {
-		sh2000_tool_msg("%s: stopped by another program; the card is at rest on the path",
+		sh2000_tool_msg("%s: stopped by another program (a STOP command); the card is at rest on the path",
 				sh2000_device(c->h));
 		return SH2000_EXIT_STOPPED;
 	}
+	sh2000_tool_msg("%s", sh2000_run_error(run));
 	return r == -SH2000_ELIMIT ? SH2000_EXIT_CARD : sh2000_tool_exit_code(r);
 }
 

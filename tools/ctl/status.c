@@ -271,6 +271,21 @@ static void status_json(struct ctl *c, const struct sh2000_status *st,
 	json_object_put(o);
 }
 
+/* The table's error line: the library's words without the device (the
+ * table's first line names it) and without the code's summary, which
+ * says the same again ("card stopped: ...: card stopped: ..."). */
+static const char *table_error(struct ctl *c, int e, const char *err)
+{
+	const char *dev = sh2000_device(c->h);
+	size_t n = strlen(dev);
+
+	if (!err[0])
+		return sh2000_strerror(e);
+	if (!strncmp(err, dev, n) && !strncmp(err + n, ": ", 2))
+		return err + n + 2;
+	return err;
+}
+
 int ctl_status(struct ctl *c, int argc, char **argv)
 {
 	int json = 0, watch = 0, rc = 0;
@@ -339,7 +354,7 @@ int ctl_status(struct ctl *c, int argc, char **argv)
 				printf("\n");
 			status_table(c, &st, &pair);
 			if (e < 0)
-				printf("error   %s: %s\n", sh2000_strerror(e), err);
+				printf("error   %s\n", table_error(c, e, err));
 		}
 		fflush(stdout);
 		rc = sh2000_tool_exit_code(e);

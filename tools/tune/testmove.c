@@ -214,17 +214,23 @@ int tune_move_restore(struct tune_move *s)
 /* The pair at rest before the way back: this speed of every moving axis
  * at most, mm/s, measured over REST_WINDOW_NS, within REST_WAIT_NS. */
 #define REST_MMS	0.5
+/* After a signal's stop: still enough that the carriage disabled then
+ * coasts on by a fraction of a micrometre, not the micrometres a
+ * settling loop's speed carries it. */
+#define STILL_MMS	0.01
 #define REST_WINDOW_NS	20000000ull
 #define REST_WAIT_NS	10000000000ull
 
-/* A test that moves a gantry pair (followers): the card disabled both
- * sides together with the faulted one, and they coast as one beam.
- * Enabled while still coasting, each side would brake to its own
- * position under its own loop, the two from different speeds (the beam
- * swings between them): the skew that makes can trip the skew limit
- * on the way back. So the way back begins with every moving axis at
- * rest: 0, or an exit code when it is still moving after REST_WAIT_NS. */
-static int wait_rest(struct tune_move *s)
+/* The moving axes' carriages at rest: 0, or an exit code when one still
+ * moves after REST_WAIT_NS. A test that moves a gantry pair (followers):
+ * the card disabled both sides together with the faulted one, and they
+ * coast as one beam. Enabled while still coasting, each side would brake
+ * to its own position under its own loop, the two from different speeds
+ * (the beam swings between them): the skew that makes can trip the skew
+ * limit on the way back. So the way back begins with every moving axis
+ * at rest. After a signal's STOP the card is at rest while its loop still
+ * settles the carriage: disabled then, the carriage would coast on. */
+static int wait_rest(struct tune_move *s, double mms, const char *what)
 {
 	uint64_t waited = 0;
 	struct sh2000_status st;
@@ -233,25 +239,26 @@ static int wait_rest(struct tune_move *s)
 
 	for (int first = 1; !still; first = 0) {
 		if ((r = sh2000_poll(s->h, &st)) < 0)
-			return tune_move_fail(s, r, "recovering");
+			return tune_move_fail(s, r, what);
 		still = !first;
 		for (unsigned int b = 0; b < SH2000_AXES; b++) {
 			double mm = (double)st.axis[b].pos_counts / s->pc.counts_per_mm[b];
 
 			if ((moving(s) & (1u << b)) &&
-			    fabs(mm - before[b]) > REST_MMS * REST_WINDOW_NS * 1e-9)
+			    fabs(mm - before[b]) > mms * REST_WINDOW_NS * 1e-9)
 				still = 0;
 			before[b] = mm;
 		}
 		if (still)
 			break;
 		if (waited >= REST_WAIT_NS) {
-			sh2000_tool_msg("%s: %s test: the pair still moves %g s after the fault: not enabled again",
-					sh2000_device(s->h), s->name, REST_WAIT_NS * 1e-9);
+			sh2000_tool_msg("%s: %s test, %s: axis %c still moves %g s after the motion ended",
+					sh2000_device(s->h), s->name, what,
+					sh2000_tool_axis_name(s->a), REST_WAIT_NS * 1e-9);
 			return SH2000_EXIT_CARD;
 		}
 		if ((r = sh2000_sleep_ns(s->h, REST_WINDOW_NS)) < 0)
-			return tune_move_fail(s, r, "recovering");
+			return tune_move_fail(s, r, what);
 		waited += REST_WINDOW_NS;
 	}
 	return 0;
@@ -270,7 +277,7 @@ int tune_move_recover(struct tune_move *s, int fault)
 			s->o->ferr_max_mm < s->ferr0 ? s->o->ferr_max_mm : s->ferr0);
 	if (s->calm && (r = s->calm(s)))
 		return r;
-	if (s->o->follow && (r = wait_rest(s)))
+	if (s->o->follow && (r = wait_rest(s, REST_MMS, "recovering")))
 		return r;
 	if ((r = sh2000_reset(s->h)) < 0 || (r = put_limits(s, SH2000_AXES)) < 0 ||
 	    (r = sh2000_enable(s->h, moving(s))) < 0)
@@ -363,26 +370,32 @@ static int put_back(struct tune_move *s)
 }
 
 /* After a signal: the card stops the motion on its way (STOP: a
- * controlled stop, nothing latched), then what the test changed goes
- * back; the axis stays where it stopped. */
+ * controlled stop, nothing latched), the card at rest and then the
+ * carriage (its loop settles it: an axis disabled before would coast on),
+ * then what the test changed goes back; the axis stays where it stopped,
+ * and that is where the message says it is. */
 static int stopped(struct tune_move *s)
 {
 	struct sh2000_status st;
-	int r = sh2000_stop(s->h), p;
+	double k = s->pc.counts_per_mm[s->a];
+	int r = sh2000_stop(s->h), p, w = 0;
 
 	if (r >= 0)
-		r = sh2000_wait_idle(s->h, 5000);
+		r = sh2000_wait_rest(s->h, 5000);
+	if (r >= 0)
+		w = wait_rest(s, STILL_MMS, "stopping");
 	sh2000_gather_stop(s->h);
 	p = put_back(s);
 	if (r < 0)
 		return tune_move_fail(s, r, "stopping");
-	if (p)
-		return p;
+	if (w || p)
+		return w ? w : p;
 	if (sh2000_poll(s->h, &st) >= 0)
-		sh2000_tool_msg("%s: %s test stopped by a signal: the limits and timing are as they were, axis %c at %.6f mm (%.6f mm from its start)",
+		sh2000_tool_msg("%s: %s test stopped by a signal: the limits and timing are as they were, axis %c at rest at %.6f mm (%.6f mm from its start; set-point %.6f mm)",
 				sh2000_device(s->h), s->name, sh2000_tool_axis_name(s->a),
-				st.axis[s->a].cmd_counts / s->pc.counts_per_mm[s->a],
-				(st.axis[s->a].cmd_counts - s->start) / s->pc.counts_per_mm[s->a]);
+				st.axis[s->a].pos_counts / k,
+				(st.axis[s->a].pos_counts - s->start) / k,
+				st.axis[s->a].cmd_counts / k);
 	return SH2000_EXIT_STOPPED;
 }
 

@@ -43,7 +43,7 @@ expect 1 "$CTL" "${S[@]}" enable x + params x soft_max=5 + move x=6 &&
 	err_has "^sh2000ctl: sim: target: X 6.0000 mm is beyond the soft limit 5.0000 mm"
 # into the hard limit (the model's switch is 305 mm from the start): a
 # latched fault, exit 4
-expect 4 "$CTL" "${S[@]}" enable x + move x=320 && err_has "^sh2000ctl: sim: axis x: limit switch \(axis faults 0x0004, "
+expect 4 "$CTL" "${S[@]}" enable x + move x=320 && err_has "^sh2000ctl: sim: axis x: limit switch \(axis faults 0x0004\): the card disabled the axis$"
 
 # jog: a distance, a velocity for a time
 expect 0 "$CTL" "${S[@]}" enable y + jog y -2.5 + status --json &&

@@ -85,8 +85,10 @@ expect 0 "${CTL_RT[@]}" "${D[@]}" stop
 wait $MP
 mrc=$?
 checks=$((checks + 1))
-[ $mrc = 7 ] && grep -q "^sh2000ctl: sim:$NAME: stopped by another program" "$T/move.err" ||
+[ $mrc = 7 ] && grep -q "^sh2000ctl: sim:$NAME: stopped by another program (a STOP command); the card is at rest on the path$" "$T/move.err" ||
 	fail "move during a foreign stop: exit $mrc, $(cat "$T/move.err")"
+checks=$((checks + 1))
+[ "$(wc -l <"$T/move.err")" = 1 ] || fail "a foreign stop said more than one line: $(cat "$T/move.err")"
 expect 0 "${CTL_RT[@]}" "${D[@]}" status --json && json_check /state = idle /error = null
 expect 0 "${CTL_RT[@]}" "${D[@]}" move x=1 && out_has "^x (0\.99|1\.00)"
 # SIGINT to a moving sh2000ctl stops the card (no fault left behind)
@@ -100,8 +102,34 @@ checks=$((checks + 1))
 [ $mrc = 7 ] && grep -q "interrupted: card stopped" "$T/move.err" || fail "SIGINT move: exit $mrc, $(cat "$T/move.err")"
 expect 0 "${CTL_RT[@]}" "${D[@]}" status --json &&
 	json_check /state = idle /faults = '[]' /axes/0/cmd_mm in 2,39
-# the server goes: no card any more, the shared memory is gone
+# a mover killed: the card stops on its own (its queue runs dry, or no
+# host heartbeat); status's error line says it once, without the device
+# (its first line names it) and without the code's summary repeated
+"${CTL_RT[@]}" "${D[@]}" move x=200 --feed 20 >"$T/move.out" 2>"$T/move.err" &
+MP=$!
+wait_for "the move to x=200 to run past x=3" moving_past 3
+kill -KILL $MP
+wait $MP
+card_faulted() { "${CTL_RT[@]}" "${D[@]}" status >/dev/null 2>&1; [ $? = 4 ]; }
+wait_for "the card to stop on its own" card_faulted
+expect 4 "${CTL_RT[@]}" "${D[@]}" status &&
+	out_has '^error   (card stopped: no host heartbeat or segments within its host timeout|segment queue ran dry mid-motion: .*)$' &&
+	out_lacks "^error   .*sim:$NAME" && out_lacks '^error   card stopped: .*card stopped'
+expect 0 "${CTL_RT[@]}" "${D[@]}" reset + enable x
+# the server goes under a watch: the watch says the card stopped
+# answering (and asks for its server), not which call found it
+"${CTL_RT[@]}" "${D[@]}" status --watch 0.05 >"$T/watch.out" 2>"$T/watch.err" &
+WP=$!
+watch_ran() { [ -s "$T/watch.out" ]; }
+wait_for "the watch to print" watch_ran
 stop_sim TERM
+wait $WP
+wrc=$?
+checks=$((checks + 1))
+[ $wrc = 1 ] && grep -q "^sh2000ctl: sim:$NAME: the card is not answering: card heartbeat stuck .*is the sh2000-sim serving it still running?$" "$T/watch.err" ||
+	fail "watch of a server that went: exit $wrc, $(cat "$T/watch.err")"
+checks=$((checks + 1))
+! grep -q "get parameter\|status: " "$T/watch.err" || fail "watch named a call: $(cat "$T/watch.err")"
 checks=$((checks + 1))
 [ "$sim_rc" = 0 ] || fail "sh2000-sim exit $sim_rc after SIGTERM"
 checks=$((checks + 1))

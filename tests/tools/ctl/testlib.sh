@@ -57,6 +57,13 @@ out_has() {
 	printf '%s\n' "$out" | grep -Eq -- "$1" ||
 		{ fail "stdout does not match /$1/: $out"; return 1; }
 }
+err_lacks() {
+	checks=$((checks + 1))
+	if printf '%s\n' "$err" | grep -Eq -- "$1"; then
+		fail "stderr matches /$1/ and should not: $err"
+		return 1
+	fi
+}
 out_lacks() {
 	checks=$((checks + 1))
 	if printf '%s\n' "$out" | grep -Eq -- "$1"; then

@@ -71,6 +71,27 @@ checks=$((checks + 1))
 expect 0 "${CTL_RT[@]}" "${S[@]}" status --json &&
 	json_check /state = idle /faults = '[]' /axes/0/enabled = true
 expect 0 "${CTL_RT[@]}" "${S[@]}" move x=1
+# SIGINT while --auto --enable identifies the plant: the card stops the
+# motion and the carriage comes to rest before the axis is disabled, so
+# the position the message says is where the carriage stays (disabled
+# while its loop still settled it, it coasted on by ~10 um)
+expect 0 "${CTL_RT[@]}" "${S[@]}" disable x
+"${TUNE_RT[@]}" "${S[@]}" x --auto --enable >"$T/sig.out" 2>"$T/sig.err" &
+tpid=$!
+wait_for "the identification to run on the card" chirp_runs
+sleep 0.3	# into the test's moves, where it stopped the carriage at speed
+kill -INT $tpid
+wait $tpid
+st=$?
+checks=$((checks + 1))
+[ $st -eq 7 ] || fail "--auto stopped by SIGINT: exit $st: $(cat "$T/sig.err")"
+at=$(sed -n 's/.*test stopped by a signal: .* axis x at rest at \(-\{0,1\}[0-9.]*\) mm (.*/\1/p' "$T/sig.err")
+checks=$((checks + 1))
+[ -n "$at" ] || fail "--auto stopped by SIGINT said: $(cat "$T/sig.err")"
+sleep 0.3	# a disabled carriage that still moved would have coasted on
+expect 0 "${CTL_RT[@]}" "${S[@]}" status --json &&
+	json_check /state = idle /faults = '[]' /axes/0/enabled = false /axes/0/pos_mm '~' "$at",0.0005
+expect 0 "${CTL_RT[@]}" "${S[@]}" enable x + move x=1
 # an axis another program left disabled: every test refuses before
 # anything moves (only --enable enables it), and the axis stays disabled
 # (disabled, the card's set-point follows the carriage, which may still

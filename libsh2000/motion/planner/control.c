@@ -798,37 +798,41 @@ static int land_first(const struct ctl *c, double d, double V, double A,
 	return cons_ok(c, *ds, *v, *a) ? (int)n : 0;
 }
 
-/* Where neither the greedy step nor a landing from here will do (a
- * short move from rest: the greedy step is too fast to land from, and
- * there is no speed to land with yet): the highest jerk up to the greedy
- * step's (ja) from whose state a landing is left, by bisection on
- * whether every landing from it passes the limit: the periods to the
- * landing that way, 0 if none. */
+/* The highest jerk above jl from whose state a landing is left (by
+ * bisection on whether every landing from it passes the limit), within
+ * J, A and the current speed limit (v + a h / 2 at the period's end: a
+ * landing brings a down to 0 within a period at most), into (ds, v, a):
+ * the periods to the landing that way, 0 if none. The greedy step
+ * plans its braking with a ramp of two periods: a short move from rest
+ * then accelerated too little (10 mm/s over 0.035 mm: 5 periods, not 4),
+ * or, where no landing was left from its step, too much. */
 static int land_climb(const struct ctl *c, double d, double V, double A,
-		      double ja, double *ds, double *v, double *a)
+		      double jl, double *ds, double *v, double *a)
 {
-	double lo = -c->a / c->h, hi = ja, s1, v1, a1, x;
+	double h = c->h, lo = pl_max(-c->a / h, jl), s1, v1, a1, x;
+	double hi = pl_min(pl_min(c->jmax, (A - c->a) / h),
+			   (c->vcur - c->v - 1.5 * c->a * h) / (h * h));
 	unsigned int i, n;
 
 	if (c->a < 0.0 || !(hi > lo))
 		return 0;
 	step_state(c, lo, &s1, &v1, &a1);
-	if (pl_quant_land(c->h, v1, 0.0, V, d - s1, A, c->jmax, 1,
-			  PL_LAND_MAX, &n, &x) == -2)
+	if (pl_quant_land(h, v1, a1, V, d - s1, A, c->jmax, 1, PL_LAND_MAX,
+			  &n, &x) == -2)
 		return 0;
 	for (i = 0; i < 24; i++) {
 		double m = 0.5 * (lo + hi);
 
 		step_state(c, m, &s1, &v1, &a1);
-		if (pl_quant_land(c->h, v1, a1, V, d - s1, A, c->jmax, 1,
+		if (pl_quant_land(h, v1, a1, V, d - s1, A, c->jmax, 1,
 				  PL_LAND_MAX, &n, &x) == -2)
 			hi = m;
 		else
 			lo = m;
 	}
 	step_state(c, lo, ds, v, a);
-	if (pl_quant_land(c->h, *v, *a, V, d - *ds, A, c->jmax, 1,
-			  PL_LAND_MAX, &n, &x))
+	if (pl_quant_land(h, *v, *a, V, d - *ds, A, c->jmax, 1, PL_LAND_MAX,
+			  &n, &x))
 		return 0;
 	return *v <= c->vcur + V_EPS && cons_ok(c, *ds, *v, *a) ?
 	       (int)n + 1 : 0;
@@ -836,19 +840,20 @@ static int land_climb(const struct ctl *c, double d, double V, double A,
 
 /*
  * The step of this substep. Where the first limit ahead can be landed on
- * exactly in whole periods (land_target()), the greedy step leaves it
- * out and is taken while a landing on it is left from the state it
- * reaches; else the first period of the fewest that land from here. The
- * braking the greedy step plans with (a ramp of QUANT_RAMP periods) is
- * longer than that landing: braking to a stop by it took a period more
- * than the fewest (a 20 mm side of a square at 100 mm/s: 113 periods,
- * not 112).
+ * exactly in whole periods (land_target()), the fewest periods to it of:
+ * the greedy step, which leaves it out, where a landing is left from the
+ * state it reaches; the highest jerk from whose state one is
+ * (land_climb()); the first period of the fewest that land from here.
+ * The braking the greedy step plans with (a ramp of QUANT_RAMP periods)
+ * is longer than that landing: braking to a stop by it took a period
+ * more than the fewest (a 20 mm side of a square at 100 mm/s: 113
+ * periods, not 112).
  */
 static void choose_step(const struct ctl *c, double *ds, double *v, double *a)
 {
-	double d, V, A, a1, ja, cs[3];
+	double d, V, A, a1, cs[3];
 	unsigned int n;
-	int nl, nc;
+	int ng = 0, nl, nc;
 
 	if (land_target(c, &d, &V, &A)) {
 		struct ctl g = *c;
@@ -858,14 +863,15 @@ static void choose_step(const struct ctl *c, double *ds, double *v, double *a)
 		g.first = 1;
 		g.nd = 0;
 		greedy_step(&g, ds, v, a);
-		ja = (*a - c->a) / c->h;
 		if (!pl_quant_land(c->h, *v, *a, V, d - *ds, A, c->jmax, 1,
 				   PL_LAND_MAX, &n, &a1))
+			ng = (int)n + 1;
+		nc = land_climb(&g, d, V, A, ng ? (*a - c->a) / c->h : -INFINITY,
+				cs, cs + 1, cs + 2);
+		if (ng && (!nc || ng <= nc))
 			return;
 		c->p->qn = 0;
-		/* the faster of braking now and accelerating less */
-		nl = land_first(&g, d, V, A, ds, v, a);
-		nc = land_climb(&g, d, V, A, ja, cs, cs + 1, cs + 2);
+		nl = ng ? 0 : land_first(&g, d, V, A, ds, v, a);
 		if (nc && (!nl || nc < nl)) {
 			c->p->qn = 0;	/* no least-squares landing of nl's */
 			*ds = cs[0];

@@ -744,12 +744,14 @@ static void greedy_step(const struct ctl *c, double *ds, double *v, double *a)
  * card's spline is the plan there) and followed by a line or by
  * nothing (the card's spline rings through a stop into an arc after it:
  * with a landing before it, an axis of test_blend's helix reached 1.1
- * amax), where the controller holds one jerk a period with J h >= A.
- * Its distance, speed and acceleration; 0 if not. */
+ * amax), where the controller holds one jerk a period with J h >= A,
+ * and not while it pauses or stops (that brakes at once, wherever the
+ * motion comes to rest). Its distance, speed and acceleration; 0 if
+ * not. */
 static int land_target(const struct ctl *c, double *d, double *V, double *A)
 {
 	if (!c->quant || c->trap || !c->n || c->af.dyn ||
-	    c->jmax * c->h < c->lim.A)
+	    c->jmax * c->h < c->lim.A || c->p->paused || c->p->stopping)
 		return 0;
 	*d = c->cons[0];
 	*V = c->cons[1];

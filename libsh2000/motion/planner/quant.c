@@ -162,7 +162,8 @@ int pl_quant_land(double h, double v0, double a0, double vt, double d,
 	double rate = v0 / h + a0 / 2.0, late = 0.0, left = B, tol, over;
 	unsigned int n, k;
 
-	if (!(d > 0.0) || B < -1e-9 * (rate + A) || c1 < 0.0 || J * h < A)
+	if (!(d > 0.0) || !(A > 0.0) || B < -1e-9 * (rate + A) || c1 < 0.0 ||
+	    J * h < A)
 		return -1;
 	tol = 1e-9 * (pl_max(rate, 0.0) + d / (h * h) + A);
 	/* strict: only where there is room to spare (rounding in the

@@ -740,14 +740,11 @@ static void greedy_step(const struct ctl *c, double *ds, double *v, double *a)
 #define PL_LAND_MAX 1024
 
 /* The first limit ahead, to be landed on exactly in whole periods
- * (pl_quant_land()): a stop at the end of the head block, a line (the
- * card's spline is the plan there) and followed by a line or by
- * nothing (the card's spline rings through a stop into an arc after it:
- * with a landing before it, an axis of test_blend's helix reached 1.1
- * amax), where the controller holds one jerk a period with J h >= A,
- * and not while it pauses or stops (that brakes at once, wherever the
- * motion comes to rest). Its distance, speed and acceleration; 0 if
- * not. */
+ * (pl_quant_land()): a stop at the end of the head block, a line or an
+ * arc (a NURBS re-synchronises its distance to its samples), where the
+ * controller holds one jerk a period with J h >= A, and not while it
+ * pauses or stops (that brakes at once, wherever the motion comes to
+ * rest). Its distance, speed and acceleration; 0 if not. */
 static int land_target(const struct ctl *c, double *d, double *V, double *A)
 {
 	if (!c->quant || c->trap || !c->n || c->af.dyn ||
@@ -756,9 +753,8 @@ static int land_target(const struct ctl *c, double *d, double *V, double *A)
 	*d = c->cons[0];
 	*V = c->cons[1];
 	if (!(*d > 0.0) || *V > 0.0 || (c->nd && c->drops[0] < *d) ||
-	    head(c->p)->type != BLK_LINE ||
-	    *d > head(c->p)->L - c->p->s + 1e-9 ||
-	    (c->p->count > 1 && pl_block_at(c->p, 1)->type != BLK_LINE))
+	    (head(c->p)->type != BLK_LINE && head(c->p)->type != BLK_ARC) ||
+	    *d > head(c->p)->L - c->p->s + 1e-9)
 		return 0;
 	*A = cons_accel(c, 0, c->v, c->a);
 	return 1;

@@ -97,6 +97,9 @@ struct ctl {
 	 * there as acc_at() reads it), PL_CONS each */
 	const double *cons;
 	unsigned int n;
+	/* the first of them checked here: 1 where the first is left to the
+	 * exact landing (land_step()) */
+	unsigned int first;
 	/* where the acceleration allowed drops: (distance, the acceleration
 	 * as acc_at() reads it), PL_DROP each */
 	const double *drops;
@@ -279,7 +282,7 @@ static int cons_ok(const struct ctl *c, double s, double v, double a)
 	if (c->af.dyn && !c->trap &&
 	    a > head_accel(c, v, a) * (1.0 + 1e-12))
 		return 0;
-	for (i = 0; i < c->n; i++) {
+	for (i = c->first; i < c->n; i++) {
 		double d = c->cons[PL_CONS * i] - s, V = c->cons[PL_CONS * i + 1];
 
 		if (d <= 0.0) {
@@ -323,7 +326,7 @@ static double upper_slack(const struct ctl *c, double j)
 	m = pl_min(m, c->vcur + V_EPS - pk);
 	if (!c->trap && a > 0.0)
 		m = pl_min(m, c->vcur + V_EPS - peak_speed(c, v, a));
-	for (i = 0; i < c->n && m >= 0.0; i++) {
+	for (i = c->first; i < c->n && m >= 0.0; i++) {
 		double d = c->cons[PL_CONS * i] - s, V = c->cons[PL_CONS * i + 1];
 
 		if (d > 0.0) {
@@ -366,7 +369,7 @@ static double danger(const struct ctl *c, double *A, double *d)
 	if (c->v > c->vcur + V_EPS || (!c->trap && c->a > 0.0 &&
 	    peak_speed(c, c->v, c->a) > c->vcur + V_EPS))
 		return c->vcur;
-	for (i = 0; i < c->n; i++) {
+	for (i = c->first; i < c->n; i++) {
 		const double *x = c->cons + PL_CONS * i;
 		double r = cons_room(c, i, 0.0, c->v, c->a);
 		/* slowing to the speed at the drop where that is what holds */
@@ -630,7 +633,7 @@ static void brake(const struct ctl *c, double *ds, double *v, double *a)
 		double lowest = vt;
 
 		follow(c, vt, A, ds, v, a);
-		for (k = 0; k < c->n; k++) {
+		for (k = c->first; k < c->n; k++) {
 			double dd = c->cons[PL_CONS * k] - *ds;
 			double V = c->cons[PL_CONS * k + 1];
 
@@ -686,7 +689,7 @@ static double bisect(const struct ctl *c, int (*ok)(const struct ctl *, double),
  * the current limit (cruise, and no chattering around it); the bisection
  * only when neither will do.
  */
-static void choose_step(const struct ctl *c, double *ds, double *v, double *a)
+static void greedy_step(const struct ctl *c, double *ds, double *v, double *a)
 {
 	double J = c->trap ? c->lim.A : c->jmax, jl, jh, fJ, fl;
 
@@ -730,6 +733,154 @@ static void choose_step(const struct ctl *c, double *ds, double *v, double *a)
 	step_state(c, jh, ds, v, a);
 	if (c->trap)
 		*a = jh;
+}
+
+/* The most periods an exact landing may take (400 mm/s at 475 mm/s^2
+ * takes 422). */
+#define PL_LAND_MAX 1024
+
+/* The first limit ahead, to be landed on exactly in whole periods
+ * (pl_quant_land()): a stop at the end of the head block, a line or an
+ * arc (a NURBS re-synchronises its distance to its samples), where the
+ * controller holds one jerk a period with J h >= A, and not while it
+ * pauses or stops (that brakes at once, wherever the motion comes to
+ * rest). Its distance, speed and acceleration; 0 if not. */
+static int land_target(const struct ctl *c, double *d, double *V, double *A)
+{
+	if (!c->quant || c->trap || !c->n || c->af.dyn ||
+	    c->jmax * c->h < c->lim.A || c->p->paused || c->p->stopping)
+		return 0;
+	*d = c->cons[0];
+	*V = c->cons[1];
+	if (!(*d > 0.0) || *V > 0.0 || (c->nd && c->drops[0] < *d) ||
+	    (head(c->p)->type != BLK_LINE && head(c->p)->type != BLK_ARC) ||
+	    *d > head(c->p)->L - c->p->s + 1e-9)
+		return 0;
+	*A = cons_accel(c, 0, c->v, c->a);
+	return 1;
+}
+
+/* The first period of the fewest that land on the limit (d, V) at
+ * acceleration A, into (ds, v, a), if it keeps the current speed limit
+ * within the period and every other limit ahead (c->first = 1): how
+ * many periods they are, 0 if none. */
+static int land_first(const struct ctl *c, double d, double V, double A,
+		      double *ds, double *v, double *a)
+{
+	unsigned int n;
+	double a1, j;
+
+	if (pl_quant_land(c->h, c->v, c->a, V, d, A, c->jmax, 0, PL_LAND_MAX,
+			  &n, &a1))
+		return 0;
+	if (n == 1) {
+		/* landed: on the limit itself (a stop a hair past it, so
+		 * that the block ends there) */
+		*ds = V > 0.0 ? d : d + 1e-12;
+		*v = V;
+		*a = 0.0;
+		return 1;
+	}
+	/* as smooth as the least-squares jerks where they land as soon */
+	if (n >= 3 && n <= PL_QUANT_MAX &&
+	    quant_try(c, n, d, V, A, ds, v, a) && cons_ok(c, *ds, *v, *a))
+		return (int)n;
+	c->p->qn = 0;
+	j = (a1 - c->a) / c->h;
+	step_state(c, j, ds, v, a);
+	*a = a1;
+	if (*v > c->vcur + V_EPS ||
+	    (c->a > 0.0 && j < 0.0 && -c->a / j < c->h &&
+	     c->v - c->a * c->a / (2.0 * j) > c->vcur + V_EPS))
+		return 0;
+	return cons_ok(c, *ds, *v, *a) ? (int)n : 0;
+}
+
+/* The highest jerk above jl from whose state a landing is left (by
+ * bisection on whether every landing from it passes the limit), within
+ * J, A and the current speed limit (v + a h / 2 at the period's end: a
+ * landing brings a down to 0 within a period at most), into (ds, v, a):
+ * the periods to the landing that way, 0 if none. The greedy step
+ * plans its braking with a ramp of two periods: a short move from rest
+ * then accelerated too little (10 mm/s over 0.035 mm: 5 periods, not 4),
+ * or, where no landing was left from its step, too much. */
+static int land_climb(const struct ctl *c, double d, double V, double A,
+		      double jl, double *ds, double *v, double *a)
+{
+	double h = c->h, lo = pl_max(-c->a / h, jl), s1, v1, a1, x;
+	double hi = pl_min(pl_min(c->jmax, (A - c->a) / h),
+			   (c->vcur - c->v - 1.5 * c->a * h) / (h * h));
+	unsigned int i, n;
+
+	if (c->a < 0.0 || !(hi > lo))
+		return 0;
+	step_state(c, lo, &s1, &v1, &a1);
+	if (pl_quant_land(h, v1, a1, V, d - s1, A, c->jmax, 1, PL_LAND_MAX,
+			  &n, &x) == -2)
+		return 0;
+	for (i = 0; i < 24; i++) {
+		double m = 0.5 * (lo + hi);
+
+		step_state(c, m, &s1, &v1, &a1);
+		if (pl_quant_land(h, v1, a1, V, d - s1, A, c->jmax, 1,
+				  PL_LAND_MAX, &n, &x) == -2)
+			hi = m;
+		else
+			lo = m;
+	}
+	step_state(c, lo, ds, v, a);
+	if (pl_quant_land(h, *v, *a, V, d - *ds, A, c->jmax, 1, PL_LAND_MAX,
+			  &n, &x))
+		return 0;
+	return *v <= c->vcur + V_EPS && cons_ok(c, *ds, *v, *a) ?
+	       (int)n + 1 : 0;
+}
+
+/*
+ * The step of this substep. Where the first limit ahead can be landed on
+ * exactly in whole periods (land_target()), the fewest periods to it of:
+ * the greedy step, which leaves it out, where a landing is left from the
+ * state it reaches; the highest jerk from whose state one is
+ * (land_climb()); the first period of the fewest that land from here.
+ * The braking the greedy step plans with (a ramp of QUANT_RAMP periods)
+ * is longer than that landing: braking to a stop by it took a period
+ * more than the fewest (a 20 mm side of a square at 100 mm/s: 113
+ * periods, not 112).
+ */
+static void choose_step(const struct ctl *c, double *ds, double *v, double *a)
+{
+	double d, V, A, a1, cs[3];
+	unsigned int n;
+	int ng = 0, nl, nc;
+
+	if (land_target(c, &d, &V, &A)) {
+		struct ctl g = *c;
+
+		/* the drops are at the stop or beyond it: the motion ends
+		 * there at a = 0 */
+		g.first = 1;
+		g.nd = 0;
+		greedy_step(&g, ds, v, a);
+		if (!pl_quant_land(c->h, *v, *a, V, d - *ds, A, c->jmax, 1,
+				   PL_LAND_MAX, &n, &a1))
+			ng = (int)n + 1;
+		nc = land_climb(&g, d, V, A, ng ? (*a - c->a) / c->h : -INFINITY,
+				cs, cs + 1, cs + 2);
+		if (ng && (!nc || ng <= nc))
+			return;
+		c->p->qn = 0;
+		nl = ng ? 0 : land_first(&g, d, V, A, ds, v, a);
+		if (nc && (!nl || nc < nl)) {
+			c->p->qn = 0;	/* no least-squares landing of nl's */
+			*ds = cs[0];
+			*v = cs[1];
+			*a = cs[2];
+			return;
+		}
+		if (nl)
+			return;
+	}
+	greedy_step(c, ds, v, a);
 }
 
 /* Past the end of the head block into the next ones. */
@@ -789,6 +940,7 @@ static int substep(struct sh2000_path *p, double h)
 			 c.af.dyn ? c.af.Amax : c.lim.A, &c.nd);
 	c.cons = p->cons;
 	c.n = n;
+	c.first = 0;
 	c.drops = p->drops;
 	if (n && p->cons[PL_CONS * (n - 1) + 1] == 0.0 &&
 	    p->cons[PL_CONS * (n - 1)] < 1e-6 &&

@@ -110,3 +110,93 @@ int pl_quant_solve(double h, double v, double a, unsigned int n, int dist,
 	}
 	return 0;
 }
+
+/*
+ * The landing on a lower speed vt at distance d in the fewest whole
+ * periods, however many (the least-squares jerks above take up to
+ * PL_QUANT_MAX and give a smooth profile, not the fastest). With one jerk
+ * a period the acceleration is piecewise linear between its values a_k at
+ * the period ends, a_0 now and a_n = 0 at the landing, and the state
+ * there is linear in them:
+ *
+ *   v_n = v0 + h (a_0 / 2 + sum a_k)
+ *   s_n = v0 n h + h^2 (a_0 (n / 2 - 1/6) + sum (n - k) a_k),  k = 1..n-1.
+ *
+ * Braking, b_k = -a_k in [0, A] (the first within the jerk from a_0):
+ * two sums are given, sum b_k = B and sum (n - k) b_k = W. For a given B,
+ * W is the largest with the braking as early as the caps allow and the
+ * least with it as late; every W between is a mix of the two, and a mix
+ * keeps every cap and every jerk (|a_k - a_k-1| <= A <= J h: the caller
+ * holds one jerk a period only where J h >= A). The fewest n is the
+ * first whose latest braking covers d.
+ */
+
+/* The knots b_k (k = 1..n-1, cap c1 on the first, A on the others)
+ * filled up to B, from the first knot (early) or from the last: the
+ * weighted sum W and the first knot's b, in w[0] and w[1]; -1 if the
+ * caps cannot hold B. */
+static int fill(unsigned int n, double B, double A, double c1, int early,
+		double tol, double w[2])
+{
+	double left = B;
+	unsigned int i;
+
+	w[0] = w[1] = 0.0;
+	for (i = 1; i < n && left > 0.0; i++) {
+		unsigned int k = early ? i : n - i;
+		double x = pl_min(k == 1 ? c1 : A, left);
+
+		left -= x;
+		w[0] += (double)(n - k) * x;
+		if (k == 1)
+			w[1] = x;
+	}
+	return left > tol ? -1 : 0;
+}
+
+int pl_quant_land(double h, double v0, double a0, double vt, double d,
+		  double A, double J, int strict, unsigned int nmax,
+		  unsigned int *n_out, double *a1)
+{
+	double B = (v0 - vt) / h + a0 / 2.0, c1 = pl_min(A, J * h - a0);
+	double rate = v0 / h + a0 / 2.0, late = 0.0, left = B, tol, over;
+	unsigned int n, k;
+
+	if (!(d > 0.0) || !(A > 0.0) || B < -1e-9 * (rate + A) || c1 < 0.0 ||
+	    J * h < A)
+		return -1;
+	tol = 1e-9 * (pl_max(rate, 0.0) + d / (h * h) + A);
+	/* strict: only where there is room to spare (rounding in the
+	 * periods of the landing must not take it past the earliest braking) */
+	over = (strict ? -1e-6 : 1e-6) * (pl_max(rate, 0.0) + d / (h * h) + A);
+	/* the latest braking far from the first knot weighs W_late (the
+	 * knots from the last: 1, 2, ...), and W grows by rate a period:
+	 * start just below where it covers d */
+	for (k = 1; left > 0.0; k++) {
+		double x = pl_min(A, left);
+
+		late += (double)k * x;
+		left -= x;
+	}
+	n = 1;
+	if (rate > tol)	/* else the speed is all but lost: from 1 */
+		n = (unsigned int)pl_max(1.0, pl_min((double)nmax, floor(
+			(late + d / (h * h) + a0 / 6.0) / rate) - 1.0));
+	for (; n <= nmax; n++) {
+		double W = (v0 * n * h - d) / (h * h) + a0 * (n / 2.0 - 1.0 / 6.0);
+		double we[2], wl[2], f;
+
+		if (fill(n, B, A, c1, 0, tol, wl))
+			continue;	/* too few periods to lose the speed */
+		if (W < wl[0] - tol * n)
+			continue;	/* the latest braking stops short */
+		if (fill(n, B, A, c1, 1, tol, we) || W > we[0] + over)
+			return -2;	/* overshoots: more periods only more */
+		f = we[0] > wl[0] ? (W - wl[0]) / (we[0] - wl[0]) : 0.0;
+		f = pl_min(1.0, pl_max(0.0, f));
+		*n_out = n;
+		*a1 = n > 1 ? -((1.0 - f) * wl[1] + f * we[1]) : 0.0;
+		return 0;
+	}
+	return -1;
+}

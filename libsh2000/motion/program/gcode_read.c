@@ -123,7 +123,16 @@ static bool plain_decimal(const char *s, size_t start, size_t end, char *out)
 		else
 			return false;
 	}
-	exp = strtol(s + k + 1, NULL, 10);
+	/* the exponent, [sign] digits up to end (exponent_err()): the line
+	 * need not end in a NUL (strtol ran past the end of a program whose
+	 * last line ended in one) */
+	exp = 0;
+	w = ++k < (long)end && s[k] == '-' ? -1 : 1;
+	if (k < (long)end && (s[k] == '+' || s[k] == '-'))
+		k++;
+	for (; k < (long)end && exp <= 30; k++)
+		exp = exp * 10 + (s[k] - '0');
+	exp *= w;
 	if (exp < -30 || exp > 30)
 		return false;
 	point = (point < 0 ? nd : point) + exp;	/* digits before the point */

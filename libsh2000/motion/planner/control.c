@@ -529,6 +529,9 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 			x[0] = d - t * V;
 			x[1] = V;
 			memcpy(x + 2, run.x, sizeof(run.x));
+			/* not where the curvature steps at a tangent junction
+			 * (land_target()) */
+			x[7] = k->corner || V < k->vj;
 			level = V;
 		}
 		if (acc_run_add(&run, k, Ak, fixed)) {
@@ -544,6 +547,7 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 		x[0] = d;
 		x[1] = 0.0;
 		memcpy(x + 2, run.x, sizeof(run.x));
+		x[7] = 1.0;
 	}
 	for (i = 0; i < n; i++) {	/* cons_room(): when it needs them */
 		p->cons[PL_CONS * i + 5] = m ? p->drops[0] : 0.0;
@@ -752,7 +756,7 @@ static int land_target(const struct ctl *c, double *d, double *V, double *A)
 		return 0;
 	*d = c->cons[0];
 	*V = c->cons[1];
-	if (!(*d > 0.0) || *V > 0.0 || (c->nd && c->drops[0] < *d) ||
+	if (!(*d > 0.0) || c->cons[7] == 0.0 || (c->nd && c->drops[0] < *d) ||
 	    (head(c->p)->type != BLK_LINE && head(c->p)->type != BLK_ARC) ||
 	    *d > head(c->p)->L - c->p->s + 1e-9)
 		return 0;
@@ -769,11 +773,12 @@ static int land_first(const struct ctl *c, double d, double V, double A,
 {
 	unsigned int n;
 	double a1, j;
+	int r = pl_quant_land(c->h, c->v, c->a, V, d, A, c->jmax, 0,
+			      PL_LAND_MAX, &n, &a1);
 
-	if (pl_quant_land(c->h, c->v, c->a, V, d, A, c->jmax, 0, PL_LAND_MAX,
-			  &n, &a1))
+	if (r < 0)
 		return 0;
-	if (n == 1) {
+	if (n == 1 && !r) {
 		/* landed: on the limit itself (a stop a hair past it, so
 		 * that the block ends there) */
 		*ds = V > 0.0 ? d : d + 1e-12;
@@ -782,7 +787,7 @@ static int land_first(const struct ctl *c, double d, double V, double A,
 		return 1;
 	}
 	/* as smooth as the least-squares jerks where they land as soon */
-	if (n >= 3 && n <= PL_QUANT_MAX &&
+	if (!r && n >= 3 && n <= PL_QUANT_MAX &&
 	    quant_try(c, n, d, V, A, ds, v, a) && cons_ok(c, *ds, *v, *a))
 		return (int)n;
 	c->p->qn = 0;
@@ -830,7 +835,7 @@ static int land_climb(const struct ctl *c, double d, double V, double A,
 	}
 	step_state(c, lo, ds, v, a);
 	if (pl_quant_land(h, *v, *a, V, d - *ds, A, c->jmax, 1, PL_LAND_MAX,
-			  &n, &x))
+			  &n, &x) < 0)
 		return 0;
 	return *v <= c->vcur + V_EPS && cons_ok(c, *ds, *v, *a) ?
 	       (int)n + 1 : 0;
@@ -861,8 +866,8 @@ static void choose_step(const struct ctl *c, double *ds, double *v, double *a)
 		g.first = 1;
 		g.nd = 0;
 		greedy_step(&g, ds, v, a);
-		if (!pl_quant_land(c->h, *v, *a, V, d - *ds, A, c->jmax, 1,
-				   PL_LAND_MAX, &n, &a1))
+		if (pl_quant_land(c->h, *v, *a, V, d - *ds, A, c->jmax, 1,
+				  PL_LAND_MAX, &n, &a1) >= 0)
 			ng = (int)n + 1;
 		nc = land_climb(&g, d, V, A, ng ? (*a - c->a) / c->h : -INFINITY,
 				cs, cs + 1, cs + 2);

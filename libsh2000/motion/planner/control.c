@@ -529,9 +529,6 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 			x[0] = d - t * V;
 			x[1] = V;
 			memcpy(x + 2, run.x, sizeof(run.x));
-			/* not where the curvature steps at a tangent junction
-			 * (land_target()) */
-			x[7] = k->corner || V < k->vj;
 			level = V;
 		}
 		if (acc_run_add(&run, k, Ak, fixed)) {
@@ -547,7 +544,6 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 		x[0] = d;
 		x[1] = 0.0;
 		memcpy(x + 2, run.x, sizeof(run.x));
-		x[7] = 1.0;
 	}
 	for (i = 0; i < n; i++) {	/* cons_room(): when it needs them */
 		p->cons[PL_CONS * i + 5] = m ? p->drops[0] : 0.0;
@@ -744,11 +740,14 @@ static void greedy_step(const struct ctl *c, double *ds, double *v, double *a)
 #define PL_LAND_MAX 1024
 
 /* The first limit ahead, to be landed on exactly in whole periods
- * (pl_quant_land()): a stop at the end of the head block, a line or an
- * arc (a NURBS re-synchronises its distance to its samples), where the
- * controller holds one jerk a period with J h >= A, and not while it
- * pauses or stops (that brakes at once, wherever the motion comes to
- * rest). Its distance, speed and acceleration; 0 if not. */
+ * (pl_quant_land()): a stop or a lower speed (a corner's, a blend's or an
+ * arc's, a slower block's, where the curvature steps) at the end of the
+ * head block, a line or an arc (a NURBS re-synchronises its distance to
+ * its samples; landed from inside a blend, the card's set-points reached
+ * 1.06 amax between blends whose curvature flips), where the controller
+ * holds one jerk a period with J h >= A, and not while it pauses or stops
+ * (that brakes at once, wherever the motion comes to rest). Its
+ * distance, speed and acceleration; 0 if not. */
 static int land_target(const struct ctl *c, double *d, double *V, double *A)
 {
 	if (!c->quant || c->trap || !c->n || c->af.dyn ||
@@ -756,7 +755,7 @@ static int land_target(const struct ctl *c, double *d, double *V, double *A)
 		return 0;
 	*d = c->cons[0];
 	*V = c->cons[1];
-	if (!(*d > 0.0) || c->cons[7] == 0.0 || (c->nd && c->drops[0] < *d) ||
+	if (!(*d > 0.0) || (c->nd && c->drops[0] < *d) ||
 	    (head(c->p)->type != BLK_LINE && head(c->p)->type != BLK_ARC) ||
 	    *d > head(c->p)->L - c->p->s + 1e-9)
 		return 0;

@@ -740,11 +740,14 @@ static void greedy_step(const struct ctl *c, double *ds, double *v, double *a)
 #define PL_LAND_MAX 1024
 
 /* The first limit ahead, to be landed on exactly in whole periods
- * (pl_quant_land()): a stop at the end of the head block, a line or an
- * arc (a NURBS re-synchronises its distance to its samples), where the
- * controller holds one jerk a period with J h >= A, and not while it
- * pauses or stops (that brakes at once, wherever the motion comes to
- * rest). Its distance, speed and acceleration; 0 if not. */
+ * (pl_quant_land()): a stop or a lower speed (a corner's, a blend's or an
+ * arc's, a slower block's, where the curvature steps) at the end of the
+ * head block, a line or an arc (a NURBS re-synchronises its distance to
+ * its samples; landed from inside a blend, the card's set-points reached
+ * 1.06 amax between blends whose curvature flips), where the controller
+ * holds one jerk a period with J h >= A, and not while it pauses or stops
+ * (that brakes at once, wherever the motion comes to rest). Its
+ * distance, speed and acceleration; 0 if not. */
 static int land_target(const struct ctl *c, double *d, double *V, double *A)
 {
 	if (!c->quant || c->trap || !c->n || c->af.dyn ||
@@ -752,7 +755,7 @@ static int land_target(const struct ctl *c, double *d, double *V, double *A)
 		return 0;
 	*d = c->cons[0];
 	*V = c->cons[1];
-	if (!(*d > 0.0) || *V > 0.0 || (c->nd && c->drops[0] < *d) ||
+	if (!(*d > 0.0) || (c->nd && c->drops[0] < *d) ||
 	    (head(c->p)->type != BLK_LINE && head(c->p)->type != BLK_ARC) ||
 	    *d > head(c->p)->L - c->p->s + 1e-9)
 		return 0;
@@ -769,11 +772,12 @@ static int land_first(const struct ctl *c, double d, double V, double A,
 {
 	unsigned int n;
 	double a1, j;
+	int r = pl_quant_land(c->h, c->v, c->a, V, d, A, c->jmax, 0,
+			      PL_LAND_MAX, &n, &a1);
 
-	if (pl_quant_land(c->h, c->v, c->a, V, d, A, c->jmax, 0, PL_LAND_MAX,
-			  &n, &a1))
+	if (r < 0)
 		return 0;
-	if (n == 1) {
+	if (n == 1 && !r) {
 		/* landed: on the limit itself (a stop a hair past it, so
 		 * that the block ends there) */
 		*ds = V > 0.0 ? d : d + 1e-12;
@@ -782,7 +786,7 @@ static int land_first(const struct ctl *c, double d, double V, double A,
 		return 1;
 	}
 	/* as smooth as the least-squares jerks where they land as soon */
-	if (n >= 3 && n <= PL_QUANT_MAX &&
+	if (!r && n >= 3 && n <= PL_QUANT_MAX &&
 	    quant_try(c, n, d, V, A, ds, v, a) && cons_ok(c, *ds, *v, *a))
 		return (int)n;
 	c->p->qn = 0;
@@ -830,7 +834,7 @@ static int land_climb(const struct ctl *c, double d, double V, double A,
 	}
 	step_state(c, lo, ds, v, a);
 	if (pl_quant_land(h, *v, *a, V, d - *ds, A, c->jmax, 1, PL_LAND_MAX,
-			  &n, &x))
+			  &n, &x) < 0)
 		return 0;
 	return *v <= c->vcur + V_EPS && cons_ok(c, *ds, *v, *a) ?
 	       (int)n + 1 : 0;
@@ -861,8 +865,8 @@ static void choose_step(const struct ctl *c, double *ds, double *v, double *a)
 		g.first = 1;
 		g.nd = 0;
 		greedy_step(&g, ds, v, a);
-		if (!pl_quant_land(c->h, *v, *a, V, d - *ds, A, c->jmax, 1,
-				   PL_LAND_MAX, &n, &a1))
+		if (pl_quant_land(c->h, *v, *a, V, d - *ds, A, c->jmax, 1,
+				  PL_LAND_MAX, &n, &a1) >= 0)
 			ng = (int)n + 1;
 		nc = land_climb(&g, d, V, A, ng ? (*a - c->a) / c->h : -INFINITY,
 				cs, cs + 1, cs + 2);

@@ -192,7 +192,9 @@ int pl_quant_solve(double h, double v, double a, unsigned int n, int dist,
  * of the first; -2 if every landing passes d (the speed is too high
  * for it), -1 if there is none else. strict: with 1e-6 to spare on the
  * earliest braking (a state a landing will start from), else 1e-6 past
- * it (a landing under way). */
+ * it (a landing under way). 1 where vt > 0 and the latest braking in n
+ * ends short of d by less than a period at vt: cruising at vt from there
+ * passes d sooner than landing on it. */
 int pl_quant_land(double h, double v0, double a0, double vt, double d,
 		  double A, double J, int strict, unsigned int nmax,
 		  unsigned int *n_out, double *a1);

@@ -188,8 +188,18 @@ int pl_quant_land(double h, double v0, double a0, double vt, double d,
 
 		if (fill(n, B, A, c1, 0, tol, wl))
 			continue;	/* too few periods to lose the speed */
-		if (W < wl[0] - tol * n)
-			continue;	/* the latest braking stops short */
+		if (W < wl[0] - tol * n) {
+			/* the latest braking stops short, by h^2 (wl - W):
+			 * on a speed above zero, cruising at it the rest
+			 * passes d within a period, sooner than the landing
+			 * in n + 1 */
+			if (vt > 0.0 && h * h * (wl[0] - W) < vt * h) {
+				*n_out = n;
+				*a1 = n > 1 ? -wl[1] : 0.0;
+				return 1;
+			}
+			continue;
+		}
 		if (fill(n, B, A, c1, 1, tol, we) || W > we[0] + over)
 			return -2;	/* overshoots: more periods only more */
 		f = we[0] > wl[0] ? (W - wl[0]) / (we[0] - wl[0]) : 0.0;

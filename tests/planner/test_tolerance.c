@@ -207,11 +207,11 @@ static void test_exact_modes(void **s)
 	assert_true(stop.cycles >= path.cycles);
 }
 
-/* A tolerance under a micrometre takes every corner at rest, exactly
- * (planner.h PL_TOL_REST_MM): a corner taken at a speed of nanometres a
- * period, or blended by a fraction of a micrometre, was rung through by
- * the card's compensated spline (88 nm past it at P1e-7, 0.4 um at
- * P1e-6). Wider ones keep within P and a count, raw or compensated. */
+/* Tolerances down to a nanometre keep the card's set-points within P and
+ * a count: a corner too narrow to blend, taken at nanometres a period,
+ * is a stop (planner.h PL_CREEP_MM; the compensated spline rang 88 nm
+ * past one at P1e-7 and 0.4 um at P1e-6 before), and in raw output a
+ * tolerance under a micrometre stops on every corner (PL_RAW_TOL_REST_MM). */
 static void test_tiny_tolerances(void **s)
 {
 	static const double tols[] = { 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-9 };
@@ -226,14 +226,53 @@ static void test_tiny_tolerances(void **s)
 				      tols[i], raw ? "raw" : "compensated",
 				      d.max * 1e6, d.past * 1e6);
 			assert_true(d.max <= tols[i] + COUNT);
-			/* under a micrometre every corner is a stop, met to a
-			 * count and never passed */
-			if (tols[i] < 1e-3) {
+			/* raw, under a micrometre every corner is a stop, met
+			 * to a count and never passed */
+			if (raw && tols[i] < 1e-3) {
 				assert_true(max_near(&d) <= COUNT);
 				assert_true(d.past <= COUNT);
 				assert_int_equal(d.leg, NPTS - 1);
 			}
 		}
+}
+
+/* Points a 20 mm circle of 1 degree chords takes at F6000 in a mode. */
+static uint64_t polygon_points(enum sh2000_path_mode mode, double tol)
+{
+	struct sh2000_path_config c;
+	struct sh2000_path_stats st;
+	struct sh2000_path *p;
+	unsigned int i;
+
+	sh2000_path_config_default(&c);
+	c.start[0] = 20.0;
+	assert_int_equal(sh2000_path_create(&p, &c, discard, NULL, NULL, 0), 0);
+	assert_int_equal(sh2000_path_set_mode(p, mode, tol, 0), 0);
+	for (i = 1; i <= 360; i++) {
+		double e[4] = { 20.0 * cos(i * M_PI / 180.0),
+				20.0 * sin(i * M_PI / 180.0), 0, 0 };
+
+		assert_int_equal(sh2000_path_line(p, e, 100), 0);
+	}
+	assert_int_equal(sh2000_path_finish(p), 0);
+	sh2000_path_stats(p, &st);
+	sh2000_path_destroy(p);
+	return st.points;
+}
+
+/* A sub-micrometre tolerance still blends the small turns of a curve:
+ * only corners too narrow to blend and too slow to matter are stops (a
+ * rule that stopped on every corner under 1 um took a 1 degree polygon
+ * at P0.0005 in 7.14 s instead of 1.70). */
+static void test_tiny_tolerance_curve(void **s)
+{
+	uint64_t fine = polygon_points(SH2000_PATH_BLEND, 0.0005);
+	uint64_t g61 = polygon_points(SH2000_PATH_EXACT_STOP, 0);
+
+	(void)s;
+	print_message("1 degree polygon: G64 P0.0005 %llu points, G61.1 %llu\n",
+		      (unsigned long long)fine, (unsigned long long)g61);
+	assert_true(fine * 3 < g61);
 }
 
 /* G64 P Q: CAM-style tiny moves that wobble within Q of a line are taken
@@ -280,6 +319,7 @@ int main(void)
 		cmocka_unit_test(test_blend_tolerances),
 		cmocka_unit_test(test_exact_modes),
 		cmocka_unit_test(test_tiny_tolerances),
+		cmocka_unit_test(test_tiny_tolerance_curve),
 		cmocka_unit_test(test_naive_cam),
 	};
 

@@ -329,7 +329,8 @@ unsigned int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
 	unsigned int n, i;
 
 	if ((b->type != BLK_LINE && b->type != BLK_ARC) ||
-	    p->cfg.mode != SH2000_PATH_BLEND || !(tol >= PL_TOL_REST_MM) ||
+	    p->cfg.mode != SH2000_PATH_BLEND || !(tol > 0.0) ||
+	    (p->cfg.output == SH2000_OUTPUT_RAW && tol < PL_RAW_TOL_REST_MM) ||
 	    p->stop_next)
 		return 0;	/* the corner's junction rule (pl_junction()) */
 	t = tail_block(p);

@@ -233,7 +233,7 @@ double pl_junction(const struct sh2000_path *p, const double t1[SH2000_AXES],
 	 * by corner_tol, at the path acceleration */
 	ch = sqrt(fmax(0.0, 0.5 * (1.0 + dot)));	/* cos(turn/2) */
 	sh = sqrt(fmax(0.0, 0.5 * (1.0 - dot)));	/* sin(turn/2) */
-	if (ch < 1e-9 || c->corner_tol < PL_TOL_REST_MM)
+	if (ch < 1e-9 || (k == 1.0 && c->corner_tol < PL_RAW_TOL_REST_MM))
 		return 0.0;
 	v = sqrt(p->lim.A * c->corner_tol * ch / (1.0 - ch));
 	/* the card's spline rounds the corner by about vT sin(turn/2) / 3;
@@ -253,7 +253,7 @@ double pl_junction(const struct sh2000_path *p, const double t1[SH2000_AXES],
 			v = fmin(v, c->margin * c->vmax[a] /
 				    (fmax(fabs(t0[a]), fabs(t1[a])) + 0.37 * dt));
 	}
-	return v;
+	return v * T <= PL_CREEP_MM ? 0.0 : v;	/* a stop, landed */
 }
 
 /* The curvature vector (d^2 x / ds^2) of block b at its start (end 0) or

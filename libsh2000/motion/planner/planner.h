@@ -48,13 +48,18 @@ struct pl_nurbs {
  * they were. */
 #define PL_REST_PERIODS 7
 
-/* A path tolerance below this (mm) takes every corner at rest, exactly:
- * the card's compensated spline rings through a corner taken at any
- * speed by up to half a micrometre (88 nm at 100 mm/s into a corner
- * unblended at G64 P1e-7, 0.4 um at 200 mm/s blended at P1e-6), and the
- * raw spline cuts it by a sixth of the steps around it (0.8 um with the
- * trapezoid), more than such a tolerance allows. */
-#define PL_TOL_REST_MM 0.001
+/* A corner no faster than this a period (mm) is taken at rest, exactly:
+ * braked to a few nanometres a period without the landing a stop gets,
+ * the card's compensated spline rang through it (88 nm past a 90 degree
+ * corner too narrow to blend at G64 P1e-7, taken at 1e-4 mm/s; 0.4 um
+ * past a 135 degree one at P1e-6, at 8e-4 mm/s). */
+#define PL_CREEP_MM 0.001
+
+/* In raw output a path tolerance below this (mm) takes every corner at
+ * rest, exactly: the raw spline's cut of a narrow blend or of a corner
+ * taken at speed passed such a tolerance (123 nm at G64 P1e-4 on a
+ * zigzag at 200 mm/s, 0.8 um at P1e-7 with the trapezoid). */
+#define PL_RAW_TOL_REST_MM 0.001
 
 /* Moves merged into one line at most (G64 Q). */
 #define PL_MERGE_MAX 32u

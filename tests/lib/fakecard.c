@@ -94,6 +94,10 @@ static uint16_t fake_in(struct sh2000 *h, unsigned int reg)
 	if (f->counter == SH2000_W_SNAP_SEQ_BEGIN && f->tear_polls) {
 		f->tear_polls--;
 		v = (uint16_t)(v + 1);	/* the card published meanwhile */
+		if (f->tear_moving) {	/* ... and goes on: the next one */
+			f->ram[SH2000_W_SNAP_SEQ_END] = v;
+			f->ram[SH2000_W_SNAP_SEQ_BEGIN] = v;
+		}
 	}
 	return v;
 }

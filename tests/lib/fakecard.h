@@ -37,6 +37,7 @@ struct fakecard {
 	uint16_t ack_result;
 	uint32_t ack_value;
 	unsigned int tear_polls;	/* next polls to tear (seq begin read) */
+	int tear_moving;		/* each tear a new publication */
 	int hb_running;		/* heartbeat +1 per 100 us of time */
 	/* answer a command only at the host's first look at the ACK, after
 	 * it has read the old one, and that much time later: the host was

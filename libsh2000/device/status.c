@@ -13,6 +13,10 @@
 
 /* Pause between re-reads once the immediate ones are spent. */
 #define TORN_WAIT_NS	20000ull
+/* Torn reads of ever new publications a poll makes before it gives up:
+ * the card is alive, the reader too slow for it (a read of the snapshot
+ * takes 24 port cycles, about 50 us on a real bus) */
+#define TORN_MOVING_READS 1024u
 
 void sh2000_status_decode(struct sh2000 *h, const uint16_t *w,
 			  struct sh2000_status *st)
@@ -123,9 +127,10 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 		 * stays inside the same one for a tenth of the heartbeat
 		 * limit. A torn read of another publication shows a card
 		 * that goes on publishing, faster than this reader reads (a
-		 * reader descheduled between its words, a slow bus): that
-		 * restarts the tenth, and only a whole heartbeat limit of
-		 * it gives up.
+		 * reader descheduled between its words or between two
+		 * reads, a slow bus): that restarts the tenth, however long
+		 * the reader was away, and only TORN_MOVING_READS such reads
+		 * give up.
 		 */
 		now = sh2000_now_locked(h);
 		if (tries == SH2000_POLL_RETRIES)
@@ -138,7 +143,7 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 			torn_begin = w[SH2000_W_SNAP_SEQ_BEGIN];
 		}
 		if (now - t0 >= h->hb.limit_ns / 10 ||
-		    now - t_first >= h->hb.limit_ns)
+		    tries >= SH2000_POLL_RETRIES + TORN_MOVING_READS)
 			return sh2000_fail(h, -SH2000_ETORN,
 					   "status snapshot torn %u times in a row over %.1f ms (seq end %u, begin %u)",
 					   tries + 1, (now - t_first) / 1e6,

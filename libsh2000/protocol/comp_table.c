@@ -227,6 +227,36 @@ static double grid_at(const uint16_t *w, const struct sh2000_comp_desc *t,
 	return out[0];
 }
 
+void sh2000_comp_table_span(const uint16_t *w,
+			    const struct sh2000_comp_desc *t, int second,
+			    double span[2])
+{
+	double x0, xa, xb, x1;
+
+	if (t->kind == SH2000_COMP_TABLE) {
+		x0 = i32_at(w, t->data);
+		xa = i32_at(w, t->data + 2u);
+		xb = i32_at(w, t->data + 2u * (t->n1 - 2u));
+		x1 = i32_at(w, t->data + 2u * (t->n1 - 1u));
+	} else if (t->kind == SH2000_COMP_GRID) {
+		/* origin and step of SRC1 at data + 0, 2; of SRC2 at + 4, 6 */
+		double o = i32_at(w, t->data + (second ? 4u : 0u));
+		double d = i32_at(w, t->data + (second ? 6u : 2u));
+		unsigned int n = second ? t->n2 : t->n1;
+
+		x0 = o;
+		xa = o + d;
+		xb = o + d * (n - 2u);
+		x1 = o + d * (n - 1u);
+	} else {
+		span[0] = -INFINITY;
+		span[1] = INFINITY;
+		return;
+	}
+	span[0] = x0 - SH2000_COMP_RUNOUT * (xa - x0);
+	span[1] = x1 + SH2000_COMP_RUNOUT * (x1 - xb);
+}
+
 double sh2000_comp_eval_table(const uint16_t *w,
 			      const struct sh2000_comp_desc *t,
 			      const double pos[SH2000_AXES], double d[2],

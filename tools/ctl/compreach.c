@@ -29,39 +29,22 @@ struct window {
 	double scale[SH2000_AXES];
 };
 
-static int32_t i32_word(const uint16_t *w, size_t at)
-{
-	return (int32_t)((uint32_t)w[at] | ((uint32_t)w[at + 1] << 16));
-}
-
 /* A source axis' range for one table: its soft limits, where one is off
- * the table's own points with their run-outs (beyond them it holds). */
+ * where the table changes (sh2000_comp_table_span(); a squareness, which
+ * changes everywhere, over a metre either way). */
 static void source_range(const uint16_t *w, const struct sh2000_comp_desc *t,
 			 int second, const struct window *win, double r[2])
 {
 	unsigned int a = second ? t->src2 : t->src1;
-	double x0, x1, xa, xb;
+	double span[2];
 
-	if (t->kind == SH2000_COMP_TABLE) {
-		x0 = i32_word(w, t->data);
-		xa = i32_word(w, t->data + 2);
-		xb = i32_word(w, t->data + 2u * (t->n1 - 2));
-		x1 = i32_word(w, t->data + 2u * (t->n1 - 1));
-	} else if (t->kind == SH2000_COMP_GRID) {
-		double o = i32_word(w, t->data + (second ? 4u : 0u));
-		double d = i32_word(w, t->data + (second ? 6u : 2u));
-		unsigned int n = second ? t->n2 : t->n1;
-
-		x0 = o;
-		xa = o + d;
-		xb = o + d * (n - 2);
-		x1 = o + d * (n - 1);
-	} else {	/* a squareness has no points: a metre either way */
-		x0 = xa = -1000.0 * win->scale[a];
-		x1 = xb = 1000.0 * win->scale[a];
+	sh2000_comp_table_span(w, t, second, span);
+	if (isinf(span[0]) || isinf(span[1])) {
+		span[0] = -1000.0 * win->scale[a];
+		span[1] = 1000.0 * win->scale[a];
 	}
-	r[0] = win->lo_set[a] ? win->lo[a] : x0 - SH2000_COMP_RUNOUT * (xa - x0);
-	r[1] = win->hi_set[a] ? win->hi[a] : x1 + SH2000_COMP_RUNOUT * (x1 - xb);
+	r[0] = win->lo_set[a] ? win->lo[a] : span[0];
+	r[1] = win->hi_set[a] ? win->hi[a] : span[1];
 	/* one limit off and the table beyond the other: it holds there */
 	if (!win->lo_set[a])
 		r[0] = fmin(r[0], r[1]);

@@ -110,6 +110,13 @@ double sh2000_comp_eval_table(const uint16_t *w,
 			      const struct sh2000_comp_desc *t,
 			      const double pos[SH2000_AXES], double d[2],
 			      double dd[3]);
+/* Where table t changes along its source axis 1 (second 0) or 2 (second
+ * 1, a GRID): from its first point less its run-out to its last point
+ * plus its run-out (SH2000_COMP_RUNOUT), in counts; beyond, it holds. A
+ * SQUARE changes everywhere: -INFINITY..INFINITY. */
+void sh2000_comp_table_span(const uint16_t *w,
+			    const struct sh2000_comp_desc *t, int second,
+			    double span[2]);
 /* Words for a reason, never NULL. */
 const char *sh2000_comp_reason_name(unsigned int reason);
 

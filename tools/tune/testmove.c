@@ -370,10 +370,11 @@ static int put_back(struct tune_move *s)
 }
 
 /* After a signal: the card stops the motion on its way (STOP: a
- * controlled stop, nothing latched), the card at rest and then the
- * carriage (its loop settles it: an axis disabled before would coast on),
- * then what the test changed goes back; the axis stays where it stopped,
- * and that is where the message says it is. */
+ * controlled stop, nothing latched), the card at rest, what the test
+ * changed goes back, and then the carriage comes to rest (its loop, with
+ * the gains put back, settles it: an axis disabled before would coast
+ * on); the axis stays where it stopped, and that is where the message
+ * says it is. */
 static int stopped(struct tune_move *s)
 {
 	struct sh2000_status st;
@@ -382,10 +383,11 @@ static int stopped(struct tune_move *s)
 
 	if (r >= 0)
 		r = sh2000_wait_rest(s->h, 5000);
-	if (r >= 0)
-		w = wait_rest(s, STILL_MMS, "stopping");
 	sh2000_gather_stop(s->h);
 	p = put_back(s);
+	/* the gains put back move the loop's settling too: still after */
+	if (r >= 0)
+		w = wait_rest(s, STILL_MMS, "stopping");
 	if (r < 0)
 		return tune_move_fail(s, r, "stopping");
 	if (w || p)

@@ -212,12 +212,17 @@ int tune_move_restore(struct tune_move *s)
 }
 
 /* The pair at rest before the way back: this speed of every moving axis
- * at most, mm/s, measured over REST_WINDOW_NS, within REST_WAIT_NS. */
+ * at most, mm/s, over one REST_WINDOW_NS, within REST_WAIT_NS. */
 #define REST_MMS	0.5
+#define REST_WINDOWS	1
 /* After a signal's stop: still enough that the carriage disabled then
- * coasts on by a fraction of a micrometre, not the micrometres a
- * settling loop's speed carries it. */
-#define STILL_MMS	0.01
+ * coasts on by a fraction of a micrometre (a disabled carriage coasts
+ * for some tenths of a second: at 10 um/s it went on 6 um), not the
+ * micrometres a settling loop's speed carries it. At this speed a window
+ * moves a count or two, so several in a row: a ringing carriage can stand
+ * at the same place at both ends of one window. */
+#define STILL_MMS	0.001
+#define STILL_WINDOWS	5
 #define REST_WINDOW_NS	20000000ull
 #define REST_WAIT_NS	10000000000ull
 
@@ -229,27 +234,42 @@ int tune_move_restore(struct tune_move *s)
  * (the beam swings between them): the skew that makes can trip the skew
  * limit on the way back. So the way back begins with every moving axis
  * at rest. After a signal's STOP the card is at rest while its loop still
- * settles the carriage: disabled then, the carriage would coast on. */
-static int wait_rest(struct tune_move *s, double mms, const char *what)
+ * settles the carriage: disabled then, the carriage would coast on.
+ * Speeds are taken over the card's own cycles between two snapshots (a
+ * host or server late by a window must not read as a carriage at rest),
+ * one count of the encoder's quantisation allowed. */
+static int wait_rest(struct tune_move *s, double mms, unsigned int windows,
+		     const char *what)
 {
-	uint64_t waited = 0;
+	double servo = s->pc.period_s / s->pc.fine_steps;
+	uint64_t waited = 0, cycle = 0;
 	struct sh2000_status st;
-	double before[SH2000_AXES] = { 0 };
-	int r, still = 0;
+	int64_t before[SH2000_AXES] = { 0 };
+	unsigned int still = 0;
+	int r;
 
-	for (int first = 1; !still; first = 0) {
+	for (int first = 1; still < windows; first = 0) {
+		int now_still;
+		double dt;
+
 		if ((r = sh2000_poll(s->h, &st)) < 0)
 			return tune_move_fail(s, r, what);
-		still = !first;
-		for (unsigned int b = 0; b < SH2000_AXES; b++) {
-			double mm = (double)st.axis[b].pos_counts / s->pc.counts_per_mm[b];
+		dt = (double)(st.card_cycle - cycle) * servo;
+		now_still = !first && st.card_cycle > cycle;
+		for (unsigned int b = 0; b < SH2000_AXES && now_still; b++) {
+			double moved = (double)llabs((long long)(st.axis[b].pos_counts - before[b]));
 
 			if ((moving(s) & (1u << b)) &&
-			    fabs(mm - before[b]) > mms * REST_WINDOW_NS * 1e-9)
-				still = 0;
-			before[b] = mm;
+			    moved > 1 && moved > mms * dt * s->pc.counts_per_mm[b])
+				now_still = 0;
 		}
-		if (still)
+		if (st.card_cycle > cycle || first) {
+			still = now_still ? still + 1 : 0;
+			cycle = st.card_cycle;
+			for (unsigned int b = 0; b < SH2000_AXES; b++)
+				before[b] = st.axis[b].pos_counts;
+		}
+		if (still >= windows)
 			break;
 		if (waited >= REST_WAIT_NS) {
 			sh2000_tool_msg("%s: %s test, %s: axis %c still moves %g s after the motion ended",
@@ -277,7 +297,7 @@ int tune_move_recover(struct tune_move *s, int fault)
 			s->o->ferr_max_mm < s->ferr0 ? s->o->ferr_max_mm : s->ferr0);
 	if (s->calm && (r = s->calm(s)))
 		return r;
-	if (s->o->follow && (r = wait_rest(s, REST_MMS, "recovering")))
+	if (s->o->follow && (r = wait_rest(s, REST_MMS, REST_WINDOWS, "recovering")))
 		return r;
 	if ((r = sh2000_reset(s->h)) < 0 || (r = put_limits(s, SH2000_AXES)) < 0 ||
 	    (r = sh2000_enable(s->h, moving(s))) < 0)
@@ -387,7 +407,7 @@ static int stopped(struct tune_move *s)
 	p = put_back(s);
 	/* the gains put back move the loop's settling too: still after */
 	if (r >= 0)
-		w = wait_rest(s, STILL_MMS, "stopping");
+		w = wait_rest(s, STILL_MMS, STILL_WINDOWS, "stopping");
 	if (r < 0)
 		return tune_move_fail(s, r, "stopping");
 	if (w || p)

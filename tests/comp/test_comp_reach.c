@@ -180,6 +180,25 @@ static void grid_table(void **state)
 	assert_int_equal(sh2000_comp_reach(NULL, NULL, &win, j.reach), -1);
 }
 
+/* The table file's path, made once for the group. */
+static int make_path(void **state)
+{
+	int fd;
+
+	(void)state;
+	snprintf(path, sizeof(path), "/tmp/test_comp_reach_XXXXXX");
+	fd = mkstemp(path);
+	if (fd < 0)
+		return -1;
+	return close(fd);
+}
+
+static int drop_path(void **state)
+{
+	(void)state;
+	return unlink(path);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -188,14 +207,6 @@ int main(void)
 		cmocka_unit_test(beyond_and_within),
 		cmocka_unit_test(grid_table),
 	};
-	int fd, r;
 
-	snprintf(path, sizeof(path), "/tmp/test_comp_reach_XXXXXX");
-	fd = mkstemp(path);
-	if (fd < 0)
-		return 1;
-	close(fd);
-	r = cmocka_run_group_tests(tests, NULL, NULL);
-	unlink(path);
-	return r;
+	return cmocka_run_group_tests(tests, make_path, drop_path);
 }

@@ -18,6 +18,10 @@
  * this thread, which is no real-time one, is kept off the CPU. The servo
  * thread takes the result when the watch's lock is free (trylock, never
  * waits).
+ *
+ * After the load, each soft limit the tables move the tool beyond is
+ * said (hsc_comp_reach(): the card judges soft limits on nominal
+ * positions and adds the correction after; the library judges it).
  */
 #include <errno.h>
 #include <stdio.h>
@@ -55,6 +59,31 @@ int hsc_comp_load(struct hsc_card *c, const char *path, char *msg, size_t len)
 	if (r < 0)
 		snprintf(msg, len, "%s", sh2000_last_error(c->h));
 	return r;
+}
+
+/* The tables' reach judged by the library, the one owner of the rule and
+ * its words; this only hands each warning on. */
+int hsc_comp_reach(struct hsc_card *c, const char *path,
+		   void (*say)(void *ctx, const char *words), void *ctx,
+		   char *msg, size_t len)
+{
+	struct sh2000_comp_reach reach[SH2000_AXES];
+	struct sh2000_comp_window win;
+	char words[512];
+	int r = sh2000_comp_reach_file(c->h, path, &win, reach), n = 0;
+
+	if (r < 0) {
+		snprintf(msg, len, "%s", sh2000_last_error(c->h));
+		return r;
+	}
+	for (unsigned int a = 0; a < SH2000_AXES; a++)
+		for (unsigned int side = 0; side < 2u; side++)
+			if (sh2000_comp_reach_warning(&win, reach, a, side, words,
+						      sizeof(words)) > 0) {
+				say(ctx, words);
+				n++;
+			}
+	return n;
 }
 
 int hsc_comp_refresh(struct hsc_card *c)

@@ -291,6 +291,15 @@ static void close_all(void)
 	ncards = 0;
 }
 
+/* A soft limit the tables move the tool beyond (hsc_comp_reach()): at
+ * RTAPI_MSG_ERR, so that it shows at LinuxCNC's default message level;
+ * the start goes on, as sh2000ctl comp load's exit status stays 0. */
+static void say_reach(void *ctx, const char *words)
+{
+	rtapi_print_msg(RTAPI_MSG_ERR, "hal_sh2000: sh2000.%d: comp: warning: %s\n",
+			*(const int *)ctx, words);
+}
+
 /* comp=: every file checked against its card first, so a bad table on
  * any card changes no card's tables; then each loaded (the card at rest,
  * before the servo thread starts); its sh2000.N.comp-* say what is active. */
@@ -316,6 +325,10 @@ static int load_tables(void)
 						"hal_sh2000: sh2000.%d: comp: %s\n", i, msg);
 				return r;
 			}
+			if (pass && hsc_comp_reach(&inst[i].card, comp[i], say_reach, &i,
+						   msg, sizeof(msg)) < 0)
+				rtapi_print_msg(RTAPI_MSG_ERR,
+						"hal_sh2000: sh2000.%d: comp: %s\n", i, msg);
 			if (pass) {
 				inst[i].p->comp_id = inst[i].card.comp.id;
 				inst[i].p->comp_sum = inst[i].card.comp.sum;

@@ -295,6 +295,14 @@ double hsc_default_scale(struct hsc_card *c, unsigned int axis);
 int hsc_comp_wanted(const char *path);
 int hsc_comp_check(struct hsc_card *c, const char *path, char *msg, size_t len);
 int hsc_comp_load(struct hsc_card *c, const char *path, char *msg, size_t len);
+/* After a load: for each soft limit the tables move the tool beyond (the
+ * card judges soft limits on nominal positions, then adds the correction:
+ * sh2000_comp_reach_file()), say(ctx, words) once with the library's
+ * words. The number of warnings (>= 0), or the library's error with its
+ * message in msg. Not real-time. */
+int hsc_comp_reach(struct hsc_card *c, const char *path,
+		   void (*say)(void *ctx, const char *words), void *ctx,
+		   char *msg, size_t len);
 /* The card's tables read once into the watch's `seen` (not real-time):
  * 0 or the library's error. The watch thread's work, one period. */
 int hsc_comp_refresh(struct hsc_card *c);

@@ -116,6 +116,21 @@ SH2000_DEVICE=/dev/sh2000-none expect 3 "$COMP" csv x "$T/laser.csv" -o "$T/none
 err_has "/dev/sh2000-none"
 SH2000_DEVICE=/dev/sh2000-none expect 0 "$COMP" csv x "$T/laser.csv" -d sim -o "$T/none.comp"
 
+# a table that moves the tool past the card's soft limit: sh2000-comp csv
+# warns in sh2000ctl comp load's words (on a served card whose soft_max is
+# set) and still writes it; on a card without soft limits it says nothing
+printf "${h}0,0\n10,9.9995\n20,19.9995\n" >"$T/over.csv"
+expect 0 "$COMP" csv x "$T/over.csv" -d sim -o "$T/over.comp"
+err_lacks 'warning'
+NAME=comp-$$
+start_sim "$NAME" || finish
+expect 0 "$CTL" -d "sim:$NAME" params x soft_max=20
+expect 0 "$COMP" csv x "$T/over.csv" -d "sim:$NAME" -o "$T/over.comp"
+err_has 'sh2000-comp: warning: axis x at its soft_max 20\.000000 mm: the tables put the tool up to 0\.000500 mm beyond it \(at 20\.000500 mm\): the card judges soft limits on nominal positions, then adds the correction'
+run cat "$T/over.comp"
+out_has '^pitch X'
+stop_sim
+
 # the simulated machine calibrated over a short travel: the tables load
 expect 0 "$COMP" calibrate -q --travel -5:5 --grid 5 --passes 1 -o "$T/cal.comp"
 run cat "$T/cal.comp"

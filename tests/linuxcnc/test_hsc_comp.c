@@ -7,7 +7,9 @@
  * change; "" and "-" are no table. Tables loaded and cleared later by
  * another program (a served card's second handle) show in what the servo
  * thread takes from the watch thread, which it never waits for; the
- * in-process card, which no other program reaches, has no watch.
+ * in-process card, which no other program reaches, has no watch. After a
+ * load, each soft limit the tables move the tool beyond is said in the
+ * library's words.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -139,6 +141,71 @@ static int shows(struct hsc_card *c, uint32_t sum)
 /* Loaded at start, then cleared and loaded again through the card (as
  * sh2000ctl comp would from another program): what the servo thread
  * takes follows within the watch's period, the card's status the same. */
+/* What hsc_comp_reach() hands on: the words of each warning. */
+struct said {
+	unsigned int n;
+	char words[4][512];
+};
+
+static void collect(void *ctx, const char *words)
+{
+	struct said *s = ctx;
+
+	if (s->n < 4)
+		snprintf(s->words[s->n], sizeof(s->words[0]), "%s", words);
+	s->n++;
+}
+
+/* Load and judge the tables on card c: the warnings said. */
+static struct said load_and_judge(struct hsc_card *c, const char *text)
+{
+	struct said s = { 0 };
+	char msg[512] = "";
+	int r;
+
+	write_file(text);
+	if (hsc_comp_load(c, path, msg, sizeof(msg)) < 0)
+		fail_msg("hsc_comp_load: %s", msg);
+	r = hsc_comp_reach(c, path, collect, &s, msg, sizeof(msg));
+	if (r < 0)
+		fail_msg("hsc_comp_reach: %s", msg);
+	assert_int_equal(r, (int)s.n);
+	return s;
+}
+
+/* comp= warns where the card's soft limit and the correction added after
+ * it put the tool beyond the limit, in the library's words (the same as
+ * sh2000ctl comp load's), and says nothing where it does not. */
+static void reach_warned(void **state)
+{
+	const char *flat = "pitch X\n-100 0.5\n0 0.5\n100 0.5\n";
+	struct hsc_card c;
+	struct said s;
+	char msg[512];
+
+	(void)state;
+	open_card(&c);
+	/* no soft limits (the card's default): nothing to be beyond */
+	s = load_and_judge(&c, flat);
+	assert_int_equal(s.n, 0);
+	/* soft_max 10: +0.5 mm there is beyond it; soft_min -10: -9.5 is not */
+	assert_int_equal(sh2000_param_set(c.h, 0, SH2000_P_SOFT_MAX, 10.0), 0);
+	assert_int_equal(sh2000_param_set(c.h, 0, SH2000_P_SOFT_MIN, -10.0), 0);
+	s = load_and_judge(&c, flat);
+	assert_int_equal(s.n, 1);
+	assert_string_equal(s.words[0], "axis x at its soft_max 10.000000 mm: the tables put the tool up to 0.500000 mm beyond it (at 10.500000 mm): the card judges soft limits on nominal positions, then adds the correction");
+	/* a correction that brings the tool inside at both limits */
+	s = load_and_judge(&c, "pitch X\n-10 0.001\n0 0\n10 -0.001\n");
+	assert_int_equal(s.n, 0);
+	/* a file gone since the load: the library's message, no warning */
+	s.n = 0;
+	assert_true(hsc_comp_reach(&c, "/nonexistent/mill.comp", collect, &s,
+				   msg, sizeof(msg)) < 0);
+	assert_non_null(strstr(msg, "/nonexistent/mill.comp"));
+	assert_int_equal(s.n, 0);
+	hsc_close(&c);
+}
+
 static void watched(void **state)
 {
 	struct sh2000_comp_status st;
@@ -236,6 +303,7 @@ int main(void)
 		cmocka_unit_test(wanted),
 		cmocka_unit_test(good_table),
 		cmocka_unit_test(bad_table),
+		cmocka_unit_test(reach_warned),
 		cmocka_unit_test(watched),
 		cmocka_unit_test(no_watch_in_process),
 		cmocka_unit_test(take_never_waits),

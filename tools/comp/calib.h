@@ -60,10 +60,12 @@ int cal_from_csv(struct cal_line *out, unsigned int *lines, const char *path,
  * does on the card h (its scales and limits), before anything is written:
  * 0; -SH2000_EPARAM with "CSV:LINE: why" in msg, the line of the row the
  * faulty point came from; another negative code when the check could not
- * run. */
+ * run. A table the card takes is judged against the card's soft limits
+ * too (sh2000_comp_reach_file()): warn (may be NULL) gets the library's
+ * words for each soft limit it moves the tool beyond. */
 int cal_csv_check(const struct cal_tables *t, const unsigned int *lines,
 		  unsigned int rows, const char *csv, struct sh2000 *h,
-		  char *msg, size_t len);
+		  void (*warn)(const char *words), char *msg, size_t len);
 
 /* ---- the simulated machine ---- */
 

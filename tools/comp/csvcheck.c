@@ -6,7 +6,9 @@
  * increasing in the card's counts, finite corrections) and
  * sh2000_comp_file_check (a slope, bend or size the axis can follow). The
  * rules stay the library's alone; this file only turns the line its
- * message names in the table file back into the CSV's row.
+ * message names in the table file back into the CSV's row. A table the
+ * card takes is judged against the card's soft limits too
+ * (sh2000_comp_reach_file()): a warning where it moves the tool past one.
  */
 #include <errno.h>
 #include <stdlib.h>
@@ -66,9 +68,29 @@ static int card_limits(struct sh2000 *h, double scale[SH2000_AXES],
 	return r ? r : sh2000_comp_limits_get(h, lim);
 }
 
+/* Where the table moves the tool past the card's soft limits (the card
+ * judges them on nominal positions, then adds the correction): the
+ * library's judgement and words, handed to warn; the table is still
+ * written. A failure to judge is no fault of the table: nothing said. */
+static void warn_reach(struct sh2000 *h, const char *tmp,
+		       void (*warn)(const char *words))
+{
+	struct sh2000_comp_reach reach[SH2000_AXES];
+	struct sh2000_comp_window win;
+	char words[512];
+
+	if (!warn || sh2000_comp_reach_file(h, tmp, &win, reach) <= 0)
+		return;
+	for (unsigned int a = 0; a < SH2000_AXES; a++)
+		for (unsigned int side = 0; side < 2u; side++)
+			if (sh2000_comp_reach_warning(&win, reach, a, side, words,
+						      sizeof(words)) > 0)
+				warn(words);
+}
+
 int cal_csv_check(const struct cal_tables *t, const unsigned int *lines,
 		  unsigned int rows, const char *csv, struct sh2000 *h,
-		  char *msg, size_t len)
+		  void (*warn)(const char *words), char *msg, size_t len)
 {
 	char tmp[] = "/tmp/sh2000-comp-csv-XXXXXX", why[512];
 	struct sh2000_comp_file *f = NULL;
@@ -94,6 +116,8 @@ int cal_csv_check(const struct cal_tables *t, const unsigned int *lines,
 		lo = 0;
 		r = sh2000_comp_file_check(f, &lim, why, sizeof(why));
 	}
+	if (!r)
+		warn_reach(h, tmp, warn);
 	unlink(tmp);
 	sh2000_comp_file_free(f);
 	if (r == -SH2000_EPARAM)

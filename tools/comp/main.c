@@ -59,6 +59,12 @@ static int out_tables(const struct cal_tables *t, const char *out,
 	return SH2000_EXIT_OK;
 }
 
+/* A soft limit the table moves the tool beyond, in the library's words. */
+static void warn_reach(const char *words)
+{
+	sh2000_tool_msg("warning: %s", words);
+}
+
 /* The CSV read, then checked with the card's scales and limits as
  * `sh2000ctl comp load` will check it; written only when the card would
  * take it. */
@@ -83,7 +89,8 @@ static int csv_table(struct cal_tables *t, int a, int cross, const char *csv,
 	}
 	r = sh2000_tool_open(&h, dev);
 	if (r == SH2000_EXIT_OK) {
-		r = cal_csv_check(t, lines, l->n - 2, csv, h, msg, sizeof(msg));
+		r = cal_csv_check(t, lines, l->n - 2, csv, h, warn_reach, msg,
+				  sizeof(msg));
 		if (r < 0)
 			sh2000_tool_msg("%s", msg);
 		r = r == -SH2000_EPARAM ? SH2000_EXIT_INPUT :

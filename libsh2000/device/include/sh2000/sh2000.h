@@ -734,6 +734,15 @@ int sh2000_comp_check_file(struct sh2000 *h, const char *path);
  * (sh2000_comp_check_file()) and load it: 0, or an error whose message (sh2000_last_error) names
  * FILE:LINE when a table is at fault. Nothing changes on a refusal. */
 int sh2000_comp_load_file(struct sh2000 *h, const char *path);
+/* How far the tables of `path` (read with the card's scales) move each
+ * axis inside the card's soft limits, and where a corrected position at
+ * a soft limit lies beyond it (sh2000_comp_reach(), sh2000/comp.h; *win
+ * is the card's soft limits and scales it was judged with). The number of
+ * axes a table corrects (>= 0), or an error whose message
+ * (sh2000_last_error) names the file. Nothing is sent. */
+int sh2000_comp_reach_file(struct sh2000 *h, const char *path,
+			   struct sh2000_comp_window *win,
+			   struct sh2000_comp_reach reach[SH2000_AXES]);
 
 /* ---- raw access, for tools and tests --------------------------------- */
 

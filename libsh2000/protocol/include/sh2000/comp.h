@@ -117,6 +117,64 @@ double sh2000_comp_eval_table(const uint16_t *w,
 void sh2000_comp_table_span(const uint16_t *w,
 			    const struct sh2000_comp_desc *t, int second,
 			    double span[2]);
+/*
+ * How far the tables move each axis inside its soft limits. The card
+ * judges its soft limits on the nominal set-point and adds the tables'
+ * correction after (docs/compensation.md "Soft limits and the
+ * corrections"), so a correction at a soft limit takes the tool beyond it.
+ * sh2000_comp_reach() is the one owner of that judgement: sh2000ctl's
+ * `comp load`, hal_sh2000's `comp=` and sh2000-comp ask it (for a card
+ * and a file: sh2000_comp_reach_file(), sh2000/sh2000.h).
+ *
+ * Both structs end in `reserved` (zero; a later field takes its place in
+ * an anonymous union, so the size and every offset stay: docs/install.md
+ * "Versions and the ABI").
+ */
+/* The window the corrections are judged over: the card's SOFT_MIN and
+ * SOFT_MAX in counts, as the card holds them (-2^31 and 2^31-1 are off),
+ * and the scales that name them in mm. */
+struct sh2000_comp_window {
+	int32_t soft_min[SH2000_AXES], soft_max[SH2000_AXES];	/* counts */
+	double scale[SH2000_AXES];	/* counts/mm, > 0 */
+	uint64_t reserved[4];		/* room to grow, zero */
+};
+
+/* A corrected position within this of its soft limit (counts) is not
+ * beyond it: the card's set-points are whole counts. */
+#define SH2000_COMP_REACH_SLACK		0.5
+
+/* One axis' reach (counts). With several tables on the axis each is
+ * taken at its own worst and the ranges added: then a bound, not exact. */
+struct sh2000_comp_reach {
+	unsigned int tables;	/* tables that correct the axis; 0: none,
+				 * and the rest is 0 */
+	double lo, hi;		/* its smallest and largest correction with
+				 * every source axis inside its soft limits
+				 * (where one is off, across the table's
+				 * points and run-outs; a squareness there,
+				 * a metre either way) */
+	double beyond[2];	/* how far the corrected position at its
+				 * soft_min [0] / soft_max [1] lies beyond
+				 * that limit; 0 when within
+				 * SH2000_COMP_REACH_SLACK or the limit is
+				 * off */
+	uint64_t reserved[4];	/* room to grow, zero */
+};
+
+/* The reach of every axis for parsed image w with window *win: the
+ * number of axes a table corrects (>= 0), or -1 when an argument is NULL.
+ * The tables are evaluated by sh2000_comp_eval_table(), the card's code,
+ * sampled across the window (at most 0.2 um missed of a peak over 1 m). */
+int sh2000_comp_reach(const uint16_t *w, const struct sh2000_comp_index *ix,
+		      const struct sh2000_comp_window *win,
+		      struct sh2000_comp_reach reach[SH2000_AXES]);
+/* The words for axis `axis` beyond its soft_min (side 0) or soft_max
+ * (side 1) into msg[len] (no "warning: " before them, no newline): the
+ * length snprintf gives, 0 (msg "") when it is not beyond. */
+int sh2000_comp_reach_warning(const struct sh2000_comp_window *win,
+			      const struct sh2000_comp_reach reach[SH2000_AXES],
+			      unsigned int axis, unsigned int side, char *msg,
+			      size_t len);
 /* Words for a reason, never NULL. */
 const char *sh2000_comp_reason_name(unsigned int reason);
 

@@ -1180,6 +1180,7 @@ int sh2000_path_run(struct sh2000_path *p, unsigned int max_points)
 
 int sh2000_path_finish(struct sh2000_path *p)
 {
+	pl_rest_after(p);	/* the last block ends at rest */
 	for (;;) {
 		int r = pl_period(p);
 

@@ -214,6 +214,10 @@ double pl_block_accel(const struct sh2000_path *p, const struct pl_block *b)
 		if (fabs(b->g.line.d[a]) > 1e-12)
 			A = fmin(A, c->margin * c->amax[a] /
 				    fabs(b->g.line.d[a]));
+	/* from rest to rest with one jerk a period the card's spline along
+	 * a line is the plan itself: no allowance for the path's turns */
+	if (b->rest_line)
+		return fmin(A * p->a_scale, p->a_top);
 	return fmin(pl_accel_room(p, A * p->a_scale), p->a_top);
 }
 

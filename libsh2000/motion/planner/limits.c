@@ -331,3 +331,12 @@ double pl_peak(const struct sh2000_path *p, const struct pl_block *b)
 	return pl_min(v, sqrt(0.5 * (b->vin * b->vin + b->vout * b->vout +
 				     d)));
 }
+
+int pl_ring_zone(const struct sh2000_path *p, const struct pl_block *b,
+		 double s)
+{
+	double zone = 2.0 * p->cfg.period_s;
+
+	return b->rest_line && b->ring_start &&
+	       s < zone * (b->vin + b->A * zone);
+}

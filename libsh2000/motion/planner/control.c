@@ -517,6 +517,12 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 
 		if (fixed)
 			Ak = fmin(Ak, lim->A);
+		/* a line to rest out of a curve: its ring zone at its start,
+		 * as a corner's zone (the line's own A once past it) */
+		if (pl_ring_zone(p, k, 0.0)) {
+			fixed = 1;
+			Ak = pl_accel_room(p, Ak);
+		}
 		if (V < level) {
 			/* a lower feed holds from feed_zone before; the
 			 * braking to it runs in the blocks before, at their
@@ -929,6 +935,8 @@ static int substep(struct sh2000_path *p, double h)
 		c.vcur = fmin(c.vcur, b->vj);
 		c.lim.A = fmin(c.lim.A, p->lim.A);
 		c.af.dyn = 0;
+	} else if (pl_ring_zone(p, b, p->s)) {
+		c.lim.A = fmin(c.lim.A, pl_accel_room(p, b->A));
 	} else if (c.af.dyn) {
 		/* at the fastest this state gets to before braking (the
 		 * floor's jerk: the highest peak) */
@@ -1180,6 +1188,7 @@ int sh2000_path_run(struct sh2000_path *p, unsigned int max_points)
 
 int sh2000_path_finish(struct sh2000_path *p)
 {
+	pl_rest_after(p);	/* the last block ends at rest */
 	for (;;) {
 		int r = pl_period(p);
 

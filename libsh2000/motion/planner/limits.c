@@ -214,6 +214,10 @@ double pl_block_accel(const struct sh2000_path *p, const struct pl_block *b)
 		if (fabs(b->g.line.d[a]) > 1e-12)
 			A = fmin(A, c->margin * c->amax[a] /
 				    fabs(b->g.line.d[a]));
+	/* from rest to rest with one jerk a period the card's spline along
+	 * a line is the plan itself: no allowance for the path's turns */
+	if (b->rest_line)
+		return fmin(A * p->a_scale, p->a_top);
 	return fmin(pl_accel_room(p, A * p->a_scale), p->a_top);
 }
 
@@ -326,4 +330,13 @@ double pl_peak(const struct sh2000_path *p, const struct pl_block *b)
 	/* up from vin and down to vout within L */
 	return pl_min(v, sqrt(0.5 * (b->vin * b->vin + b->vout * b->vout +
 				     d)));
+}
+
+int pl_ring_zone(const struct sh2000_path *p, const struct pl_block *b,
+		 double s)
+{
+	double zone = 2.0 * p->cfg.period_s;
+
+	return b->rest_line && b->ring_start &&
+	       s < zone * (b->vin + b->A * zone);
 }

@@ -118,6 +118,10 @@ struct pl_block {
 	int stop_after;		/* exact stop at the end (point-to-point) */
 	int rapid;		/* a rapid (G0) or the blend between two */
 	int corner;		/* the junction into it is a corner */
+	/* a line to rest, from rest or out of a curve (ring_start), with
+	 * one jerk a period: no ringing allowance but over the two periods
+	 * after a curve (pl_block_accel(), pl_ring_zone()) */
+	int rest_line, ring_start;
 	/* the fastest the motion can enter it: the junction, its limit and
 	 * what the blocks before it can reach (pl_fwd_exit()) */
 	double vin;
@@ -318,6 +322,11 @@ void pl_free(struct sh2000_path *p, void *ptr, size_t n);
 
 /* queue.c: queue a validated block (the ring has room). */
 void pl_push_block(struct sh2000_path *p, struct pl_block *b);
+void pl_rest_after(struct sh2000_path *p);
+/* Whether the distance s into block b is in its ring zone: the two
+ * periods after a curve on a line to rest, which keep the allowance. */
+int pl_ring_zone(const struct sh2000_path *p, const struct pl_block *b,
+		 double s);
 /* Queue b after the blend of the corner into it, if any. */
 void pl_push_blended(struct sh2000_path *p, struct pl_block *b);
 /* Take the last block and the blend before it out of the window (the block

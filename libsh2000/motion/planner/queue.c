@@ -85,6 +85,26 @@ void pl_unqueue_tail(struct sh2000_path *p)
 	memcpy(p->qend, prev->p1, sizeof(p->qend));
 }
 
+/* The last block queued ends at rest: a line that started at rest too
+ * runs from rest to rest, where with one jerk a period the card's spline
+ * is the plan itself (pl_block_accel()); one out of a curve is, past the
+ * two periods after it (pl_ring_zone()). Its acceleration only grows,
+ * so every limit the controller checked with the lower one still holds
+ * (its zone's is the lower one). */
+void pl_rest_after(struct sh2000_path *p)
+{
+	struct pl_block *t;
+
+	if (!p->quant || !p->count)
+		return;
+	t = (struct pl_block *)pl_block_at(p, p->count - 1);
+	if (t->type == BLK_LINE && (t->vj == 0.0 || t->ring_start) &&
+	    !t->rest_line) {
+		t->rest_line = 1;
+		t->A = pl_block_accel(p, t);
+	}
+}
+
 static void push_one(struct sh2000_path *p, struct pl_block *b)
 {
 	unsigned int i;
@@ -109,6 +129,11 @@ static void push_one(struct sh2000_path *p, struct pl_block *b)
 	b->vin = p->count ? pl_min(b->vin, pl_fwd_exit(p, pl_block_at(
 					p, p->count - 1))) : 0.0;
 	b->vout = INFINITY;
+	b->rest_line = 0;
+	b->ring_start = b->type == BLK_LINE && !b->corner && p->count &&
+			pl_block_at(p, p->count - 1)->type != BLK_LINE;
+	if (b->vj == 0.0)
+		pl_rest_after(p);
 	b->A = pl_block_accel(p, b);
 	if (b->feed == 0.0)
 		b->feed = INFINITY;
@@ -128,6 +153,8 @@ static void push_one(struct sh2000_path *p, struct pl_block *b)
 	p->blk[(p->head + p->count) % p->cap] = *b;
 	p->count++;
 	p->blocks++;
+	if (b->stop_after)
+		pl_rest_after(p);
 }
 
 void pl_drop_blocks(struct sh2000_path *p)

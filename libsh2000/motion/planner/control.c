@@ -745,24 +745,41 @@ static void greedy_step(const struct ctl *c, double *ds, double *v, double *a)
  * takes 422). */
 #define PL_LAND_MAX 1024
 
+/* A head block whose end the controller may land on: a line or an arc;
+ * a blend only where it ends at a tangent junction into a line or a
+ * blend whose curvature steps there (S-bends: braking late inside the
+ * blend and then held at the junction's speed, the acceleration swung
+ * from -2300 to +1150 mm/s^2 in the period before the flip, 1.045 amax
+ * on the card's set-points). Not a NURBS (it re-synchronises its
+ * distance to its samples), nor a blend into an arc or a corner: landed
+ * there, blends whose curvature flips reached 1.06 amax. */
+static int land_head(struct sh2000_path *p)
+{
+	const struct pl_block *b = head(p), *n;
+
+	if (b->type == BLK_LINE || b->type == BLK_ARC)
+		return 1;
+	if (b->type != BLK_BLEND || p->count < 2)
+		return 0;
+	n = pl_block_at(p, 1);
+	return n->type != BLK_ARC && !n->corner && !isinf(n->vj);
+}
+
 /* The first limit ahead, to be landed on exactly in whole periods
  * (pl_quant_land()): a stop or a lower speed (a corner's, a blend's or an
  * arc's, a slower block's, where the curvature steps) at the end of the
- * head block, a line or an arc (a NURBS re-synchronises its distance to
- * its samples; landed from inside a blend, the card's set-points reached
- * 1.06 amax between blends whose curvature flips), where the controller
- * holds one jerk a period with J h >= A, and not while it pauses or stops
- * (that brakes at once, wherever the motion comes to rest). Its
- * distance, speed and acceleration; 0 if not. */
+ * head block (land_head()), where the controller holds one jerk a period
+ * with J h >= A, and not while it pauses or stops (that brakes at once,
+ * wherever the motion comes to rest). Its distance, speed and
+ * acceleration; 0 if not. */
 static int land_target(const struct ctl *c, double *d, double *V, double *A)
 {
-	if (!c->quant || c->trap || !c->n || c->af.dyn ||
+	if (!c->quant || c->trap || !c->n ||
 	    c->jmax * c->h < c->lim.A || c->p->paused || c->p->stopping)
 		return 0;
 	*d = c->cons[0];
 	*V = c->cons[1];
-	if (!(*d > 0.0) || (c->nd && c->drops[0] < *d) ||
-	    (head(c->p)->type != BLK_LINE && head(c->p)->type != BLK_ARC) ||
+	if (!(*d > 0.0) || (c->nd && c->drops[0] < *d) || !land_head(c->p) ||
 	    *d > head(c->p)->L - c->p->s + 1e-9)
 		return 0;
 	*A = cons_accel(c, 0, c->v, c->a);

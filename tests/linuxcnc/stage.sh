@@ -82,7 +82,7 @@ stage_boost() {
 # replays the cycles it missed) and by the thread (it runs its missed
 # periods), as on a machine stalled whole.
 stage_pin() {
-	local uid=$1 p t cpus= name
+	local uid=$1 p t cpus='' name
 	shift
 	for p in $(pgrep -x rtapi_app); do
 		[ "$(awk '/^Uid:/ { print $5 }' /proc/"$p"/status 2>/dev/null)" = "$uid" ] ||

@@ -8,14 +8,17 @@
 # (rtapi_app refuses root), allowed real-time priority, with rtapi_app's
 # threads and the user's card servers boosted to SCHED_FIFO as they appear
 # (this kernel is not PREEMPT_RT: a busy machine would starve the 1 ms
-# servo thread). tests/linuxcnc/run's header says why each step.
+# servo thread), and the card servers kept on the servo thread's CPU
+# (stage_boost says why). tests/linuxcnc/run's header says why each step.
 #
 #   . stage.sh; stage_setup BUILD_DIR [SERVER...]
 #       sets here, repo, build, work, as_user (a command prefix), user;
 #       SERVER: the command names (as pgrep -x sees them) of the card
 #       servers the script starts as the user, boosted beside rtapi_app
 # Cleans up on exit: the module found before put back, the boost stopped,
-# $work removed, and every pid in $stage_pids killed.
+# $work removed (copied first to $SH2000_KEEP_LOGS when that names a
+# directory that does not exist yet: a failing run's logs and samples
+# kept), and every pid in $stage_pids killed.
 
 # shellcheck source=tests/linuxcnc/take-turn.sh
 . "$(dirname "${BASH_SOURCE[0]}")/take-turn.sh"
@@ -29,6 +32,8 @@ stage_cleanup() {
 		else mv -f "$stage_backup" "$stage_modules/hal_sh2000.so"; fi
 	fi
 	for p in ${stage_pids:-}; do kill "$p" 2>/dev/null; done
+	[ -n "${SH2000_KEEP_LOGS:-}" ] && [ -n "${work:-}" ] &&
+		[ ! -e "$SH2000_KEEP_LOGS" ] && cp -a "$work" "$SH2000_KEEP_LOGS"
 	[ -n "${work:-}" ] && rm -rf "$work"
 }
 
@@ -36,7 +41,9 @@ stage_cleanup() {
 # (LinuxCNC's own take the top priorities on PREEMPT_RT), 60 for the
 # user's card servers named SERVER (sh2000-sim's own priority), as they
 # appear; all sleep most of the time. rtapi_app is setuid root and keeps
-# the user only as its file-system uid.
+# the user only as its file-system uid. Every card server of the user
+# (SERVER, sh2000-sim, sh2000_test_cardserver) is also kept on the CPUs of
+# rtapi_app's servo thread (stage_pin).
 stage_boost() {
 	local uid=$1 p t prio name servers
 	shift
@@ -56,7 +63,44 @@ stage_boost() {
 					chrt -f -p "$prio" "$t" 2>/dev/null
 			done
 		done
+		stage_pin "$uid" "$@" sh2000-sim sh2000_test_car
 		sleep 0.2
+	done
+}
+
+# stage_pin UID SERVER...: the user's card servers (command names SERVER)
+# on the CPUs rtapi_app runs its servo thread on (uspace pins its
+# real-time threads, "rtapi_app:T#N", to one CPU). A stall of that CPU
+# alone (the hypervisor descheduling the virtual CPU, a kernel section
+# that does not yield) stops the servo thread but not a card served from
+# the other CPU: with its ring some 30 periods deep, a stall of 30 ms ran
+# the card dry in the middle of a homing ("segment queue ran dry
+# mid-motion", LinuxCNC: "joint 0 following error"). A real card does not
+# share the PC's stalls, but neither does a real installation run on a
+# CPU that stops for 30 ms; on one CPU the card and the thread stop
+# together, and a stall of both is caught up by the served card (it
+# replays the cycles it missed) and by the thread (it runs its missed
+# periods), as on a machine stalled whole.
+stage_pin() {
+	local uid=$1 p t cpus='' name
+	shift
+	for p in $(pgrep -x rtapi_app); do
+		[ "$(awk '/^Uid:/ { print $5 }' /proc/"$p"/status 2>/dev/null)" = "$uid" ] ||
+			continue
+		for t in /proc/"$p"/task/*; do
+			case $(cat "$t/comm" 2>/dev/null) in
+			rtapi_app:T#*)
+				cpus=$(awk '/^Cpus_allowed_list:/ { print $2 }' "$t/status" 2>/dev/null)
+				break ;;
+			esac
+		done
+	done
+	[ -n "$cpus" ] || return 0
+	for name in "$@"; do
+		for p in $(pgrep -u "$uid" -x "$name"); do
+			[ "$(awk '/^Cpus_allowed_list:/ { print $2 }' /proc/"$p"/status 2>/dev/null)" = "$cpus" ] ||
+				taskset -a -p -c "$cpus" "$p" >/dev/null 2>&1
+		done
 	done
 }
 

@@ -15,7 +15,8 @@
  * one cycle, and the acceleration's mean over three cycles), as fractions
  * of vmax and amax; the largest step between two records as a fraction of
  * vmax times the coarse period (the card refuses a record over 1.05 of
- * that plus 2 counts: docs/protocol.md, the record checks). A benchmark:
+ * that plus 2 counts: docs/protocol.md, the record checks), and when the
+ * acceleration's peak comes (s from the start). A benchmark:
  * it prints figures and never fails on them.
  */
 #include <ctype.h>
@@ -189,9 +190,9 @@ int main(int argc, char **argv)
 			bad = 1;
 			continue;
 		}
-		printf("margin %.3f: planned %.3f s, peak axis v/vmax %.5f, a/amax %.4f (1 servo cycle) %.4f (mean of 3), record step/(vmax T) %.5f\n",
+		printf("margin %.3f: planned %.3f s, peak axis v/vmax %.5f, a/amax %.4f (1 servo cycle) %.4f (mean of 3), record step/(vmax T) %.5f, a peak at %.4f s\n",
 		       margin, m.points * m.sp.cfg.period_s, m.sp.v_ratio,
-		       m.sp.a_ratio, m.a3, m.step);
+		       m.sp.a_ratio, m.a3, m.step, m.sp.a_at * m.sp.h);
 	}
 	sh2000_prog_diags_free(&d);
 	sh2000_program_free(&prog);

@@ -768,6 +768,52 @@ static void test_s_bends(void **s)
 	}
 }
 
+/* Zigzags of short moves at full speed under G64 P0.01 (families.py's
+ * shape: the moves L (1 + 0.3 sin 0.7 i) long, turning +-theta, 3 degrees
+ * more every fifth): each line brakes into a blend of a few hundredths of
+ * a millimetre that allows less acceleration than the line. Landed on at
+ * the line's acceleration, the braking entered those blends 26 % over
+ * their speed (1.11 amax on a servo cycle at 60 degrees and 1.2 mm, 1.08
+ * at 3 mm); it now brakes within the blend's over its last two periods. */
+static void zigzag(double theta, double len, struct meas *m)
+{
+	static struct prog pg;
+	double x = 0.0, y = 0.0, hd = 0.0;
+
+	memset(&pg, 0, sizeof(pg));
+	pg.name = "zigzag";
+	for (unsigned int i = 0; i < 160 && i * len < 240.0; i++) {
+		double step = len * (1.0 + 0.3 * sin(0.7 * i));
+
+		hd += (i % 2 ? -theta : theta) + (i % 5 == 2 ? 3.0 : 0.0);
+		x += step * cos(hd * M_PI / 180.0);
+		y += step * sin(hd * M_PI / 180.0);
+		line(&pg, x, y, 0);
+		pg.el[pg.n - 1].feed = VMAX;
+	}
+	run(&pg, SH2000_PATH_BLEND, 0.01, 0.0, m);
+}
+
+static void test_zigzag_drop(void **s)
+{
+	static const double cases[][2] = {
+		{ 60.0, 1.2 }, { 60.0, 3.0 }, { 30.0, 0.6 }, { 90.0, 1.2 },
+	};
+
+	(void)s;
+	for (unsigned int i = 0; i < sizeof(cases) / sizeof(cases[0]); i++) {
+		struct meas m;
+
+		zigzag(cases[i][0], cases[i][1], &m);
+		print_message("zigzag %2.0f deg %.1f mm G64 P0.01   max deviation %.4f mm, %.3f s, axes at %.3f of vmax, %.4f of amax\n",
+			      cases[i][0], cases[i][1], m.max,
+			      m.cycles * m.tau, m.v_ratio, m.a_ratio);
+		assert_true(m.max <= 0.01 + 0.0005);
+		assert_true(m.v_ratio <= 1.0);
+		assert_true(m.a_ratio <= 1.0);
+	}
+}
+
 /* 3D_Chips.ngc's moves N1420 to N1720 (Y, Z in mm, at X 48): a valley
  * whose bottom, (-13.155, -3.577), is a 103 degree corner after a 0.012
  * mm move, the moves after it short and nearly collinear (G64 Q merges
@@ -892,6 +938,7 @@ int main(void)
 		cmocka_unit_test(test_short_accel),
 		cmocka_unit_test(test_s_bends),
 		cmocka_unit_test(test_stop_or_blend),
+		cmocka_unit_test(test_zigzag_drop),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -197,16 +197,19 @@ int pl_quant_solve(double h, double v, double a, unsigned int n, int dist,
 		   double d, double vt, double *j);
 /* quant.c: the fewest periods n <= nmax of length h that land from
  * (v, a) on speed vt < v at distance d with acceleration 0, braking at up
- * to A with jerks up to J (J h >= A), and the acceleration a1 at the end
+ * to A (to Aend at the last PL_LAND_END period ends: the allowed
+ * acceleration drops at d) with jerks up to J (J h >= A), and the
+ * acceleration a1 at the end
  * of the first; -2 if every landing passes d (the speed is too high
  * for it), -1 if there is none else. strict: with 1e-6 to spare on the
  * earliest braking (a state a landing will start from), else 1e-6 past
  * it (a landing under way). 1 where vt > 0 and the latest braking in n
  * ends short of d by less than a period at vt: cruising at vt from there
  * passes d sooner than landing on it. */
+#define PL_LAND_END 2
 int pl_quant_land(double h, double v0, double a0, double vt, double d,
-		  double A, double J, int strict, unsigned int nmax,
-		  unsigned int *n_out, double *a1);
+		  double A, double Aend, double J, int strict,
+		  unsigned int nmax, unsigned int *n_out, double *a1);
 
 /* search.c: the highest x in [lo, hi] with f(x) >= 0, f non-increasing,
  * f(lo) = flo >= 0 > fhi = f(hi), to within tol. */

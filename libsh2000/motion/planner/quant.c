@@ -128,15 +128,19 @@ int pl_quant_solve(double h, double v, double a, unsigned int n, int dist,
  * least with it as late; every W between is a mix of the two, and a mix
  * keeps every cap and every jerk (|a_k - a_k-1| <= A <= J h: the caller
  * holds one jerk a period only where J h >= A). The fewest n is the
- * first whose latest braking covers d.
+ * first whose latest braking covers d. Where the allowed acceleration
+ * drops at d (a line into a blend that allows less), the last knots'
+ * cap is the lower one, which holds the braking within it over the
+ * periods before the drop (control.c, drop_room()); the early and the
+ * late fill are still the extremes of W, so a mix still lands.
  */
 
-/* The knots b_k (k = 1..n-1, cap c1 on the first, A on the others)
- * filled up to B, from the first knot (early) or from the last: the
- * weighted sum W and the first knot's b, in w[0] and w[1]; -1 if the
- * caps cannot hold B. */
-static int fill(unsigned int n, double B, double A, double c1, int early,
-		double tol, double w[2])
+/* The knots b_k (k = 1..n-1, cap A, Aend on the last PL_LAND_END, and
+ * c1 on the first) filled up to B, from the first knot (early) or from
+ * the last: the weighted sum W and the first knot's b, in w[0] and w[1];
+ * -1 if the caps cannot hold B. */
+static int fill(unsigned int n, double B, const double cap[2], double c1,
+		int early, double tol, double w[2])
 {
 	double left = B;
 	unsigned int i;
@@ -144,8 +148,9 @@ static int fill(unsigned int n, double B, double A, double c1, int early,
 	w[0] = w[1] = 0.0;
 	for (i = 1; i < n && left > 0.0; i++) {
 		unsigned int k = early ? i : n - i;
-		double x = pl_min(k == 1 ? c1 : A, left);
+		double x = cap[k + PL_LAND_END >= n];
 
+		x = pl_min(k == 1 ? pl_min(c1, x) : x, left);
 		left -= x;
 		w[0] += (double)(n - k) * x;
 		if (k == 1)
@@ -155,9 +160,10 @@ static int fill(unsigned int n, double B, double A, double c1, int early,
 }
 
 int pl_quant_land(double h, double v0, double a0, double vt, double d,
-		  double A, double J, int strict, unsigned int nmax,
-		  unsigned int *n_out, double *a1)
+		  double A, double Aend, double J, int strict,
+		  unsigned int nmax, unsigned int *n_out, double *a1)
 {
+	const double cap[2] = { A, pl_min(A, Aend) };
 	double B = (v0 - vt) / h + a0 / 2.0, c1 = pl_min(A, J * h - a0);
 	double rate = v0 / h + a0 / 2.0, late = 0.0, left = B, tol, over;
 	unsigned int n, k;
@@ -186,7 +192,7 @@ int pl_quant_land(double h, double v0, double a0, double vt, double d,
 		double W = (v0 * n * h - d) / (h * h) + a0 * (n / 2.0 - 1.0 / 6.0);
 		double we[2], wl[2], f;
 
-		if (fill(n, B, A, c1, 0, tol, wl))
+		if (fill(n, B, cap, c1, 0, tol, wl))
 			continue;	/* too few periods to lose the speed */
 		if (W < wl[0] - tol * n) {
 			/* the latest braking stops short, by h^2 (wl - W):
@@ -200,7 +206,7 @@ int pl_quant_land(double h, double v0, double a0, double vt, double d,
 			}
 			continue;
 		}
-		if (fill(n, B, A, c1, 1, tol, we) || W > we[0] + over)
+		if (fill(n, B, cap, c1, 1, tol, we) || W > we[0] + over)
 			return -2;	/* overshoots: more periods only more */
 		f = we[0] > wl[0] ? (W - wl[0]) / (we[0] - wl[0]) : 0.0;
 		f = pl_min(1.0, pl_max(0.0, f));

@@ -63,7 +63,10 @@ def measure(build, work, case):
         r = subprocess.run(["rs274", "-g", "-t",
                             os.path.join(work, "tools.tbl"), "-v",
                             os.path.join(work, "empty.var"), ngc],
-                           stdout=f, stderr=subprocess.PIPE, text=True)
+                           stdout=f, stderr=subprocess.PIPE, text=True,
+                           # its own HOME: rs274 keeps $HOME/.tool.mmap,
+                           # which two at once share and die of (SIGBUS)
+                           env=dict(os.environ, HOME=work))
     if r.returncode:    # rs274 says "executing" on stderr every time
         sys.exit("rs274 failed on %s: %s" % (case, r.stderr))
     peaks = os.path.join(build, "bench", "lcnc-compare", "bench_peaks")

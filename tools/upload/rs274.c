@@ -22,7 +22,35 @@ extern char **environ;
  * parameters it ends with over its -v file, the old one as .bak). */
 static const char *const rs274_files[] = {
 	"tool.tbl", "params.var", "params.var.bak", "rs274.canon",
+	".tool.mmap",
 };
+
+/* rs274's environment: ours with HOME in its own directory. LinuxCNC's
+ * interpreter keeps its tool data in $HOME/.tool.mmap, which it creates
+ * truncated: two rs274 at once with the same HOME (two uploads, a dry
+ * run beside a run) die of SIGBUS in about one run in fifteen. NULL
+ * when out of memory. */
+static char **rs274_env(const char *dir)
+{
+	size_t n = 0, k = 0;
+	char **env;
+
+	while (environ[n])
+		n++;
+	env = calloc(n + 2, sizeof(*env));
+	if (!env)
+		return NULL;
+	for (size_t i = 0; i < n; i++)
+		if (strncmp(environ[i], "HOME=", 5))
+			env[k++] = environ[i];
+	env[k] = malloc(strlen(dir) + 6);
+	if (!env[k]) {
+		free(env);
+		return NULL;
+	}
+	sprintf(env[k], "HOME=%s", dir);
+	return env;
+}
 
 /* The tool table as rs274 reads it. The standalone interpreter's machine
  * units are inches (a table's Z+1 is an inch to it, in a G21 program
@@ -130,6 +158,7 @@ int upl_rs274_run(const struct upl_opts *o, struct upl_source *s)
 			 NULL };
 	posix_spawn_file_actions_t fa;
 	int e, status, x;
+	char **env;
 	pid_t pid;
 
 	snprintf(s->dir, sizeof(s->dir), "/tmp/sh2000-rs274.XXXXXX");
@@ -145,12 +174,21 @@ int upl_rs274_run(const struct upl_opts *o, struct upl_source *s)
 	x = rs274_inputs(o, s, tbl, var);
 	if (x)
 		return x;
+	env = rs274_env(s->dir);
+	if (!env) {
+		sh2000_tool_msg("--rs274: %s", strerror(ENOMEM));
+		return SH2000_EXIT_HELPER;
+	}
 	posix_spawn_file_actions_init(&fa);
 	posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
 	posix_spawn_file_actions_addopen(&fa, 1, s->canon,
 					 O_WRONLY | O_CREAT | O_TRUNC, 0600);
-	e = posix_spawnp(&pid, "rs274", &fa, NULL, argv, environ);
+	e = posix_spawnp(&pid, "rs274", &fa, NULL, argv, env);
 	posix_spawn_file_actions_destroy(&fa);
+	for (x = 0; env[x]; x++)
+		if (!strncmp(env[x], "HOME=", 5))
+			free(env[x]);
+	free(env);
 	if (e) {
 		sh2000_tool_msg("--rs274: cannot run rs274: %s", strerror(e));
 		return SH2000_EXIT_HELPER;

@@ -201,12 +201,16 @@ t_rs274_missing() {
 }
 
 t_rs274() {
-	# a stand-in for LinuxCNC's rs274: checks its arguments, prints the
-	# canonical commands rs274 gives for arc.ngc
+	# a stand-in for LinuxCNC's rs274: checks its arguments, and that its
+	# HOME is its own directory (rs274 keeps \$HOME/.tool.mmap, which two
+	# at once share and die of), prints the canonical commands rs274
+	# gives for arc.ngc
 	mkdir -p bin
 	cat >bin/rs274 <<EOS
 #!/bin/sh
 [ "\$1" = -g ] && [ "\$2" = -t ] && [ -f "\$3" ] && [ "\$4" = -v ] && [ -f "\$5" ] && [ -f "\$6" ] || { echo "fake rs274: bad arguments: \$*" >&2; exit 1; }
+[ "\$HOME" = "\$(dirname "\$3")" ] || { echo "fake rs274: HOME \$HOME is not its own" >&2; exit 1; }
+touch "\$HOME/.tool.mmap"
 cat "$DATA/arc.canon"
 EOS
 	chmod +x bin/rs274

@@ -720,6 +720,17 @@ static void test_short_accel(void **s)
 	assert_true(t < 1.9);
 }
 
+/* A move of length len at full speed after turning by turn degrees, from
+ * x[0], x[1] heading x[2] (degrees), which it moves on. */
+static void turn_line(struct prog *pg, double x[3], double turn, double len)
+{
+	x[2] += turn;
+	x[0] += len * cos(x[2] * M_PI / 180.0);
+	x[1] += len * sin(x[2] * M_PI / 180.0);
+	line(pg, x[0], x[1], 0);
+	pg->el[pg->n - 1].feed = VMAX;
+}
+
 /* S-bends as 3D_Chips has them: moves of 1.0 to 2.0 mm turning 30
  * degrees one way and then the other, in pairs (two lines and a 30 degree
  * turn each way, then a 60 degree one back; 5 degrees more every 7th),
@@ -736,20 +747,28 @@ static void test_short_accel(void **s)
 static void s_bends(double len, struct meas *m)
 {
 	static struct prog pg;
-	double x = 0.0, y = 0.0, hd = 0.0;
+	double x[3] = { 0.0, 0.0, 0.0 };	/* x, y, heading */
 
 	memset(&pg, 0, sizeof(pg));
 	pg.name = "s-bends";
 	for (unsigned int i = 0; i < 200; i++) {
 		static const double turn[4] = { 30.0, -30.0, -30.0, 30.0 };
 
-		hd += turn[i % 4] + (i % 7 == 3 ? 5.0 : 0.0);
-		x += len * cos(hd * M_PI / 180.0);
-		y += len * sin(hd * M_PI / 180.0);
-		line(&pg, x, y, 0);
-		pg.el[pg.n - 1].feed = VMAX;
+		turn_line(&pg, x, turn[i % 4] + (i % 7 == 3 ? 5.0 : 0.0), len);
 	}
 	run(&pg, SH2000_PATH_BLEND, 0.1, 0.0, m);
+}
+
+/* A chain of moves of about len under G64 P0.1: within P, vmax and amax
+ * on the card's fine set-points. */
+static void check_chain(const char *what, double len, const struct meas *m)
+{
+	print_message("%s %.2f G64 P0.1   max deviation %.4f mm, %.3f s, axes at %.3f of vmax, %.4f of amax\n",
+		      what, len, m->max, m->cycles * m->tau, m->v_ratio,
+		      m->a_ratio);
+	assert_true(m->max <= 0.1 + 0.0005);
+	assert_true(m->v_ratio <= 1.0);
+	assert_true(m->a_ratio <= 1.0);
 }
 
 static void test_s_bends(void **s)
@@ -760,11 +779,46 @@ static void test_s_bends(void **s)
 		struct meas m;
 
 		s_bends(len, &m);
-		print_message("s-bends %.2f G64 P0.1   max deviation %.4f mm, %.3f s, axes at %.3f of vmax, %.4f of amax\n",
-			      len, m.max, m.cycles * m.tau, m.v_ratio, m.a_ratio);
-		assert_true(m.max <= 0.1 + 0.0005);
-		assert_true(m.v_ratio <= 1.0);
-		assert_true(m.a_ratio <= 1.0);
+		check_chain("s-bends", len, &m);
+	}
+}
+
+/* A zigzag of 160 moves of about len (len times 1 + 0.3 sin(0.7 i), as
+ * bench/lcnc-compare/families.py makes them) turning +-10 degrees, 3
+ * more every 5th, G64 P0.1 at full speed: the blends eat the moves, each
+ * lasts one or two periods and turns the other way from the one before,
+ * and their entry limits differ block by block. */
+static void zigzag(double len, struct meas *m)
+{
+	static struct prog pg;
+	double x[3] = { 0.0, 0.0, 0.0 };	/* x, y, heading */
+
+	memset(&pg, 0, sizeof(pg));
+	pg.name = "zigzag";
+	for (unsigned int i = 0; i < 160; i++) {
+		turn_line(&pg, x, (i % 2 ? -10.0 : 10.0) +
+			  (i % 5 == 2 ? 3.0 : 0.0),
+			  len * (1.0 + 0.3 * sin(0.7 * i)));
+	}
+	run(&pg, SH2000_PATH_BLEND, 0.1, 0.0, m);
+}
+
+/* When the controller sped up and braked between the limits of such
+ * blends in every one, the acceleration swung by thousands of mm/s^2 a
+ * period and an axis reached 1.02 to 1.21 amax on the card's fine
+ * set-points at all these lengths but 0.2 mm (0.997); with the chain's
+ * limits held flat (chain_open() in queue.c) no more than 0.973. Not
+ * yet at every length: 0.23 mm still reaches 1.005 amax (1.12 before;
+ * docs/planner.md, "Known limits"). */
+static void test_zigzag_chain(void **s)
+{
+	(void)s;
+	for (unsigned int i = 0; i <= 7; i++) {
+		double len = 0.15 + 0.01 * i;
+		struct meas m;
+
+		zigzag(len, &m);
+		check_chain("zigzag +-10 deg", len, &m);
 	}
 }
 
@@ -937,6 +991,7 @@ int main(void)
 		cmocka_unit_test(test_short_curve),
 		cmocka_unit_test(test_short_accel),
 		cmocka_unit_test(test_s_bends),
+		cmocka_unit_test(test_zigzag_chain),
 		cmocka_unit_test(test_stop_or_blend),
 		cmocka_unit_test(test_zigzag_drop),
 	};

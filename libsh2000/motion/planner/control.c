@@ -776,7 +776,30 @@ static int land_head(struct sh2000_path *p)
  * (cap[1]: lower where the allowed acceleration drops at the limit). */
 struct land {
 	double d, V, cap[2];
+	const double *drop;	/* that drop (as p->drops), or NULL */
 };
+
+/* The accelerations a landing on t from (v, a) brakes within, read at
+ * the fastest the motion gets from there (a blend's grows as the speed
+ * falls). A landing checked from a step's state reads them at that
+ * state: read at the state before, a line's step towards a short blend
+ * at its full acceleration left a landing the next period no longer had
+ * (the blend's then 2185 against 3758 mm/s^2), and the motion entered
+ * the blend 40 % over its speed (S-bends of 0.3 mm moves, G64 P0.01:
+ * 1.057 amax on the card's set-points). */
+static void land_caps(const struct ctl *c, struct land *t, double v,
+		      double a)
+{
+	t->cap[0] = cons_accel(c, 0, v, a);
+	t->cap[1] = t->cap[0];
+	if (t->drop) {
+		/* at the fastest the landing can be over those periods */
+		double top = pl_min(state_top(c, v, a),
+				    t->V + PL_LAND_END * c->h * t->cap[0]);
+
+		t->cap[1] = pl_min(t->cap[0], acc_at(c->p, t->drop + 1, top));
+	}
+}
 
 /* The first limit ahead, to be landed on exactly in whole periods
  * (pl_quant_land()): a stop or a lower speed (a corner's, a blend's or an
@@ -799,15 +822,8 @@ static int land_target(const struct ctl *c, struct land *t)
 	if (!(t->d > 0.0) || (c->nd && c->drops[0] < t->d) ||
 	    !land_head(c->p) || t->d > head(c->p)->L - c->p->s + 1e-9)
 		return 0;
-	t->cap[0] = cons_accel(c, 0, c->v, c->a);
-	t->cap[1] = t->cap[0];
-	if (c->nd && c->drops[0] <= t->d) {
-		/* at the fastest the landing can be over those periods */
-		double top = pl_min(state_top(c, c->v, c->a),
-				    t->V + PL_LAND_END * c->h * t->cap[0]);
-
-		t->cap[1] = pl_min(t->cap[0], acc_at(c->p, c->drops + 1, top));
-	}
+	t->drop = c->nd && c->drops[0] <= t->d ? c->drops : NULL;
+	land_caps(c, t, c->v, c->a);
 	return 1;
 }
 
@@ -848,6 +864,19 @@ static int land_first(const struct ctl *c, const struct land *t,
 	return cons_ok(c, *ds, *v, *a) ? (int)n : 0;
 }
 
+/* pl_quant_land() on t from the state (s, v, a) a step reaches, with
+ * t's accelerations read at that state. */
+static int land_from(const struct ctl *c, const struct land *t, double s,
+		     double v, double a, unsigned int *n)
+{
+	struct land at = *t;
+	double a1;
+
+	land_caps(c, &at, v, a);
+	return pl_quant_land(c->h, v, a, at.V, at.d - s, at.cap[0], at.cap[1],
+			     c->jmax, 1, PL_LAND_MAX, n, &a1);
+}
+
 /* The highest jerk above jl from whose state a landing is left (by
  * bisection on whether every landing from it passes the limit), within
  * J, A and the current speed limit (v + a h / 2 at the period's end: a
@@ -859,31 +888,27 @@ static int land_first(const struct ctl *c, const struct land *t,
 static int land_climb(const struct ctl *c, const struct land *t,
 		      double jl, double *ds, double *v, double *a)
 {
-	double h = c->h, lo = pl_max(-c->a / h, jl), s1, v1, a1, x;
-	double d = t->d, V = t->V, A = t->cap[0], Ae = t->cap[1];
-	double hi = pl_min(pl_min(c->jmax, (A - c->a) / h),
+	double h = c->h, lo = pl_max(-c->a / h, jl), s1, v1, a1;
+	double hi = pl_min(pl_min(c->jmax, (t->cap[0] - c->a) / h),
 			   (c->vcur - c->v - 1.5 * c->a * h) / (h * h));
 	unsigned int i, n;
 
 	if (c->a < 0.0 || !(hi > lo))
 		return 0;
 	step_state(c, lo, &s1, &v1, &a1);
-	if (pl_quant_land(h, v1, a1, V, d - s1, A, Ae, c->jmax, 1,
-			  PL_LAND_MAX, &n, &x) == -2)
+	if (land_from(c, t, s1, v1, a1, &n) == -2)
 		return 0;
 	for (i = 0; i < 24; i++) {
 		double m = 0.5 * (lo + hi);
 
 		step_state(c, m, &s1, &v1, &a1);
-		if (pl_quant_land(h, v1, a1, V, d - s1, A, Ae, c->jmax, 1,
-				  PL_LAND_MAX, &n, &x) == -2)
+		if (land_from(c, t, s1, v1, a1, &n) == -2)
 			hi = m;
 		else
 			lo = m;
 	}
 	step_state(c, lo, ds, v, a);
-	if (pl_quant_land(h, *v, *a, V, d - *ds, A, Ae, c->jmax, 1,
-			  PL_LAND_MAX, &n, &x) < 0)
+	if (land_from(c, t, *ds, *v, *a, &n) < 0)
 		return 0;
 	return *v <= c->vcur + V_EPS && cons_ok(c, *ds, *v, *a) ?
 	       (int)n + 1 : 0;
@@ -903,7 +928,7 @@ static int land_climb(const struct ctl *c, const struct land *t,
 static void choose_step(const struct ctl *c, double *ds, double *v, double *a)
 {
 	struct land t;
-	double a1, cs[3];
+	double cs[3];
 	unsigned int n;
 	int ng = 0, nl, nc;
 
@@ -916,9 +941,7 @@ static void choose_step(const struct ctl *c, double *ds, double *v, double *a)
 		g.first = 1;
 		g.nd = 0;
 		greedy_step(&g, ds, v, a);
-		if (pl_quant_land(c->h, *v, *a, t.V, t.d - *ds, t.cap[0],
-				  t.cap[1], c->jmax, 1, PL_LAND_MAX, &n,
-				  &a1) >= 0)
+		if (land_from(c, &t, *ds, *v, *a, &n) >= 0)
 			ng = (int)n + 1;
 		nc = land_climb(&g, &t, ng ? (*a - c->a) / c->h : -INFINITY,
 				cs, cs + 1, cs + 2);

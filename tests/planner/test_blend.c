@@ -850,6 +850,25 @@ static void test_zigzag_drop(void **s)
 	}
 }
 
+/* Zigzags turning +-10 degrees under G64 P0.01: the blends are a few
+ * tenths of a millimetre, about two periods, and end on a lower limit
+ * than they start on (the curvature step into the next line). Braking to
+ * the entry's and at once again inside the blend swung the acceleration
+ * by some 4000 mm/s^2 in a period (1.02 to 1.08 amax at these lengths);
+ * such a blend now holds its exit's limit from its start (chain_fall() in
+ * queue.c). */
+static void test_zigzag_fall(void **s)
+{
+	(void)s;
+	for (unsigned int i = 0; i < 3; i++) {
+		static const double len[3] = { 0.6, 1.2, 3.0 };
+		struct meas m;
+
+		zigzag(10.0, len[i], 0.01, &m);
+		check_chain("zigzag +-10 deg", len[i], 0.01, &m);
+	}
+}
+
 /* 3D_Chips.ngc's moves N1420 to N1720 (Y, Z in mm, at X 48): a valley
  * whose bottom, (-13.155, -3.577), is a 103 degree corner after a 0.012
  * mm move, the moves after it short and nearly collinear (G64 Q merges
@@ -976,6 +995,7 @@ int main(void)
 		cmocka_unit_test(test_zigzag_chain),
 		cmocka_unit_test(test_stop_or_blend),
 		cmocka_unit_test(test_zigzag_drop),
+		cmocka_unit_test(test_zigzag_fall),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -869,6 +869,26 @@ static void test_zigzag_fall(void **s)
 	}
 }
 
+/* Zigzags under G64 P0.1 whose limit ahead lies just past the head
+ * block, beyond a line of a few hundredths of a millimetre the blends
+ * left of a move: braked to by the greedy step, not landed on, the speed
+ * was reached a period early still braking and the acceleration swung
+ * back up (1.002 amax at 10 degrees and 0.6 mm, 1.0013 at 30 degrees and
+ * 1.2 mm on bench_peaks); a landing now ends at that line's end
+ * (land_reach() in control.c). */
+static void test_zigzag_swing(void **s)
+{
+	(void)s;
+	for (unsigned int i = 0; i < 2; i++) {
+		static const double cases[2][2] = { { 10.0, 0.6 },
+						     { 30.0, 1.2 } };
+		struct meas m;
+
+		zigzag(cases[i][0], cases[i][1], 0.1, &m);
+		check_chain("zigzag", cases[i][1], 0.1, &m);
+	}
+}
+
 /* 3D_Chips.ngc's moves N1420 to N1720 (Y, Z in mm, at X 48): a valley
  * whose bottom, (-13.155, -3.577), is a 103 degree corner after a 0.012
  * mm move, the moves after it short and nearly collinear (G64 Q merges
@@ -996,6 +1016,7 @@ int main(void)
 		cmocka_unit_test(test_stop_or_blend),
 		cmocka_unit_test(test_zigzag_drop),
 		cmocka_unit_test(test_zigzag_fall),
+		cmocka_unit_test(test_zigzag_swing),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -784,22 +784,34 @@ static void test_s_bends(void **s)
 	}
 }
 
-/* A zigzag of up to 160 moves of about len (len times 1 + 0.3 sin(0.7
- * i), as bench/lcnc-compare/families.py makes them, 240 mm at most)
- * turning +-theta degrees, 3 more every 5th, G64 P at full speed. */
-static void zigzag(double theta, double len, double P, struct meas *m)
+/* Up to 160 moves of about len (len times 1 + 0.3 sin(0.7 i), as
+ * bench/lcnc-compare/families.py makes them, 240 mm at most) turning by
+ * turn[i % nt] degrees, 3 more every 5th, G64 P at full speed; the end
+ * points rounded to q mm where q > 0 (rs274's canonical output of
+ * families.py's programs: 0.0001). */
+static void family(const double *turn, unsigned int nt, double len,
+		   double P, double q, struct meas *m)
 {
 	static struct prog pg;
 	double x[3] = { 0.0, 0.0, 0.0 };	/* x, y, heading */
 
 	memset(&pg, 0, sizeof(pg));
-	pg.name = "zigzag";
+	pg.name = "family";
 	for (unsigned int i = 0; i < 160 && i * len < 240.0; i++) {
-		turn_line(&pg, x, (i % 2 ? -theta : theta) +
-			  (i % 5 == 2 ? 3.0 : 0.0),
+		turn_line(&pg, x, turn[i % nt] + (i % 5 == 2 ? 3.0 : 0.0),
 			  len * (1.0 + 0.3 * sin(0.7 * i)));
+		for (unsigned int a = 0; q > 0.0 && a < 2; a++)
+			pg.el[pg.n - 1].e[a] = q * round(x[a] / q);
 	}
 	run(&pg, SH2000_PATH_BLEND, P, 0.0, m);
+}
+
+/* A zigzag: turning +-theta degrees in turn. */
+static void zigzag(double theta, double len, double P, struct meas *m)
+{
+	const double turn[2] = { theta, -theta };
+
+	family(turn, 2, len, P, 0.0, m);
 }
 
 /* Zigzags of 0.15 to 0.22 mm moves turning +-10 degrees at P0.1: the
@@ -887,6 +899,24 @@ static void test_zigzag_swing(void **s)
 		zigzag(cases[i][0], cases[i][1], 0.1, &m);
 		check_chain("zigzag", cases[i][1], 0.1, &m);
 	}
+}
+
+/* A spiral of 0.2 mm moves turning 30 degrees three times and back 15,
+ * G64 P0.01, as rs274 gives families.py's (end points to 0.1 um): a step
+ * on a 0.06 mm line at 2109 mm/s^2, towards a blend that allows 2185,
+ * was accepted with the speed it peaks at counted at the line's jerk,
+ * and the braking that followed brought the acceleration down at the
+ * blend's (a quarter of it): the speed passed the blend's entry, 1.13
+ * amax on the card's set-points. It now comes down at the head's jerk
+ * (follow() in control.c). */
+static void test_spiral_swing(void **s)
+{
+	const double turn[4] = { 30.0, 30.0, 30.0, -15.0 };
+	struct meas m;
+
+	(void)s;
+	family(turn, 4, 0.2, 0.01, 0.0001, &m);
+	check_chain("spiral 30 deg", 0.2, 0.01, &m);
 }
 
 /* 3D_Chips.ngc's moves N1420 to N1720 (Y, Z in mm, at X 48): a valley
@@ -1017,6 +1047,7 @@ int main(void)
 		cmocka_unit_test(test_zigzag_drop),
 		cmocka_unit_test(test_zigzag_fall),
 		cmocka_unit_test(test_zigzag_swing),
+		cmocka_unit_test(test_spiral_swing),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -919,6 +919,40 @@ static void test_spiral_swing(void **s)
 	check_chain("spiral 30 deg", 0.2, 0.01, &m);
 }
 
+/* A few moves ending in a stop under G64 P0.01 at full speed (found by
+ * fuzz_plan): a landing on a junction's speed ended there at a = 0 from
+ * where the stop 1.8 mm on could no longer be made; the motion reached
+ * the end point at 21 mm/s and was held there (4.19 amax on the card's
+ * set-points after 8 mm and 1.55 mm at 6.2 degrees; 4.00 and 3.59 for
+ * the other two). A landing's end state now keeps the limits beyond it. */
+static void test_land_end(void **s)
+{
+	static const double progs[3][3][2] = {
+		{ { 8.0, 0.0 }, { 9.5439, 0.1677 }, { 9.5439, 0.1677 } },
+		{ { 1.431918, -8.8 }, { 1.513288, -10.352631 },
+		  { 1.513288, -10.352631 } },
+		{ { 6.176872, 1.5 }, { 1.073289, 0.048235 }, { 1.0, 0.048235 } },
+	};
+	static struct prog pg;
+
+	(void)s;
+	for (unsigned int i = 0; i < 3; i++) {
+		struct meas m;
+
+		memset(&pg, 0, sizeof(pg));
+		pg.name = "land-end";
+		for (unsigned int k = 0; k < 3; k++) {
+			if (k && progs[i][k][0] == progs[i][k - 1][0] &&
+			    progs[i][k][1] == progs[i][k - 1][1])
+				break;
+			line(&pg, progs[i][k][0], progs[i][k][1], 0);
+			pg.el[pg.n - 1].feed = VMAX;
+		}
+		run(&pg, SH2000_PATH_BLEND, 0.01, 0.0, &m);
+		check_chain("stop after moves:", (double)pg.n, 0.01, &m);
+	}
+}
+
 /* 3D_Chips.ngc's moves N1420 to N1720 (Y, Z in mm, at X 48): a valley
  * whose bottom, (-13.155, -3.577), is a 103 degree corner after a 0.012
  * mm move, the moves after it short and nearly collinear (G64 Q merges
@@ -1046,6 +1080,7 @@ int main(void)
 		cmocka_unit_test(test_stop_or_blend),
 		cmocka_unit_test(test_zigzag_drop),
 		cmocka_unit_test(test_zigzag_fall),
+		cmocka_unit_test(test_land_end),
 		cmocka_unit_test(test_zigzag_swing),
 		cmocka_unit_test(test_spiral_swing),
 	};

@@ -864,6 +864,21 @@ static double land_reach(const struct ctl *c, double V)
 	return rem + n->L;
 }
 
+/* Whether the state a landing on t ends in, (V, a = 0) on the limit,
+ * still keeps every limit beyond it: each period of a landing is checked
+ * from its own end, but the rest of the landing is taken as it was
+ * planned. Landed on a corner's speed with a stop 1.8 mm past it, the
+ * motion came to the corner too fast to stop, reached the end point at
+ * 21 mm/s and was held there: 4.19 amax on the card's set-points (two
+ * moves, 8 mm and 1.55 mm at 6.2 degrees, G64 P0.01, F24000). */
+static int land_end_ok(const struct ctl *c, const struct land *t)
+{
+	struct ctl g = *c;
+
+	g.first = 1;
+	return cons_ok(&g, t->d, t->V, 0.0);
+}
+
 /* The first limit ahead, to be landed on exactly in whole periods
  * (pl_quant_land()): a stop or a lower speed (a corner's, a blend's or an
  * arc's, a slower block's, where the curvature steps) at the end of the
@@ -887,7 +902,7 @@ static int land_target(const struct ctl *c, struct land *t)
 		return 0;
 	t->drop = c->nd && c->drops[0] <= t->d ? c->drops : NULL;
 	land_caps(c, t, c->v, c->a);
-	return 1;
+	return land_end_ok(c, t);
 }
 
 /* The first period of the fewest that land on the limit (d, V) at

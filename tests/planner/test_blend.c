@@ -953,6 +953,36 @@ static void test_land_end(void **s)
 	}
 }
 
+/* 10 mm, then ten moves of 0.17 to 0.26 mm turning under 25 degrees into
+ * the end, G64 P0.01 at full speed (found by fuzz_plan): the least and
+ * the most braking both lost a limit ahead, a band between kept them
+ * all, and brake() took the motion into the stop too fast: it reached the
+ * end point at 8 mm/s and was held there, 1.90 amax on the card's
+ * set-points (passing_jerk() in control.c). */
+static void test_stop_after_chain(void **s)
+{
+	static const double xy[][2] = {
+		{ 9.607805, 2.663195 }, { 9.771602, 2.722812 },
+		{ 9.897539, 2.795522 }, { 10.001538, 2.892503 },
+		{ 10.140897, 2.983003 }, { 10.330560, 3.063511 },
+		{ 10.534423, 3.195901 }, { 10.724468, 3.373120 },
+		{ 10.925491, 3.519172 }, { 11.118105, 3.613117 },
+		{ 11.258390, 3.715039 },
+	};
+	static struct prog pg;
+	struct meas m;
+
+	(void)s;
+	memset(&pg, 0, sizeof(pg));
+	pg.name = "chain-to-stop";
+	for (unsigned int k = 0; k < sizeof(xy) / sizeof(xy[0]); k++) {
+		line(&pg, xy[k][0], xy[k][1], 0);
+		pg.el[pg.n - 1].feed = VMAX;
+	}
+	run(&pg, SH2000_PATH_BLEND, 0.01, 0.0, &m);
+	check_chain("stop after moves:", (double)pg.n, 0.01, &m);
+}
+
 /* 3D_Chips.ngc's moves N1420 to N1720 (Y, Z in mm, at X 48): a valley
  * whose bottom, (-13.155, -3.577), is a 103 degree corner after a 0.012
  * mm move, the moves after it short and nearly collinear (G64 Q merges
@@ -1081,6 +1111,7 @@ int main(void)
 		cmocka_unit_test(test_zigzag_drop),
 		cmocka_unit_test(test_zigzag_fall),
 		cmocka_unit_test(test_land_end),
+		cmocka_unit_test(test_stop_after_chain),
 		cmocka_unit_test(test_zigzag_swing),
 		cmocka_unit_test(test_spiral_swing),
 	};

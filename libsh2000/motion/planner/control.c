@@ -371,6 +371,39 @@ static double highest_jerk(const struct ctl *c, double lo, double hi,
 			       (hi - lo) / 65536.0);
 }
 
+/*
+ * Where the lowest jerk fails too, some between may still pass: braking
+ * hardest passes a drop's acceleration or a later limit's (drop_room(),
+ * cons_room() with the braking beyond A), braking least a limit ahead,
+ * and a band between keeps all. 16 jerks from lo to hi: the highest that
+ * passes, and the next above it as the bracket's top (*hi, *fhi), its
+ * slack in *flo; lo (its slack negative in *flo) if none. Left to
+ * brake() instead, 10 moves of 0.2 mm into a stop (G64 P0.01, F24000)
+ * reached the end point at 8 mm/s and were held there: 1.90 amax.
+ */
+static double passing_jerk(const struct ctl *c, double lo, double hi,
+			   double *flo, double *fhi, double *top)
+{
+	double best = lo, fb = *flo, above = hi, fa = *fhi;
+
+	for (unsigned int k = 1; k < 16; k++) {
+		double j = lo + (hi - lo) * k / 16.0, f = upper_slack(c, j);
+
+		if (f >= 0.0 && lower_ok(c, j)) {
+			best = j;
+			fb = f;
+			above = k < 15 ? lo + (hi - lo) * (k + 1) / 16.0 : hi;
+			fa = k < 15 ? upper_slack(c, above) : *fhi;
+		}
+	}
+	if (!(fb >= 0.0) || fa >= 0.0)
+		return lo;
+	*flo = fb;
+	*fhi = fa;
+	*top = above;
+	return best;
+}
+
 /* The speed of the limit that binds: the current one if it is exceeded,
  * else the one ahead with the least room left (the braking curve the
  * controller is riding); in *A the acceleration to ride it with. */
@@ -767,6 +800,16 @@ static void greedy_step(const struct ctl *c, double *ds, double *v, double *a)
 	jh = fl >= 0.0 ? highest_jerk(c, jl, J, fl, fJ) : NAN;
 	if (isnan(jh) || !lower_ok(c, jh)) {
 		brake(c, ds, v, a);
+		if (!(fl >= 0.0) && !cons_ok(c, *ds, *v, *a)) {
+			/* brake() leaves a limit out of reach: a jerk between
+			 * that keeps them all, if there is one */
+			jl = passing_jerk(c, jl, J, &fl, &fJ, &J);
+			if (fl >= 0.0) {
+				c->p->qn = 0;
+				step_state(c, highest_jerk(c, jl, J, fl, fJ),
+					   ds, v, a);
+			}
+		}
 		return;
 	}
 	step_state(c, jh, ds, v, a);

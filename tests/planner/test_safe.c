@@ -11,7 +11,10 @@
  *    Newton steps, and the first period from rest jumped 0.356 mm;
  *  - short rest-to-rest moves in compensated output: the interpolating
  *    spline overshot the end point (2.4 um for G0 X0.06 with the
- *    trapezoid) and started backwards.
+ *    trapezoid) and started backwards;
+ *  - short moves braking into a stop beyond a blend at the planner's
+ *    default limits: the controller still accelerated when it reached
+ *    the blend and braked at 3.2 times an axis' amax.
  * And the check itself: spcheck's distance from a set-point to the path
  * is the nearest segment's, wherever the last match was.
  * `build/x/tests/planner/test_safe` prints what it measured.
@@ -312,6 +315,62 @@ static void test_path_distance(void **state)
 	sp_path_free(&g);
 }
 
+/* ---- a stop beyond a blend, at the planner's default limits ----------- */
+
+/* Found by the reader + planner fuzz harness (the same programs are its
+ * regress-defaults-* inputs). At amax 50000 mm/s^2 and jerk 5e6 the
+ * S-curve ramp lasts 5 periods; a limit beyond a drop of the acceleration
+ * (a blend) was taken as met once the motion could be under the speed
+ * the blend may be entered at, even with the acceleration still climbing
+ * on reaching it: the braking to the program's stop then took an axis to
+ * 3.22 (three lines), 3.17 (a chain with a reversal), 1.41 and 1.25 amax
+ * on the card's fine set-points, the last two 0.018 and 0.033 mm off the
+ * path where 0.011 is allowed. */
+static void test_stop_beyond_blend(void **state)
+{
+	static const struct {
+		const char *name, *text;
+		double tol;	/* the program's tolerance + 1 um */
+	} prog[] = {
+		{ "three lines", "G21 G90 G64 P0.1 Q0\n"
+		  "G1 X-10.165085 Y2.730781 F24000\n"
+		  "G1 X-8.190987 Y1.724928 F24000\n"
+		  "G1 X-6.947355 Y0.013215 F24000\nM2\n", 0.101 },
+		{ "reversal chain", "G21 G90 G64 P0.1 Q0\n"
+		  "G1 X5.581330 Y0.5663083160 F24000\n"
+		  "G1 X4.588124 Y0.217392 F24000\n"
+		  "G1 X4.981607 Y0.503275 F24000\n"
+		  "G1 X5.581330 Y0.566308 F24000\n"
+		  "G1 X6.237491 Y0.274166 F24000\n"
+		  "G1 X7 F24000\n"
+		  "G1 X6.237491 Y0.274166 F24000\nM2\n", 0.101 },
+		{ "short chain", "G1 X0.475881 Y0.317899 F24000\n"
+		  "G1 X0.391138 Y0.634162 F24000\n"
+		  "G1 X0.422996 Y1.038961 F24000\n"
+		  "G1 X-0.714303 Y-0.006064 F24000\nM2\n", 0.011 },
+		{ "small turn", "G1 X9.3969 Y3.4202 F24000\n"
+		  "G1 X13.3969 Y3.4202\nG1 X16.3969 Y3.42021\n"
+		  "G1 X20.4927 Y6.2881\nM2\n", 0.011 },
+	};
+	struct sh2000_path_config cfg;
+	struct run r;
+
+	(void)state;
+	sh2000_path_config_default(&cfg);
+	for (unsigned int k = 0; k < SH2000_AXES; k++)
+		cfg.counts_per_mm[k] = 1000;	/* as the harness plans */
+	for (size_t i = 0; i < sizeof(prog) / sizeof(prog[0]); i++) {
+		assert_int_equal(plan_gcode(prog[i].text, &cfg, prog[i].tol, &r),
+				 0);
+		printf("%s: a %.4f of amax, %.6f mm off the path (allowed %.3f)\n",
+		       prog[i].name, r.sp.a_ratio, r.sp.dev, prog[i].tol);
+		assert_true(r.sp.v_ratio <= 1.0);
+		assert_true(r.sp.a_ratio <= 1.0);
+		assert_true(r.sp.dev <= prog[i].tol);
+		sp_path_free(&r.path);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -319,6 +378,7 @@ int main(void)
 		cmocka_unit_test(test_nurbs_tiny_weight),
 		cmocka_unit_test(test_short_moves),
 		cmocka_unit_test(test_path_distance),
+		cmocka_unit_test(test_stop_beyond_blend),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -194,13 +194,33 @@ static double drop_speed(const struct sh2000_path *p, const double *x,
 	return pl_reach_back(&L, x[1], x[0] - x[5]);
 }
 
+/* The distance the motion from (v, a > 0) covers bringing a down to 0
+ * at full jerk. Not where the controller holds one jerk a period: there
+ * the landing (quant.c) brings a down on whole periods, and counted
+ * here (over at least a period) it moved the card-limit sweeps both
+ * ways (zigzag, 10 degrees, 3 mm, P0.1: 1.0094 amax to 0.984; spiral,
+ * 10 degrees, 1.5 mm, P0.01: 0.976 to 1.0022, a limit just before a
+ * short blend missed as before). */
+static double settle_dist(const struct ctl *c, double v, double a)
+{
+	double t;
+
+	if (a <= 0.0 || c->quant)
+		return 0.0;
+	t = a / c->lim.J;
+	return t * (v + t * (a / 2.0 - t * c->lim.J / 6.0));
+}
+
 /* Room left, after a step to (s, v, a), to slow to limit i ahead (at its
  * distance d - s > 0): negative when it no longer can. Either all the way
  * at the least acceleration of the blocks up to it, or, while the motion
  * is before the first drop of the acceleration, by slowing at the head's
  * (every block before the drop allows as much) to the speed from which
  * the blocks after the drop can still slow to the limit at theirs, on
- * the drop with a = 0 (limits_ahead()); once past the drop, the first way
+ * the drop with a = 0 (limits_ahead()): the acceleration comes down to 0
+ * before the drop too (the speed may be under that one while a > 0, and
+ * a that is still climbing there took the three lines of G64 P0.1 at
+ * amax 50000 to 3.2 amax braking into the stop); once past the drop, the first way
  * holds from there, since that speed is its own braking curve. */
 static double cons_room(const struct ctl *c, unsigned int i, double s,
 			double v, double a)
@@ -211,11 +231,11 @@ static double cons_room(const struct ctl *c, unsigned int i, double s,
 	if (r < 0.0 && x[5] - s > 0.0 && isnan(x[6]))
 		x[6] = drop_speed(c->p, x, c->h);
 	if (x[5] - s > 0.0 && x[6] >= 0.0 && r < 0.0) {
-		double A = head_accel(c, v, a);
+		double A = head_accel(c, v, a), aa = c->trap ? 0.0 : a;
 		struct pl_limits L = { A, model_jerk(c->p, A) };
 
-		r = pl_max(r, x[5] - s - pl_brake_dist(&L, v, c->trap ? 0.0 :
-							a, x[6]));
+		r = pl_max(r, x[5] - s - pl_max(pl_brake_dist(&L, v, aa, x[6]),
+						settle_dist(c, v, aa)));
 	}
 	return r;
 }

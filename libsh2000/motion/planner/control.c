@@ -111,6 +111,7 @@ struct ctl {
 };
 
 static double peak_speed(const struct ctl *c, double v, double a);
+static double peak_at(const struct ctl *c, double v, double a, double J);
 
 /* The fastest the motion from (v, a) gets before it brakes (its speed
  * only falls then). */
@@ -134,11 +135,8 @@ static double head_accel(const struct ctl *c, double v, double a)
 
 	if (!c->af.dyn)
 		return c->lim.A;
-	if (!c->trap && a > 0.0) {	/* peak_speed() at that jerk */
-		top += a * a / (2.0 * model_jerk(c->p, c->af.A));
-		if (c->quant)
-			top = pl_max(top, v + a * c->h / 2.0);
-	}
+	if (!c->trap && a > 0.0)
+		top = peak_at(c, v, a, model_jerk(c->p, c->af.A));
 	return pl_accel_at(c->p, &c->af, top);
 }
 
@@ -194,6 +192,13 @@ static double drop_speed(const struct sh2000_path *p, const double *x,
 	return pl_reach_back(&L, x[1], x[0] - x[5]);
 }
 
+/* The distance the motion from (v, a) covers in time t with its
+ * acceleration coming down at jerk J. */
+static double ramp_dist(double v, double a, double J, double t)
+{
+	return t * (v + t * (a / 2.0 - t * J / 6.0));
+}
+
 /* The distance the motion from (v, a > 0) covers bringing a down to 0
  * at full jerk. Not where the controller holds one jerk a period: there
  * the landing (quant.c) brings a down on whole periods, and counted
@@ -203,12 +208,9 @@ static double drop_speed(const struct sh2000_path *p, const double *x,
  * short blend missed as before). */
 static double settle_dist(const struct ctl *c, double v, double a)
 {
-	double t;
-
 	if (a <= 0.0 || c->quant)
 		return 0.0;
-	t = a / c->lim.J;
-	return t * (v + t * (a / 2.0 - t * c->lim.J / 6.0));
+	return ramp_dist(v, a, c->lim.J, a / c->lim.J);
 }
 
 /* Room left, after a step to (s, v, a), to slow to limit i ahead (at its
@@ -261,7 +263,7 @@ static double drop_room(const struct ctl *c, unsigned int i, double s,
 	t = (fabs(a) - Ad) / J;	/* at full jerk to Ad, covering ... */
 	if (a < 0.0)		/* ... at most the speed now (braking) */
 		return dd - t * v;
-	return dd - t * (v + t * (a / 2.0 - t * J / 6.0));
+	return dd - ramp_dist(v, a, J, t);
 }
 
 /* The speed reached from (v, a > 0) bringing a down to 0: at full jerk,
@@ -269,7 +271,13 @@ static double drop_room(const struct ctl *c, unsigned int i, double s,
  * later: v + a h / 2), which is what the landing can do. */
 static double peak_speed(const struct ctl *c, double v, double a)
 {
-	double dv = a * a / (2.0 * c->lim.J);
+	return peak_at(c, v, a, c->lim.J);
+}
+
+/* The same with the acceleration brought down at jerk J. */
+static double peak_at(const struct ctl *c, double v, double a, double J)
+{
+	double dv = a * a / (2.0 * J);
 
 	if (c->quant)
 		dv = pl_max(dv, a * c->h / 2.0);

@@ -105,6 +105,20 @@ static int chain_can_lower(const struct sh2000_path *p, unsigned int i,
 		   4.0 * T * vup;
 }
 
+/* Block i's own limit down to v, its acceleration with it, and the next
+ * block's copy of that limit (the tail's, past the last). */
+static void chain_lower(struct sh2000_path *p, unsigned int i, double v)
+{
+	struct pl_block *k = (struct pl_block *)pl_block_at(p, i);
+
+	k->vlim = v;
+	k->A = pl_block_accel(p, k);
+	if (i + 1 < p->count)
+		((struct pl_block *)pl_block_at(p, i + 1))->prev_vlim = v;
+	else
+		p->tail_vlim = v;
+}
+
 /*
  * The chain of short blocks ending at the tail, at most CHAIN_BACK back
  * and never the head: the ring index of its first block, and each
@@ -169,7 +183,7 @@ static void chain_open(struct sh2000_path *p)
 	}
 	for (j = n; j-- > 0;) {
 		unsigned int i = first + j;
-		struct pl_block *k = (struct pl_block *)pl_block_at(p, i);
+		const struct pl_block *k = pl_block_at(p, i);
 
 		/* the limit inside the block, not only at its entry (a
 		 * blend entered at 15.7 mm/s whose own limit stayed at 36
@@ -181,13 +195,7 @@ static void chain_open(struct sh2000_path *p)
 			continue;
 		if (!chain_can_lower(p, i, o[j]))
 			return;
-		k->vlim = o[j];
-		k->A = pl_block_accel(p, k);
-		if (i + 1 < p->count)	/* the next block's copy of it */
-			((struct pl_block *)pl_block_at(p, i + 1))->prev_vlim =
-				k->vlim;
-		else
-			p->tail_vlim = k->vlim;
+		chain_lower(p, i, o[j]);
 	}
 }
 
@@ -210,17 +218,15 @@ static void chain_fall(struct sh2000_path *p)
 	if (p->cfg.output != SH2000_OUTPUT_COMPENSATED)
 		return;
 	for (i = p->count - 1; i > 1 && n < CHAIN_BACK; i--, n++) {
-		struct pl_block *k = (struct pl_block *)pl_block_at(p, i - 1);
-		struct pl_block *t = (struct pl_block *)pl_block_at(p, i);
+		const struct pl_block *k = pl_block_at(p, i - 1);
+		const struct pl_block *t = pl_block_at(p, i);
 		double v = chain_level(t), top = chain_level(k);
 
 		if (!pl_accel_dyn(k) || t->corner || !(v > 0.0) ||
 		    !(v < top) || !(k->L < CHAIN_PERIODS * T * top) ||
 		    !chain_can_lower(p, i - 1, v))
 			return;
-		k->vlim = v;
-		k->A = pl_block_accel(p, k);
-		t->prev_vlim = v;
+		chain_lower(p, i - 1, v);
 	}
 }
 

@@ -25,12 +25,12 @@ static const char *const rs274_files[] = {
 	".tool.mmap",
 };
 
-/* rs274's environment: ours with HOME in its own directory. LinuxCNC's
- * interpreter keeps its tool data in $HOME/.tool.mmap, which it creates
- * truncated: two rs274 at once with the same HOME (two uploads, a dry
- * run beside a run) die of SIGBUS in about one run in fifteen. NULL
- * when out of memory. */
-static char **rs274_env(const char *dir)
+/* rs274's environment: ours with home ("HOME=its own directory") for
+ * HOME. LinuxCNC's interpreter keeps its tool data in $HOME/.tool.mmap,
+ * which it creates truncated: two rs274 at once with the same HOME (two
+ * uploads, a dry run beside a run) die of SIGBUS in about one run in
+ * fifteen. NULL when out of memory; free() it. */
+static char **rs274_env(char *home)
 {
 	size_t n = 0, k = 0;
 	char **env;
@@ -43,12 +43,7 @@ static char **rs274_env(const char *dir)
 	for (size_t i = 0; i < n; i++)
 		if (strncmp(environ[i], "HOME=", 5))
 			env[k++] = environ[i];
-	env[k] = malloc(strlen(dir) + 6);
-	if (!env[k]) {
-		free(env);
-		return NULL;
-	}
-	sprintf(env[k], "HOME=%s", dir);
+	env[k] = home;
 	return env;
 }
 
@@ -153,7 +148,7 @@ static int rs274_inputs(const struct upl_opts *o, struct upl_source *s,
 
 int upl_rs274_run(const struct upl_opts *o, struct upl_source *s)
 {
-	char tbl[128], var[128];
+	char tbl[128], var[128], home[sizeof(s->dir) + 5];
 	char *argv[] = { "rs274", "-g", "-t", tbl, "-v", var, (char *)o->file,
 			 NULL };
 	posix_spawn_file_actions_t fa;
@@ -174,7 +169,8 @@ int upl_rs274_run(const struct upl_opts *o, struct upl_source *s)
 	x = rs274_inputs(o, s, tbl, var);
 	if (x)
 		return x;
-	env = rs274_env(s->dir);
+	snprintf(home, sizeof(home), "HOME=%s", s->dir);
+	env = rs274_env(home);
 	if (!env) {
 		sh2000_tool_msg("--rs274: %s", strerror(ENOMEM));
 		return SH2000_EXIT_HELPER;
@@ -185,9 +181,6 @@ int upl_rs274_run(const struct upl_opts *o, struct upl_source *s)
 					 O_WRONLY | O_CREAT | O_TRUNC, 0600);
 	e = posix_spawnp(&pid, "rs274", &fa, NULL, argv, env);
 	posix_spawn_file_actions_destroy(&fa);
-	for (x = 0; env[x]; x++)
-		if (!strncmp(env[x], "HOME=", 5))
-			free(env[x]);
 	free(env);
 	if (e) {
 		sh2000_tool_msg("--rs274: cannot run rs274: %s", strerror(e));

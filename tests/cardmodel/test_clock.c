@@ -149,7 +149,13 @@ static uint64_t sample(struct sh2000_sim_server *s[2], uint64_t c[2])
  * and catches up at once (more than a second behind it would lose cycles), so
  * each rate is within 1 % of its oscillator over 2 s (20 ms) whatever runs
  * beside, and their ratio is 0.9608 (1 if the oscillators were ignored).
+ * A virtual machine's host may stop the whole guest for tens of
+ * milliseconds: a window that ends in such a stop reads a server behind
+ * its schedule although it catches up after it (9555.5 instead of 9803.9
+ * once), so a window out of 1 % is measured again, up to WINDOWS times:
+ * a server that loses or owes cycles is out of it in every one.
  */
+#define WINDOWS 3u
 static void served_drift(void **state)
 {
 	static uint16_t ram[2][SH2000_RAM_WORDS];
@@ -158,7 +164,8 @@ static void served_drift(void **state)
 	struct timespec warm = { 0, 100000000 }, run = { 2, 0 };
 	uint64_t c0[2], c1[2], t0, t1, t_start = mono_ns();
 	double rate[2], want[2];
-	unsigned int i;
+	unsigned int i, w;
+	int ok;
 
 	(void)state;
 	for (i = 0; i < 2; i++) {
@@ -169,26 +176,35 @@ static void served_drift(void **state)
 	}
 	assert_int_equal(sh2000_sim_server_set_clock_ppm(s[0], -2e5), -EINVAL);
 	nanosleep(&warm, NULL);
-	t0 = sample(s, c0);
-	nanosleep(&run, NULL);
-	t1 = sample(s, c1);
-	for (i = 0; i < 2; i++) {
-		rate[i] = (double)(c1[i] - c0[i]) * 1e9 / (double)(t1 - t0);
-		want[i] = 1e9 / (PERIOD_NS * (1.0 + ppm[i] * 1e-6));
-		printf("# served card at %+g ppm: %.1f servo cycles per host second (expected %.1f)\n",
-		       ppm[i], rate[i], want[i]);
-		/* never ahead of its clock: the first cycle at the start,
-		 * each next one a period of host time later at the earliest */
-		assert_true((double)c1[i] <=
-			    1.0 + (double)(t1 - t_start) * 1e-9 * want[i]);
+	for (w = 0; w < WINDOWS; w++) {
+		t0 = sample(s, c0);
+		nanosleep(&run, NULL);
+		t1 = sample(s, c1);
+		ok = 1;
+		for (i = 0; i < 2; i++) {
+			rate[i] = (double)(c1[i] - c0[i]) * 1e9 /
+				  (double)(t1 - t0);
+			want[i] = 1e9 / (PERIOD_NS * (1.0 + ppm[i] * 1e-6));
+			printf("# served card at %+g ppm: %.1f servo cycles per host second (expected %.1f)\n",
+			       ppm[i], rate[i], want[i]);
+			/* never ahead of its clock: the first cycle at the
+			 * start, each next one a period of host time later at
+			 * the earliest */
+			assert_true((double)c1[i] <=
+				    1.0 + (double)(t1 - t_start) * 1e-9 *
+				    want[i]);
+			ok &= fabs(rate[i] / want[i] - 1.0) <= 0.01;
+		}
+		printf("# ratio %.4f (expected %.4f)\n", rate[0] / rate[1],
+		       want[0] / want[1]);
+		if (ok)
+			break;
 	}
-	printf("# ratio %.4f (expected %.4f)\n", rate[0] / rate[1],
-	       want[0] / want[1]);
 	for (i = 0; i < 2; i++) {
 		sh2000_sim_server_destroy(s[i]);
 		if (fabs(rate[i] / want[i] - 1.0) > 0.01)
-			fail_msg("served card at %+g ppm: %.1f cycles per host second, not within 1 %% of %.1f: it lost or owed cycles",
-				 ppm[i], rate[i], want[i]);
+			fail_msg("served card at %+g ppm: %.1f cycles per host second, not within 1 %% of %.1f in %u windows: it lost or owed cycles",
+				 ppm[i], rate[i], want[i], WINDOWS);
 	}
 	assert_true(rate[0] / rate[1] > 0.94 && rate[0] / rate[1] < 0.98);
 }

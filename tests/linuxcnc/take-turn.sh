@@ -19,12 +19,18 @@ turn_close_lock=(sh -c 'exec "$@" 9>&-' sh)
 # end_orphans: with the turn held, no run owns a LinuxCNC of the test
 # user: what is left is a killed run's (a timeout's SIGKILL skips its
 # clean-up, and LinuxCNC's daemons outlive it). End it as LinuxCNC's own
-# launcher would: its processes, its lock file, HAL's shared memory.
+# launcher would: its processes and its lock file (end_stale_segments,
+# once no session runs, its shared memory). A lock file of a user no
+# longer on the machine is a killed run's too: the test user is created
+# anew on a machine whose /etc was reset but not its /tmp.
 end_orphans() {
 	local uid p i
 	local -a pids
 
 	[ "$(id -u)" -eq 0 ] || return 0
+	[ -e /tmp/linuxcnc.lock ] &&
+		! getent passwd "$(stat -c %u /tmp/linuxcnc.lock)" >/dev/null &&
+		rm -f /tmp/linuxcnc.lock
 	uid=$(id -u "$turn_user" 2>/dev/null) || return 0
 	mapfile -t pids < <(pgrep -u "$uid")
 	for p in $(pgrep -x rtapi_app); do
@@ -51,8 +57,35 @@ end_orphans() {
 	fi
 	[ -e /tmp/linuxcnc.lock ] && [ "$(stat -c %u /tmp/linuxcnc.lock)" = "$uid" ] &&
 		rm -f /tmp/linuxcnc.lock
-	for p in $(ipcs -m | awk -v u="$turn_user" '$3 == u && $6 == 0 { print $2 }'); do
-		ipcrm -m "$p" 2>/dev/null
+	return 0
+}
+
+# end_stale_segments: with the turn held and no LinuxCNC or HAL session
+# running, LinuxCNC's System V shared memory that no process is attached
+# to is a killed session's, whoever owned it. It must go: LinuxCNC attaches
+# to a segment it finds instead of making a new one, and the io controller
+# then reads the killed session's last tool command, echoes its serial
+# number, and task waits on every I/O command for good (the machine never
+# comes on). Such segments outlive the processes, the test user (the
+# owner may be a uid no user has) and a reset /tmp. The keys: the NML
+# buffers' (linuxcnc.nml, the ones LinuxCNC's own launcher removes at
+# exit), motion's (EMCMOT SHMEM_KEY, 100 by default), HAL's (HAL_KEY),
+# the uspace RTAPI's (UUID_KEY) and halsampler's first channel
+# (SAMPLER_SHMEM_KEY).
+lcnc_nml=/usr/share/linuxcnc/linuxcnc.nml
+end_stale_segments() {
+	local -a keys
+	local id
+
+	[ "$(id -u)" -eq 0 ] || return 0
+	mapfile -t keys < <(awk '$1 == "B" && $3 == "SHMEM" { printf "0x%08x\n", $10 }' \
+		"$lcnc_nml" 2>/dev/null)
+	keys+=(0x00000064 0x48414c32 0x48484c34 0x48534130)
+	for id in $(ipcs -m | awk -v keys="${keys[*]}" '
+		BEGIN { n = split(keys, k, " "); for (i = 1; i <= n; i++) stale[k[i]] = 1 }
+		tolower($1) in stale && $6 == 0 { print $2 }'); do
+		echo "-- removing a killed LinuxCNC session's shared memory (shmid $id)"
+		ipcrm -m "$id" 2>/dev/null
 	done
 	return 0
 }
@@ -60,7 +93,9 @@ end_orphans() {
 # take_turn: wait (at most 20 minutes) until no other run holds the lock,
 # end what a killed run left (end_orphans), then wait until no other
 # LinuxCNC or HAL session runs (one started by hand, or by a tree that
-# does not take turns); the lock is held until the calling script exits.
+# does not take turns) and remove what shared memory a killed session
+# left (end_stale_segments); the lock is held until the calling script
+# exits.
 take_turn() {
 	local lock=/tmp/sh2000-linuxcnc.lock waited=0
 
@@ -84,4 +119,5 @@ take_turn() {
 		sleep 1
 		waited=$((waited + 1))
 	done
+	end_stale_segments
 }

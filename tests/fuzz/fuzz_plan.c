@@ -298,7 +298,7 @@ static void check_setpoints(const struct plan_check *pc,
 		fz_fail("fine set-point %llu: an axis at %.4f of the jerk limit (allowed %.4f)",
 			sp->j_at, sp->j_ratio, jmax);
 	if (sp->dev > sp->tol)
-		fz_fail("fine set-point %llu (%g, %g, %g, %g): %.6f mm from the path (allowed %.6f)",
+		fz_fail("fine set-point %llu (%g, %g, %g, %g), the first off the path: %.6f mm from it (allowed %.6f)",
 			sp->dev_at, sp->dev_point[0], sp->dev_point[1],
 			sp->dev_point[2], sp->dev_point[3], sp->dev, sp->tol);
 }

@@ -983,6 +983,32 @@ static void test_stop_after_chain(void **s)
 	check_chain("stop after moves:", (double)pg.n, 0.01, &m);
 }
 
+/* A 106 mm line, then lines of 3.6, 19.6, 3.1 and 3.6 mm turning -3,
+ * +19, -16 and +30 degrees into the end, G64 P0.1 at full speed (found by
+ * fuzz_plan): the room to the limit beyond the 3.1 mm blend counted the
+ * 19.6 mm line's braking as if the blend allowed it, and the motion braked
+ * at the line's acceleration into the blend (1.42 amax). */
+static void test_brake_into_blend(void **s)
+{
+	static const double xy[][2] = {
+		{ 95.305078, 47.582977 }, { 98.616450, 49.05 },
+		{ 113.073896, 62.306270 }, { 115.814256, 63.702553 },
+		{ 117.794319, 66.751584 },
+	};
+	static struct prog pg;
+	struct meas m;
+
+	(void)s;
+	memset(&pg, 0, sizeof(pg));
+	pg.name = "brake-into-blend";
+	for (unsigned int k = 0; k < sizeof(xy) / sizeof(xy[0]); k++) {
+		line(&pg, xy[k][0], xy[k][1], 0);
+		pg.el[pg.n - 1].feed = VMAX;
+	}
+	run(&pg, SH2000_PATH_BLEND, 0.1, 0.0, &m);
+	check_chain("stop after moves:", (double)pg.n, 0.1, &m);
+}
+
 /* 3D_Chips.ngc's moves N1420 to N1720 (Y, Z in mm, at X 48): a valley
  * whose bottom, (-13.155, -3.577), is a 103 degree corner after a 0.012
  * mm move, the moves after it short and nearly collinear (G64 Q merges
@@ -1112,6 +1138,7 @@ int main(void)
 		cmocka_unit_test(test_zigzag_fall),
 		cmocka_unit_test(test_land_end),
 		cmocka_unit_test(test_stop_after_chain),
+		cmocka_unit_test(test_brake_into_blend),
 		cmocka_unit_test(test_zigzag_swing),
 		cmocka_unit_test(test_spiral_swing),
 	};

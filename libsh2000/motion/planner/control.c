@@ -111,6 +111,7 @@ struct ctl {
 };
 
 static double peak_speed(const struct ctl *c, double v, double a);
+static double ramp_dist(double v, double a, double J, double t);
 static double peak_at(const struct ctl *c, double v, double a, double J);
 
 /* The fastest the motion from (v, a) gets before it brakes (its speed
@@ -162,15 +163,37 @@ static double cons_accel(const struct ctl *c, unsigned int i, double v,
 		      head_accel(c, v, a));
 }
 
-/* Distance to slow to limit i from (v, a), at the acceleration allowed on
- * the way to it. */
+/*
+ * Distance to slow to limit i from (v, a), at the acceleration allowed on
+ * the way to it. A braking beyond that (the head allows more than a block
+ * ahead) is brought down to it first, at full jerk: held to the end, as
+ * pl_trans_plan() holds an acceleration beyond its A, it was counted
+ * across the block that does not allow it. The room to a limit beyond a
+ * blend of 3210 mm/s^2 then read 0 while the motion, braking at 4823 on
+ * the line before it, could no longer meet that limit through the
+ * blend; it braked at the line's 6255 up to the junction and into the
+ * blend (a 106 mm line, then 3.6, 19.6, 3.1 and 3.6 mm into the end at
+ * G64 P0.1: 1.42 amax on the card's set-points).
+ */
 static double cons_brake(const struct ctl *c, unsigned int i, double v,
 			 double a)
 {
 	double A = cons_accel(c, i, v, a);
 	struct pl_limits L = { A, model_jerk(c->p, A) };
+	double d = 0.0;
 
-	return pl_brake_dist(&L, v, c->trap ? 0.0 : a, c->cons[PL_CONS * i + 1]);
+	if (c->trap) {
+		a = 0.0;
+	} else if (a < -A && A < head_accel(c, v, a)) {
+		double t = (-A - a) / L.J;
+
+		d = ramp_dist(v, a, -L.J, t);
+		v += t * (a - A) / 2.0;
+		a = -A;
+		if (v <= c->cons[PL_CONS * i + 1])
+			return d;
+	}
+	return d + pl_brake_dist(&L, v, a, c->cons[PL_CONS * i + 1]);
 }
 
 /* For limit x beyond the first drop of the acceleration (at x[5]): the
@@ -239,6 +262,9 @@ static double cons_room(const struct ctl *c, unsigned int i, double s,
 		r = pl_max(r, x[5] - s - pl_max(pl_brake_dist(&L, v, aa, x[6]),
 						settle_dist(c, v, aa)));
 	}
+	/* a nearer limit that implies this one, still ahead: its room */
+	if (r < 0.0 && x[7] >= 0.0 && c->cons[PL_CONS * (unsigned int)x[7]] > s)
+		r = pl_max(r, cons_room(c, (unsigned int)x[7], s, v, a));
 	return r;
 }
 
@@ -577,6 +603,61 @@ static int acc_run_add(struct acc_run *r, const struct pl_block *k,
 	return 1;
 }
 
+/*
+ * For each of the n limits ahead, the nearest one before it that implies
+ * it (x[7], -1 if none): one of nearly its speed (within 5 %) from which
+ * the motion can still slow to this one's in the distance between, at
+ * the least acceleration on the way to this one (which bounds the blocks
+ * between), where a block on the way allows less than those up to the
+ * nearer one. Such a limit can be met wherever the nearer one can
+ * (cons_room()): its own room, at the least acceleration of all its
+ * blocks, counts one that may lie beyond the nearer limit, where the
+ * motion is slow already. Once a braking was no longer counted beyond a
+ * block's acceleration (cons_brake()), a corner of the surfacing program
+ * at 7.85 mm/s with another at 7.84 mm/s 1 mm beyond it past a block of
+ * 3202 mm/s^2 had the controller ride the later one's braking at 3202
+ * from 260 mm/s and lose the nearer: 11 amax.
+ *
+ * Further apart in speed, a limit's own room is what keeps the motion
+ * from speeding into a short blend: read through the nearer limit, a 10
+ * degree zigzag of 1.5 mm moves at G64 P0.1 reached 1.018 amax. And only
+ * where the controller holds one jerk a period: there a braking is within
+ * a block's acceleration before the motion enters it (drop_room()), so
+ * the motion that meets the nearer limit can take the blocks between at
+ * theirs; in the other mode it may enter one braking harder for up to
+ * half a period, and stops beyond a blend at 50000 mm/s^2 passed amax
+ * (test_safe, test_planner's random programs).
+ */
+static void implied_by(struct sh2000_path *p, unsigned int n)
+{
+	unsigned int i, k;
+
+	for (i = 0; i < n; i++) {
+		double *x = p->cons + PL_CONS * i;
+
+		x[7] = -1.0;
+		for (k = i; p->quant && k-- > 0;) {
+			const double *y = p->cons + PL_CONS * k;
+			/* read at the faster one's speed: a short blend
+			 * allows less the faster the motion */
+			double A = acc_at(p, x + 2, y[1]);
+			struct pl_limits L = { A, model_jerk(p, A) };
+
+			/* only where a block between allows less: else the
+			 * limit's own room is as good, and read through the
+			 * nearer one, the spiral of short arcs to rest
+			 * (arcspiral.ngc's end) swung its acceleration
+			 * between them to 1.04 amax */
+			if (y[1] >= x[1] && x[1] >= 0.95 * y[1] &&
+			    A < 0.999 * acc_at(p, y + 2, y[1]) &&
+			    x[0] - y[0] >= pl_brake_dist(&L, y[1], 0.0, x[1])) {
+				x[7] = k;
+				break;
+			}
+		}
+	}
+}
+
 static unsigned int limits_ahead(struct sh2000_path *p, double h,
 				 double level, int halt, double A0,
 				 unsigned int *nd)
@@ -639,6 +720,7 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 		x[1] = 0.0;
 		memcpy(x + 2, run.x, sizeof(run.x));
 	}
+	implied_by(p, n);
 	for (i = 0; i < n; i++) {	/* cons_room(): when it needs them */
 		p->cons[PL_CONS * i + 5] = m ? p->drops[0] : 0.0;
 		p->cons[PL_CONS * i + 6] = m && p->drops[0] > 0.0 &&

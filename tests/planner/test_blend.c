@@ -1009,6 +1009,31 @@ static void test_brake_into_blend(void **s)
 	check_chain("stop after moves:", (double)pg.n, 0.1, &m);
 }
 
+/* 1.8 mm, 0.25 mm, then back 2.8 mm into the end, G64 P0.1 at full
+ * speed (found by fuzz_plan): two corners of nearly one speed (4.05 and
+ * 4.03 mm/s) 0.015 mm apart, the second after a block of 3202 mm/s^2;
+ * brake() followed the later one at that acceleration, the nearer one
+ * was lost (6.8 amax). */
+static void test_two_corners_one_speed(void **s)
+{
+	static const double xy[][2] = {
+		{ 4.224460, 0.51823812 }, { 5.943519, 1.004022 },
+		{ 6.191283, 1.038843 }, { 3.397875, 1.105970 },
+	};
+	static struct prog pg;
+	struct meas m;
+
+	(void)s;
+	memset(&pg, 0, sizeof(pg));
+	pg.name = "two-corners";
+	for (unsigned int k = 0; k < sizeof(xy) / sizeof(xy[0]); k++) {
+		line(&pg, xy[k][0], xy[k][1], 0);
+		pg.el[pg.n - 1].feed = k == 1 ? 24005.0 / 60.0 : VMAX;
+	}
+	run(&pg, SH2000_PATH_BLEND, 0.1, 0.0, &m);
+	check_chain("stop after moves:", (double)pg.n, 0.1, &m);
+}
+
 /* 3D_Chips.ngc's moves N1420 to N1720 (Y, Z in mm, at X 48): a valley
  * whose bottom, (-13.155, -3.577), is a 103 degree corner after a 0.012
  * mm move, the moves after it short and nearly collinear (G64 Q merges
@@ -1139,6 +1164,7 @@ int main(void)
 		cmocka_unit_test(test_land_end),
 		cmocka_unit_test(test_stop_after_chain),
 		cmocka_unit_test(test_brake_into_blend),
+		cmocka_unit_test(test_two_corners_one_speed),
 		cmocka_unit_test(test_zigzag_swing),
 		cmocka_unit_test(test_spiral_swing),
 	};

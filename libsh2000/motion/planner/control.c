@@ -811,6 +811,7 @@ static void brake(const struct ctl *c, double *ds, double *v, double *a)
 
 	for (i = 0; i <= c->n; i++) {
 		double lowest = vt;
+		int lowered = 0;
 
 		follow(c, vt, A, ds, v, a);
 		for (k = c->first; k < c->n; k++) {
@@ -821,7 +822,15 @@ static void brake(const struct ctl *c, double *ds, double *v, double *a)
 			    (dd <= 0.0 ? *v > V + V_EPS :
 			     cons_room(c, k, *ds, *v, *a) < -1e-12)) {
 				lowest = V;
-				A = pl_min(A, cons_accel(c, k, c->v, c->a));
+				/* at the acceleration of the nearest such
+				 * limit: a later one's least may lie beyond
+				 * it (corners of 4.05 and 4.03 mm/s, the
+				 * second past a block of 3202 mm/s^2:
+				 * braking at that lost the first, 6.8 amax) */
+				if (!lowered)
+					A = pl_min(A, cons_accel(c, k, c->v,
+								 c->a));
+				lowered = 1;
 			}
 		}
 		if (lowest == vt)

@@ -953,6 +953,25 @@ static void test_land_end(void **s)
 	}
 }
 
+/* Lines from the start through xy[0 .. n), at full speed or at feed[k]
+ * (mm/s) where feed is given, G64 P, into the end: within P and the
+ * axes' limits on the card's set-points. */
+static void check_lines(const char *name, const double (*xy)[2],
+			unsigned int n, const double *feed, double P)
+{
+	static struct prog pg;
+	struct meas m;
+
+	memset(&pg, 0, sizeof(pg));
+	pg.name = name;
+	for (unsigned int k = 0; k < n; k++) {
+		line(&pg, xy[k][0], xy[k][1], 0);
+		pg.el[pg.n - 1].feed = feed ? feed[k] : VMAX;
+	}
+	run(&pg, SH2000_PATH_BLEND, P, 0.0, &m);
+	check_chain("stop after moves:", (double)pg.n, P, &m);
+}
+
 /* 10 mm, then ten moves of 0.17 to 0.26 mm turning under 25 degrees into
  * the end, G64 P0.01 at full speed (found by fuzz_plan): the least and
  * the most braking both lost a limit ahead, a band between kept them
@@ -969,18 +988,10 @@ static void test_stop_after_chain(void **s)
 		{ 10.925491, 3.519172 }, { 11.118105, 3.613117 },
 		{ 11.258390, 3.715039 },
 	};
-	static struct prog pg;
-	struct meas m;
 
 	(void)s;
-	memset(&pg, 0, sizeof(pg));
-	pg.name = "chain-to-stop";
-	for (unsigned int k = 0; k < sizeof(xy) / sizeof(xy[0]); k++) {
-		line(&pg, xy[k][0], xy[k][1], 0);
-		pg.el[pg.n - 1].feed = VMAX;
-	}
-	run(&pg, SH2000_PATH_BLEND, 0.01, 0.0, &m);
-	check_chain("stop after moves:", (double)pg.n, 0.01, &m);
+	check_lines("chain-to-stop", xy, sizeof(xy) / sizeof(xy[0]), NULL,
+		    0.01);
 }
 
 /* A 106 mm line, then lines of 3.6, 19.6, 3.1 and 3.6 mm turning -3,
@@ -995,18 +1006,10 @@ static void test_brake_into_blend(void **s)
 		{ 113.073896, 62.306270 }, { 115.814256, 63.702553 },
 		{ 117.794319, 66.751584 },
 	};
-	static struct prog pg;
-	struct meas m;
 
 	(void)s;
-	memset(&pg, 0, sizeof(pg));
-	pg.name = "brake-into-blend";
-	for (unsigned int k = 0; k < sizeof(xy) / sizeof(xy[0]); k++) {
-		line(&pg, xy[k][0], xy[k][1], 0);
-		pg.el[pg.n - 1].feed = VMAX;
-	}
-	run(&pg, SH2000_PATH_BLEND, 0.1, 0.0, &m);
-	check_chain("stop after moves:", (double)pg.n, 0.1, &m);
+	check_lines("brake-into-blend", xy, sizeof(xy) / sizeof(xy[0]),
+		    NULL, 0.1);
 }
 
 /* 1.8 mm, 0.25 mm, then back 2.8 mm into the end, G64 P0.1 at full
@@ -1020,18 +1023,11 @@ static void test_two_corners_one_speed(void **s)
 		{ 4.224460, 0.51823812 }, { 5.943519, 1.004022 },
 		{ 6.191283, 1.038843 }, { 3.397875, 1.105970 },
 	};
-	static struct prog pg;
-	struct meas m;
+	/* F24005 on the second: above vmax, as the fuzz input had it */
+	static const double feed[] = { VMAX, 24005.0 / 60.0, VMAX, VMAX };
 
 	(void)s;
-	memset(&pg, 0, sizeof(pg));
-	pg.name = "two-corners";
-	for (unsigned int k = 0; k < sizeof(xy) / sizeof(xy[0]); k++) {
-		line(&pg, xy[k][0], xy[k][1], 0);
-		pg.el[pg.n - 1].feed = k == 1 ? 24005.0 / 60.0 : VMAX;
-	}
-	run(&pg, SH2000_PATH_BLEND, 0.1, 0.0, &m);
-	check_chain("stop after moves:", (double)pg.n, 0.1, &m);
+	check_lines("two-corners", xy, sizeof(xy) / sizeof(xy[0]), feed, 0.1);
 }
 
 /* 3D_Chips.ngc's moves N1420 to N1720 (Y, Z in mm, at X 48): a valley

@@ -53,7 +53,7 @@ struct sp_check {
 	const struct sp_path *path;	/* NULL: no geometry check */
 	double tol;		/* mm from the path a set-point may be */
 	/* worst seen: ratios to the limits, distance, and where (fine index);
-	 * the distance stops at the first point further than tol than the
+	 * the distance stops at the first point further than tol from the
 	 * path: the points after it are measured to the near segments only,
 	 * an upper bound that a set-point 0.011 mm off the path once turned
 	 * into 3.37 mm, so they are left out */

@@ -919,40 +919,6 @@ static void test_spiral_swing(void **s)
 	check_chain("spiral 30 deg", 0.2, 0.01, &m);
 }
 
-/* A few moves ending in a stop under G64 P0.01 at full speed (found by
- * fuzz_plan): a landing on a junction's speed ended there at a = 0 from
- * where the stop 1.8 mm on could no longer be made; the motion reached
- * the end point at 21 mm/s and was held there (4.19 amax on the card's
- * set-points after 8 mm and 1.55 mm at 6.2 degrees; 4.00 and 3.59 for
- * the other two). A landing's end state now keeps the limits beyond it. */
-static void test_land_end(void **s)
-{
-	static const double progs[3][3][2] = {
-		{ { 8.0, 0.0 }, { 9.5439, 0.1677 }, { 9.5439, 0.1677 } },
-		{ { 1.431918, -8.8 }, { 1.513288, -10.352631 },
-		  { 1.513288, -10.352631 } },
-		{ { 6.176872, 1.5 }, { 1.073289, 0.048235 }, { 1.0, 0.048235 } },
-	};
-	static struct prog pg;
-
-	(void)s;
-	for (unsigned int i = 0; i < 3; i++) {
-		struct meas m;
-
-		memset(&pg, 0, sizeof(pg));
-		pg.name = "land-end";
-		for (unsigned int k = 0; k < 3; k++) {
-			if (k && progs[i][k][0] == progs[i][k - 1][0] &&
-			    progs[i][k][1] == progs[i][k - 1][1])
-				break;
-			line(&pg, progs[i][k][0], progs[i][k][1], 0);
-			pg.el[pg.n - 1].feed = VMAX;
-		}
-		run(&pg, SH2000_PATH_BLEND, 0.01, 0.0, &m);
-		check_chain("stop after moves:", (double)pg.n, 0.01, &m);
-	}
-}
-
 /* Lines from the start through xy[0 .. n), at full speed or at feed[k]
  * (mm/s) where feed is given, G64 P, into the end: within P and the
  * axes' limits on the card's set-points. */
@@ -970,6 +936,29 @@ static void check_lines(const char *name, const double (*xy)[2],
 	}
 	run(&pg, SH2000_PATH_BLEND, P, 0.0, &m);
 	check_chain("stop after moves:", (double)pg.n, P, &m);
+}
+
+/* A few moves ending in a stop under G64 P0.01 at full speed (found by
+ * fuzz_plan): a landing on a junction's speed ended there at a = 0 from
+ * where the stop 1.8 mm on could no longer be made; the motion reached
+ * the end point at 21 mm/s and was held there (4.19 amax on the card's
+ * set-points after 8 mm and 1.55 mm at 6.2 degrees; 4.00 and 3.59 for
+ * the other two). A landing's end state now keeps the limits beyond it. */
+static void test_land_end(void **s)
+{
+	static const struct {
+		unsigned int n;
+		double xy[3][2];
+	} progs[3] = {
+		{ 2, { { 8.0, 0.0 }, { 9.5439, 0.1677 } } },
+		{ 2, { { 1.431918, -8.8 }, { 1.513288, -10.352631 } } },
+		{ 3, { { 6.176872, 1.5 }, { 1.073289, 0.048235 },
+		       { 1.0, 0.048235 } } },
+	};
+
+	(void)s;
+	for (unsigned int i = 0; i < 3; i++)
+		check_lines("land-end", progs[i].xy, progs[i].n, NULL, 0.01);
 }
 
 /* 10 mm, then ten moves of 0.17 to 0.26 mm turning under 25 degrees into

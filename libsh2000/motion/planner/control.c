@@ -111,7 +111,6 @@ struct ctl {
 };
 
 static double peak_speed(const struct ctl *c, double v, double a);
-static double ramp_dist(double v, double a, double J, double t);
 static double peak_at(const struct ctl *c, double v, double a, double J);
 
 /* The fastest the motion from (v, a) gets before it brakes (its speed
@@ -185,10 +184,7 @@ static double cons_brake(const struct ctl *c, unsigned int i, double v,
 	if (c->trap) {
 		a = 0.0;
 	} else if (a < -A && A < head_accel(c, v, a)) {
-		double t = (-A - a) / L.J;
-
-		d = ramp_dist(v, a, -L.J, t);
-		v += t * (a - A) / 2.0;
+		pl_integrate(&d, &v, &a, L.J, (-A - a) / L.J);
 		a = -A;
 		if (v <= c->cons[PL_CONS * i + 1])
 			return d;
@@ -219,7 +215,10 @@ static double drop_speed(const struct sh2000_path *p, const double *x,
  * acceleration coming down at jerk J. */
 static double ramp_dist(double v, double a, double J, double t)
 {
-	return t * (v + t * (a / 2.0 - t * J / 6.0));
+	double s = 0.0;
+
+	pl_integrate(&s, &v, &a, -J, t);
+	return s;
 }
 
 /* The distance the motion from (v, a > 0) covers bringing a down to 0

@@ -11,28 +11,53 @@
 
 #include "planner.h"
 
+/*
+ * The arc is a spiral when the programmed centre is not equidistant from
+ * its ends: the radius runs linearly from r0 to r1 with the angle. Its
+ * planar speed along the fraction f is |dr e_r + r(f) sweep e_th|; that
+ * radial part is negligible on a real arc but is all of it on an arc of
+ * enormous radius whose sweep rounds to nothing, so length and tangents
+ * count it rather than take the arc for a circle.
+ */
+static double arc_planar_speed(const struct sh2000_arc *g, double f)
+{
+	double dr = g->r1 - g->r0, u = (g->r0 + f * dr) * g->sweep;
+
+	return sqrt(u * u + dr * dr);
+}
+
+/* The unit tangent where the angle is th and the planar speed's
+ * tangential part u = r sweep; lin: the linear axes' travel. */
+static void arc_end_tangent(const double lin[SH2000_AXES], double lin2,
+			    double dr, double u, double th, unsigned int i,
+			    unsigned int j, double t[SH2000_AXES])
+{
+	double n = sqrt(u * u + dr * dr + lin2);
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++)
+		t[a] = lin[a] / n;
+	t[i] = (dr * cos(th) - u * sin(th)) / n;
+	t[j] = (dr * sin(th) + u * cos(th)) / n;
+}
+
 void pl_arc_frame(struct pl_block *b)
 {
 	const struct sh2000_arc *g = &b->g.arc;
-	double lin2 = 0.0, planar, f, sgn = g->sweep > 0.0 ? 1.0 : -1.0;
-	double th1 = g->th0 + g->sweep;
+	double lin[SH2000_AXES], lin2 = 0.0, planar;
+	double th1 = g->th0 + g->sweep, dr = g->r1 - g->r0;
 	unsigned int i = g->first, j = g->second, a;
 
-	for (a = 0; a < SH2000_AXES; a++)
-		if (a != i && a != j)
-			lin2 += (b->p1[a] - b->p0[a]) * (b->p1[a] - b->p0[a]);
-	planar = fabs(g->sweep) * 0.5 * (g->r0 + g->r1);
-	b->L = sqrt(planar * planar + lin2);
-	f = planar / b->L;
 	for (a = 0; a < SH2000_AXES; a++) {
-		double l = (a != i && a != j) ? (b->p1[a] - b->p0[a]) / b->L : 0.0;
-
-		b->t0[a] = b->t1[a] = l;
+		lin[a] = (a != i && a != j) ? b->p1[a] - b->p0[a] : 0.0;
+		lin2 += lin[a] * lin[a];
 	}
-	b->t0[i] = -sgn * f * sin(g->th0);
-	b->t0[j] = sgn * f * cos(g->th0);
-	b->t1[i] = -sgn * f * sin(th1);
-	b->t1[j] = sgn * f * cos(th1);
+	/* Simpson's rule: the speed is smooth and nearly linear in f */
+	planar = (arc_planar_speed(g, 0.0) + 4.0 * arc_planar_speed(g, 0.5) +
+		  arc_planar_speed(g, 1.0)) / 6.0;
+	b->L = sqrt(planar * planar + lin2);
+	arc_end_tangent(lin, lin2, dr, g->r0 * g->sweep, g->th0, i, j, b->t0);
+	arc_end_tangent(lin, lin2, dr, g->r1 * g->sweep, th1, i, j, b->t1);
 }
 
 void pl_block_cut(const struct pl_block *b, double s0, double s1,

@@ -12,6 +12,8 @@
  *  - short rest-to-rest moves in compensated output: the interpolating
  *    spline overshot the end point (2.4 um for G0 X0.06 with the
  *    trapezoid) and started backwards;
+ *  - arcs of enormous radius whose ends differ in radius: planned as
+ *    if they were as short as their sweep, they reached 90 times amax;
  *  - short moves braking into a stop beyond a blend at the planner's
  *    default limits: the controller still accelerated when it reached
  *    the blend and braked at 3.2 times an axis' amax.
@@ -224,6 +226,51 @@ static void test_nurbs_tiny_weight(void **state)
 	}
 }
 
+/* ---- arcs of enormous radius -------------------------------------------- */
+
+/* Found by the reader + planner fuzz harness: an arc of radius 1e6 mm
+ * whose end lies 1 mm further from its centre than its start sweeps
+ * 5e-12 rad, 5e-6 mm of its circle, and is all but a straight millimetre
+ * of the radius's change. Its length and end tangents counted the sweep
+ * alone: the planner took it for 5e-6 mm across the way it goes, and the
+ * card jumped the millimetre in a period (90 times amax, 1.28 vmax at
+ * the card model's limits). */
+static void test_arc_huge_radius(void **state)
+{
+	static const char *const prog[] = {
+		"G2 X20 R1000000 F600\nM2\n",
+		"G2 X20 R1000000 F600\nG3 Y1 I-5 J-1000000\nM2\n",
+		"G3 Y1 I-5 J-1000000 F6000\nM2\n",
+	};
+	struct sh2000_path_config cfg;
+	struct run r;
+
+	(void)state;
+	for (size_t i = 0; i < 2 * sizeof(prog) / sizeof(prog[0]); i++) {
+		int card = i % 2;
+
+		sh2000_path_config_default(&cfg);
+		for (unsigned int k = 0; k < SH2000_AXES; k++) {
+			cfg.counts_per_mm[k] = 1000;
+			if (card) {	/* the card model's limits */
+				cfg.vmax[k] = 400;
+				cfg.amax[k] = 5000;
+			}
+		}
+		/* the corner between the two is blended within corner_tol;
+		 * a micrometre more, as the harness allows */
+		assert_int_equal(plan_gcode(prog[i / 2], &cfg,
+					    cfg.corner_tol + 0.001, &r), 0);
+		printf("huge arc %zu at %s limits: v %.4f a %.4f of the limits, %.2e mm off the path\n",
+		       i / 2, card ? "the card's" : "the planner's", r.sp.v_ratio,
+		       r.sp.a_ratio, r.sp.dev);
+		assert_true(r.sp.v_ratio <= 1.0);
+		assert_true(r.sp.a_ratio <= 1.0);
+		assert_true(r.sp.dev <= cfg.corner_tol + 0.001);
+		sp_path_free(&r.path);
+	}
+}
+
 /* ---- short rest-to-rest moves in compensated output -------------------- */
 
 /* Every rest-to-rest move along X from 0: the fine set-points stay in
@@ -376,6 +423,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_arc_unresolvable),
 		cmocka_unit_test(test_nurbs_tiny_weight),
+		cmocka_unit_test(test_arc_huge_radius),
 		cmocka_unit_test(test_short_moves),
 		cmocka_unit_test(test_path_distance),
 		cmocka_unit_test(test_stop_beyond_blend),

@@ -16,7 +16,8 @@
  *    if they were as short as their sweep, they reached 90 times amax;
  *  - short moves braking into a stop beyond a blend at the planner's
  *    default limits: the controller still accelerated when it reached
- *    the blend and braked at 3.2 times an axis' amax.
+ *    the blend and braked at 3.2 times an axis' amax; and a blend at full
+ *    speed there, which the card's spline passed 2 um beyond.
  * And the check itself: spcheck's distance from a set-point to the path
  * is the nearest segment's, wherever the last match was.
  * `build/x/tests/planner/test_safe` prints what it measured.
@@ -398,6 +399,10 @@ static void test_stop_beyond_blend(void **state)
 		{ "small turn", "G1 X9.3969 Y3.4202 F24000\n"
 		  "G1 X13.3969 Y3.4202\nG1 X16.3969 Y3.42021\n"
 		  "G1 X20.4927 Y6.2881\nM2\n", 0.011 },
+		/* a blend at full speed: the spline passed its ends 2.09 um
+		 * beyond it, with a micrometre kept (0.011086 mm) */
+		{ "fast blend", "G0 X0 Y10\nG1 X1.431918 Y1.2 F240020\n"
+		  "G1 X1.513288 Y-0.352631\nM2\n", 0.011 },
 	};
 	struct sh2000_path_config cfg;
 	struct run r;

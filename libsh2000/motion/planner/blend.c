@@ -31,10 +31,16 @@
 #define BLEND_MIN_MM 1e-6
 /* What the blend itself may take of the tolerance: the rest is for the
  * card's spline, which passes the curvature steps at the arc's ends within
- * about half a micrometre when compensated (a micrometre is kept; at most
- * half the tolerance), and cuts the arc inwards by (vT)^2 / 6R when raw
- * (half the tolerance; the arc's speed keeps the cut within it). */
+ * about half a micrometre when compensated at the card model's 5000
+ * mm/s^2 (a micrometre is kept; at most half the tolerance), and cuts the
+ * arc inwards by (vT)^2 / 6R when raw (half the tolerance; the arc's speed
+ * keeps the cut within it). The compensated spline's error grows with the
+ * step of acceleration it passes, so the room kept is at least
+ * A T^2 / BLEND_SPLINE_DIV for the axes' least acceleration A: at the
+ * planner's default 50000 mm/s^2 a blend of two lines at F240020 passed
+ * the spline 2.09 um beyond the blend (fuzz_plan, regress-blend-ring). */
 #define BLEND_SPLINE_MM 0.001
+#define BLEND_SPLINE_DIV 50.0
 #define BLEND_SHARE_RAW 0.5
 /* An arc is cut by at most this angle (rad): over it the arc stays close
  * to its tangent, so the corner's tolerance rule gives a first cut the
@@ -321,6 +327,15 @@ static int stop_faster(const struct sh2000_path *p,
 		    stop_cost(p, b0, b, vb, 0.0);
 }
 
+/* mm of the tolerance kept for the compensated spline (at grow 1) */
+static double spline_room(const struct sh2000_path *p)
+{
+	double T = p->cfg.period_s;
+
+	return pl_max(BLEND_SPLINE_MM,
+		      p->cfg.margin * p->amin * T * T / BLEND_SPLINE_DIV);
+}
+
 unsigned int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
 			     struct pl_block k[2])
 {
@@ -345,7 +360,7 @@ unsigned int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
 	smax = blend_smax(p, t, b, phi);
 	grow = smax / p->cfg.centripetal_share;
 	share = p->cfg.output == SH2000_OUTPUT_RAW ? BLEND_SHARE_RAW :
-		pl_max(0.5, pl_min(0.95, 1.0 - BLEND_SPLINE_MM * grow * grow /
+		pl_max(0.5, pl_min(0.95, 1.0 - spline_room(p) * grow * grow /
 					 tol));
 	t0 = *t;
 	b0 = *b;

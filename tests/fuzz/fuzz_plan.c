@@ -51,15 +51,23 @@
 #define GEO_SLACK_MM		0.001
 /*
  * The jerk the card's compensated spline may reach, over the planner's
- * path jerk (margin * jerk): the compensation filter overshoots a step of
- * the S-curve's jerk by 1 + 2r/(1 + r) = 1.42 (r = 2 - sqrt 3), as it
- * overshoots the trapezoid's acceleration steps (docs/planner.md "Known
- * limits"). So 1.35 times the configured jerk at the default margin.
+ * path jerk (margin * jerk). The spline through the planned points is the
+ * plan itself where the controller holds one jerk a whole period (the
+ * card model's limits, on straight moves); elsewhere (the planner's
+ * default limits, whose jerk switches inside a period) it filters the
+ * plan, and the compensation filter overshoots a step of the jerk by
+ * 2r/(1 + r) of the step (r = 2 - sqrt 3; docs/planner.md "Known
+ * limits"). A step from 0 to J reaches 1.42 J; a move too short to hold
+ * its acceleration turns the jerk from +J to -J, a step of 2J, which
+ * reaches 1.85 J. So 1.35 and 1.75 times the configured jerk at the
+ * default margin.
  */
-#define COMP_JERK_OVERSHOOT	1.4226497308103743
+#define COMP_JERK_STEP		1.4226497308103743
+#define COMP_JERK_REVERSAL	1.8452994616207485
 
 struct plan_check {
 	struct sh2000_path_config cfg;
+	double j_overshoot;	/* compensated output: the jerk allowed */
 	double budget;		/* points allowed */
 	uint64_t points;
 	struct sp_check sp;
@@ -286,7 +294,7 @@ static void check_setpoints(const struct plan_check *pc,
 		   jerk_bounded(prog, &pc->cfg);
 	double jmax = pc->cfg.margin *
 		      (pc->cfg.output == SH2000_OUTPUT_COMPENSATED ?
-		       COMP_JERK_OVERSHOOT : 1.0);
+		       pc->j_overshoot : 1.0);
 
 	if (sp->v_ratio > 1.0)
 		fz_fail("fine set-point %llu: an axis at %.4f of its vmax",
@@ -346,6 +354,8 @@ static void check_at(const struct sh2000_program *prog, double vmax,
 
 	memset(&pc, 0, sizeof(pc));
 	sh2000_path_config_default(&pc.cfg);
+	/* one jerk a period at the card's limits: a reversal is two steps */
+	pc.j_overshoot = vmax > 0 ? COMP_JERK_STEP : COMP_JERK_REVERSAL;
 	/* the card's usual scale: the planner refuses what counts cannot
 	 * hold */
 	for (unsigned int a = 0; a < SH2000_AXES; a++) {

@@ -14,6 +14,8 @@
  *    trapezoid) and started backwards;
  *  - arcs of enormous radius whose ends differ in radius: planned as
  *    if they were as short as their sweep, they reached 90 times amax;
+ *  - a feed lowered a little on a short last move: the limit it set,
+ *    already in force, bound the braking to the stop, which overran;
  *  - short moves braking into a stop beyond a blend at the planner's
  *    default limits: the controller still accelerated when it reached
  *    the blend and braked at 3.2 times an axis' amax; and a blend at full
@@ -272,6 +274,54 @@ static void test_arc_huge_radius(void **state)
 	}
 }
 
+/* ---- a limit in force --------------------------------------------------- */
+
+/* Found by the reader + planner fuzz harness: a feed lowered by 1 mm/min
+ * on a short last move, blended with the long one before it. The lower
+ * feed holds from feed_zone before that move, which lay behind the
+ * carriage while it braked for the program's end; the controller read
+ * that limit, met, as one with no room left, and braked at its blend's
+ * acceleration instead of the stop's: the stop overran its end point
+ * (8.1 times amax at the card model's limits, 4.0 in the fuzz input). */
+static void test_feed_drop_into_stop(void **state)
+{
+	static const char *const feeds[][2] = {
+		{ "F24001", "F24000" }, { "F30000", "F18000" },
+		{ "F20000", "F18000" }, { "F24000", "F24000" },
+	};
+	struct sh2000_path_config cfg;
+	char text[256];
+	struct run r;
+
+	(void)state;
+	sh2000_path_config_default(&cfg);
+	for (unsigned int k = 0; k < SH2000_AXES; k++) {
+		cfg.counts_per_mm[k] = 1000;
+		cfg.vmax[k] = 400;	/* the card model's limits */
+		cfg.amax[k] = 5000;
+	}
+	for (size_t i = 0; i < sizeof(feeds) / sizeof(feeds[0]); i++) {
+		snprintf(text, sizeof(text),
+			 "G21 G90 G64 P0.01 Q0\n"
+			 "G1 X0.276732 Y0.166995 F24000\n"
+			 "G1 X0.402456 Y1.00\n"
+			 "G1 X3.696576 Y2.9342 %s\n"
+			 "G1 X3.759545 Y2.970633 %s\nM2\n",
+			 feeds[i][0], feeds[i][1]);
+		assert_int_equal(plan_gcode(text, &cfg, 0.011, &r), 0);
+		printf("%s then %s: v %.4f a %.4f of the limits, %.6f mm off the path, %.6f mm past the end\n",
+		       feeds[i][0], feeds[i][1], r.sp.v_ratio, r.sp.a_ratio,
+		       r.sp.dev, r.hi[0] - 3.759545);
+		assert_true(r.sp.v_ratio <= 1.0);
+		assert_true(r.sp.a_ratio <= 1.0);
+		assert_true(r.sp.dev <= 0.011);
+		/* past the end point along X no further than a compensated
+		 * stop rings (J T^3 / 70, 0.6 um; docs/planner.md) */
+		assert_true(r.hi[0] <= 3.759545 + 0.001);
+		sp_path_free(&r.path);
+	}
+}
+
 /* ---- short rest-to-rest moves in compensated output -------------------- */
 
 /* Every rest-to-rest move along X from 0: the fine set-points stay in
@@ -429,6 +479,7 @@ int main(void)
 		cmocka_unit_test(test_arc_unresolvable),
 		cmocka_unit_test(test_nurbs_tiny_weight),
 		cmocka_unit_test(test_arc_huge_radius),
+		cmocka_unit_test(test_feed_drop_into_stop),
 		cmocka_unit_test(test_short_moves),
 		cmocka_unit_test(test_path_distance),
 		cmocka_unit_test(test_stop_beyond_blend),

@@ -472,10 +472,24 @@ static double danger(const struct ctl *c, double *A, double *d)
 		return c->vcur;
 	for (i = c->first; i < c->n; i++) {
 		const double *x = c->cons + PL_CONS * i;
-		double r = cons_room(c, i, 0.0, c->v, c->a);
+		double r;
 		/* slowing to the speed at the drop where that is what holds */
-		int at_drop = x[0] > 0.0 &&
-			      x[0] - cons_brake(c, i, c->v, c->a) < r;
+		int at_drop;
+
+		/* a limit in force (its zone began behind: a lower feed's
+		 * feed_zone, a corner's) binds the speed alone, as in
+		 * upper_slack(): met, it has no distance to run out of. Read
+		 * as one (its room negative), a feed lowered by 1 mm/min into
+		 * a short blend bound the braking to the program's end to
+		 * the blend's speed, which took the stop past its end point
+		 * (8.1 amax at the card model's limits) */
+		if (x[0] <= 0.0 && c->v <= x[1] + V_EPS &&
+		    (c->trap || c->a <= 0.0 ||
+		     peak_speed(c, c->v, c->a) <= x[1] + V_EPS))
+			continue;
+		r = cons_room(c, i, 0.0, c->v, c->a);
+		at_drop = x[0] > 0.0 &&
+			  x[0] - cons_brake(c, i, c->v, c->a) < r;
 
 		if (r < slack) {
 			slack = r;

@@ -309,6 +309,20 @@ static double peak_at(const struct ctl *c, double v, double a, double J)
 	return v + dv;
 }
 
+/* The speed's room under a limit already in force (its zone began behind:
+ * a lower feed's feed_zone, a corner's): its speed V less the speed now
+ * and, while accelerating, less the peak the motion reaches; negative
+ * when the limit is passed. Such a limit binds the speed alone. */
+static double in_force_slack(const struct ctl *c, double V, double v,
+			     double a)
+{
+	double m = V + V_EPS - v;
+
+	if (!c->trap && a > 0.0)
+		m = pl_min(m, V + V_EPS - peak_speed(c, v, a));
+	return m;
+}
+
 static void step_state(const struct ctl *c, double j, double *s, double *v,
 		       double *a)
 {
@@ -401,9 +415,7 @@ static double upper_slack(const struct ctl *c, double j)
 			m = pl_min(m, 1e-12 + cons_room(c, i, s, v, a));
 			continue;
 		}
-		m = pl_min(m, V + V_EPS - v);
-		if (!c->trap && a > 0.0)
-			m = pl_min(m, V + V_EPS - peak_speed(c, v, a));
+		m = pl_min(m, in_force_slack(c, V, v, a));
 	}
 	for (i = 0; i < c->nd && m >= 0.0 && a > 0.0; i++)
 		m = pl_min(m, drop_room(c, i, s, v, a));
@@ -476,16 +488,13 @@ static double danger(const struct ctl *c, double *A, double *d)
 		/* slowing to the speed at the drop where that is what holds */
 		int at_drop;
 
-		/* a limit in force (its zone began behind: a lower feed's
-		 * feed_zone, a corner's) binds the speed alone, as in
-		 * upper_slack(): met, it has no distance to run out of. Read
-		 * as one (its room negative), a feed lowered by 1 mm/min into
-		 * a short blend bound the braking to the program's end to
-		 * the blend's speed, which took the stop past its end point
+		/* a limit in force binds the speed alone: met, it has no
+		 * distance to run out of. Read by its room (negative behind
+		 * the carriage), a feed lowered by 1 mm/min into a short
+		 * blend bound the braking to the program's end to the
+		 * blend's speed, which took the stop past its end point
 		 * (8.1 amax at the card model's limits) */
-		if (x[0] <= 0.0 && c->v <= x[1] + V_EPS &&
-		    (c->trap || c->a <= 0.0 ||
-		     peak_speed(c, c->v, c->a) <= x[1] + V_EPS))
+		if (x[0] <= 0.0 && in_force_slack(c, x[1], c->v, c->a) >= 0.0)
 			continue;
 		r = cons_room(c, i, 0.0, c->v, c->a);
 		at_drop = x[0] > 0.0 &&

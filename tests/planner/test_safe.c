@@ -117,6 +117,21 @@ static int plan_gcode(const char *text, const struct sh2000_path_config *cfg,
 	return ret;
 }
 
+/* The planner's defaults at the scale the fuzz harness plans at (1000
+ * counts/mm), with every axis at the card model's default limits (400
+ * mm/s, 5000 mm/s^2, docs/cardmodel.md) when card is set. */
+static void harness_config(struct sh2000_path_config *cfg, int card)
+{
+	sh2000_path_config_default(cfg);
+	for (unsigned int k = 0; k < SH2000_AXES; k++) {
+		cfg->counts_per_mm[k] = 1000;
+		if (card) {
+			cfg->vmax[k] = 400;
+			cfg->amax[k] = 5000;
+		}
+	}
+}
+
 /* ---- arcs the geometry cannot resolve --------------------------------- */
 
 static size_t emitted;
@@ -252,14 +267,7 @@ static void test_arc_huge_radius(void **state)
 	for (size_t i = 0; i < 2 * sizeof(prog) / sizeof(prog[0]); i++) {
 		int card = i % 2;
 
-		sh2000_path_config_default(&cfg);
-		for (unsigned int k = 0; k < SH2000_AXES; k++) {
-			cfg.counts_per_mm[k] = 1000;
-			if (card) {	/* the card model's limits */
-				cfg.vmax[k] = 400;
-				cfg.amax[k] = 5000;
-			}
-		}
+		harness_config(&cfg, card);
 		/* the corner between the two is blended within corner_tol;
 		 * a micrometre more, as the harness allows */
 		assert_int_equal(plan_gcode(prog[i / 2], &cfg,
@@ -294,12 +302,7 @@ static void test_feed_drop_into_stop(void **state)
 	struct run r;
 
 	(void)state;
-	sh2000_path_config_default(&cfg);
-	for (unsigned int k = 0; k < SH2000_AXES; k++) {
-		cfg.counts_per_mm[k] = 1000;
-		cfg.vmax[k] = 400;	/* the card model's limits */
-		cfg.amax[k] = 5000;
-	}
+	harness_config(&cfg, 1);
 	for (size_t i = 0; i < sizeof(feeds) / sizeof(feeds[0]); i++) {
 		snprintf(text, sizeof(text),
 			 "G21 G90 G64 P0.01 Q0\n"
@@ -458,9 +461,7 @@ static void test_stop_beyond_blend(void **state)
 	struct run r;
 
 	(void)state;
-	sh2000_path_config_default(&cfg);
-	for (unsigned int k = 0; k < SH2000_AXES; k++)
-		cfg.counts_per_mm[k] = 1000;	/* as the harness plans */
+	harness_config(&cfg, 0);
 	for (size_t i = 0; i < sizeof(prog) / sizeof(prog[0]); i++) {
 		assert_int_equal(plan_gcode(prog[i].text, &cfg, prog[i].tol, &r),
 				 0);

@@ -325,6 +325,42 @@ static void test_feed_drop_into_stop(void **state)
 	}
 }
 
+/* ---- a braking into a drop of the acceleration at its limit ------------- */
+
+/* Found by the reader + planner fuzz harness at the card model's limits:
+ * a line brakes into a blend's entry limit at the line's acceleration
+ * (4438 mm/s^2), and the blend from the same place allows 3202. Two
+ * periods before it the controller had to cut the braking to 3202, too
+ * late to slow to the limit: the carriage entered the zigzag of 0.08 mm
+ * moves after it at 22 mm/s for 16.6 (1.64 times amax on the card's
+ * set-points with the line to X4.45, 1.53 to X4.5, 1.46 to X4.52). */
+static void test_brake_into_drop(void **state)
+{
+	static const char *const corner[] = { "4.45", "4.5", "4.52" };
+	struct sh2000_path_config cfg;
+	char text[320];
+	struct run r;
+
+	(void)state;
+	harness_config(&cfg, 1);
+	for (size_t i = 0; i < sizeof(corner) / sizeof(corner[0]); i++) {
+		snprintf(text, sizeof(text),
+			 "G21 G90 G64 P0.01 Q0\n"
+			 "G1 X3.398634 Y2.495785 F24000\n"
+			 "G1 X%s\n"
+			 "G1 X4.545900 Y4.268615\nG1 X4.550414 Y4.354747\n"
+			 "G1 X4.604148 Y4.403129\nG1 X4.607884 Y4.474419\n"
+			 "G1 X4.670253 Y4.530576\nM2\n", corner[i]);
+		assert_int_equal(plan_gcode(text, &cfg, 0.011, &r), 0);
+		printf("corner at X%s: v %.4f a %.4f of the limits, %.6f mm off the path\n",
+		       corner[i], r.sp.v_ratio, r.sp.a_ratio, r.sp.dev);
+		assert_true(r.sp.v_ratio <= 1.0);
+		assert_true(r.sp.a_ratio <= 1.0);
+		assert_true(r.sp.dev <= 0.011);
+		sp_path_free(&r.path);
+	}
+}
+
 /* ---- short rest-to-rest moves in compensated output -------------------- */
 
 /* Every rest-to-rest move along X from 0: the fine set-points stay in
@@ -481,6 +517,7 @@ int main(void)
 		cmocka_unit_test(test_nurbs_tiny_weight),
 		cmocka_unit_test(test_arc_huge_radius),
 		cmocka_unit_test(test_feed_drop_into_stop),
+		cmocka_unit_test(test_brake_into_drop),
 		cmocka_unit_test(test_short_moves),
 		cmocka_unit_test(test_path_distance),
 		cmocka_unit_test(test_stop_beyond_blend),

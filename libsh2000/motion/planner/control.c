@@ -175,7 +175,7 @@ static double cons_accel(const struct ctl *c, unsigned int i, double v,
  * G64 P0.1: 1.42 amax on the card's set-points).
  */
 static double cons_brake(const struct ctl *c, unsigned int i, double v,
-			 double a)
+			 double a, double V)
 {
 	double A = cons_accel(c, i, v, a);
 	struct pl_limits L = { A, model_jerk(c->p, A) };
@@ -186,29 +186,10 @@ static double cons_brake(const struct ctl *c, unsigned int i, double v,
 	} else if (a < -A && A < head_accel(c, v, a)) {
 		pl_integrate(&d, &v, &a, L.J, (-A - a) / L.J);
 		a = -A;
-		if (v <= c->cons[PL_CONS * i + 1])
+		if (v <= V)
 			return d;
 	}
-	return d + pl_brake_dist(&L, v, a, c->cons[PL_CONS * i + 1]);
-}
-
-/* For limit x beyond the first drop of the acceleration (at x[5]): the
- * fastest the motion may pass the drop at, with a = 0, and still slow to
- * it at the least acceleration of the blocks up to it, read at the
- * fastest the motion can be in this substep of length h (as
- * limits_ahead() bounds it). */
-static double drop_speed(const struct sh2000_path *p, const double *x,
-			 double h)
-{
-	double vtop = p->v + p->a_top * h, A;
-	struct pl_limits L;
-
-	if (!isinf(p->lim.J))
-		vtop += p->a_top * p->a_top / (2.0 * model_jerk(p, p->lim.A));
-	A = acc_at(p, x + 2, vtop);
-	L.A = A;
-	L.J = model_jerk(p, A);
-	return pl_reach_back(&L, x[1], x[0] - x[5]);
+	return d + pl_brake_dist(&L, v, a, V);
 }
 
 /* The distance the motion from (v, a) covers in time t with its
@@ -219,6 +200,94 @@ static double ramp_dist(double v, double a, double J, double t)
 
 	pl_integrate(&s, &v, &a, -J, t);
 	return s;
+}
+
+/* The least speed V1 from which a braking at Ad, from a = -Ad, reaches
+ * limit x's speed at the limit and starts two substeps at V1 before drop
+ * y (drop_room()), and where it starts into *d: at Ad it covers
+ * (V1^2 - vb^2) / 2Ad + R (vb the speed its last ramp from -Ad starts
+ * at, R that ramp), at least x[0] - y[0] + 2 V1 h. */
+static double switch_speed(const struct sh2000_path *p, const double *x,
+			   const double *y, double h, double Ad, double *d)
+{
+	double Jd = model_jerk(p, Ad), vb = x[1] + Ad * Ad / (2.0 * Jd);
+	double R = ramp_dist(vb, -Ad, -Jd, Ad / Jd), c = 2.0 * h * Ad;
+	double q = vb * vb + 2.0 * Ad * (x[0] - y[0] - R);
+	double V1 = pl_max(c * c + q > 0.0 ? c + sqrt(c * c + q) : vb, vb);
+
+	*d = x[0] - (V1 * V1 - vb * vb) / (2.0 * Ad) - R;
+	return V1;
+}
+
+/*
+ * Where the allowed acceleration drops to Ad at limit x itself (a line
+ * braking into a blend that allows less: the drop y lies at the limit or
+ * just past it), drop_room() holds the braking within Ad from two
+ * periods before the drop on, where a braking at the limit's own A,
+ * ending at a = 0 on the limit, is still coming down from A. Ridden that
+ * way, the braking was cut to Ad late and the motion came to the limit
+ * too fast: a 1.8 mm line braking at 4438 mm/s^2 into a blend of 3202
+ * entered the zigzag of 0.08 mm moves after it at 22 mm/s for 16.6 (G64
+ * P0.01, the card model's limits: 1.64 amax on the card's set-points).
+ *
+ * So such a braking runs in two parts: at A until it passes -Ad at the
+ * speed V1 where it must (two periods at V1 before the drop), then at Ad
+ * to the limit. The point the braking at A to V1 - Ad^2 / 2J ends on
+ * (past its ramp from -Ad: a limit like the others) into *d, *V; 0 where
+ * the braking at A passes -Ad in time (or A <= Ad).
+ */
+static int pass_at(const struct sh2000_path *p, const double *x,
+		   const double *y, double h, double A, double Ad, double *d,
+		   double *V)
+{
+	double JA = model_jerk(p, A), Vp, V1;
+
+	if (Ad >= A)
+		return 0;
+	/* the braking at A passes -Ad on its last ramp at Vp */
+	Vp = x[1] + Ad * Ad / (2.0 * JA);
+	if (x[0] - ramp_dist(Vp, -Ad, -JA, Ad / JA) <= y[0] - 2.0 * Vp * h)
+		return 0;
+	V1 = switch_speed(p, x, y, h, Ad, d);
+	*d += ramp_dist(V1, -Ad, -JA, Ad / JA);
+	*V = V1 - Ad * Ad / (2.0 * JA);
+	return 1;
+}
+
+/* For limit x beyond the first drop of the acceleration (at x[5]): the
+ * fastest the motion may pass the drop at, with a = 0, and still slow to
+ * it at the least acceleration of the blocks up to it, read at the
+ * fastest the motion can be in this substep of length h (as
+ * limits_ahead() bounds it). */
+static double drop_speed(const struct sh2000_path *p, const double *x,
+			 double h)
+{
+	double vtop = p->v + p->a_top * h, A, Ad, v1 = -1.0, d, V;
+	const double *y;
+	struct pl_limits L;
+
+	if (!isinf(p->lim.J))
+		vtop += p->a_top * p->a_top / (2.0 * model_jerk(p, p->lim.A));
+	A = acc_at(p, x + 2, vtop);
+	L.A = A;
+	L.J = model_jerk(p, A);
+	if (x[8] < 0.0)
+		return pl_reach_back(&L, x[1], x[0] - x[5]);
+	/* a drop at the limit (pass_at()): at A to the point its braking
+	 * passes, where that braking from the drop (a = 0) gets to -Ad on
+	 * its way, or at Ad all the way from the drop */
+	y = p->drops + PL_DROP * (unsigned int)x[8];
+	Ad = pl_min(acc_at(p, y + 1, vtop), A);
+	if (!pass_at(p, x, y, h, A, Ad, &d, &V))
+		return pl_reach_back(&L, x[1], x[0] - x[5]);
+	if (d > x[5]) {
+		v1 = pl_reach_back(&L, V, d - x[5]);
+		if (L.J * (v1 - V) < Ad * Ad)
+			v1 = -1.0;
+	}
+	L.A = Ad;
+	L.J = model_jerk(p, Ad);
+	return pl_max(v1, pl_reach_back(&L, x[1], x[0] - x[5]));
 }
 
 /* The distance the motion from (v, a > 0) covers bringing a down to 0
@@ -233,6 +302,79 @@ static double settle_dist(const struct ctl *c, double v, double a)
 	if (a <= 0.0 || c->quant)
 		return 0.0;
 	return ramp_dist(v, a, c->lim.J, a / c->lim.J);
+}
+
+/* Whether a braking at A from (v, a) to speed V (cons_brake()) gets to
+ * -Ad on its way. */
+static int brakes_past(const struct ctl *c, double A, double v, double a,
+		       double V, double Ad)
+{
+	double J = model_jerk(c->p, A);
+
+	if (v <= V || (a > 0.0 && v + a * a / (2.0 * J) <= V))
+		return 0;
+	return a <= -Ad || (2.0 * J * (v - V) + a * a) / 2.0 >= Ad * Ad;
+}
+
+/* A braking to a limit (two_part_room()): where it ends (INFINITY: not on
+ * a point to land on), at what speed and acceleration, and the room it
+ * leaves. */
+struct goal {
+	double d, V, A, room;
+};
+
+/*
+ * Room left, after a step to (s, v, a), to slow to limit i all the way at
+ * the least acceleration A of the blocks up to it, that braking into g if
+ * asked. Where the acceleration drops to Ad at the limit itself
+ * (pass_at(), Ad read at the state as drop_room() reads it), the larger
+ * of two: at A to the point which that braking passes at -Ad where it
+ * must, and at Ad all the way (a braking beyond it brought to it first at
+ * full jerk, as drop_room() reads it). The first only where the braking
+ * at A gets to -Ad on its way down: from a state slower than the point,
+ * at a = 0, the point's speed says nothing of the limit's (a zigzag of
+ * 0.2 mm moves turning 60 degrees in turn took a blend at 1.7 amax when
+ * its room read it so).
+ */
+static double two_part_room(const struct ctl *c, unsigned int i, double s,
+			    double v, double a, struct goal *g)
+{
+	const double *x = c->p->cons + PL_CONS * i, *y;
+	double A = cons_accel(c, i, v, a), r, d = 0.0, V;
+	struct goal k = { x[0], x[1], A, 0.0 };
+	struct pl_limits L;
+
+	y = x[8] < 0.0 ? NULL : c->drops + PL_DROP * (unsigned int)x[8];
+	L.A = y ? pl_min(acc_at(c->p, y + 1, state_top(c, v, a)), A) : A;
+	if (!y || !pass_at(c->p, x, y, c->h, A, L.A, &d, &V)) {
+		k.room = x[0] - s - cons_brake(c, i, v, a, x[1]);
+		goto out;
+	}
+	L.J = model_jerk(c->p, L.A);
+	r = brakes_past(c, A, v, a, V, L.A) ?
+	    d - s - cons_brake(c, i, v, a, V) : -INFINITY;
+	k.d = d;
+	k.V = V;
+	d = 0.0;
+	if (a < -L.A) {
+		pl_integrate(&d, &v, &a, c->lim.J, (-L.A - a) / c->lim.J);
+		a = -L.A;
+	}
+	k.room = x[0] - s - d - pl_brake_dist(&L, v, a, x[1]);
+	if (r > k.room) {
+		/* at A towards the point: a braking passes it, not one to
+		 * land on */
+		k.d = INFINITY;
+		k.room = r;
+	} else {
+		k.d = x[0];
+		k.V = x[1];
+		k.A = L.A;
+	}
+out:
+	if (g)
+		*g = k;
+	return k.room;
 }
 
 /* Room left, after a step to (s, v, a), to slow to limit i ahead (at its
@@ -250,7 +392,7 @@ static double cons_room(const struct ctl *c, unsigned int i, double s,
 			double v, double a)
 {
 	double *x = c->p->cons + PL_CONS * i;
-	double r = x[0] - s - cons_brake(c, i, v, a);
+	double r = two_part_room(c, i, s, v, a, NULL);
 
 	if (r < 0.0 && x[5] - s > 0.0 && isnan(x[6]))
 		x[6] = drop_speed(c->p, x, c->h);
@@ -487,6 +629,7 @@ static double danger(const struct ctl *c, double *A, double *d)
 		double r;
 		/* slowing to the speed at the drop where that is what holds */
 		int at_drop;
+		struct goal g;
 
 		/* a limit in force binds the speed alone: met, it has no
 		 * distance to run out of. Read by its room (negative behind
@@ -498,16 +641,15 @@ static double danger(const struct ctl *c, double *A, double *d)
 			continue;
 		r = cons_room(c, i, 0.0, c->v, c->a);
 		at_drop = x[0] > 0.0 &&
-			  x[0] - cons_brake(c, i, c->v, c->a) < r;
+			  two_part_room(c, i, 0.0, c->v, c->a, &g) < r;
 
 		if (r < slack) {
 			slack = r;
-			vt = fmin(c->vcur, at_drop ? x[6] : x[1]);
-			*A = at_drop ? c->lim.A :
-			     pl_min(cons_accel(c, i, c->v, c->a), c->lim.A);
+			vt = fmin(c->vcur, at_drop ? x[6] : g.V);
+			*A = at_drop ? c->lim.A : pl_min(g.A, c->lim.A);
 			/* a limit already in force binds the speed alone */
-			*d = vt < (at_drop ? x[6] : x[1]) || x[0] <= 0.0 ?
-			     INFINITY : at_drop ? x[5] : x[0];
+			*d = vt < (at_drop ? x[6] : g.V) || x[0] <= 0.0 ?
+			     INFINITY : at_drop ? x[5] : g.d;
 		}
 	}
 	return vt;
@@ -680,6 +822,28 @@ static void implied_by(struct sh2000_path *p, unsigned int n)
 	}
 }
 
+/*
+ * For limit x, the first drop of the acceleration its run does not hold
+ * (x[8] on entry: the drops before it are in the run), where that drop
+ * lies at the limit or just past it (within two substeps at the fastest
+ * the motion can be: what drop_room() counts before a drop), in x[8];
+ * -1 if none. Only where the controller holds one jerk a period: only
+ * there does drop_room() hold a braking (pass_at()).
+ */
+static void near_drop(const struct sh2000_path *p, double *x, double h,
+		      unsigned int m)
+{
+	double vtop = p->v + p->a_top * h;
+	unsigned int k = (unsigned int)x[8];
+
+	x[8] = -1.0;
+	if (!p->quant || !(x[0] > 0.0) || k >= m)
+		return;
+	vtop += p->a_top * p->a_top / (2.0 * model_jerk(p, p->lim.A));
+	if (p->drops[PL_DROP * k] < x[0] + 2.0 * vtop * h)
+		x[8] = k;
+}
+
 static unsigned int limits_ahead(struct sh2000_path *p, double h,
 				 double level, int halt, double A0,
 				 unsigned int *nd)
@@ -726,6 +890,7 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 			x[0] = d - t * V;
 			x[1] = V;
 			memcpy(x + 2, run.x, sizeof(run.x));
+			x[8] = m;	/* the drops not in its run */
 			level = V;
 		}
 		if (acc_run_add(&run, k, Ak, fixed)) {
@@ -741,8 +906,11 @@ static unsigned int limits_ahead(struct sh2000_path *p, double h,
 		x[0] = d;
 		x[1] = 0.0;
 		memcpy(x + 2, run.x, sizeof(run.x));
+		x[8] = m;
 	}
 	implied_by(p, n);
+	for (i = 0; i < n; i++)
+		near_drop(p, p->cons + PL_CONS * i, h, m);
 	for (i = 0; i < n; i++) {	/* cons_room(): when it needs them */
 		p->cons[PL_CONS * i + 5] = m ? p->drops[0] : 0.0;
 		p->cons[PL_CONS * i + 6] = m && p->drops[0] > 0.0 &&

@@ -32,9 +32,10 @@ struct pl_nurbs {
 
 /* The controller's scratch per limit ahead (distance, speed, three for
  * the acceleration, where the acceleration first drops with the speed
- * to pass there, and a nearer limit that implies it) and per drop of the
- * acceleration (distance and three), control.c */
-#define PL_CONS 8u
+ * to pass there, a nearer limit that implies it, and a drop of the
+ * acceleration at the limit itself) and per drop of the acceleration
+ * (distance and three), control.c */
+#define PL_CONS 9u
 #define PL_DROP 4u
 
 /* Points the planner can hold for a sink that cannot take them yet: one

@@ -708,6 +708,7 @@ static void pop_head(struct sh2000_path *p)
 	if (b->type == BLK_NURBS)
 		pl_nurbs_put(p, b->g.nurbs.nb);
 	p->a_prev = b->A;
+	p->land_line = NULL;
 	p->head = (p->head + 1) % p->cap;
 	p->count--;
 	if (p->pending)
@@ -1199,7 +1200,12 @@ static void land_caps(const struct ctl *c0, struct land *t, double v,
  * left to the greedy step reached its speed a period early at up to
  * -2800 mm/s^2 and swung back up (S-bends of 1.1 mm moves, G64 P0.1:
  * 1.0066 amax on the card's set-points). Not towards a higher speed: a
- * step towards one before a drop into a blend reached 1.13 amax. */
+ * step towards one before a drop into a blend reached 1.13 amax. Once a
+ * landing reached to such a line, it still does while the head is the
+ * same (p->land_line), however slow the motion: read at the falling
+ * speed, the line turned longer than a period half way through the
+ * landing, which was dropped for a braking too late for the reversal at
+ * the line's end (1.93 amax on the card's set-points). */
 static double land_reach(const struct ctl *c, double V)
 {
 	struct sh2000_path *p = c->p;
@@ -1210,9 +1216,11 @@ static double land_reach(const struct ctl *c, double V)
 		return rem;
 	n = pl_block_at(p, 1);
 	k = pl_block_at(p, 2);
-	if (n->type != BLK_LINE || n->L >= c->v * c->h || n->corner ||
+	if (n->type != BLK_LINE || n->corner ||
+	    (n->L >= c->v * c->h && n != p->land_line) ||
 	    k->type == BLK_ARC || k->corner || isinf(k->vj))
 		return rem;
+	p->land_line = n;
 	return rem + n->L;
 }
 

@@ -292,6 +292,9 @@ struct sh2000_path {
 	 * jerks, the next one's index, how many */
 	double qj[PL_QUANT_MAX];
 	unsigned int qi, qn;
+	/* the short line after the head a landing reached to (control.c,
+	 * land_reach()), until the head moves on */
+	const struct pl_block *land_line;
 	unsigned int since_rest;	/* periods since the motion rested */
 	int rest_exact;		/* whether that rest was exact */
 

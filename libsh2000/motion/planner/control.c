@@ -163,8 +163,8 @@ static double cons_accel(const struct ctl *c, unsigned int i, double v,
 }
 
 /*
- * Distance to slow to limit i from (v, a), at the acceleration allowed on
- * the way to it. A braking beyond that (the head allows more than a block
+ * Distance to slow from (v, a) to speed V at A, the acceleration allowed
+ * on the way to a limit (cons_accel()). A braking beyond that (the head allows more than a block
  * ahead) is brought down to it first, at full jerk: held to the end, as
  * pl_trans_plan() holds an acceleration beyond its A, it was counted
  * across the block that does not allow it. The room to a limit beyond a
@@ -174,10 +174,9 @@ static double cons_accel(const struct ctl *c, unsigned int i, double v,
  * blend (a 106 mm line, then 3.6, 19.6, 3.1 and 3.6 mm into the end at
  * G64 P0.1: 1.42 amax on the card's set-points).
  */
-static double cons_brake(const struct ctl *c, unsigned int i, double v,
-			 double a, double V)
+static double cons_brake(const struct ctl *c, double A, double v, double a,
+			 double V)
 {
-	double A = cons_accel(c, i, v, a);
 	struct pl_limits L = { A, model_jerk(c->p, A) };
 	double d = 0.0;
 
@@ -347,12 +346,12 @@ static double two_part_room(const struct ctl *c, unsigned int i, double s,
 	y = x[8] < 0.0 ? NULL : c->drops + PL_DROP * (unsigned int)x[8];
 	L.A = y ? pl_min(acc_at(c->p, y + 1, state_top(c, v, a)), A) : A;
 	if (!y || !pass_at(c->p, x, y, c->h, A, L.A, &d, &V)) {
-		k.room = x[0] - s - cons_brake(c, i, v, a, x[1]);
+		k.room = x[0] - s - cons_brake(c, A, v, a, x[1]);
 		goto out;
 	}
 	L.J = model_jerk(c->p, L.A);
 	r = brakes_past(c, A, v, a, V, L.A) ?
-	    d - s - cons_brake(c, i, v, a, V) : -INFINITY;
+	    d - s - cons_brake(c, A, v, a, V) : -INFINITY;
 	k.d = d;
 	k.V = V;
 	d = 0.0;

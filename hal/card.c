@@ -136,8 +136,10 @@ static void note_status(struct hsc_card *c, const struct sh2000_status *st)
 			 sh2000_last_error(c->h));
 	/* count underruns by the fault bit's rising edge */
 	if ((st->card_faults & SH2000_FAULT_UNDERRUN) &&
-	    !(c->last_faults & SH2000_FAULT_UNDERRUN))
+	    !(c->last_faults & SH2000_FAULT_UNDERRUN)) {
 		c->underruns++;
+		c->start_check = 0;	/* the card held: its start says nothing */
+	}
 	c->last_faults = st->card_faults;
 	c->st = *st;
 	c->st_valid = 1;

@@ -141,6 +141,7 @@ void hsc_delay_update(struct hsc_card *c)
 		if (fabs(vel[a] - va[a]) > FB_MAX_ACCEL * sqrt(v2) + 1.0)
 			return;
 	d = t - u;
+	c->delay_n++;
 	if (!c->delay_valid || fabs(d - c->delay) > 2.0) {
 		c->delay = d;	/* first, or after a jump: take it */
 		c->delay_valid = 1;

@@ -56,6 +56,9 @@
  * record with the phase of its clock against the thread's, so its
  * allowance is a record wider. */
 #define HSC_LOW_SLACK		2
+/* Delay measurements (feedback.c) after which a stream's start is
+ * checked against its phase reference (write.c). */
+#define HSC_START_READINGS	100
 /* How often a thread beside the servo thread reads the card's tables
  * again (sh2000.N.comp-*), so that a load or clear by another program
  * (sh2000ctl comp) shows within this; ms. */
@@ -133,7 +136,11 @@ struct hsc_timebase {
 	double off;		/* lateness of the reference read, records */
 	double integ;		/* PI integrator, records per tick */
 	double phase;		/* last phase error, records */
+	double centre;		/* the phase errors taken, averaged over
+				 * some TB_CENTRE_N readings: what the
+				 * next one is judged against */
 	int outliers;		/* readings skipped in a row */
+	int outlier_side;	/* +1 ahead, -1 behind */
 	int settled;		/* ...of which the last agree */
 	double skipped;		/* the last skipped phase, records */
 	double rate;		/* card records per tick - 1 (estimate) */
@@ -262,6 +269,14 @@ struct hsc_card {
 	/* a queue-target changed while streaming: records still to add
 	 * (negative: to leave out), HSC_SLIP_RATE a tick */
 	double target_left;
+	/* where the stream's first batch landed on the timebase's clock
+	 * (records since its reference, taken at tick start_ref), until the
+	 * card's start is checked against it (write.c), and the delay
+	 * measurements taken since the stream started (feedback.c) */
+	double start_clock;
+	uint64_t start_ref;
+	int start_check;	/* 0: checked, or nothing to check */
+	int delay_n;
 
 	struct hsc_index ix[SH2000_AXES];
 	uint64_t ix_fail_tick;	/* tick + 1 of the last index failure */

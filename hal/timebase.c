@@ -33,16 +33,34 @@
  * heartbeat's quantisation and the read's jitter. */
 #define TB_KP		0.006
 #define TB_KI		0.00002
-/* A phase reading this far from the last one is a late read or a served
- * card that was descheduled and is catching up its cycles, not the clock
- * (a tick that runs a period or more late is not read at all):
- * skipped, until TB_SETTLE readings in a row agree on a new phase (a card
- * that restarted, the card's timing changed) or TB_PERSIST readings were
- * skipped (a hundred ticks: a served card's server stalled for up to
- * 50 ms and caught up; longer stalls end in a new reference). */
+/*
+ * A phase reading this far from the centre of the last ones is not the
+ * clock. The card's oscillator never jumps; what does is the reading:
+ *
+ * - behind: the card has run fewer cycles than its clock has. A real
+ *   card never does, but a served card's server whose cycles wait for
+ *   the CPU lags for some periods, often by the same amount for a while,
+ *   and catches up (sh2000-sim beside the servo thread of linuxcnc_drift
+ *   on a 2-core machine: by a millisecond or more twice a second).
+ *   Such readings are skipped however well they agree with one another
+ *   (taken, the card's delay would move by the lag for good: a period or
+ *   more of skew against the other cards), until TB_LAG_PERSIST of them
+ *   in a row say the card really lost that time (a served card stopped
+ *   for over a second resumes from there);
+ * - ahead: the reference was read while the card lagged, or the thread's
+ *   lateness was misread. TB_SETTLE readings in a row that agree are a
+ *   new phase; readings that keep moving are skipped up to TB_PERSIST.
+ *
+ * A tick that runs a period or more late is not read at all (below).
+ */
 #define TB_OUTLIER	0.3
 #define TB_SETTLE	5
 #define TB_PERSIST	100
+#define TB_LAG_PERSIST	2500
+/* Readings the centre averages: a lag that grows by less than
+ * TB_OUTLIER a reading (a server that runs slow for a while) leaves it
+ * behind within a few readings. */
+#define TB_CENTRE_N	16
 /* rtapi_app limits a correction to 1 % of the period. */
 #define TB_LIMIT	0.01
 /* A phase error this large is not drift: the card restarted, or the
@@ -54,6 +72,7 @@ void hsc_tb_reset(struct hsc_timebase *tb)
 	tb->locked = 0;
 	tb->integ = 0;
 	tb->phase = 0;
+	tb->centre = 0;
 	tb->rate = 0;
 	tb->correction = 0;
 	tb->clock = 0;
@@ -110,6 +129,7 @@ int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 		tb->clock = 0;
 		tb->off = -(double)late_ns / (double)period_ns;
 		tb->phase = 0;
+		tb->centre = 0;
 		tb->outliers = 0;
 		tb->locked = 1;
 		return 0;
@@ -141,16 +161,24 @@ int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 	 * once the card caught up, and with it the delay of every point card
 	 * 0 plays (its skew against the other cards).
 	 */
-	if (fabs(eps - tb->phase) > TB_OUTLIER && tb->outliers < TB_PERSIST) {
+	if (fabs(eps - tb->centre) > TB_OUTLIER) {
+		int behind = eps < tb->centre;
+
+		/* a run of skipped readings is on one side */
+		if (tb->outliers && tb->outlier_side != (behind ? -1 : 1))
+			tb->outliers = 0;
+		tb->outlier_side = behind ? -1 : 1;
 		/* readings that move (a card catching up) never settle */
-		tb->settled = tb->outliers && fabs(eps - tb->skipped) <= TB_OUTLIER ?
-			      tb->settled + 1 : 1;
+		tb->settled = !behind && tb->outliers &&
+			      fabs(eps - tb->skipped) <= TB_OUTLIER ?
+			      tb->settled + 1 : !behind;
 		tb->skipped = eps;
-		tb->outliers++;
-		if (tb->settled < TB_SETTLE) {
+		if (++tb->outliers <= (behind ? TB_LAG_PERSIST : TB_PERSIST) &&
+		    tb->settled < TB_SETTLE) {
 			hold(tb);
 			return 0;
 		}
+		tb->centre = eps;	/* a new phase */
 	}
 	tb->outliers = 0;
 	if (fabs(eps) > TB_RELOCK) {
@@ -161,6 +189,7 @@ int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 		return 1;
 	}
 	tb->phase = eps;
+	tb->centre += (eps - tb->centre) / TB_CENTRE_N;
 	tb->integ = clamp(tb->integ + TB_KI * eps, TB_LIMIT);
 	y = TB_KP * eps + tb->integ;
 	tb->rate = tb->integ;

@@ -109,6 +109,9 @@ static void configure(struct hsc_card *c)
 		      SH2000_GP_STATUS_PERIOD, n + 1);
 	} else {
 		c->configured = 1;
+		/* the heartbeat ran at other rates while the timing changed:
+		 * the phase reference is read again on the card's own */
+		hsc_tb_reset(&c->tb);
 	}
 }
 
@@ -259,6 +262,56 @@ static void fill_window_reset(struct hsc_card *c)
 	c->fill_n = 0;
 }
 
+/* Where the batch that lands this tick lands on the card's clock: this
+ * tick's start plus its lateness (start_check() takes it from there). */
+static void start_note(struct hsc_card *c)
+{
+	c->start_check = c->tb.locked && c->servo_ns > 0;
+	c->delay_n = 0;
+	c->start_clock = c->tb.clock +
+			 (double)c->late_ns / (double)c->period_ns;
+	c->start_ref = c->tb.tick0;
+}
+
+/*
+ * The card starts on the first batch when it sees it: a served card whose
+ * server lags when the batch lands starts that much early on its own
+ * clock (a real card never lags), and it plays every record of the
+ * stream that much early against the other cards. Once the delay from a
+ * record to the card's set-point is measured (feedback.c, in the card's
+ * servo cycles: it says on which cycle the card started), the timebase's
+ * reference says on which cycle the batch landed. The card plays record u
+ * from that cycle on at u + 2 periods (the B-spline window) plus the
+ * servo cycle in which it takes the first record. A card found early is
+ * taken into the schedule at HSC_SLIP_RATE, as a target's change is: the
+ * records then hold the commands of the instants the card really plays
+ * them at. A card never starts late; found late, or early by as much as
+ * the queue, the timeline has moved since (a point added to a nearly dry
+ * ring, an underrun), and the start says nothing.
+ */
+static void start_check(struct hsc_card *c)
+{
+	const struct hsc_timebase *tb = &c->tb;
+	double n = (double)c->period_ns / (double)c->servo_ns, cycle, early;
+	int16_t age = (int16_t)(tb->hb_last - (uint16_t)c->st.card_cycle);
+
+	if (!c->delay_valid || c->delay_n < HSC_START_READINGS)
+		return;
+	c->start_check = 0;
+	/* a new reference, or a snapshot the heartbeat does not place */
+	if (!tb->locked || tb->tick0 != c->start_ref || age < -1 ||
+	    age > n + 2)
+		return;
+	/* the landing's cycle, in the status' numbering */
+	cycle = (double)c->st.card_cycle - ((double)tb->hb_ext - age) +
+		(double)tb->hb0 + n * (c->start_clock + tb->off);
+	early = (cycle + 1.0) / n + 2.0 - c->delay;
+	/* within a servo cycle and a half: the cycle the card saw the batch
+	 * on, and the reading's jitter */
+	if (early > 1.5 / n && early < c->queue_target - 1)
+		c->target_left += early;
+}
+
 static void start_stream(struct hsc_card *c, int target)
 {
 	int i;
@@ -286,6 +339,7 @@ static void start_stream(struct hsc_card *c, int target)
 	c->target_left = 0.0;
 	c->delay_valid = 0;
 	c->stream_ticks = -1;	/* this tick's point is in the batch */
+	start_note(c);
 }
 
 /*
@@ -326,9 +380,11 @@ static double low_fill(struct hsc_card *c, int ahead, int target)
 				sum += (long)b * c->fill_hist[b];
 				n += c->fill_hist[b];
 			}
-		if (med <= target - 1 - slack && n)
+		if (med <= target - 1 - slack && n) {
 			c->raise_left = (double)(target - 1) -
 					(double)sum / (double)n;
+			c->start_check = 0;
+		}
 		fill_window_reset(c);
 	}
 	if (c->raise_left <= 0.0)
@@ -365,6 +421,8 @@ static void stream(struct hsc_card *c, int target)
 
 	if (c->stream_ticks++ < 0)
 		return;
+	if (c->start_check)
+		start_check(c);
 	c->due += step;
 	if (c->target_left != 0.0) {
 		double d = fmax(-HSC_SLIP_RATE, fmin(HSC_SLIP_RATE, c->target_left));
@@ -390,8 +448,10 @@ static void stream(struct hsc_card *c, int target)
 		 */
 		c->over_ticks = ahead > target + slack &&
 				c->target_left == 0.0 ? c->over_ticks + 1 : 0;
-		if (c->over_ticks >= HSC_SLIP_TICKS)
+		if (c->over_ticks >= HSC_SLIP_TICKS) {
 			c->recentring = 1;
+			c->start_check = 0;
+		}
 		if (c->recentring && ahead <= target)
 			c->recentring = 0;
 		if (c->recentring)
@@ -405,6 +465,7 @@ static void stream(struct hsc_card *c, int target)
 		    (double)c->rec_n - (double)target + 1.0 >
 		    c->due + HSC_LEAD * step - step) {
 			c->delay_valid = 0;
+			c->start_check = 0;
 			c->due += 1.0;
 			push(c, c->last_cmd, (double)c->tick, 0);
 		}

@@ -139,6 +139,10 @@ struct hsc_timebase {
 	double centre;		/* the phase errors taken, averaged over
 				 * some TB_CENTRE_N readings: what the
 				 * next one is judged against */
+	int readings;		/* since the reference (up to
+				 * TB_REF_READINGS) */
+	int ahead_n;		/* ...of those, ahead in a row */
+	double ahead_min;	/* the least of them */
 	int outliers;		/* readings skipped in a row */
 	int outlier_side;	/* +1 ahead, -1 behind */
 	int settled;		/* ...of which the last agree */

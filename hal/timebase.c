@@ -57,6 +57,22 @@
 #define TB_SETTLE	5
 #define TB_PERSIST	100
 #define TB_LAG_PERSIST	2500
+/*
+ * The reference is moved up to the first readings while they agree that
+ * it is behind: a reading taken while a served card's server lagged is
+ * late by the lag, and every reading after it is ahead by as much. Left
+ * to the filter, which slews the clock to it over some hundreds of ticks,
+ * such an error moves the card's delay by what is left of it when the
+ * stream starts; moving the reference moves nothing the card plays. So
+ * within the first TB_REF_READINGS, TB_SETTLE readings in a row ahead of
+ * the centre by more than TB_REF_MARGIN (a cycle and a half at the
+ * default timing: the heartbeat's quantum and the read's jitter) and by
+ * less than TB_RELOCK move the reference by the least of them. A single
+ * reading ahead (the heartbeat read late after the lateness was taken:
+ * an SMI, a bus stall) moves nothing.
+ */
+#define TB_REF_READINGS	200
+#define TB_REF_MARGIN	0.15
 /* Readings the centre averages: a lag that grows by less than
  * TB_OUTLIER a reading (a server that runs slow for a while) leaves it
  * behind within a few readings. */
@@ -109,6 +125,30 @@ static void hold(struct hsc_timebase *tb)
 	tb->correction = clamp(-tb->integ, TB_LIMIT);
 }
 
+/* Within the first readings: the reference moved up to readings that
+ * agree it is behind (above). */
+static void reference_ahead(struct hsc_timebase *tb, double *eps)
+{
+	double d = *eps - tb->centre;
+
+	tb->readings++;
+	if (d <= TB_REF_MARGIN || *eps >= TB_RELOCK) {
+		tb->ahead_n = 0;
+		return;
+	}
+	tb->ahead_min = tb->ahead_n ? fmin(tb->ahead_min, *eps) : *eps;
+	if (++tb->ahead_n < TB_SETTLE)
+		return;
+	d = tb->ahead_min;
+	tb->off += d;
+	tb->centre -= d;
+	tb->phase -= d;
+	tb->skipped -= d;
+	*eps -= d;
+	tb->ahead_n = 0;
+	tb->outliers = 0;
+}
+
 int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 		  long late_ns, long period_ns, long servo_ns)
 {
@@ -130,6 +170,8 @@ int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 		tb->off = -(double)late_ns / (double)period_ns;
 		tb->phase = 0;
 		tb->centre = 0;
+		tb->readings = 0;
+		tb->ahead_n = 0;
 		tb->outliers = 0;
 		tb->locked = 1;
 		return 0;
@@ -155,6 +197,8 @@ int hsc_tb_update(struct hsc_timebase *tb, uint64_t tick, uint16_t hb,
 	x = (double)(tb->hb_ext - tb->hb0) / per_tick -
 	    (double)late_ns / (double)period_ns - tb->off;
 	eps = x - tb->clock;
+	if (tb->readings < TB_REF_READINGS)
+		reference_ahead(tb, &eps);
 	/*
 	 * A transient is skipped before it is judged: a new reference taken
 	 * in the middle of one would move the thread's phase against card 0

@@ -584,6 +584,7 @@ struct drift {
 	 * lag_ticks (0: none) */
 	uint64_t lag_ns;
 	int lag_ticks;
+	int enable_at;		/* ticks the axes wait to be enabled */
 };
 
 /* One period of a thread running both cards, slaved to card 0's clock as
@@ -597,8 +598,8 @@ static void drift_tick(struct drift *d, double cmd_mm)
 		struct hsc_card *c = &d->r[i]->c;
 		uint64_t now = sh2000_now_ns(c->h), at = d->t_next;
 
-		if (i == 1 && d->ticks < d->lag_ticks)
-			at -= d->lag_ns;	/* its server lags */
+		if (i == 1 && d->ticks < d->lag_ticks)	/* its server lags */
+			at = at > d->lag_ns ? at - d->lag_ns : 0;
 		if (now < at)
 			sh2000_sleep_ns(c->h, at - now);
 		now = sh2000_now_ns(c->h);
@@ -648,6 +649,8 @@ static double drift_open(struct drift *d, const double ppm[2], int target)
 	drift_tick(d, 0.0);
 	x_0 = d->r[0]->out.axis[0].position_fb;
 	assert_true(fabs(d->r[1]->out.axis[0].position_fb - x_0) < 0.001);
+	for (k = 0; k < d->enable_at; k++)
+		drift_tick(d, x_0);
 	d->r[0]->in.axis[0].enable = d->r[1]->in.axis[0].enable = 1;
 	for (k = 0; k < 100; k++)
 		drift_tick(d, x_0);
@@ -975,21 +978,19 @@ static void test_two_cards_lags(void **state)
 }
 
 /*
- * linuxcnc_drift with card 1's server 0.6 periods behind the thread for
- * its first 150 periods, while its timing is set and its phase reference
- * read: the reference is late by the lag. The skew stays within a quarter
- * of a period for a minute of motion. Before, the filter slewed the lag
- * out of the reference once the server caught up, which moved the card's
- * delay by the lag (some 600 us of skew for good).
+ * The drift test's minute of motion after a start in which card 1's server
+ * lagged lag_us behind the thread for its first lag_ticks periods, the
+ * axes enabled after enable_at: the skew stays within a quarter of a
+ * period.
  */
-static void test_two_cards_late_reference(void **state)
+static void late_start(uint64_t lag_us, int lag_ticks, int enable_at)
 {
-	struct drift d = { .lag_ns = 600000, .lag_ticks = 150 };
+	struct drift d = { .lag_ns = lag_us * 1000, .lag_ticks = lag_ticks,
+			   .enable_at = enable_at };
 	double skew, x_0, vmin, worst = 0;
 	uint64_t tick0[2];
 	int k, samples = 0;
 
-	(void)state;
 	x_0 = drift_start(&d, &vmin, tick0, &k);
 	for (; k < 60000; k++) {
 		drift_tick(&d, x_0 + stall_wave(k));
@@ -998,13 +999,38 @@ static void test_two_cards_late_reference(void **state)
 		samples++;
 		worst = fmax(worst, fabs(skew));
 	}
-	print_message("card 1's server 600 us late for the first 150 periods: skew of card 1 against card 0 at most %.1f us (%d samples); fill %u and %u (target 30)\n",
+	print_message("card 1's server %llu us late for the first %d periods, the axes enabled after %d: skew of card 1 against card 0 at most %.1f us (%d samples); fill %u and %u (target 30)\n",
+		      (unsigned long long)lag_us, lag_ticks, enable_at,
 		      worst * 1e-3, samples, d.r[0]->c.st.queue_fill,
 		      d.r[1]->c.st.queue_fill);
 	assert_true(samples > 1000);
 	assert_true(worst < 0.25 * PERIOD_NS);
 	rig_close(d.r[0]);
 	rig_close(d.r[1]);
+}
+
+/*
+ * Card 1's server 0.6 periods behind while its timing is set, its phase
+ * reference read and its stream started: the card starts the stream
+ * early on its own clock. Without the start's check (write.c), some
+ * 600 us of skew for good.
+ */
+static void test_two_cards_early_start(void **state)
+{
+	(void)state;
+	late_start(600, 150, 0);
+}
+
+/*
+ * Card 1's server 1.5 periods behind while its phase reference is read,
+ * caught up before its stream starts: the reference is late by the lag.
+ * Slewed out by the filter while the stream runs, it would move the
+ * card's delay by what is left of it.
+ */
+static void test_two_cards_late_reference(void **state)
+{
+	(void)state;
+	late_start(1500, 40, 60);
 }
 
 int main(void)
@@ -1022,6 +1048,7 @@ int main(void)
 		cmocka_unit_test(test_two_cards_drift),
 		cmocka_unit_test(test_two_cards_stalls),
 		cmocka_unit_test(test_two_cards_lags),
+		cmocka_unit_test(test_two_cards_early_start),
 		cmocka_unit_test(test_two_cards_late_reference),
 	};
 

@@ -282,12 +282,16 @@ static void start_note(struct hsc_card *c)
  * servo cycles: it says on which cycle the card started), the timebase's
  * reference says on which cycle the batch landed. The card plays record u
  * from that cycle on at u + 2 periods (the B-spline window) plus the
- * servo cycle in which it takes the first record. A card found early is
- * taken into the schedule at HSC_SLIP_RATE, as a target's change is: the
- * records then hold the commands of the instants the card really plays
- * them at. A card never starts late; found late, or early by as much as
- * the queue, the timeline has moved since (a point added to a nearly dry
- * ring, an underrun), and the start says nothing.
+ * servo cycle in which it takes the first record. A card found early, or
+ * late (a served follower was found up to 0.81 periods late in
+ * linuxcnc_drift, its start traced this way to within 0.01 periods of
+ * the skew measured from outside), is taken into the schedule at
+ * HSC_SLIP_RATE, as a target's change is: the records then hold the
+ * commands of the instants the card really plays them at. Found off by
+ * more than half the queue, the card's timeline has moved since the
+ * start, and the start says nothing; where the driver moves it itself (a
+ * point added to a nearly dry ring, the queue re-centred, an underrun),
+ * the check is called off.
  */
 static void start_check(struct hsc_card *c)
 {
@@ -306,9 +310,8 @@ static void start_check(struct hsc_card *c)
 	cycle = (double)c->st.card_cycle - ((double)tb->hb_ext - age) +
 		(double)tb->hb0 + n * (c->start_clock + tb->off);
 	early = (cycle + 1.0) / n + 2.0 - c->delay;
-	/* within a servo cycle and a half: the cycle the card saw the batch
-	 * on, and the reading's jitter */
-	if (early > 1.5 / n && early < c->queue_target - 1)
+	/* within half a servo cycle: as good as the schedule gets */
+	if (fabs(early) > 0.5 / n && fabs(early) < c->queue_target / 2)
 		c->target_left += early;
 }
 

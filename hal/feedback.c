@@ -69,6 +69,14 @@ static int history_at(const struct hsc_card *c, double u,
 	return 0;
 }
 
+/* The card's servo cycles per coarse period as the driver set them (10
+ * until it has). */
+double hsc_period_cycles(const struct hsc_card *c)
+{
+	return c->servo_ns > 0 ? (double)c->period_ns / (double)c->servo_ns :
+	       10.0;
+}
+
 /*
  * Time of the snapshot in the card's own time, in coarse periods: its
  * servo cycle over the cycles per period. The card plays one record per
@@ -78,10 +86,7 @@ static int history_at(const struct hsc_card *c, double u,
  */
 double hsc_snap_time(const struct hsc_card *c)
 {
-	double n = c->servo_ns > 0 ? (double)c->period_ns / (double)c->servo_ns :
-		   10.0;
-
-	return (double)c->st.card_cycle / n;
+	return (double)c->st.card_cycle / hsc_period_cycles(c);
 }
 
 /*

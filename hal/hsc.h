@@ -359,6 +359,7 @@ int hsc_fine_steps(long period_ns);
 
 /* feedback.c: the delay from command to the card's set-point, measured
  * on a fresh snapshot; position-fb of an axis, in counts. */
+double hsc_period_cycles(const struct hsc_card *c);
 double hsc_snap_time(const struct hsc_card *c);
 void hsc_clock_offset(struct hsc_card *c, long late_ns);
 void hsc_delay_update(struct hsc_card *c);

@@ -290,13 +290,13 @@ static void start_note(struct hsc_card *c)
  * commands of the instants the card really plays them at. Found off by
  * more than half the queue, the card's timeline has moved since the
  * start, and the start says nothing; where the driver moves it itself (a
- * point added to a nearly dry ring, the queue re-centred, an underrun),
- * the check is called off.
+ * point added to a nearly dry ring, the queue re-centred or raised, an
+ * underrun), the check is called off.
  */
 static void start_check(struct hsc_card *c)
 {
 	const struct hsc_timebase *tb = &c->tb;
-	double n = (double)c->period_ns / (double)c->servo_ns, cycle, early;
+	double n = hsc_period_cycles(c), cycle, early;
 	int16_t age = (int16_t)(tb->hb_last - (uint16_t)c->st.card_cycle);
 
 	if (!c->delay_valid || c->delay_n < HSC_START_READINGS)

@@ -8,7 +8,12 @@
  * set-points (its four-record window through sh2000_bspline, every servo
  * cycle, unrounded: tests/planner/spcheck.h) measured against the limits.
  *
- *   bench_peaks FILE.canon [MARGIN...]      (default: 0.95 0.97 0.99 1)
+ *   bench_peaks [-a AMAX] [-j JERK] [-r] FILE.canon [MARGIN...]
+ *                                   (default: 0.95 0.97 0.99 1)
+ *
+ * -a sets every axis' amax (mm/s^2), -j the path jerk (mm/s^3), -r the
+ * raw output (no compensation), to measure the planner away from the
+ * card model's limits.
  *
  * One line per margin: the planned time; each axis' peak velocity and
  * acceleration over every servo cycle (first and second differences over
@@ -20,6 +25,7 @@
  * it prints figures and never fails on them.
  */
 #include <ctype.h>
+#include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -30,6 +36,12 @@
 #define CARD_VMAX	400.0	/* mm/s, the card model's defaults */
 #define CARD_AMAX	5000.0	/* mm/s^2 */
 #define CARD_SCALE	1e5	/* counts per mm: 10 nm */
+
+/* What the command line changes of the card model's limits. */
+struct limits {
+	double amax, jerk;
+	int raw;
+};
 
 struct meas {
 	struct sp_check sp;
@@ -83,8 +95,8 @@ static int sink(void *ctx, const struct sh2000_path_point *pt)
 }
 
 /* The program planned at one margin, measured into *m. */
-static int plan_at(const struct sh2000_program *prog, double margin,
-		   struct meas *m)
+static int plan_at(const struct sh2000_program *prog,
+		   const struct limits *lim, double margin, struct meas *m)
 {
 	struct sh2000_path_config cfg;
 	struct sh2000_path *p;
@@ -93,9 +105,13 @@ static int plan_at(const struct sh2000_program *prog, double margin,
 
 	sh2000_path_config_default(&cfg);
 	cfg.margin = margin;
+	if (lim->jerk > 0.0)
+		cfg.jerk = lim->jerk;
+	if (lim->raw)
+		cfg.output = SH2000_OUTPUT_RAW;
 	for (unsigned int a = 0; a < SH2000_AXES; a++) {
 		cfg.vmax[a] = CARD_VMAX;
-		cfg.amax[a] = CARD_AMAX;
+		cfg.amax[a] = lim->amax;
 		cfg.counts_per_mm[a] = CARD_SCALE;
 	}
 	memset(m, 0, sizeof(*m));
@@ -165,28 +181,49 @@ int main(int argc, char **argv)
 	struct sh2000_prog_diags d;
 	struct sh2000_program prog;
 	static struct meas m;
+	struct limits lim = { CARD_AMAX, 0.0, 0 };
 	size_t len = 0;
-	char *text;
-	int bad = 0, n = argc > 2 ? argc - 2 : 4;
+	char *text, *end;
+	int bad = 0, n, opt;
 
-	if (argc < 2) {
-		fprintf(stderr, "usage: bench_peaks FILE.canon [MARGIN...]\n");
+	while ((opt = getopt(argc, argv, "a:j:r")) != -1) {
+		double *x = opt == 'a' ? &lim.amax : &lim.jerk;
+
+		if (opt == 'r') {
+			lim.raw = 1;
+			continue;
+		}
+		if (opt != 'a' && opt != 'j')
+			goto usage;
+		*x = strtod(optarg, &end);
+		if (*end || !(*x > 0.0) || !isfinite(*x)) {
+			fprintf(stderr, "bench_peaks: -%c: not a number > 0: %s\n",
+				opt, optarg);
+			return 2;
+		}
+	}
+	if (optind >= argc) {
+usage:
+		fprintf(stderr, "usage: bench_peaks [-a AMAX] [-j JERK] [-r] FILE.canon [MARGIN...]\n");
 		return 2;
 	}
-	text = canon_lines(argv[1], &len);
+	argv += optind;
+	argc -= optind;
+	n = argc > 1 ? argc - 1 : 4;
+	text = canon_lines(argv[0], &len);
 	sh2000_prog_options_default(&po);
 	sh2000_program_init(&prog);
 	sh2000_prog_diags_init(&d);
-	if (!text || sh2000_program_read(&prog, SH2000_PROG_CANON, argv[1],
+	if (!text || sh2000_program_read(&prog, SH2000_PROG_CANON, argv[0],
 					 text, len, &po, &d)) {
 		sh2000_prog_diags_print(&d, stderr);
-		fprintf(stderr, "bench_peaks: cannot read %s\n", argv[1]);
+		fprintf(stderr, "bench_peaks: cannot read %s\n", argv[0]);
 		return 1;
 	}
 	for (int i = 0; i < n; i++) {
-		double margin = argc > 2 ? atof(argv[i + 2]) : dflt[i];
+		double margin = argc > 1 ? atof(argv[i + 1]) : dflt[i];
 
-		if (plan_at(&prog, margin, &m)) {
+		if (plan_at(&prog, &lim, margin, &m)) {
 			bad = 1;
 			continue;
 		}

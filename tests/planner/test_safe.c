@@ -20,6 +20,11 @@
  *    default limits: the controller still accelerated when it reached
  *    the blend and braked at 3.2 times an axis' amax; and a blend at full
  *    speed there, which the card's spline passed 2 um beyond.
+ *  - a jerk limit far above what a period can use: compensated output
+ *    planned slower than at the card model's jerk (3D_Chips 8 % at 5e7)
+ *    and passed amax, and a stop a hair nearer than the controller's
+ *    search could step stood still for ever (raw output at 5e8, or
+ *    50000 mm/s^2 at 5e8: every program at its last stop).
  * And the check itself: spcheck's distance from a set-point to the path
  * is the nearest segment's, wherever the last match was.
  * `build/x/tests/planner/test_safe` prints what it measured.
@@ -28,6 +33,7 @@
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 
 #include <cmocka.h>
@@ -44,6 +50,7 @@ struct run {
 	double first_step;	/* largest axis step of the first record, mm */
 	double start[SH2000_AXES];
 	size_t points;
+	uint64_t hash;		/* of every record's counts, in order */
 };
 
 /* Every fine set-point: the range, and how far one steps back from the
@@ -73,6 +80,9 @@ static int run_sink(void *ctx, const struct sh2000_path_point *pt)
 		for (k = 0; k < SH2000_AXES; k++)
 			r->first_step = fmax(r->first_step,
 					     fabs(pt->mm[k] - r->start[k]));
+	for (k = 0; k < SH2000_AXES; k++)	/* FNV-1a */
+		r->hash = (r->hash ^ (uint32_t)pt->counts[k]) *
+			  1099511628211ull;
 	r->rec_lo = fmin(r->rec_lo, pt->mm[0]);
 	r->rec_hi = fmax(r->rec_hi, pt->mm[0]);
 	sp_point(&r->sp, pt);
@@ -510,6 +520,90 @@ static void test_stop_beyond_blend(void **state)
 	}
 }
 
+/* ---- a jerk limit above what a period can use -------------------------- */
+
+/* A short chain of lines with a corner taken at rest, a blend and an arc:
+ * the first five lines are a random program on which raw output at a jerk
+ * of 5e8 stood still 1.2e-6 mm before its end for ever. */
+static const char jerk_prog[] =
+	"G21 G90 G61\n"
+	"G1 X-0.7642 Y0.5219 F600\nG1 X-0.8454 Y0.4276\n"
+	"G1 X-0.8415 Y0.4229\nG1 X-0.8334 Y0.4135 Z0.0828\n"
+	"G1 X1.0314 Y5.1039\n"
+	"G64 P0.01\nG1 X6 Y5.1039 F6000\nG1 X6 Y9\n"
+	"G2 X10 Y9 I2 J0\nG1 X10 Y2\nM2\n";
+
+/* Where the controller holds one jerk a period (compensated output at
+ * the card model's limits), a jerk above 2 margin amin / T plans exactly
+ * as that jerk does, the card model's own 5e6: a higher one only added
+ * ringing allowance (0.02 J T), and planned slower. */
+static void test_jerk_above_period(void **state)
+{
+	static const double jerk[] = { 5e6, 5e7, 5e9 };
+	struct sh2000_path_config cfg;
+	uint64_t hash = 0;
+	size_t points = 0;
+	struct run r;
+
+	(void)state;
+	for (size_t i = 0; i < sizeof(jerk) / sizeof(jerk[0]); i++) {
+		harness_config(&cfg, 1);
+		cfg.jerk = jerk[i];
+		assert_int_equal(plan_gcode(jerk_prog, &cfg, 0.011, &r), 0);
+		printf("compensated, jerk %g: %zu records, a %.4f of amax, %.6f mm off the path\n",
+		       jerk[i], r.points, r.sp.a_ratio, r.sp.dev);
+		assert_true(r.sp.v_ratio <= 1.0);
+		assert_true(r.sp.a_ratio <= 1.0);
+		assert_true(r.sp.dev <= 0.011);
+		if (i) {
+			assert_int_equal(r.points, points);
+			assert_true(r.hash == hash);
+		}
+		points = r.points;
+		hash = r.hash;
+		sp_path_free(&r.path);
+	}
+}
+
+/* Raw output at jerks far above the card model's, and 50000 mm/s^2 in
+ * either output: every plan ends, on the program's path and within the
+ * axes' limits. */
+static void test_jerk_far_above(void **state)
+{
+	static const struct {
+		double amax, jerk;
+		enum sh2000_path_output out;
+	} run[] = {
+		{ 5000, 5e8, SH2000_OUTPUT_RAW },
+		{ 5000, 5e10, SH2000_OUTPUT_RAW },
+		{ 50000, 5e8, SH2000_OUTPUT_RAW },
+		{ 50000, 5e8, SH2000_OUTPUT_COMPENSATED },
+		{ 50000, 5e10, SH2000_OUTPUT_COMPENSATED },
+	};
+	struct sh2000_path_config cfg;
+	struct run r;
+
+	(void)state;
+	for (size_t i = 0; i < sizeof(run) / sizeof(run[0]); i++) {
+		harness_config(&cfg, 1);
+		for (unsigned int k = 0; k < SH2000_AXES; k++)
+			cfg.amax[k] = run[i].amax;
+		cfg.jerk = run[i].jerk;
+		cfg.output = run[i].out;
+		assert_int_equal(plan_gcode(jerk_prog, &cfg, 0.011, &r), 0);
+		printf("%s, amax %g, jerk %g: %zu records, a %.4f of amax, %.6f mm off the path\n",
+		       run[i].out == SH2000_OUTPUT_RAW ? "raw" : "compensated",
+		       run[i].amax, run[i].jerk, r.points, r.sp.a_ratio,
+		       r.sp.dev);
+		assert_true(r.sp.v_ratio <= 1.0);
+		assert_true(r.sp.a_ratio <= 1.0);
+		assert_true(r.sp.dev <= 0.011);
+		assert_true(fabs(r.sp.x[2][0] - 10.0) < 1e-3);
+		assert_true(fabs(r.sp.x[2][1] - 2.0) < 1e-3);
+		sp_path_free(&r.path);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -521,6 +615,8 @@ int main(void)
 		cmocka_unit_test(test_short_moves),
 		cmocka_unit_test(test_path_distance),
 		cmocka_unit_test(test_stop_beyond_blend),
+		cmocka_unit_test(test_jerk_above_period),
+		cmocka_unit_test(test_jerk_far_above),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1126,6 +1126,10 @@ static void greedy_step(const struct ctl *c, double *ds, double *v, double *a)
 		*a = jh;
 }
 
+/* The most periods the motion may stand still on its way (a corner taken
+ * at rest takes one): more is a fault, not a plan. */
+#define PL_STILL_MAX 10000
+
 /* The most periods an exact landing may take (400 mm/s at 475 mm/s^2
  * takes 422). */
 #define PL_LAND_MAX 1024
@@ -1415,6 +1419,22 @@ static void advance_blocks(struct sh2000_path *p)
 	}
 }
 
+/* The least distance the jerk search (highest_jerk(), its step 2 J /
+ * 65536, 2 A / 65536 for the trapezoid) surely steps from rest in h,
+ * and at least 1e-6 mm: a stop nearer than that is stepped onto at
+ * once, with a = 0 at its end. A step of the search covers J h^3 / 6 of
+ * it from rest (a h^2 / 2); the search itself only moves once its jerk
+ * covers the whole distance, so a stop a hair nearer than its step was
+ * never reached (a raw plan at a jerk of 5e8 stood 1.2e-6 mm before one
+ * for ever). */
+static double rest_hair(const struct sh2000_path *p, double A, double h)
+{
+	double step = isinf(p->lim.J) ? A * h * h / 65536.0 :
+		      p->lim.J * h * h * h / 196608.0;
+
+	return fmax(1e-6, 4.0 * step);
+}
+
 /* One substep; returns 1 when the motion has come to rest. */
 static int substep(struct sh2000_path *p, double h)
 {
@@ -1460,7 +1480,7 @@ static int substep(struct sh2000_path *p, double h)
 	c.first = 0;
 	c.drops = p->drops;
 	if (n && p->cons[PL_CONS * (n - 1) + 1] == 0.0 &&
-	    p->cons[PL_CONS * (n - 1)] < 1e-6 &&
+	    p->cons[PL_CONS * (n - 1)] < rest_hair(p, c.lim.A, h) &&
 	    p->v < 1e-4 && !halt) {
 		/* at rest a hair before a stop (exact stop, end of the
 		 * queue): the transitions land within rounding of it */
@@ -1611,6 +1631,7 @@ int pl_period(struct sh2000_path *p)
 		if (p->count == 0 || p->paused)
 			return 1;
 		p->moving = 1;
+		p->still = 0;
 		p->v = p->a = 0.0;
 		p->dist_now = 0.0;
 		p->a_prev = INFINITY;
@@ -1632,6 +1653,14 @@ int pl_period(struct sh2000_path *p)
 	}
 	ds = p->dist_now;
 	p->dist_now = 0.0;
+	if (!rest && !(ds > 0.0) && !p->paused && !p->stopping &&
+	    ++p->still > PL_STILL_MAX)
+		return pl_err(p, -EDEADLK,
+			      "the planner stood still for %u periods %.3g mm before the end of its move, at %.6f %.6f %.6f: a fault of the planner (please report the program and the configuration)",
+			      p->still, pl_max(head(p)->L - p->s, 0.0),
+			      p->pos[0], p->pos[1], p->pos[2]);
+	if (ds > 0.0 || rest)
+		p->still = 0;
 	if (rest && p->count == 1 && p->s >= head(p)->L) {
 		memcpy(q, head(p)->p1, sizeof(q));
 		pop_head(p);

@@ -212,6 +212,17 @@ static void derive_limits(struct sh2000_path *p)
 		   cfg->margin * amin <= 2.0 * p->lim.J * cfg->period_s;
 	if (p->quant) {
 		p->substeps = 1;
+		/* One jerk a period of 2 margin amin / T already takes the
+		 * smallest amax from -A to +A within a period; a higher jerk
+		 * buys nothing there but more ringing to allow for (0.02 J T
+		 * grows without bound) and a coarser search: at the card
+		 * model's limits a jerk of 5e7 planned 3D_Chips 8 % slower
+		 * than 5e6 and arcspiral passed amax (1.019), and at 50000
+		 * mm/s^2 a jerk of 5e8 stood still for ever a count before
+		 * a stop. So the controller plans with at most that jerk
+		 * (the card model's 4.75e6 at its defaults: unchanged). */
+		p->lim.J = fmin(p->lim.J,
+				2.0 * cfg->margin * amin / cfg->period_s);
 		p->a_ring = PL_RING_QUANT_K * p->lim.J * cfg->period_s;
 	}
 	p->a_curve = pl_accel_room(p, sqrt(1.0 - share * share) *
@@ -222,6 +233,13 @@ static void derive_limits(struct sh2000_path *p)
 	for (a = 0; a < SH2000_AXES; a++)
 		p->a_top += cfg->amax[a] * cfg->amax[a];
 	p->a_top = sqrt(p->a_top) * cfg->margin * p->a_scale;
+	/* A jerk held over a control step never needs to move the
+	 * acceleration further than from -a_top to +a_top: more only
+	 * coarsens the controller's search, whose step is 2 J / 65536
+	 * (control.c). Raw output at a jerk of 5e8 stood still for ever
+	 * a hair before a stop it could no longer step to. */
+	p->lim.J = fmin(p->lim.J, 2.0 * p->a_top * p->substeps /
+				  cfg->period_s);
 	/* The card's compensated spline rings above the speed a transition
 	 * ends at, by about 0.004 J T^2 (0.007 A T for the trapezoid's
 	 * acceleration steps), measured on its fine set-points (the feed test

@@ -258,6 +258,8 @@ struct sh2000_path {
 	double feed_margin;
 	unsigned int substeps;
 	int quant;	/* one jerk a period, transitions landed (control.c) */
+	/* periods in a row the motion stood still without resting */
+	unsigned int still;
 
 	/* the look-ahead window: a ring of blocks */
 	struct pl_block *blk;

@@ -64,7 +64,10 @@ struct sh2000_path_config {
 	unsigned int fine_steps;	/* card servo cycles per period (20) */
 	double vmax[SH2000_AXES];	/* mm/s, > 0 */
 	double amax[SH2000_AXES];	/* mm/s^2, > 0 */
-	double jerk;			/* path jerk, mm/s^3 (S-curve) */
+	/* path jerk, mm/s^3 (S-curve); planned with no more than a control
+	 * step can use (docs/planner.md "A jerk above what a period can
+	 * use") */
+	double jerk;
 	enum sh2000_path_profile profile;
 	enum sh2000_path_output output;
 	enum sh2000_path_mode mode;	/* at the start (BLEND) */
@@ -221,7 +224,8 @@ void sh2000_path_end_position(const struct sh2000_path *p,
 /* ---- execution -------------------------------------------------------- */
 
 /* Emit up to max_points points (the motion stops at the end of what is
- * queued, with END). Returns the number emitted, or a negative errno. */
+ * queued, with END). Returns the number emitted, or a negative errno
+ * (-EDEADLK: the motion stood still without resting, a planner fault). */
 int sh2000_path_run(struct sh2000_path *p, unsigned int max_points);
 /* Emit everything queued; the motion ends at rest on the last end point.
  * 0 when done, -EAGAIN if paused with work left. */

@@ -9,7 +9,6 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "accel.h"
 #include "setpoints.h"
 #include "sh2000/run.h"
 
@@ -33,8 +32,8 @@ static int halts(const struct sh2000_prog_block *b,
 struct plan_ctx {
 	struct sh2000_program_plan *plan;
 	const struct sh2000_limits *limits;
-	struct sh2000_setpoints sp;	/* the runner's rule, ahead of it */
-	struct sh2000_accel_check acc;	/* the set-points' acceleration */
+	struct sh2000_setpoints sp;	/* the runner's rule, ahead of it,
+					 * and the acceleration guard */
 	const struct sh2000_path_config *pc;
 	double start[SH2000_AXES];
 	const char *file;
@@ -62,11 +61,6 @@ static int plan_sink(void *ctx, const struct sh2000_path_point *pt)
 	memcpy(mm, pt->mm, sizeof(mm));
 	e = sh2000_setpoints_point(&c->sp, mm, pt->flags & SH2000_PATH_F_END,
 				   c->plan->error, sizeof(c->plan->error));
-	if (!e)
-		e = sh2000_accel_check_point(&c->acc, pt->mm,
-					     pt->flags & SH2000_PATH_F_END,
-					     c->plan->error,
-					     sizeof(c->plan->error));
 	if (e < 0) {
 		/* the point belongs to the block tagged with this line */
 		snprintf(c->plan->where, sizeof(c->plan->where), "%s:%u",
@@ -154,7 +148,7 @@ int sh2000_program_plan(struct sh2000_prog_reader *r,
 	sh2000_setpoints_init(&c.sp, o->limits);
 	sh2000_setpoints_rest(&c.sp, pc->start);
 	sh2000_setpoints_pair(&c.sp, pc);
-	sh2000_accel_check_init(&c.acc, pc);
+	sh2000_setpoints_accel(&c.sp, pc);
 	e = sh2000_path_create(&p, pc, plan_sink, &c, plan->error,
 			       sizeof(plan->error));
 	if (e)

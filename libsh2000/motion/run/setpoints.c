@@ -30,7 +30,22 @@
  * have pushed the records before; those are inside the limits all the
  * same. The first pass of a program checks everything before anything
  * moves.
+ *
+ * The first pass also judges the acceleration of the same set-points
+ * (sh2000_setpoints_accel()). The spline's second derivative is linear
+ * over each span, (1 - u)(P0 - 2P1 + P2) + u(P1 - 2P2 + P3) over T^2, so
+ * its extremes are at the knots: the largest acceleration the card
+ * commands is the largest second difference of the records over T^2,
+ * exactly, with no sampling. The planner keeps every axis within its amax
+ * on that spline at the limits it is measured at (docs/planner.md), but
+ * not at all limits ("Known limits"). A plan that passes an axis' amax by
+ * more than the reserve the planner's margin keeps for the card (its
+ * correction tables and time base take up to 4 % of amax), plus two
+ * counts of rounding, is refused with the axis and the time instead of
+ * being sent to the drives. The runner does not judge it: a live
+ * override changes the plan the first pass judged.
  */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -158,6 +173,69 @@ static int clamp(const struct sh2000_limits *l, double mm[SH2000_AXES])
 	return moved;
 }
 
+/* The second difference of three consecutive records over T^2, the
+ * spline's acceleration at the middle one's knot. */
+static int check_accel(const struct sh2000_setpoints *c, const double *a,
+		       const double *b, const double *cc, uint64_t n,
+		       char *msg, size_t len)
+{
+	static const char name[] = SH2000_AXIS_LETTERS;
+	double T2 = c->period_s * c->period_s;
+	unsigned int ax;
+
+	for (ax = 0; ax < SH2000_AXES; ax++) {
+		double d2 = a[ax] - 2.0 * b[ax] + cc[ax];
+
+		if (fabs(d2) <= c->accel_limit[ax])
+			continue;
+		if (msg && len)
+			snprintf(msg, len,
+				 "axis %c: the planned set-points accelerate at %.0f mm/s^2 at %.3f s, over its amax of %.0f mm/s^2 by more than the planner's margin keeps: the planner does not hold these limits (docs/planner.md \"Known limits\")",
+				 name[ax], fabs(d2) / T2,
+				 (double)n * c->period_s, c->amax[ax]);
+		return -ERANGE;
+	}
+	return 0;
+}
+
+void sh2000_setpoints_accel(struct sh2000_setpoints *c,
+			    const struct sh2000_path_config *pc)
+{
+	double T2 = pc->period_s * pc->period_s;
+	unsigned int a;
+
+	c->judge_accel = 1;
+	c->period_s = pc->period_s;
+	for (a = 0; a < SH2000_AXES; a++) {
+		c->amax[a] = pc->amax[a];
+		c->accel_limit[a] = (2.0 - pc->margin) * pc->amax[a] * T2 +
+				    2.0 / pc->counts_per_mm[a];
+	}
+}
+
+/* Record mm's spans (and after END, the padded ones): their set-points
+ * within the limits, their acceleration within the guard's. */
+static int check_record(const struct sh2000_setpoints *c, const double *mm,
+			uint64_t k, int end, char *msg, size_t len)
+{
+	const double (*w)[SH2000_AXES] = c->w;
+	int e = 0;
+
+	if (c->judge_accel)
+		e = check_accel(c, w[1], w[2], mm, k + 1, msg, len);
+	if (!e && c->judge_accel && end)
+		e = check_accel(c, w[2], mm, mm, k + 2, msg, len);
+	if (!c->limits || e)
+		return e;
+	e = check_span(c, w[0], w[1], w[2], mm, k ? k - 1 : 0, msg, len);
+	/* after END the card pads with the end point */
+	if (!e && end)
+		e = check_span(c, w[1], w[2], mm, mm, k, msg, len);
+	if (!e && end)
+		e = check_span(c, w[2], mm, mm, mm, k, msg, len);
+	return e;
+}
+
 int sh2000_setpoints_point(struct sh2000_setpoints *c, double mm[SH2000_AXES],
 			   int end, char *msg, size_t len)
 {
@@ -169,11 +247,6 @@ int sh2000_setpoints_point(struct sh2000_setpoints *c, double mm[SH2000_AXES],
 
 	if (e)
 		return e;
-	if (!c->limits) {
-		if (end)
-			sh2000_setpoints_rest(c, mm);
-		return 0;
-	}
 	if (!c->in_motion) {
 		/* the card starts from its rest point (the planner's start
 		 * is within a micrometre of the first record) */
@@ -183,18 +256,12 @@ int sh2000_setpoints_point(struct sh2000_setpoints *c, double mm[SH2000_AXES],
 		memcpy(c->w[2], x, sizeof(c->w[2]));
 		c->in_motion = 1;
 	}
-	e = check_span(c, c->w[0], c->w[1], c->w[2], mm, k ? k - 1 : 0, msg,
-		       len);
-	/* after END the card pads with the end point */
-	if (!e && end)
-		e = check_span(c, c->w[1], c->w[2], mm, mm, k, msg, len);
-	if (!e && end)
-		e = check_span(c, c->w[2], mm, mm, mm, k, msg, len);
+	e = check_record(c, mm, k, end, msg, len);
 	if (e)
 		return e;
 	memmove(c->w[0], c->w[1], 2 * sizeof(c->w[0]));
 	memcpy(c->w[2], mm, sizeof(c->w[2]));
 	if (end)
 		sh2000_setpoints_rest(c, mm);
-	return clamp(c->limits, mm);
+	return c->limits ? clamp(c->limits, mm) : 0;
 }

@@ -2,7 +2,8 @@
 /*
  * The soft-limit policy over a stream of records (setpoints.c): what the
  * runner and the first pass of a program apply to every point they get,
- * with the gantry pair's rule (pair.h).
+ * with the gantry pair's rule (pair.h); and the acceleration guard the
+ * first pass adds.
  */
 #ifndef SH2000_RUN_SETPOINTS_H
 #define SH2000_RUN_SETPOINTS_H
@@ -19,6 +20,10 @@ struct sh2000_setpoints {
 	double w[3][SH2000_AXES];	/* the last three records, as planned */
 	double rest[SH2000_AXES];	/* where the last motion ended */
 	int in_motion;			/* w holds this motion's window */
+	int judge_accel;		/* sh2000_setpoints_accel() was called */
+	double accel_limit[SH2000_AXES]; /* the most |P[k-1] - 2P[k] + P[k+1]| */
+	double amax[SH2000_AXES];	/* mm/s^2, for the message */
+	double period_s;
 	int have_rest;
 	uint64_t points;		/* records seen */
 };
@@ -28,14 +33,18 @@ void sh2000_setpoints_init(struct sh2000_setpoints *c,
 /* Judge the points by pc's gantry pair too (sh2000_pair_rule_init). */
 void sh2000_setpoints_pair(struct sh2000_setpoints *c,
 			   const struct sh2000_path_config *pc);
+/* Judge the set-points' acceleration too, by pc's amax, period, scale and
+ * margin (setpoints.c): a record past it is -ERANGE. */
+void sh2000_setpoints_accel(struct sh2000_setpoints *c,
+			    const struct sh2000_path_config *pc);
 /* The card rests at mm (a new plan starts there). */
 void sh2000_setpoints_rest(struct sh2000_setpoints *c,
 			   const double mm[SH2000_AXES]);
 /*
  * The next record mm (end: the last of a motion). Checks the gantry
- * pair's rule, the card's set-points up to it; then puts the record on a
- * limit it is beyond. 0, 1 (mm changed), -SH2000_EGANTRY or
- * -SH2000_ELIMIT with msg.
+ * pair's rule, the card's set-points up to it (and their acceleration,
+ * if asked); then puts the record on a limit it is beyond. 0, 1 (mm
+ * changed), -SH2000_EGANTRY, -SH2000_ELIMIT or -ERANGE with msg.
  */
 /*
  * The same limits as bounds of the planner's primitives, with the same

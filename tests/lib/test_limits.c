@@ -433,6 +433,62 @@ static void test_gantry_pair(void **state)
 	}
 }
 
+/* The first pass's acceleration guard: the second difference of the
+ * records over T^2 (the spline's acceleration at a knot, exactly), from
+ * the rest window and through the END padding, against (2 - margin) amax
+ * plus two counts; without sh2000_setpoints_accel() nothing is judged. */
+static void feed_x(struct sh2000_setpoints *c, const double *x, size_t n,
+		   int accel, int want, const char *msg_part)
+{
+	struct sh2000_path_config pc;
+	double p[SH2000_AXES] = { 0 };
+	char msg[512] = "";
+	int e = 0;
+
+	sh2000_path_config_default(&pc);
+	for (unsigned int a = 0; a < SH2000_AXES; a++) {
+		pc.counts_per_mm[a] = 1e5;
+		pc.amax[a] = 5000;
+	}
+	pc.period_s = 0.002;
+	pc.margin = 0.95;
+	sh2000_setpoints_init(c, NULL);
+	sh2000_setpoints_rest(c, pc.start);
+	if (accel)
+		sh2000_setpoints_accel(c, &pc);
+	for (size_t i = 0; i < n && !e; i++) {
+		p[0] = x[i];
+		e = sh2000_setpoints_point(c, p, i + 1 == n, msg, sizeof(msg));
+	}
+	assert_int_equal(e, want);
+	if (msg_part)
+		assert_non_null(strstr(msg, msg_part));
+}
+
+static void test_accel_guard(void **state)
+{
+	/* rest to rest at 2625 and 5250 mm/s^2: within 1.05 amax (5250) */
+	static const double ok[] = { 0.0105, 0.0315, 0.0525, 0.063, 0.063 };
+	/* then 0.3: 18625 mm/s^2 at the fifth knot */
+	static const double jump[] = { 0.0105, 0.042, 0.0945, 0.16, 0.3 };
+	/* ends moving at 26 mm/s: the padding stops it within a period */
+	static const double halt[] = { 0.0105, 0.042, 0.0945, 0.147 };
+	/* within the two counts over 5250 mm/s^2 (5254), then a hair over
+	 * them where the padding stops the motion: 5261 mm/s^2 */
+	static const double over[] = { 0.021015, 0.04206 };
+	struct sh2000_setpoints c;
+
+	(void)state;
+	feed_x(&c, ok, 5, 1, 0, NULL);
+	feed_x(&c, jump, 5, 1, -ERANGE,
+	       "axis X: the planned set-points accelerate at 18625 mm/s^2 at 0.010 s, over its amax of 5000 mm/s^2");
+	feed_x(&c, jump, 5, 0, 0, NULL);
+	feed_x(&c, halt, 4, 1, -ERANGE,
+	       "accelerate at 13125 mm/s^2 at 0.010 s");
+	feed_x(&c, over, 1, 1, 0, NULL);
+	feed_x(&c, over, 2, 1, -ERANGE, "at 5261 mm/s^2 at 0.006 s");
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -443,6 +499,7 @@ int main(void)
 		cmocka_unit_test(test_nurbs_bounds),
 		cmocka_unit_test(test_policy),
 		cmocka_unit_test(test_gantry_pair),
+		cmocka_unit_test(test_accel_guard),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -604,6 +604,43 @@ static void test_jerk_far_above(void **state)
 	}
 }
 
+/* ---- the acceleration settled before it drops -------------------------- */
+
+/* A piece of LinuxCNC's cds.ngc (inches, F600, G64 P0.01 mm) at 15000
+ * mm/s^2, where a ramp to amax lasts 1.5 periods: the controller holds
+ * one jerk a period but cannot land in one. A blend allowing 13682
+ * mm/s^2 runs into an arc allowing 12151 that ends in a corner taken at
+ * rest. The motion reached the arc still accelerating, under the speed
+ * from which the arc can stop but too late to bring its acceleration
+ * down before it: it took the corner at 80 mm/s, 4.1 times amax on the
+ * card's set-points. */
+static void test_settle_before_drop(void **state)
+{
+	static const char prog[] =
+		"G20 G90 G64 P0.000394\n"
+		"G1 X0 Y2.205 Z1.6875 F600\n"
+		"G1 X0 Y2.015\n"
+		"G1 X0.3651 Y2.015\n"
+		"G3 X0.3650 Y2.0000 I1.6349 J-0.0184\n"
+		"G3 X0.3744 Y1.8250 I1.635 J0.0001\n"
+		"G1 X0 Y1.825\n"
+		"G1 X0 Y1.635\nM2\n";
+	struct sh2000_path_config cfg;
+	struct run r;
+
+	(void)state;
+	harness_config(&cfg, 1);
+	for (unsigned int k = 0; k < SH2000_AXES; k++)
+		cfg.amax[k] = 15000;
+	assert_int_equal(plan_gcode(prog, &cfg, 0.011, &r), 0);
+	printf("cds piece at 15000 mm/s^2: v %.4f a %.4f of the limits, %.6f mm off the path\n",
+	       r.sp.v_ratio, r.sp.a_ratio, r.sp.dev);
+	assert_true(r.sp.v_ratio <= 1.0);
+	assert_true(r.sp.a_ratio <= 1.0);
+	assert_true(r.sp.dev <= 0.011);
+	sp_path_free(&r.path);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -617,6 +654,7 @@ int main(void)
 		cmocka_unit_test(test_stop_beyond_blend),
 		cmocka_unit_test(test_jerk_above_period),
 		cmocka_unit_test(test_jerk_far_above),
+		cmocka_unit_test(test_settle_before_drop),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -290,15 +290,20 @@ static double drop_speed(const struct sh2000_path *p, const double *x,
 }
 
 /* The distance the motion from (v, a > 0) covers bringing a down to 0
- * at full jerk. Not where the controller holds one jerk a period: there
- * the landing (quant.c) brings a down on whole periods, and counted
- * here (over at least a period) it moved the card-limit sweeps both
- * ways (zigzag, 10 degrees, 3 mm, P0.1: 1.0094 amax to 0.984; spiral,
- * 10 degrees, 1.5 mm, P0.01: 0.976 to 1.0022, a limit just before a
- * short blend missed as before). */
+ * at full jerk. Not where the controller holds one jerk a period and
+ * can land in one (J h >= A): there the landing (quant.c) brings a down
+ * on whole periods, and counted here (over at least a period) it moved
+ * the card-limit sweeps both ways (zigzag, 10 degrees, 3 mm, P0.1:
+ * 1.0094 amax to 0.984; spiral, 10 degrees, 1.5 mm, P0.01: 0.976 to
+ * 1.0022, a limit just before a short blend missed as before). Where a
+ * ramp to A takes longer than a period (15000 mm/s^2 at the default
+ * jerk) there is no landing to count on: left out, a blend reached the
+ * arc after it still accelerating, under the speed from which the arc
+ * could stop but too late to settle, and took the stop at its end at 80
+ * mm/s (cds.ngc: 4.1 amax on the card's set-points). */
 static double settle_dist(const struct ctl *c, double v, double a)
 {
-	if (a <= 0.0 || c->quant)
+	if (a <= 0.0 || (c->quant && c->jmax * c->h >= c->lim.A))
 		return 0.0;
 	return ramp_dist(v, a, c->lim.J, a / c->lim.J);
 }

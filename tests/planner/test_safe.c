@@ -89,10 +89,11 @@ static int run_sink(void *ctx, const struct sh2000_path_point *pt)
 	return 0;
 }
 
-/* Read G-code and plan it with cfg; the set-points checked within tol of
- * the program's path. 0 or the planner's error. */
-static int plan_gcode(const char *text, const struct sh2000_path_config *cfg,
-		      double tol, struct run *r)
+/* Read a program of format fmt and plan it with cfg; the set-points
+ * checked within tol of the program's path. 0 or the planner's error. */
+static int plan_text(int fmt, const char *text,
+		     const struct sh2000_path_config *cfg, double tol,
+		     struct run *r)
 {
 	struct sh2000_program prog;
 	struct sh2000_prog_diags d;
@@ -102,8 +103,8 @@ static int plan_gcode(const char *text, const struct sh2000_path_config *cfg,
 	memset(r, 0, sizeof(*r));
 	sh2000_program_init(&prog);
 	sh2000_prog_diags_init(&d);
-	ret = sh2000_program_read(&prog, SH2000_PROG_GCODE, "t.ngc", text,
-				  strlen(text), NULL, &d);
+	ret = sh2000_program_read(&prog, fmt, "t.ngc", text, strlen(text),
+				  NULL, &d);
 	if (ret)
 		sh2000_prog_diags_print(&d, stderr);
 	assert_int_equal(ret, 0);
@@ -125,6 +126,12 @@ static int plan_gcode(const char *text, const struct sh2000_path_config *cfg,
 	sh2000_program_free(&prog);
 	sh2000_prog_diags_free(&d);
 	return ret;
+}
+
+static int plan_gcode(const char *text, const struct sh2000_path_config *cfg,
+		      double tol, struct run *r)
+{
+	return plan_text(SH2000_PROG_GCODE, text, cfg, tol, r);
 }
 
 /* The planner's defaults at the scale the fuzz harness plans at (1000
@@ -641,6 +648,64 @@ static void test_settle_before_drop(void **state)
 	sp_path_free(&r.path);
 }
 
+/* ---- no block beyond what the landing can bring down ------------------ */
+
+/* rs274's canonical output of a random program (bench_peaks' sweep; its
+ * motion mode is rs274's reset default, so it runs blended) at 7500
+ * mm/s^2: a 0.7 mm diagonal line allowed 9523 mm/s^2, over the 9500 one
+ * jerk a period brings down in a period. The controller planned the
+ * stop at its end as a landing while the line's start (its ring zone)
+ * allowed less, then handed it to the braking of two periods once past
+ * it, which could no longer stop: it passed the stop at 56 mm/s, 4.57
+ * amax on the card's set-points. */
+static void test_landing_within_jt(void **state)
+{
+	static const char prog[] =
+		"1 N..... USE_LENGTH_UNITS(CANON_UNITS_MM)\n"
+		"2 N..... SET_G5X_OFFSET(1, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+		"3 N..... SET_G92_OFFSET(0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+		"4 N..... SET_XY_ROTATION(0.0000)\n"
+		"5 N..... SET_FEED_REFERENCE(CANON_XYZ)\n"
+		"6 N..... ON_RESET()\n"
+		"7 N..... SELECT_PLANE(CANON_PLANE_XY)\n"
+		"8 N..... SET_MOTION_CONTROL_MODE(CANON_EXACT_STOP, 0.000000)\n"
+		"9 N..... SET_FEED_RATE(24000.0000)\n"
+		"10 N10 STRAIGHT_FEED(5.7860, -12.1260, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+		"11 N11 STRAIGHT_FEED(7.8232, -11.2138, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+		"12 N12 STRAIGHT_FEED(-5.1535, -0.0391, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+		"13 N13 STRAIGHT_FEED(3.4377, 6.2743, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+		"14 N14 STRAIGHT_FEED(-7.5864, -18.1481, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+		"15 N15 STRAIGHT_FEED(-7.6676, -18.0570, -0.4702, 0.0000, 0.0000, 0.0000)\n"
+		"16 N16 STRAIGHT_TRAVERSE(-6.9626, -17.1009, -0.4702, 0.0000, 0.0000, 0.0000)\n"
+		"17 N17 ARC_FEED(-6.9204, -17.1541, -7.2301, -17.3562, -1, 0.3171, 0.0000, 0.0000, 0.0000)\n"
+		"18 N18 STRAIGHT_TRAVERSE(-7.4649, -17.0956, 0.3171, 0.0000, 0.0000, 0.0000)\n"
+		"19 N19 STRAIGHT_FEED(15.1798, -31.2301, 0.3171, 0.0000, 0.0000, 0.0000)\n"
+		"20 N20 STRAIGHT_FEED(15.2318, -31.1368, 0.3171, 0.0000, 0.0000, 0.0000)\n"
+		"21 N21 STRAIGHT_FEED(34.3318, -11.9964, 0.3171, 0.0000, 0.0000, 0.0000)\n"
+		"22 N22 STRAIGHT_FEED(34.3993, -12.0749, 0.3171, 0.0000, 0.0000, 0.0000)\n"
+		"23 N23 STRAIGHT_FEED(33.9186, -12.6170, 0.3171, 0.0000, 0.0000, 0.0000)\n"
+		"24 N24 STRAIGHT_TRAVERSE(33.0011, -7.8422, 0.3171, 0.0000, 0.0000, 0.0000)\n"
+		"25 N25 STRAIGHT_FEED(35.8743, -12.5907, -0.0680, 0.0000, 0.0000, 0.0000)\n"
+		"26 N..... PROGRAM_END()\n";
+	struct sh2000_path_config cfg;
+	struct run r;
+
+	(void)state;
+	harness_config(&cfg, 1);
+	for (unsigned int k = 0; k < SH2000_AXES; k++) {
+		cfg.amax[k] = 7500;
+		cfg.counts_per_mm[k] = 1e5;	/* the card's 10 nm */
+	}
+	assert_int_equal(plan_text(SH2000_PROG_CANON, prog, &cfg, 0.011, &r),
+			 0);
+	printf("a stop at 7500 mm/s^2: v %.4f a %.4f of the limits, %.6f mm off the path\n",
+	       r.sp.v_ratio, r.sp.a_ratio, r.sp.dev);
+	assert_true(r.sp.v_ratio <= 1.0);
+	assert_true(r.sp.a_ratio <= 1.0);
+	assert_true(r.sp.dev <= 0.011);
+	sp_path_free(&r.path);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -655,6 +720,7 @@ int main(void)
 		cmocka_unit_test(test_jerk_above_period),
 		cmocka_unit_test(test_jerk_far_above),
 		cmocka_unit_test(test_settle_before_drop),
+		cmocka_unit_test(test_landing_within_jt),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

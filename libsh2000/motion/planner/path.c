@@ -233,6 +233,17 @@ static void derive_limits(struct sh2000_path *p)
 	for (a = 0; a < SH2000_AXES; a++)
 		p->a_top += cfg->amax[a] * cfg->amax[a];
 	p->a_top = sqrt(p->a_top) * cfg->margin * p->a_scale;
+	/* Where one jerk a period brings the least amax down within a
+	 * period, the controller lands its transitions in whole periods
+	 * (control.c, land_target()); a line along a diagonal allows up to
+	 * sqrt(axes) times that, and a block whose A passes J T cannot be
+	 * landed on: the motion planned by a landing was handed to the
+	 * braking model of two periods mid-way and passed an exact stop at
+	 * 56 mm/s (a 0.7 mm line under G61 at 7500 mm/s^2: 4.57 amax on the
+	 * card's set-points). So no block allows more than J T there (at
+	 * the card model's limits J T is already the most: unchanged). */
+	if (p->quant && cfg->margin * amin <= p->lim.J * cfg->period_s)
+		p->a_top = fmin(p->a_top, p->lim.J * cfg->period_s);
 	/* A jerk held over a control step never needs to move the
 	 * acceleration further than from -a_top to +a_top: more only
 	 * coarsens the controller's search, whose step is 2 J / 65536

@@ -706,6 +706,83 @@ static void test_landing_within_jt(void **state)
 	sp_path_free(&r.path);
 }
 
+/* A piece of LinuxCNC's 3D_Chips.ngc (rs274's canonical output, G64
+ * P0.1) at 10500 mm/s^2, where one jerk a period (9500 mm/s^2 in a
+ * period) falls short of the least amax (9975): the lines between its
+ * blends allowed more than a period brings down and the blends less, so
+ * the controller landed on some limits and braked by its model of two
+ * periods into others; it braked into a blend faster than the blend
+ * allowed at that speed, 1.20 amax on the card's set-points. Capped to
+ * J T, every block can be landed on: 1.028, within the reserve the
+ * margin keeps (the stop at the end, exact in a period where the ramp
+ * A/J is a period: docs/planner.md "Known limits"). */
+static void test_land_short(void **state)
+{
+	static const char prog[] =
+		"1 N..... USE_LENGTH_UNITS(CANON_UNITS_MM)\n"
+		"2 N..... SET_G5X_OFFSET(1, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+		"3 N..... SET_G92_OFFSET(0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+		"4 N..... SET_XY_ROTATION(0.0000)\n"
+		"5 N..... SET_FEED_REFERENCE(CANON_XYZ)\n"
+		"6 N..... ON_RESET()\n"
+		"14 N30    USE_LENGTH_UNITS(CANON_UNITS_MM)\n"
+		"15 N..... SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, 0.100000)\n"
+		"51 N330   SET_FEED_RATE(4500000.0000)\n"
+		"3629 N6101  STRAIGHT_FEED(-22.0000, -14.6260, -30.1560, 0.0000, 0.0000, 0.0000)\n"
+		"3630 N6111  STRAIGHT_FEED(-22.0000, -14.6180, -30.1100, 0.0000, 0.0000, 0.0000)\n"
+		"3631 N6121  STRAIGHT_FEED(-22.0000, -14.5950, -29.9700, 0.0000, 0.0000, 0.0000)\n"
+		"3632 N6131  STRAIGHT_FEED(-22.0000, -14.5710, -29.8320, 0.0000, 0.0000, 0.0000)\n"
+		"3633 N6141  STRAIGHT_FEED(-22.0000, -14.5630, -29.7920, 0.0000, 0.0000, 0.0000)\n"
+		"3634 N6151  STRAIGHT_FEED(-22.0000, -14.5550, -29.7550, 0.0000, 0.0000, 0.0000)\n"
+		"3635 N6161  STRAIGHT_FEED(-22.0000, -14.0550, -27.7680, 0.0000, 0.0000, 0.0000)\n"
+		"3636 N6171  STRAIGHT_FEED(-22.0000, -13.5550, -26.2110, 0.0000, 0.0000, 0.0000)\n"
+		"3637 N6181  STRAIGHT_FEED(-22.0000, -12.5550, -23.6830, 0.0000, 0.0000, 0.0000)\n"
+		"3638 N6191  STRAIGHT_FEED(-22.0000, -12.0550, -22.3890, 0.0000, 0.0000, 0.0000)\n"
+		"3639 N6201  STRAIGHT_FEED(-22.0000, -11.8050, -21.7910, 0.0000, 0.0000, 0.0000)\n"
+		"3640 N6211  STRAIGHT_FEED(-22.0000, -11.5550, -21.1130, 0.0000, 0.0000, 0.0000)\n"
+		"3641 N6221  STRAIGHT_FEED(-22.0000, -11.0550, -19.2810, 0.0000, 0.0000, 0.0000)\n"
+		"3642 N6231  STRAIGHT_FEED(-22.0000, -10.5550, -17.3540, 0.0000, 0.0000, 0.0000)\n"
+		"3643 N6241  STRAIGHT_FEED(-22.0000, -9.5550, -14.2640, 0.0000, 0.0000, 0.0000)\n"
+		"3644 N6251  STRAIGHT_FEED(-22.0000, -8.5550, -11.8950, 0.0000, 0.0000, 0.0000)\n"
+		"3645 N6261  STRAIGHT_FEED(-22.0000, -8.0550, -10.8260, 0.0000, 0.0000, 0.0000)\n"
+		"3646 N6271  STRAIGHT_FEED(-22.0000, -7.8050, -10.3250, 0.0000, 0.0000, 0.0000)\n"
+		"3647 N6281  STRAIGHT_FEED(-22.0000, -7.5550, -9.6510, 0.0000, 0.0000, 0.0000)\n"
+		"3648 N6291  STRAIGHT_FEED(-22.0000, -7.0550, -7.9980, 0.0000, 0.0000, 0.0000)\n"
+		"3649 N6301  STRAIGHT_FEED(-22.0000, -6.8050, -7.2800, 0.0000, 0.0000, 0.0000)\n"
+		"3650 N6311  STRAIGHT_FEED(-22.0000, -6.3050, -6.0830, 0.0000, 0.0000, 0.0000)\n"
+		"3651 N6321  STRAIGHT_FEED(-22.0000, -6.0550, -5.5740, 0.0000, 0.0000, 0.0000)\n"
+		"3652 N6331  STRAIGHT_FEED(-22.0000, -5.5550, -4.7160, 0.0000, 0.0000, 0.0000)\n"
+		"3653 N6341  STRAIGHT_FEED(-22.0000, -5.0550, -4.0090, 0.0000, 0.0000, 0.0000)\n"
+		"3654 N6351  STRAIGHT_FEED(-22.0000, -4.5550, -3.4270, 0.0000, 0.0000, 0.0000)\n"
+		"3655 N6361  STRAIGHT_FEED(-22.0000, -4.0550, -2.8900, 0.0000, 0.0000, 0.0000)\n"
+		"3656 N6371  STRAIGHT_FEED(-22.0000, -3.8050, -2.6700, 0.0000, 0.0000, 0.0000)\n"
+		"3657 N6381  STRAIGHT_FEED(-22.0000, -3.5550, -2.4950, 0.0000, 0.0000, 0.0000)\n"
+		"3658 N6391  STRAIGHT_FEED(-22.0000, -3.0550, -2.2460, 0.0000, 0.0000, 0.0000)\n"
+		"3659 N6401  STRAIGHT_FEED(-22.0000, -2.0550, -1.8950, 0.0000, 0.0000, 0.0000)\n"
+		"3660 N6411  STRAIGHT_FEED(-22.0000, -1.5550, -1.7470, 0.0000, 0.0000, 0.0000)\n"
+		"3661 N6421  STRAIGHT_FEED(-22.0000, -0.5550, -1.5930, 0.0000, 0.0000, 0.0000)\n"
+		"4720 N6941  PROGRAM_END()\n"
+		"4721 N..... ON_RESET()\n"
+		"4722 N..... ON_RESET()\n";
+	struct sh2000_path_config cfg;
+	struct run r;
+
+	(void)state;
+	harness_config(&cfg, 1);
+	for (unsigned int k = 0; k < SH2000_AXES; k++) {
+		cfg.amax[k] = 10500;
+		cfg.counts_per_mm[k] = 1e5;
+	}
+	assert_int_equal(plan_text(SH2000_PROG_CANON, prog, &cfg, 0.101, &r),
+			 0);
+	printf("3D_Chips piece at 10500 mm/s^2: v %.4f a %.4f of the limits, %.6f mm off the path\n",
+	       r.sp.v_ratio, r.sp.a_ratio, r.sp.dev);
+	assert_true(r.sp.v_ratio <= 1.0);
+	assert_true(r.sp.a_ratio <= 2.0 - cfg.margin);
+	assert_true(r.sp.dev <= 0.101);
+	sp_path_free(&r.path);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -721,6 +798,7 @@ int main(void)
 		cmocka_unit_test(test_jerk_far_above),
 		cmocka_unit_test(test_settle_before_drop),
 		cmocka_unit_test(test_landing_within_jt),
+		cmocka_unit_test(test_land_short),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -650,8 +650,9 @@ static void test_settle_before_drop(void **state)
 
 /* ---- no block beyond what the landing can bring down ------------------ */
 
-/* rs274's canonical output of a random program (bench_peaks' sweep; its
- * motion mode is rs274's reset default, so it runs blended) at 7500
+/* A random program in canonical form (bench_peaks' sweep, written by a
+ * generator: its motion mode right after ON_RESET() is read as rs274's
+ * reset default, so it runs blended) at 7500
  * mm/s^2: a 0.7 mm diagonal line allowed 9523 mm/s^2, over the 9500 one
  * jerk a period brings down in a period. The controller planned the
  * stop at its end as a landing while the line's start (its ring zone)

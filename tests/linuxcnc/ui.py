@@ -78,6 +78,40 @@ def path_error(rows):
     return worst
 
 
+def homing_failed():
+    """What the driver says after a failed homing (for tracing it: the
+    following errors have tripped on a busy machine, not on an idle one)."""
+    for pin in ("underruns", "queue-fill", "card-state", "delay-ms",
+                "pll-correction-ns", "port-cycles"):
+        try:
+            print("--   sh2000.0.%s %s" % (pin, halget("sh2000.0." + pin)), flush=True)
+        except subprocess.CalledProcessError:
+            pass
+    results["homing_failed"] = True
+
+
+def ferror_context():
+    """The samples around where LinuxCNC's following error on joint 0
+    first passed 0.01 mm: the servo thread's commands, the card's
+    encoders and both following errors, with the sample numbers (a gap
+    is a period the sampler missed)."""
+    rows = []
+    with open(SAMPLES) as f:
+        for line in f:
+            v = line.split()
+            if len(v) == 10:
+                rows.append(v)
+    first = next((i for i, r in enumerate(rows) if abs(float(r[7])) > 0.01), None)
+    if first is None:
+        print("--   no sample with joint 0's following error over 0.01 mm (%d samples)"
+              % len(rows), flush=True)
+        return
+    print("--   samples around the first following error over 0.01 mm on joint 0"
+          " (n, x y z cmd, x y z encoder, joint 0 f-error, card x f-error):", flush=True)
+    for r in rows[max(0, first - 12):first + 4]:
+        print("     " + " ".join(r[:9]), flush=True)
+
+
 def main():
     sampler = subprocess.Popen(["halsampler", "-t"], stdout=open(SAMPLES, "w"))
     try:
@@ -85,6 +119,8 @@ def main():
     finally:
         sampler.terminate()
         sampler.wait()
+    if results.get("homing_failed"):
+        ferror_context()
     print("%d passed, %d failed" % (results["passed"], results["failed"]), flush=True)
     return 1 if results["failed"] else 0
 
@@ -103,6 +139,7 @@ def run():
     homed = wait(lambda: all(s.homed[:3]), 60)
     check("homed all joints", homed, "homed %s" % (s.homed[:3],))
     if not homed:
+        homing_failed()
         return
     # The simulated card powers up 300 mm from its home switch and the
     # sample homes switch then index (HOME_USE_INDEX, index-mask): LinuxCNC's

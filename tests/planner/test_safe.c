@@ -613,6 +613,27 @@ static void test_jerk_far_above(void **state)
 
 /* ---- the acceleration settled before it drops -------------------------- */
 
+/* Plan prog (format fmt) with every axis at amax: within vmax, within amax
+ * (reserve: within the reserve the planner's margin keeps, the first
+ * pass' bound) and within tol mm of the path on the card's set-points. */
+static void check_at_amax(const char *what, int fmt, const char *prog,
+			  double amax, double tol, int reserve)
+{
+	struct sh2000_path_config cfg;
+	struct run r;
+
+	harness_config(&cfg, 1);
+	for (unsigned int k = 0; k < SH2000_AXES; k++)
+		cfg.amax[k] = amax;
+	assert_int_equal(plan_text(fmt, prog, &cfg, tol, &r), 0);
+	printf("%s at %g mm/s^2: v %.4f a %.4f of the limits, %.6f mm off the path\n",
+	       what, amax, r.sp.v_ratio, r.sp.a_ratio, r.sp.dev);
+	assert_true(r.sp.v_ratio <= 1.0);
+	assert_true(r.sp.a_ratio <= (reserve ? 2.0 - cfg.margin : 1.0));
+	assert_true(r.sp.dev <= tol);
+	sp_path_free(&r.path);
+}
+
 /* A piece of LinuxCNC's cds.ngc (inches, F600, G64 P0.01 mm) at 15000
  * mm/s^2, where a ramp to amax lasts 1.5 periods: the controller holds
  * one jerk a period but cannot land in one. A blend allowing 13682
@@ -632,20 +653,9 @@ static void test_settle_before_drop(void **state)
 		"G3 X0.3744 Y1.8250 I1.635 J0.0001\n"
 		"G1 X0 Y1.825\n"
 		"G1 X0 Y1.635\nM2\n";
-	struct sh2000_path_config cfg;
-	struct run r;
 
 	(void)state;
-	harness_config(&cfg, 1);
-	for (unsigned int k = 0; k < SH2000_AXES; k++)
-		cfg.amax[k] = 15000;
-	assert_int_equal(plan_gcode(prog, &cfg, 0.011, &r), 0);
-	printf("cds piece at 15000 mm/s^2: v %.4f a %.4f of the limits, %.6f mm off the path\n",
-	       r.sp.v_ratio, r.sp.a_ratio, r.sp.dev);
-	assert_true(r.sp.v_ratio <= 1.0);
-	assert_true(r.sp.a_ratio <= 1.0);
-	assert_true(r.sp.dev <= 0.011);
-	sp_path_free(&r.path);
+	check_at_amax("cds piece", SH2000_PROG_GCODE, prog, 15000, 0.011, 0);
 }
 
 /* ---- no block beyond what the landing can bring down ------------------ */
@@ -688,23 +698,9 @@ static void test_landing_within_jt(void **state)
 		"24 N24 STRAIGHT_TRAVERSE(33.0011, -7.8422, 0.3171, 0.0000, 0.0000, 0.0000)\n"
 		"25 N25 STRAIGHT_FEED(35.8743, -12.5907, -0.0680, 0.0000, 0.0000, 0.0000)\n"
 		"26 N..... PROGRAM_END()\n";
-	struct sh2000_path_config cfg;
-	struct run r;
 
 	(void)state;
-	harness_config(&cfg, 1);
-	for (unsigned int k = 0; k < SH2000_AXES; k++) {
-		cfg.amax[k] = 7500;
-		cfg.counts_per_mm[k] = 1e5;	/* the card's 10 nm */
-	}
-	assert_int_equal(plan_text(SH2000_PROG_CANON, prog, &cfg, 0.011, &r),
-			 0);
-	printf("a stop at 7500 mm/s^2: v %.4f a %.4f of the limits, %.6f mm off the path\n",
-	       r.sp.v_ratio, r.sp.a_ratio, r.sp.dev);
-	assert_true(r.sp.v_ratio <= 1.0);
-	assert_true(r.sp.a_ratio <= 1.0);
-	assert_true(r.sp.dev <= 0.011);
-	sp_path_free(&r.path);
+	check_at_amax("a stop", SH2000_PROG_CANON, prog, 7500, 0.011, 0);
 }
 
 /* A piece of LinuxCNC's 3D_Chips.ngc (rs274's canonical output, G64
@@ -765,23 +761,10 @@ static void test_land_short(void **state)
 		"4720 N6941  PROGRAM_END()\n"
 		"4721 N..... ON_RESET()\n"
 		"4722 N..... ON_RESET()\n";
-	struct sh2000_path_config cfg;
-	struct run r;
 
 	(void)state;
-	harness_config(&cfg, 1);
-	for (unsigned int k = 0; k < SH2000_AXES; k++) {
-		cfg.amax[k] = 10500;
-		cfg.counts_per_mm[k] = 1e5;
-	}
-	assert_int_equal(plan_text(SH2000_PROG_CANON, prog, &cfg, 0.101, &r),
-			 0);
-	printf("3D_Chips piece at 10500 mm/s^2: v %.4f a %.4f of the limits, %.6f mm off the path\n",
-	       r.sp.v_ratio, r.sp.a_ratio, r.sp.dev);
-	assert_true(r.sp.v_ratio <= 1.0);
-	assert_true(r.sp.a_ratio <= 2.0 - cfg.margin);
-	assert_true(r.sp.dev <= 0.101);
-	sp_path_free(&r.path);
+	check_at_amax("3D_Chips piece", SH2000_PROG_CANON, prog, 10500, 0.101,
+		      1);
 }
 
 int main(void)

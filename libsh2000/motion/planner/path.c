@@ -242,8 +242,8 @@ static void derive_limits(struct sh2000_path *p)
 	 * (control.c, land_target()); a line along a diagonal allows up to
 	 * sqrt(axes) times that, and a block whose A passes J T cannot be
 	 * landed on: the motion planned by a landing was handed to the
-	 * braking model of two periods mid-way and passed an exact stop at
-	 * 56 mm/s (a 0.7 mm line under G61 at 7500 mm/s^2: 4.57 amax on the
+	 * braking model of two periods mid-way and passed the stop at its
+	 * end at 56 mm/s (a 0.7 mm line at 7500 mm/s^2: 4.57 amax on the
 	 * card's set-points). So no block allows more than J T there (at
 	 * the card model's limits J T is already the most: unchanged).
 	 * Likewise where J T is short of the least amax by up to

@@ -29,6 +29,28 @@ static int nb_leave(struct sh2000 *h, int r)
 	return r;
 }
 
+/*
+ * A torn snapshot is read again next tick; but a card stopped in the
+ * middle of a publication leaves it torn for good, so its heartbeat
+ * (word 3, outside the snapshot) is watched on torn ticks too: standing
+ * still for the limit, that is a stopped card. *st is left as it was
+ * otherwise.
+ */
+static int torn_once(struct sh2000 *h, const uint16_t *w, uint64_t now,
+		     struct sh2000_status *st)
+{
+	uint64_t age = sh2000_hb_note(h, w[SH2000_W_HEARTBEAT], now);
+
+	h->hb.unsure = 0;
+	if (age < h->hb.limit_ns)
+		return -EAGAIN;
+	memset(st, 0, sizeof(*st));
+	st->host_time_ns = now;
+	st->heartbeat = w[SH2000_W_HEARTBEAT];
+	st->heartbeat_age_ns = age;
+	return sh2000_torn_dead(h, st, w);
+}
+
 static int poll_once_locked(struct sh2000 *h, struct sh2000_status *st)
 {
 	uint16_t w[SH2000_STATUS_WORDS];
@@ -44,7 +66,7 @@ static int poll_once_locked(struct sh2000 *h, struct sh2000_status *st)
 	if (r < 0)
 		return r;
 	if (w[SH2000_W_SNAP_SEQ_END] != w[SH2000_W_SNAP_SEQ_BEGIN])
-		return -EAGAIN;
+		return torn_once(h, w, now, st);
 	if (h->nb.cmd.busy) {
 		memcpy(h->nb.cmd.ack, &w[SH2000_W_CMD_ACK], sizeof(h->nb.cmd.ack));
 		h->nb.cmd.fresh = 1;

@@ -124,6 +124,11 @@ int sh2000_host_beat(struct sh2000 *h, uint64_t *now);
  * -SH2000_EHEARTBEAT (stopped for the limit), else 0. */
 int sh2000_status_alive(struct sh2000 *h, const uint16_t *w,
 			const struct sh2000_status *st);
+/* A snapshot torn with the card heartbeat (st->heartbeat, aged
+ * st->heartbeat_age_ns) standing still for the limit: -SH2000_EHEARTBEAT
+ * naming the publication the card stopped in. */
+int sh2000_torn_dead(struct sh2000 *h, const struct sh2000_status *st,
+		     const uint16_t *w);
 /* Fill *st from words 0..SH2000_STATUS_WORDS-1 of a consistent read
  * (extends the counters). */
 void sh2000_status_decode(struct sh2000 *h, const uint16_t *w,

@@ -101,12 +101,32 @@ uint64_t sh2000_hb_note(struct sh2000 *h, uint16_t hb, uint64_t now)
 	return now - h->hb.change_ns;
 }
 
+/*
+ * A snapshot left torn inside one publication while the card heartbeat
+ * (word 3, outside the snapshot) stands still: the card stopped in the
+ * middle of a publication (a DSP halted, a served model killed), which
+ * the caller learns as a stopped card, not as a tearing one.
+ */
+int sh2000_torn_dead(struct sh2000 *h, const struct sh2000_status *st,
+		     const uint16_t *w)
+{
+	h->hb.unsure = 0;
+	return sh2000_fail(h, -SH2000_EHEARTBEAT,
+			   "the card is not answering: card heartbeat stuck at %u for %.1f ms (limit %.1f ms), its status snapshot left torn inside one publication (seq end %u, begin %u)%s",
+			   st->heartbeat, st->heartbeat_age_ns / 1e6,
+			   h->hb.limit_ns / 1e6, w[SH2000_W_SNAP_SEQ_END],
+			   w[SH2000_W_SNAP_SEQ_BEGIN],
+			   !strncmp(h->device, "sim:", 4) ?
+			   "; is the sh2000-sim serving it still running?" : "");
+}
+
 int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 {
 	uint16_t w[SH2000_STATUS_WORDS], torn_end = 0, torn_begin = 0;
+	uint16_t hb, hb_stuck = 0;
 	unsigned int tries;
 	uint64_t now, t0 = 0, t_first = 0;
-	int r;
+	int r, hb_moved = 0;
 
 	memset(st, 0, sizeof(*st));
 	for (tries = 0;; tries++) {
@@ -123,15 +143,20 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 			continue;
 		/*
 		 * Still torn: the card was interrupted inside a publication
-		 * (a served model descheduled, a DSP stalled mid-write) if it
-		 * stays inside the same one for a tenth of the heartbeat
-		 * limit. A torn read of another publication shows a card
-		 * that goes on publishing, faster than this reader reads (a
-		 * reader descheduled between its words or between two
-		 * reads, a slow bus): that restarts the tenth, however long
-		 * the reader was away, and only TORN_MOVING_READS such reads
-		 * give up.
+		 * (a served model descheduled, a DSP stalled mid-write). One
+		 * that stays inside the same one for a tenth of the
+		 * heartbeat limit while its heartbeat moves on is alive but
+		 * not finishing it; one whose heartbeat stands still for the
+		 * limit stopped there (torn_dead). A torn read of another
+		 * publication shows a card that goes on publishing, faster
+		 * than this reader reads (a reader descheduled between its
+		 * words or between two reads, a slow bus): that restarts the
+		 * tenth, however long the reader was away, and only
+		 * TORN_MOVING_READS such reads give up.
 		 */
+		r = sh2000_rd(h, SH2000_W_HEARTBEAT, 1, &hb);
+		if (r < 0)
+			return r;
 		now = sh2000_now_locked(h);
 		if (tries == SH2000_POLL_RETRIES)
 			t_first = now;
@@ -141,8 +166,16 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 			t0 = now;
 			torn_end = w[SH2000_W_SNAP_SEQ_END];
 			torn_begin = w[SH2000_W_SNAP_SEQ_BEGIN];
+			hb_stuck = hb;
+			hb_moved = 0;
+		} else if (hb != hb_stuck) {
+			hb_moved = 1;
 		}
-		if (now - t0 >= h->hb.limit_ns / 10 ||
+		st->heartbeat = hb;
+		st->heartbeat_age_ns = sh2000_hb_note(h, hb, now);
+		if (st->heartbeat_age_ns >= h->hb.limit_ns)
+			return sh2000_torn_dead(h, st, w);
+		if ((hb_moved && now - t0 >= h->hb.limit_ns / 10) ||
 		    tries >= SH2000_POLL_RETRIES + TORN_MOVING_READS)
 			return sh2000_fail(h, -SH2000_ETORN,
 					   "status snapshot torn %u times in a row over %.1f ms (seq end %u, begin %u)",
@@ -151,6 +184,8 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 					   w[SH2000_W_SNAP_SEQ_BEGIN]);
 		sh2000_hold_wait(h, TORN_WAIT_NS);
 	}
+	st->heartbeat = 0;
+	st->heartbeat_age_ns = 0;
 	r = sh2000_host_beat(h, &now);
 	if (r < 0)
 		return r;

@@ -396,6 +396,37 @@ static void test_torn_snapshot(void **state)
 	fakecard_free(f);
 }
 
+/* A card whose heartbeat stands still while its snapshot stays torn
+ * inside one publication stopped in the middle of it (a served model
+ * killed while it wrote): a stopped card, EHEARTBEAT at the heartbeat
+ * limit. One that resumes before the limit was only stalled. */
+static void test_torn_stopped(void **state)
+{
+	struct fakecard *f = fakecard_new();
+	struct sh2000_status st;
+	uint64_t t0;
+
+	(void)state;
+	fakecard_boot(f);
+	assert_int_equal(sh2000_poll_locked(&f->h, &st), 0);
+	f->hb_running = 0;
+	f->tear_polls = 100;		/* about 5 ms inside one publication */
+	t0 = f->now_ns;
+	if (sh2000_poll_locked(&f->h, &st))
+		fail_msg("%s (%.3f ms)", sh2000_last_error(&f->h),
+			 (f->now_ns - t0) / 1e6);
+	assert_int_equal(st.retries, 100);
+	assert_true(f->now_ns - t0 > SH2000_HEARTBEAT_LIMIT_NS / 10);
+	f->tear_polls = 100000;		/* and now for good */
+	t0 = f->now_ns;
+	assert_int_equal(sh2000_poll_locked(&f->h, &st), -SH2000_EHEARTBEAT);
+	assert_non_null(strstr(sh2000_last_error(&f->h), "left torn"));
+	/* the heartbeat was last seen to move at the first poll */
+	assert_true(st.heartbeat_age_ns >= SH2000_HEARTBEAT_LIMIT_NS);
+	assert_true(f->now_ns - t0 < SH2000_HEARTBEAT_LIMIT_NS);
+	fakecard_free(f);
+}
+
 /* A card that goes on publishing while a slow reader tears every read
  * (each read inside another publication) is alive: the poll keeps
  * reading past a tenth of the heartbeat limit, which is for a card
@@ -613,6 +644,7 @@ int main(void)
 		cmocka_unit_test(test_estop_cost),
 		cmocka_unit_test(test_torn_snapshot),
 		cmocka_unit_test(test_torn_moving),
+		cmocka_unit_test(test_torn_stopped),
 		cmocka_unit_test(test_heartbeat_loss),
 		cmocka_unit_test(test_counter_extension),
 		cmocka_unit_test(test_fault_errors),

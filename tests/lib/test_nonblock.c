@@ -79,6 +79,37 @@ static void test_poll_once_torn_is_eagain(void **state)
 	fakecard_free(f);
 }
 
+/* A card stopped in the middle of a publication leaves its snapshot torn
+ * for good: the ticks go on watching its heartbeat and call it stopped at
+ * the limit, as for a card stopped between publications, instead of
+ * answering -EAGAIN forever. */
+static void test_poll_once_torn_stopped(void **state)
+{
+	struct fakecard *f = fakecard_new();
+	struct sh2000_status st;
+	uint64_t t0;
+	int r;
+
+	(void)state;
+	fakecard_boot(f);
+	assert_int_equal(sh2000_poll_once(&f->h, &st), 0);
+	f->hb_running = 0;
+	f->tear_polls = 100000;
+	t0 = f->now_ns;
+	while ((r = sh2000_poll_once(&f->h, &st)) == -EAGAIN &&
+	       f->now_ns - t0 < 2 * f->h.hb.limit_ns)
+		f->now_ns += 1000000;	/* the next 1 ms tick */
+	assert_int_equal(r, -SH2000_EHEARTBEAT);
+	assert_non_null(strstr(sh2000_last_error(&f->h), "left torn"));
+	assert_true(st.heartbeat_age_ns >= f->h.hb.limit_ns);
+	/* within a tick of the limit, from the first tick that saw the
+	 * heartbeat's last move (it may move once after the good poll read it) */
+	if (f->now_ns - t0 > f->h.hb.limit_ns + 2000000)
+		fail_msg("%.3f ms (limit %.3f, age %.3f)", (f->now_ns - t0) / 1e6,
+			 f->h.hb.limit_ns / 1e6, st.heartbeat_age_ns / 1e6);
+	fakecard_free(f);
+}
+
 static void test_poll_once_heartbeat_loss(void **state)
 {
 	struct fakecard *f = fakecard_new();
@@ -273,6 +304,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_poll_once_matches_poll),
 		cmocka_unit_test(test_poll_once_torn_is_eagain),
+		cmocka_unit_test(test_poll_once_torn_stopped),
 		cmocka_unit_test(test_poll_once_heartbeat_loss),
 		cmocka_unit_test(test_command_start_complete),
 		cmocka_unit_test(test_command_timeout),

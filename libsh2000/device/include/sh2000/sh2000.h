@@ -283,8 +283,9 @@ struct sh2000_status {
  * a `sim:NAME` card served on a loaded machine. */
 void sh2000_set_heartbeat_limit(struct sh2000 *h, uint64_t ns);
 /* Torn snapshots re-read at once; after these a poll keeps re-reading
- * every 20 us for a tenth of the heartbeat limit, then gives up with
- * SH2000_ETORN. */
+ * every 20 us. Inside one publication for a tenth of the heartbeat limit
+ * while the card heartbeat moves on, it gives up with SH2000_ETORN; with
+ * the heartbeat standing still for the limit, with SH2000_EHEARTBEAT. */
 #define SH2000_POLL_RETRIES		16
 
 /*

@@ -25,6 +25,9 @@
  *    and passed amax, and a stop a hair nearer than the controller's
  *    search could step stood still for ever (raw output at 5e8, or
  *    50000 mm/s^2 at 5e8: every program at its last stop).
+ *  - a slow axis a program never moves bounded its plan (the least amax
+ *    of all four axes set the path's share of the acceleration): held
+ *    still, it bounds nothing, and a block that moves it is refused.
  * And the check itself: spcheck's distance from a set-point to the path
  * is the nearest segment's, wherever the last match was.
  * `build/x/tests/planner/test_safe` prints what it measured.
@@ -634,28 +637,30 @@ static void check_at_amax(const char *what, int fmt, const char *prog,
 	sp_path_free(&r.path);
 }
 
-/* A piece of LinuxCNC's cds.ngc (inches, F600, G64 P0.01 mm) at 15000
- * mm/s^2, where a ramp to amax lasts 1.5 periods: the controller holds
- * one jerk a period but cannot land in one. A blend allowing 13682
- * mm/s^2 runs into an arc allowing 12151 that ends in a corner taken at
- * rest. The motion reached the arc still accelerating, under the speed
+/* A piece of LinuxCNC's cds.ngc (inches, F600, G64 P0.01 mm): lines and
+ * arcs on X, Y and Z (tests/tools/upload/data/still_axes.ngc too). */
+static const char cds_piece[] =
+	"G20 G90 G64 P0.000394\n"
+	"G1 X0 Y2.205 Z1.6875 F600\n"
+	"G1 X0 Y2.015\n"
+	"G1 X0.3651 Y2.015\n"
+	"G3 X0.3650 Y2.0000 I1.6349 J-0.0184\n"
+	"G3 X0.3744 Y1.8250 I1.635 J0.0001\n"
+	"G1 X0 Y1.825\n"
+	"G1 X0 Y1.635\nM2\n";
+
+/* The cds piece at 15000 mm/s^2, where a ramp to amax lasts 1.5
+ * periods: the controller holds one jerk a period but cannot land in one.
+ * A blend allowing 13682 mm/s^2 runs into an arc allowing 12151 that ends
+ * in a corner taken at rest. The motion reached the arc still accelerating, under the speed
  * from which the arc can stop but too late to bring its acceleration
  * down before it: it took the corner at 80 mm/s, 4.1 times amax on the
  * card's set-points. */
 static void test_settle_before_drop(void **state)
 {
-	static const char prog[] =
-		"G20 G90 G64 P0.000394\n"
-		"G1 X0 Y2.205 Z1.6875 F600\n"
-		"G1 X0 Y2.015\n"
-		"G1 X0.3651 Y2.015\n"
-		"G3 X0.3650 Y2.0000 I1.6349 J-0.0184\n"
-		"G3 X0.3744 Y1.8250 I1.635 J0.0001\n"
-		"G1 X0 Y1.825\n"
-		"G1 X0 Y1.635\nM2\n";
-
 	(void)state;
-	check_at_amax("cds piece", SH2000_PROG_GCODE, prog, 15000, 0.011, 0);
+	check_at_amax("cds piece", SH2000_PROG_GCODE, cds_piece, 15000, 0.011,
+		      0);
 }
 
 /* ---- no block beyond what the landing can bring down ------------------ */
@@ -767,6 +772,117 @@ static void test_land_short(void **state)
 		      1);
 }
 
+/* ---- axes held still --------------------------------------------------- */
+
+/* The cds piece moves X, Y and Z. On a machine whose X, Y and Z take
+ * 20000 mm/s^2 and whose A takes 5000, the least amax (A's) set the path's
+ * share of the acceleration for every block: 10 % slower than with a fast
+ * A. Held still, A bounds nothing: the plan is as fast as with a fast A,
+ * within every axis' limits (A's own included) on the card's set-points,
+ * and A never leaves its start. */
+static void test_still_axes(void **state)
+{
+	struct sh2000_path_config cfg;
+	struct run slow, still, fast;
+	unsigned int k;
+
+	(void)state;
+	harness_config(&cfg, 1);
+	for (k = 0; k < 3; k++)
+		cfg.amax[k] = 20000;
+	assert_int_equal(plan_gcode(cds_piece, &cfg, 0.011, &slow), 0);
+	cfg.still_axes = 1u << 3;
+	assert_int_equal(plan_gcode(cds_piece, &cfg, 0.011, &still), 0);
+	cfg.still_axes = 0;
+	cfg.amax[3] = 20000;
+	assert_int_equal(plan_gcode(cds_piece, &cfg, 0.011, &fast), 0);
+	printf("XYZ 20000, A 5000: %zu records; A held still: %zu (a %.4f of amax, %.6f mm off the path); A 20000: %zu\n",
+	       slow.points, still.points, still.sp.a_ratio, still.sp.dev,
+	       fast.points);
+	assert_true(still.points < 0.93 * slow.points);
+	assert_true(still.points <= 1.01 * fast.points);
+	assert_true(still.sp.v_ratio <= 1.0);
+	assert_true(still.sp.a_ratio <= 1.0);
+	assert_true(still.sp.dev <= 0.011);
+	assert_true(still.lo[3] == 0.0 && still.hi[3] == 0.0);
+	sp_path_free(&slow.path);
+	sp_path_free(&still.path);
+	sp_path_free(&fast.path);
+}
+
+/* Every record of a still axis: where it stands (the compensation's
+ * arithmetic leaves it an ulp off). */
+static double still_at;
+static int still_sink(void *ctx, const struct sh2000_path_point *pt)
+{
+	(void)ctx;
+	emitted++;
+	if (fabs(pt->mm[3] - still_at) > 1e-12)
+		fail_msg("A at %.17g, held at %.17g", pt->mm[3], still_at);
+	return 0;
+}
+
+/* A primitive that moves a still axis is refused, naming it, and nothing
+ * of it is planned; within SH2000_PATH_STILL_TOL_MM (a card that drifted
+ * a count between the check and the run) the axis is held where it
+ * stands. A still axis beyond the card's four is refused at create. */
+static void test_still_refused(void **state)
+{
+	static const double pts[3][SH2000_AXES] = {
+		{ 0, 0, 0, 1 }, { 5, 5, 0, 1 }, { 10, 0, 0, 1.5 } };
+	static const double w[3] = { 1, 1, 1 };
+	static const double knots[6] = { 0, 0, 0, 1, 1, 1 };
+	const struct sh2000_nurbs n = { 2, 3, pts, w, knots };
+	struct sh2000_path_config cfg;
+	struct sh2000_path_arc arc;
+	struct sh2000_path *p;
+	double end[SH2000_AXES] = { 10, 0, 0, 1.5 };
+	char msg[200];
+
+	(void)state;
+	harness_config(&cfg, 1);
+	cfg.start[3] = still_at = 1;
+	cfg.still_axes = 1u << 3;
+	emitted = 0;
+	assert_int_equal(sh2000_path_create(&p, &cfg, still_sink, NULL, NULL, 0),
+			 0);
+	assert_int_equal(sh2000_path_line(p, end, 10), -EINVAL);
+	printf("refused: %s\n", sh2000_path_error(p));
+	assert_non_null(strstr(sh2000_path_error(p), "line moves A"));
+	assert_int_equal(sh2000_path_nurbs(p, &n, 10), -EINVAL);
+	assert_non_null(strstr(sh2000_path_error(p), "points[2] moves A"));
+	assert_int_equal(sh2000_path_rapid(p, end), -EINVAL);
+	assert_int_equal(sh2000_path_finish(p), 0);
+	assert_int_equal(emitted, 0);
+	/* within the tolerance: planned, A held at its start */
+	end[3] = 1 + 0.9 * SH2000_PATH_STILL_TOL_MM;
+	assert_int_equal(sh2000_path_line(p, end, 10), 0);
+	assert_int_equal(sh2000_path_finish(p), 0);
+	assert_true(emitted > 0);
+	sh2000_path_destroy(p);
+	/* Z still: an arc in the XZ plane moves it, whatever its ends */
+	cfg.still_axes = 1u << 2;
+	assert_int_equal(sh2000_path_create(&p, &cfg, still_sink, NULL, NULL, 0),
+			 0);
+	memset(&arc, 0, sizeof(arc));
+	arc.plane = SH2000_PLANE_XZ;
+	arc.end[0] = 10;
+	arc.end[3] = 1;
+	arc.radius_form = 1;
+	arc.radius = 5;
+	emitted = 0;
+	assert_int_equal(sh2000_path_arc(p, &arc, 10), -EINVAL);
+	assert_non_null(strstr(sh2000_path_error(p), "arc moves Z"));
+	assert_int_equal(sh2000_path_finish(p), 0);
+	assert_int_equal(emitted, 0);
+	sh2000_path_destroy(p);
+	cfg.still_axes = 1u << 4;
+	assert_int_equal(sh2000_path_create(&p, &cfg, still_sink, NULL, msg,
+					    sizeof(msg)), -EINVAL);
+	printf("refused: %s\n", msg);
+	assert_non_null(strstr(msg, "still_axes 0x10"));
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -783,6 +899,8 @@ int main(void)
 		cmocka_unit_test(test_settle_before_drop),
 		cmocka_unit_test(test_landing_within_jt),
 		cmocka_unit_test(test_land_short),
+		cmocka_unit_test(test_still_axes),
+		cmocka_unit_test(test_still_refused),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

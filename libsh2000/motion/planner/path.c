@@ -7,6 +7,7 @@
  */
 #include <errno.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -131,6 +132,9 @@ static int cfg_check(const struct sh2000_path_config *c, char *e, size_t n)
 			BAD("config: start position of axis %c is not finite",
 			    axis_name[a]);
 	}
+	if (c->still_axes >> SH2000_AXES)
+		BAD("config: still_axes 0x%x names an axis beyond the card's %u (0x%x)",
+		    c->still_axes, SH2000_AXES, (1u << SH2000_AXES) - 1u);
 	if (c->profile != SH2000_PROFILE_SCURVE &&
 	    c->profile != SH2000_PROFILE_TRAPEZOID)
 		BAD("config: unknown profile %d", (int)c->profile);
@@ -162,21 +166,45 @@ static int cfg_check(const struct sh2000_path_config *c, char *e, size_t n)
 	return 0;
 }
 
+/* The least amax of the axes the plan may move, and the norm of theirs:
+ * those not held still, or all when all are (then nothing moves). */
+static double moving_amax(const struct sh2000_path_config *cfg, double *norm)
+{
+	unsigned int a, still = cfg->still_axes;
+	double amin = INFINITY;
+
+	if (still == (1u << SH2000_AXES) - 1u)
+		still = 0;
+	*norm = 0.0;
+	for (a = 0; a < SH2000_AXES; a++)
+		if (!(still & (1u << a))) {
+			amin = fmin(amin, cfg->amax[a]);
+			*norm += cfg->amax[a] * cfg->amax[a];
+		}
+	*norm = sqrt(*norm);
+	return amin;
+}
+
+_Static_assert(offsetof(struct sh2000_path_config, still_axes) ==
+	       offsetof(struct sh2000_path_config, gantry_pair) +
+	       sizeof(unsigned int) &&
+	       sizeof(((struct sh2000_path_config *)0)->reserved) ==
+	       16 * sizeof(uint64_t),
+	       "the fields added to struct sh2000_path_config stay in its room to grow");
+
 /* The limits the controller plans with, from the configuration: path
  * jerk, the accelerations of the block kinds, what the card's spline
  * needs (ringing, feed margin and zone), the control steps. */
 static void derive_limits(struct sh2000_path *p)
 {
 	const struct sh2000_path_config *cfg = &p->cfg;
-	double amin = INFINITY, share;
-	unsigned int a;
+	double amin, norm, share;
 
 	/* two control steps a period: the limits are checked exactly in
 	 * each; more steps follow the time-optimal profile a few per cent
 	 * more closely at twice the cost (bench/planner) */
 	p->substeps = 2;
-	for (a = 0; a < SH2000_AXES; a++)
-		amin = fmin(amin, cfg->amax[a]);
+	amin = moving_amax(cfg, &norm);
 	p->amin = amin;
 	share = cfg->centripetal_share;
 	p->lim.J = cfg->profile == SH2000_PROFILE_SCURVE ?
@@ -233,10 +261,7 @@ static void derive_limits(struct sh2000_path *p)
 				   cfg->margin * amin * p->a_scale);
 	/* the most a line can get (min_i amax_i / |d_i| never exceeds the
 	 * norm of the amax vector) */
-	p->a_top = 0.0;
-	for (a = 0; a < SH2000_AXES; a++)
-		p->a_top += cfg->amax[a] * cfg->amax[a];
-	p->a_top = sqrt(p->a_top) * cfg->margin * p->a_scale;
+	p->a_top = norm * cfg->margin * p->a_scale;
 	/* Where one jerk a period brings the least amax down within a
 	 * period, the controller lands its transitions in whole periods
 	 * (control.c, land_target()); a line along a diagonal allows up to

@@ -85,6 +85,47 @@ static int check_point(struct sh2000_path *p, const char *what,
 	return r ? r : check_bounds(p, what, x);
 }
 
+/* The axes point x is away from where the queue ends, by more than
+ * SH2000_PATH_STILL_TOL_MM. */
+static unsigned int axes_off(const struct sh2000_path *p,
+			     const double x[SH2000_AXES])
+{
+	unsigned int a, m = 0;
+
+	for (a = 0; a < SH2000_AXES; a++)
+		if (!(fabs(x[a] - p->qend[a]) <= SH2000_PATH_STILL_TOL_MM))
+			m |= 1u << a;
+	return m;
+}
+
+/* A primitive that moves an axis the configuration holds still is
+ * refused: that axis' limits did not bound the plan. m: the axes it moves,
+ * by sh2000_prog_block_axes()'s rule. */
+static int check_still(struct sh2000_path *p, const char *what,
+		       unsigned int m)
+{
+	unsigned int a;
+
+	m &= p->cfg.still_axes;
+	for (a = 0; a < SH2000_AXES; a++)
+		if (m & (1u << a))
+			return pl_err(p, -EINVAL,
+				      "%s moves %c, which the configuration holds still (still_axes 0x%x): its vmax and amax did not bound the plan",
+				      what, axis_name[a], p->cfg.still_axes);
+	return 0;
+}
+
+/* End point x with the still axes held exactly where they stand (x was
+ * within SH2000_PATH_STILL_TOL_MM of it: check_still()). */
+static void hold_still(const struct sh2000_path *p, const double x[SH2000_AXES],
+		       double out[SH2000_AXES])
+{
+	unsigned int a;
+
+	for (a = 0; a < SH2000_AXES; a++)
+		out[a] = p->cfg.still_axes & (1u << a) ? p->qend[a] : x[a];
+}
+
 /* Entry of every primitive: the planner must be able to take one. */
 static int ready(struct sh2000_path *p)
 {
@@ -112,14 +153,19 @@ static int ready(struct sh2000_path *p)
  * rest) or a rapid. */
 enum { LINE_FEED, LINE_P2P, LINE_RAPID };
 
-static int line_block(struct sh2000_path *p, const double end[SH2000_AXES],
+static int line_block(struct sh2000_path *p, const double to[SH2000_AXES],
 		      double feed, int kind)
 {
+	static const char *const name[] = { "line", "move", "rapid" };
 	struct pl_block b;
-	double len = 0.0;
+	double len = 0.0, end[SH2000_AXES];
 	unsigned int a;
 	int r;
 
+	r = check_still(p, name[kind], axes_off(p, to));
+	if (r)
+		return r;
+	hold_still(p, to, end);
 	memset(&b, 0, sizeof(b));
 	for (a = 0; a < SH2000_AXES; a++)
 		len += (end[a] - p->qend[a]) * (end[a] - p->qend[a]);
@@ -328,7 +374,7 @@ int sh2000_path_arc(struct sh2000_path *p, const struct sh2000_path_arc *arc,
 {
 	struct sh2000_arc g;
 	struct pl_block b;
-	double c[2];
+	double c[2], end[SH2000_AXES];
 	char m[320];
 	int r;
 
@@ -340,15 +386,19 @@ int sh2000_path_arc(struct sh2000_path *p, const struct sh2000_path_arc *arc,
 	r = check_point(p, "arc: end", arc->end);
 	if (!r)
 		r = check_feed(p, "feed", feed, 0);
+	if (!r)
+		r = check_still(p, "arc", axes_off(p, arc->end) |
+				1u << g.first | 1u << g.second);
 	if (r)
 		return r;
+	hold_still(p, arc->end, end);
 	if (arc->turns > 1000)
 		return pl_err(p, -EINVAL, "arc: %u turns is more than 1000",
 			      arc->turns);
 	r = arc_centre(p, arc, &g, c);
 	if (r)
 		return r;
-	r = sh2000_arc_resolve(&g, arc->plane, p->qend, arc->end, c, arc->ccw,
+	r = sh2000_arc_resolve(&g, arc->plane, p->qend, end, c, arc->ccw,
 			       arc->turns ? arc->turns : 1, arc->tolerance, 0,
 			       m, sizeof(m));
 	if (r)
@@ -359,7 +409,7 @@ int sh2000_path_arc(struct sh2000_path *p, const struct sh2000_path_arc *arc,
 	r = ready(p);
 	if (r)
 		return r;
-	arc_block(p, &g, arc->end, feed, &b);
+	arc_block(p, &g, end, feed, &b);
 	pl_push_block(p, &b);
 	return 0;
 }
@@ -505,6 +555,8 @@ int sh2000_path_nurbs(struct sh2000_path *p, const struct sh2000_nurbs *n,
 	for (i = 0; !r && i < n->npoints; i++) {
 		snprintf(m, sizeof(m), "nurbs: points[%zu]", i);
 		r = check_value(p, m, n->points[i]);
+		if (!r)
+			r = check_still(p, m, axes_off(p, n->points[i]));
 	}
 	if (r)
 		return r;

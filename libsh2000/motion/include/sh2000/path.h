@@ -89,16 +89,35 @@ struct sh2000_path_config {
 	unsigned int window;		/* look-ahead blocks (256) */
 	unsigned int comp_window;	/* compensation half-window (12) */
 	/* The room to grow (sh2000.h, above struct sh2000_status) holds the
-	 * fields added since, over its first words: size and offsets stay.
-	 * An anonymous union of plain members, which C and C++ both take. */
+	 * fields added since, over its first words: size and offsets stay
+	 * (docs/install.md, "Growing a struct"). An anonymous union, and in
+	 * it an anonymous struct (C11; __extension__ for C++) for the fields
+	 * past the first word. */
 	union {
 		/* the card's gantry pair (bits of its two axes, both
 		 * enabled; 0: none): its sides must move together
 		 * (sh2000_run_path_config() fills it) */
 		unsigned int gantry_pair;
 		uint64_t reserved[16];	/* room to grow, zero */
+		__extension__ struct {
+			unsigned int : 32;	/* gantry_pair */
+			/* Axes held where they stand (bit a: axis a; 0:
+			 * none). Their vmax and amax do not bound the plan:
+			 * a slow axis a program never moves does not slow
+			 * the others (the least amax sets the path's share
+			 * of the acceleration). A block that moves one
+			 * further than SH2000_PATH_STILL_TOL_MM is refused.
+			 * sh2000_program_axes() fills it from a program. */
+			unsigned int still_axes;
+		};
 	};
 };
+
+/* How far a primitive's point may lie from where a still axis stands
+ * (still_axes): it is held there (a count's rounding to mm, a
+ * card that drifted by a count between the check and the run); further
+ * is a move, refused. */
+#define SH2000_PATH_STILL_TOL_MM	0.001
 
 /* Fills *cfg with the defaults (limits of a small linear-motor table). */
 void sh2000_path_config_default(struct sh2000_path_config *cfg);

@@ -644,10 +644,92 @@ static void test_diag_format_and_files(void **state)
 			    "unknown program format");
 }
 
+/* Read a whole program with r: the blocks handed out (up to its END),
+ * and the diagnostics its reading added to d. */
+static unsigned int read_all(struct sh2000_prog_reader *r,
+			     const struct sh2000_prog_diags *d, size_t *diags)
+{
+	const struct sh2000_prog_block *b;
+	unsigned int n = 0;
+	size_t before = d->count;
+
+	while (sh2000_prog_reader_next(r, &b) == 1 &&
+	       b->kind != SH2000_PROG_END)
+		n++;
+	*diags = d->count - before;
+	return n;
+}
+
+/*
+ * The axes a program moves (sh2000_prog_reader_axes): both axes of an
+ * arc's plane, every axis an end leaves the start on, nothing after the
+ * program's end. The scan says nothing and leaves the reader as it found
+ * it: a fresh one gives its warning and its error on the next read as if
+ * just opened, a read one (a replay) gives no warning twice.
+ */
+static void test_reader_axes(void **state)
+{
+	static const char text[] =
+		"G21 G90 G17 F600\n"
+		"S1000 M3\n"
+		"G1 X10 Y5\n"
+		"G18 G2 X20 Z0 I5 K0\n"
+		"G1 X0 Y0\n"
+		"M2\n"
+		"G1 A5\n";
+	static const char bad[] = "G21 G90 F600\nG1 X10\nG1 Y\nM2\n";
+	const double at[SH2000_AXES] = { 0, 0, 0, 0 };
+	struct sh2000_prog_diags d;
+	struct sh2000_prog_reader *r;
+	unsigned int moves, blocks;
+	size_t diags;
+
+	(void)state;
+	sh2000_prog_diags_init(&d);
+	assert_int_equal(sh2000_prog_reader_open_text(&r, SH2000_PROG_GCODE, "t.ngc",
+						      text, strlen(text), NULL,
+						      &d), 0);
+	assert_int_equal(sh2000_prog_reader_axes(r, at, &moves), 0);
+	assert_int_equal(moves, 0x7);
+	assert_int_equal(d.count, 0);
+	blocks = read_all(r, &d, &diags);
+	assert_int_equal(diags, 2);	/* S and M3, one warning each */
+	assert_int_equal(d.warnings, 2);
+	/* read, then scanned: the next read is a replay, as after a rewind */
+	assert_int_equal(sh2000_prog_reader_axes(r, at, &moves), 0);
+	assert_int_equal(moves, 0x7);
+	assert_int_equal(read_all(r, &d, &diags), blocks);
+	assert_int_equal(diags, 0);
+	/* axes standing at X10 Y5: the first move ends there and moves
+	 * nothing, the last leaves it on both */
+	{
+		const double at2[SH2000_AXES] = { 10, 5, 0, 0 };
+
+		assert_int_equal(sh2000_prog_reader_axes(r, at2, &moves), 0);
+		assert_int_equal(moves, 0x7);
+	}
+	sh2000_prog_reader_close(r);
+	/* an error: found by the read after the scan, with its position */
+	assert_int_equal(sh2000_prog_reader_open_text(&r, SH2000_PROG_GCODE, "t.ngc",
+						      bad, strlen(bad), NULL,
+						      &d), 0);
+	diags = d.count;
+	assert_int_equal(sh2000_prog_reader_axes(r, at, &moves), 0);
+	assert_int_equal(moves, 0x1);
+	assert_int_equal(d.count, diags);
+	read_all(r, &d, &diags);
+	assert_int_equal(diags, 1);
+	assert_int_equal(sh2000_prog_reader_errors(r), 1);
+	assert_int_equal(d.items[d.count - 1].pos.line, 3);
+	sh2000_prog_reader_close(r);
+	sh2000_prog_diags_free(&d);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test_setup_teardown(test_rapid_line_feed_end, setup, teardown),
+		cmocka_unit_test(test_reader_axes),
 		cmocka_unit_test_setup_teardown(test_modal_motion_and_axes, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_distance_modes, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_units, setup, teardown),

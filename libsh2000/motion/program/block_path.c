@@ -61,3 +61,31 @@ int sh2000_prog_block_where(const struct sh2000_prog_block *b, char *buf,
 	return snprintf(buf, len, "%s:%u:%u", b->pos.file ? b->pos.file : "?",
 		 b->pos.line, b->pos.column);
 }
+
+unsigned int sh2000_prog_block_axes(const struct sh2000_prog_block *b,
+				    const double at[SH2000_AXES])
+{
+	unsigned int a, m = 0;
+	size_t i;
+
+	switch (b->kind) {
+	case SH2000_PROG_ARC:
+		m = 1u << b->u.arc.first | 1u << b->u.arc.second;
+		break;
+	case SH2000_PROG_NURBS:
+		for (i = 0; i < b->u.nurbs.npoints; i++)
+			for (a = 0; a < SH2000_AXES; a++)
+				if (b->u.nurbs.points[i][a] != at[a])
+					m |= 1u << a;
+		break;
+	case SH2000_PROG_RAPID:
+	case SH2000_PROG_LINE:
+		break;
+	default:
+		return 0;
+	}
+	for (a = 0; a < SH2000_AXES; a++)
+		if (b->end[a] != at[a])
+			m |= 1u << a;
+	return m;
+}

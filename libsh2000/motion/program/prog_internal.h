@@ -35,6 +35,8 @@ struct prog_ctx {
 	unsigned int warned;	/* enum prog_warn_kind bits */
 	double pos[SH2000_AXES];
 	bool replay;		/* a second pass: warnings were given */
+	bool quiet;		/* a scan (sh2000_prog_reader_axes): no
+				 * diagnostics at all */
 };
 
 /* Append a diagnostic; returns -SH2000_PROG_EINVALID for an error, 0 for

@@ -72,6 +72,8 @@ static int diag_vadd(struct prog_ctx *c, enum sh2000_prog_severity sev,
 	va_list ap2;
 	int n;
 
+	if (c->quiet)
+		return 0;
 	if (d->count == d->cap) {
 		size_t cap = d->cap ? d->cap * 2 : 16;
 		void *p = realloc(d->items, cap * sizeof(*d->items));

@@ -314,6 +314,32 @@ int sh2000_prog_reader_rewind(struct sh2000_prog_reader *r)
 	return 0;
 }
 
+int sh2000_prog_reader_axes(struct sh2000_prog_reader *r,
+			    const double at[SH2000_AXES], unsigned int *moves)
+{
+	const struct sh2000_prog_block *b;
+	/* nothing read since it was opened: it stays so, and the next read
+	 * gives every warning; else the scan is a rewind */
+	bool fresh = !r->c.replay && r->lineno == 0 && !r->finished;
+	int got, e;
+
+	*moves = 0;
+	e = sh2000_prog_reader_rewind(r);
+	if (e)
+		return e;
+	/* a scan: no diagnostic, none counted against the next read */
+	r->c.quiet = true;
+	r->c.replay = false;
+	/* what follows the program's end is never planned */
+	while ((got = sh2000_prog_reader_next(r, &b)) > 0 &&
+	       b->kind != SH2000_PROG_END)
+		*moves |= sh2000_prog_block_axes(b, at);
+	r->c.quiet = false;
+	e = sh2000_prog_reader_rewind(r);
+	r->c.replay = !fresh;
+	return got < 0 ? got : e;
+}
+
 unsigned int sh2000_prog_reader_errors(const struct sh2000_prog_reader *r)
 {
 	return r->c.errors;

@@ -320,6 +320,18 @@ int sh2000_prog_reader_next(struct sh2000_prog_reader *r,
 			    const struct sh2000_prog_block **b);
 /* Back to the first block (the machine at opt->start again). */
 int sh2000_prog_reader_rewind(struct sh2000_prog_reader *r);
+/*
+ * The axes the program moves: reads it from its first line to its end
+ * without a diagnostic, and leaves the reader at its first line: one
+ * nothing was read from yet as it was (its next read gives every warning
+ * and error, as just opened), another as after a rewind. Bit a of *moves
+ * is set when some block moves
+ * axis a away from at[a], where it stands until then
+ * (sh2000_prog_block_axes()). 0, -ENOMEM or -EIO; a program with errors
+ * gives the axes of what could be read (the next read reports them).
+ */
+int sh2000_prog_reader_axes(struct sh2000_prog_reader *r,
+			    const double at[SH2000_AXES], unsigned int *moves);
 /* Errors found since the last open or rewind. */
 unsigned int sh2000_prog_reader_errors(const struct sh2000_prog_reader *r);
 /* The number of the line read last. */
@@ -343,6 +355,13 @@ const char *sh2000_prog_kind_name(enum sh2000_prog_kind k);
  * 0 or the planner's negative error (sh2000_path_error() has the words). */
 int sh2000_path_add_block(struct sh2000_path *p,
 			  const struct sh2000_prog_block *b);
+
+/* The axes block b moves of those that stand at at[] before it: every
+ * axis whose end differs from it, both axes of an arc's plane, every axis
+ * a control point of a NURBS leaves. The planner refuses a block that moves
+ * a still axis (sh2000_path_config.still_axes) by the same rule. */
+unsigned int sh2000_prog_block_axes(const struct sh2000_prog_block *b,
+				    const double at[SH2000_AXES]);
 
 /* "file:line:column" of block b into buf; snprintf's return. */
 int sh2000_prog_block_where(const struct sh2000_prog_block *b, char *buf,

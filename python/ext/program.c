@@ -148,8 +148,11 @@ static PyObject *program_check(PyProgram *p, PyObject *args)
 	if (p->diags.errors)
 		return sh2k_program_raise(p, -SH2000_EPROGRAM, NULL, NULL);
 	/* the first pass reads a fresh reader: rewinding it would make it
-	 * a replay, which stops at the first error instead of listing all */
-	r = p->read ? sh2000_prog_reader_rewind(p->reader) : 0;
+	 * a replay, which stops at the first error instead of listing all;
+	 * a reader read before is at its first line after the scan below */
+	/* the axes it moves: a scan that leaves the reader as it was, at
+	 * its first line (a fresh one still fresh) */
+	SH2K_CALL(p->card, r = sh2000_program_axes(p->reader, &p->pc));
 	p->read = 1;
 	if (r == 0)
 		SH2K_CALL(p->card, r = sh2000_program_plan(p->reader, &p->pc, &o,

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: MIT
 """Programs through the binding: read, check and run with callbacks, the
 errors with file:line, callbacks that raise."""
+import pathlib
 import threading
 
 import pytest
@@ -213,3 +214,23 @@ def test_run_refuses_a_card_moved_since_check(card, ngc):
     assert after.axis("x").cmd_mm == before.axis("x").cmd_mm == 0
     assert after.axis("y").cmd_mm == before.axis("y").cmd_mm == 0.5
     assert after.card_state == sh2000.STATE_IDLE and after.queue_fill == 0
+
+
+def test_check_holds_still_the_axes_a_program_never_moves(card):
+    """A slow A the program never moves does not bound its plan: planned
+    as with a fast A, and run to its end (sh2000_program_axes, as
+    sh2000-upload; tests/tools/upload's still_axes)."""
+    data = (pathlib.Path(__file__).resolve().parents[1] /
+            "tools/upload/data/still_axes.ngc")
+    for axis in "xyza":
+        card.set_param(axis, "amax", 20000)
+    with card.program(data) as prog:
+        fast = prog.check().seconds
+    card.set_param("a", "amax", 5000)
+    with card.program(data) as prog:
+        plan = prog.check()
+        assert plan.moved == "xyz"
+        assert plan.seconds <= fast * 1.01
+        card.enable(plan.moved)
+        prog.run()
+    assert card.status().axis("z").pos_mm == pytest.approx(42.8625, abs=0.001)

@@ -65,6 +65,20 @@ static int path_config(struct sh2000 *h, const struct upl_opts *o,
 	return SH2000_EXIT_OK;
 }
 
+/* The axes the program never moves are held still: their limits do not
+ * bound the plan (both passes plan with *pc). */
+static int still_axes(const struct upl_opts *o, struct sh2000_path_config *pc,
+		      struct upl_source *src)
+{
+	int e = sh2000_program_axes(src->reader, pc);
+
+	if (e) {
+		sh2000_tool_msg("%s: %s", o->file, sh2000_strerror(e));
+		return SH2000_EXIT_CARD;
+	}
+	return SH2000_EXIT_OK;
+}
+
 /* The first pass: everything read, checked and planned. */
 static int first_pass(struct sh2000 *h, const struct upl_opts *o,
 		      const struct sh2000_path_config *pc,
@@ -112,6 +126,8 @@ static void dry_run_report(const struct upl_opts *o,
 	       plan->seconds, (unsigned long long)plan->points,
 	       pc->period_s * 1e3);
 	printf("  axes moved           %s\n", plan->moved ? names : "none");
+	upl_axes_text(pc->still_axes, names);
+	printf("  axes held still      %s\n", pc->still_axes ? names : "none");
 }
 
 /* The plan starts where the card holds now (enabling keeps the position);
@@ -240,6 +256,8 @@ static int upload(struct sh2000 *h, const struct upl_opts *o,
 		x = path_config(h, o, &pc);
 	if (!x)
 		x = upl_source_open(src, o, pc.start);
+	if (!x)
+		x = still_axes(o, &pc, src);
 	if (!x)
 		x = first_pass(h, o, &pc, src, &plan);
 	if (x)

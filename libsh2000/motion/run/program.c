@@ -27,6 +27,17 @@ static int halts(const struct sh2000_prog_block *b,
 		(!b->u.optional || o->optional_stop));
 }
 
+int sh2000_program_axes(struct sh2000_prog_reader *r,
+			struct sh2000_path_config *pc)
+{
+	unsigned int moves;
+	int e = sh2000_prog_reader_axes(r, pc->start, &moves);
+
+	if (!e)
+		pc->still_axes = ~moves & ((1u << SH2000_AXES) - 1u);
+	return e;
+}
+
 /* ---- the first pass -------------------------------------------------------- */
 
 struct plan_ctx {

@@ -402,6 +402,34 @@ t_accel_guard() {
 	stop_sim
 }
 
+# An axis the program never moves is held still: its limits do not bound
+# the plan. With X, Y and Z at 20000 mm/s^2, the plan with a slow A (5000)
+# is the plan with a fast one within 1 % (0.560 s against 0.558; the least
+# amax of all four axes made it 0.618 s); it runs to its end, and A is not
+# enabled.
+t_still_axes() {
+	[ -n "${CTL:-}" ] && [ -x "$CTL" ] || { echo "sh2000ctl not built: skipped"; exit 77; }
+	local name=upload-still-$$ f=$DATA/still_axes.ngc fast slow
+	start_sim $name
+	"${RT_HOST[@]}" "$CTL" -d sim:$name params x amax=20000 + params y amax=20000 + params z amax=20000 + params a amax=20000 >ctl.out 2>&1 ||
+		{ fail "sh2000ctl: amax 20000"; cat ctl.out; }
+	expect 0 "A at 20000: planned" -- "${UPLOAD_RT[@]}" -d sim:$name --dry-run "$f"
+	has "axes held still +a$" out
+	fast=$(sed -n 's/^  planned time *\([0-9.]*\) s.*/\1/p' out)
+	"${RT_HOST[@]}" "$CTL" -d sim:$name params a amax=5000 >ctl.out 2>&1 ||
+		{ fail "sh2000ctl: A amax 5000"; cat ctl.out; }
+	expect 0 "A at 5000: planned" -- "${UPLOAD_RT[@]}" -d sim:$name --dry-run "$f"
+	slow=$(sed -n 's/^  planned time *\([0-9.]*\) s.*/\1/p' out)
+	echo "planned: A at 20000 ${fast} s, A at 5000 ${slow} s"
+	[ -n "$fast" ] && [ -n "$slow" ] && le "$slow" "$(awk -v f="$fast" 'BEGIN { print f * 1.01 }')" ||
+		fail "A at 5000 planned ${slow} s, at 20000 ${fast} s"
+	expect 0 "A at 5000: runs" -- "${UPLOAD_RT[@]}" -d sim:$name "$f"
+	has "enabling axes x y z$" err
+	"$PROBE" sim:$name >p
+	has "cmd=0\.0000,41\.5290,42\.8625,0\.0000" p
+	stop_sim
+}
+
 # The guard between the two passes: the card moves after sh2000-upload
 # read where it stands and before the run (here rs274's stand-in jogs Y
 # on the served card while sh2000-upload waits for its output): the run is
@@ -632,7 +660,7 @@ t_tool_pause() {
 }
 
 case ${1:-} in
-geometry|raw|override|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop|shm_hold|shm_other_stop|moved_axes|tool_table|tool_rs274|tool_pause|moved_since_check|refused_trace|accel_guard)
+geometry|raw|override|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop|shm_hold|shm_other_stop|moved_axes|tool_table|tool_rs274|tool_pause|moved_since_check|refused_trace|accel_guard|still_axes)
 	"t_$1" ;;
 *) echo "usage: upload_tests.sh TEST"; exit 2 ;;
 esac

@@ -249,6 +249,16 @@ struct sh2000_program_plan {
 };
 
 /*
+ * Before the first pass: holds still (pc->still_axes) every axis no block
+ * of r moves away from pc->start, so that a slow axis the program never
+ * moves does not bound its plan; both passes then plan with *pc. Reads r
+ * through once without a diagnostic and leaves it at its first line
+ * (sh2000_prog_reader_axes()). 0, -ENOMEM or -EIO.
+ */
+int sh2000_program_axes(struct sh2000_prog_reader *r,
+			struct sh2000_path_config *pc);
+
+/*
  * The first pass: read r from where it stands to the end, plan every
  * block with pc and check each planned point against o->limits (a block
  * whose end or extremes are beyond them, with the slack, is refused when
@@ -265,7 +275,7 @@ int sh2000_program_plan(struct sh2000_prog_reader *r,
 
 /* How far an enabled axis may stand from the plan's start when the second
  * pass begins: a thousandth of a millimetre (rounding of counts to mm). */
-#define SH2000_MOVED_TOL_MM	0.001
+#define SH2000_MOVED_TOL_MM	SH2000_PATH_STILL_TOL_MM
 
 /*
  * The guard between the two passes: the card still stands where the plan

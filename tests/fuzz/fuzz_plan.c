@@ -7,7 +7,8 @@
  * planner whose sink checks each point and throws it away, twice: with
  * the planner's default limits, and with the card model's (400 mm/s,
  * 5000 mm/s^2), where the S-curve ramps within two periods and the
- * controller holds one jerk a period.
+ * controller holds one jerk a period; and once more at the card model's
+ * with the axes the program never moves held still (hold_still()).
  *
  * Promises checked: a rejected block says why (sh2000_path_error), every
  * point is finite, and the plan has no more points than the program's own
@@ -335,6 +336,9 @@ static void plan(const struct sh2000_program *prog, struct plan_check *pc)
 		r = sh2000_path_finish(p);
 	if (r && r != CAPPED && !sh2000_path_error(p)[0])
 		fz_fail("the planner failed (%d) without saying why", r);
+	if (r && strstr(sh2000_path_error(p), "holds still"))
+		fz_fail("a block sh2000_prog_block_axes() left still moved an axis: %s",
+			sh2000_path_error(p));
 	sh2000_path_destroy(p);
 }
 
@@ -344,10 +348,36 @@ static void plan(const struct sh2000_program *prog, struct plan_check *pc)
 #define CARD_VMAX	400.0
 #define CARD_AMAX	5000.0
 
-/* Plan prog with every axis at vmax and amax (0: the planner's defaults)
- * and check its fine set-points. */
+/*
+ * The axes prog never moves held still, as sh2000_program_axes() holds
+ * them, with a tenth of the others' limits: the scan's rule and the
+ * planner's refusal agree (no block it planned is refused for moving a
+ * still axis), and a still axis does not move (its set-points within its
+ * lower limits).
+ */
+static void hold_still(const struct sh2000_program *prog,
+		       struct sh2000_path_config *cfg)
+{
+	unsigned int moves = 0;
+
+	for (size_t i = 0; i < prog->count; i++) {
+		if (prog->blocks[i].kind == SH2000_PROG_END)
+			break;
+		moves |= sh2000_prog_block_axes(&prog->blocks[i], cfg->start);
+	}
+	cfg->still_axes = ~moves & ((1u << SH2000_AXES) - 1u);
+	for (unsigned int a = 0; a < SH2000_AXES; a++)
+		if (cfg->still_axes & (1u << a)) {
+			cfg->vmax[a] /= 10.0;
+			cfg->amax[a] /= 10.0;
+		}
+}
+
+/* Plan prog with every axis at vmax and amax (0: the planner's defaults),
+ * the axes it never moves held still if hold, and check its fine
+ * set-points. */
 static void check_at(const struct sh2000_program *prog, double vmax,
-		     double amax, int verbose)
+		     double amax, int hold, int verbose)
 {
 	struct plan_check pc;
 	double seconds = 0;
@@ -365,6 +395,8 @@ static void check_at(const struct sh2000_program *prog, double vmax,
 			pc.cfg.amax[a] = amax;
 		}
 	}
+	if (hold)
+		hold_still(prog, &pc.cfg);
 	for (size_t i = 0; i < prog->count; i++)
 		seconds += block_seconds(&pc.cfg, &prog->blocks[i]);
 	pc.budget = BUDGET_FACTOR * seconds / pc.cfg.period_s + 1000.0;
@@ -409,8 +441,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	if (r == 0) {
 		/* the planner's own defaults, then the card model's limits,
 		 * where the controller holds one jerk a period */
-		check_at(&prog, 0, 0, verbose);
-		check_at(&prog, CARD_VMAX, CARD_AMAX, verbose);
+		check_at(&prog, 0, 0, 0, verbose);
+		check_at(&prog, CARD_VMAX, CARD_AMAX, 0, verbose);
+		check_at(&prog, CARD_VMAX, CARD_AMAX, 1, verbose);
 	}
 	sh2000_program_free(&prog);
 	return 0;

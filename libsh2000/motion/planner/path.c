@@ -166,8 +166,16 @@ static int cfg_check(const struct sh2000_path_config *c, char *e, size_t n)
 	return 0;
 }
 
-/* The least amax of the axes the plan may move, and the norm of theirs:
- * those not held still, or all when all are (then nothing moves). */
+/*
+ * The least amax of the axes the plan may move (those not held still, or
+ * all when all are: then nothing moves), and the norm of theirs, which
+ * bounds what a line can get (a_top, below) but is never taken below
+ * what four axes at that least amax give (2 amin). The controller's
+ * landings take a_top to be at least one jerk a period held for a
+ * period, which 2 amin always is where it holds one jerk a period; the
+ * norm of two moving axes is not: an XY program braked X at 1.25 amax
+ * (a fuzz_plan input).
+ */
 static double moving_amax(const struct sh2000_path_config *cfg, double *norm)
 {
 	unsigned int a, still = cfg->still_axes;
@@ -181,7 +189,7 @@ static double moving_amax(const struct sh2000_path_config *cfg, double *norm)
 			amin = fmin(amin, cfg->amax[a]);
 			*norm += cfg->amax[a] * cfg->amax[a];
 		}
-	*norm = sqrt(*norm);
+	*norm = fmax(sqrt(*norm), 2.0 * amin);
 	return amin;
 }
 

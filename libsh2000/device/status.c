@@ -147,11 +147,11 @@ int sh2000_poll_locked(struct sh2000 *h, struct sh2000_status *st)
 		 * that stays inside the same one for a tenth of the
 		 * heartbeat limit while its heartbeat moves on is alive but
 		 * not finishing it; one whose heartbeat stands still for the
-		 * limit stopped there (torn_dead). A torn read of another
-		 * publication shows a card that goes on publishing, faster
-		 * than this reader reads (a reader descheduled between its
-		 * words or between two reads, a slow bus): that restarts the
-		 * tenth, however long the reader was away, and only
+		 * limit stopped there (sh2000_torn_dead()). A torn read of
+		 * another publication shows a card that goes on publishing,
+		 * faster than this reader reads (a reader descheduled between
+		 * its words or between two reads, a slow bus): that restarts
+		 * the tenth, however long the reader was away, and only
 		 * TORN_MOVING_READS such reads give up.
 		 */
 		r = sh2000_rd(h, SH2000_W_HEARTBEAT, 1, &hb);

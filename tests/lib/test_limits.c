@@ -435,8 +435,9 @@ static void test_gantry_pair(void **state)
 
 /* The first pass's acceleration guard: the second difference of the
  * records over T^2 (the spline's acceleration at a knot, exactly), from
- * the rest window and through the END padding, against (2 - margin) amax
- * plus two counts; without sh2000_setpoints_accel() nothing is judged. */
+ * the rest window and through the END padding, against amax (the records
+ * as planned, before they are rounded to counts); the largest is kept as a
+ * fraction of amax; without sh2000_setpoints_accel() nothing is judged. */
 static void feed_x(struct sh2000_setpoints *c, const double *x, size_t n,
 		   int accel, int want, const char *msg_part)
 {
@@ -467,26 +468,33 @@ static void feed_x(struct sh2000_setpoints *c, const double *x, size_t n,
 
 static void test_accel_guard(void **state)
 {
-	/* rest to rest at 2625 and 5250 mm/s^2: within 1.05 amax (5250) */
-	static const double ok[] = { 0.0105, 0.0315, 0.0525, 0.063, 0.063 };
-	/* then 0.3: 18625 mm/s^2 at the fifth knot */
-	static const double jump[] = { 0.0105, 0.042, 0.0945, 0.16, 0.3 };
-	/* ends moving at 26 mm/s: the padding stops it within a period */
-	static const double halt[] = { 0.0105, 0.042, 0.0945, 0.147 };
-	/* within the two counts over 5250 mm/s^2 (5254), then a hair over
-	 * them where the padding stops the motion: 5261 mm/s^2 */
-	static const double over[] = { 0.021015, 0.04206 };
+	/* rest to rest at 2500 mm/s^2, and at amax (5000) exactly */
+	static const double ok[] = { 0.01, 0.03, 0.05, 0.06, 0.06 };
+	static const double at[] = { 0.02, 0.06, 0.1, 0.12, 0.12 };
+	/* then 0.3: 17500 mm/s^2 at the fifth knot */
+	static const double jump[] = { 0.01, 0.04, 0.09, 0.16, 0.3 };
+	/* ends moving at 35 mm/s: the padding stops it within a period */
+	static const double halt[] = { 0.01, 0.04, 0.09, 0.16 };
+	/* amax, then two counts over it where the padding stops the
+	 * motion: 5005 mm/s^2 */
+	static const double over[] = { 0.02, 0.04002 };
 	struct sh2000_setpoints c;
 
 	(void)state;
 	feed_x(&c, ok, 5, 1, 0, NULL);
+	assert_float_equal(c.accel_peak, 0.5, 1e-9);
+	feed_x(&c, at, 5, 1, 0, NULL);
+	assert_float_equal(c.accel_peak, 1.0, 1e-9);
+	assert_int_equal(c.accel_axis, 0);
 	feed_x(&c, jump, 5, 1, -ERANGE,
-	       "axis X: the planned set-points accelerate at 18625 mm/s^2 at 0.010 s, over its amax of 5000 mm/s^2");
+	       "axis X: the planned set-points accelerate at 17500 mm/s^2 at 0.010 s, over its amax of 5000 mm/s^2 (planned with the margin 0.950");
+	assert_float_equal(c.accel_peak, 3.5, 1e-9);
 	feed_x(&c, jump, 5, 0, 0, NULL);
 	feed_x(&c, halt, 4, 1, -ERANGE,
-	       "accelerate at 13125 mm/s^2 at 0.010 s");
+	       "accelerate at 17500 mm/s^2 at 0.010 s");
 	feed_x(&c, over, 1, 1, 0, NULL);
-	feed_x(&c, over, 2, 1, -ERANGE, "at 5261 mm/s^2 at 0.006 s");
+	feed_x(&c, over, 2, 1, -ERANGE, "at 5005 mm/s^2 at 0.006 s");
+	assert_float_equal(c.accel_peak, 1.001, 1e-9);
 }
 
 int main(void)

@@ -28,6 +28,9 @@
  *  - a slow axis a program never moves bounded its plan (the least amax
  *    of all four axes set the path's share of the acceleration): held
  *    still, it bounds nothing, and a block that moves it is refused.
+ *  - short blended moves braking into a drop passed amax (1.0245): the
+ *    first pass as the front ends run it plans again with a smaller
+ *    margin (sh2000_program_check()).
  * And the check itself: spcheck's distance from a set-point to the path
  * is the nearest segment's, wherever the last match was.
  * `build/x/tests/planner/test_safe` prints what it measured.
@@ -40,6 +43,8 @@
 #include <stdio.h>
 
 #include <cmocka.h>
+
+#include <sh2000/run.h>
 
 #include "spcheck.h"
 
@@ -910,6 +915,65 @@ static void test_still_refused(void **state)
 	assert_non_null(strstr(msg, "still_axes 0x10"));
 }
 
+/* ---- the first pass plans again where the planner passes amax ---------- */
+
+/*
+ * Short blended moves braking into a drop, at the card model's limits and
+ * scale: the planner alone takes an axis past amax here (1.0245 on the
+ * fine set-points, a fuzz_plan input). sh2000_program_check() finds that on
+ * the records and plans again with a smaller margin; with it, the fine
+ * set-points keep amax and the path.
+ */
+static void test_accel_fit(void **state)
+{
+	static const char prog[] =
+		"G21 G90 G64 P0.1 Q0\nG1 X0.7 F24000\nX7.699 Y2.394\n"
+		"X10.928 Y4.70\nX11.029 Y4.8046\nX11.145 Y4.888\n"
+		"X13.5 Y7.5\nM2\n";
+	struct sh2000_path_config cfg, fit;
+	struct sh2000_program_plan plan;
+	struct sh2000_prog_reader *rd;
+	struct sh2000_prog_diags d;
+	struct run r;
+
+	(void)state;
+	harness_config(&cfg, 1);
+	for (unsigned int k = 0; k < SH2000_AXES; k++)
+		cfg.counts_per_mm[k] = 1e5;
+	assert_int_equal(plan_gcode(prog, &cfg, 0.101, &r), 0);
+	printf("margin %.3f alone: a %.4f of amax\n", cfg.margin, r.sp.a_ratio);
+	assert_true(r.sp.a_ratio > 1.0);
+	sp_path_free(&r.path);
+
+	fit = cfg;
+	sh2000_prog_diags_init(&d);
+	assert_int_equal(sh2000_prog_reader_open_text(&rd, SH2000_PROG_GCODE,
+						      "t.ngc", prog,
+						      strlen(prog), NULL, &d),
+			 0);
+	assert_int_equal(sh2000_program_check(rd, &fit, NULL, &plan), 0);
+	sh2000_prog_reader_close(rd);
+	sh2000_prog_diags_free(&d);
+	printf("sh2000_program_check: margin %.3f after %u plans, peak %.4f of amax on %c\n",
+	       plan.margin, plan.replans + 1, plan.accel_peak,
+	       SH2000_AXIS_LETTERS[plan.accel_axis]);
+	assert_true(plan.replans >= 1);
+	assert_true(fit.margin < cfg.margin);
+	assert_float_equal(plan.margin, fit.margin, 0);
+	assert_true(plan.accel_peak <= 1.0);
+	assert_int_equal(fit.still_axes, 1u << 2 | 1u << 3);
+
+	/* the second pass plans with fit: the same records */
+	assert_int_equal(plan_gcode(prog, &fit, 0.101, &r), 0);
+	printf("margin %.3f: a %.4f of amax, %.6f mm off the path, %zu records\n",
+	       fit.margin, r.sp.a_ratio, r.sp.dev, r.points);
+	assert_true(r.sp.a_ratio <= 1.0);
+	assert_true(r.sp.v_ratio <= 1.0);
+	assert_true(r.sp.dev <= r.sp.tol);
+	assert_int_equal(r.points, plan.points);
+	sp_path_free(&r.path);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -929,6 +993,7 @@ int main(void)
 		cmocka_unit_test(test_still_axes),
 		cmocka_unit_test(test_still_refused),
 		cmocka_unit_test(test_still_two_axes),
+		cmocka_unit_test(test_accel_fit),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

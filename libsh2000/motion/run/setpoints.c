@@ -36,14 +36,14 @@
  * over each span, (1 - u)(P0 - 2P1 + P2) + u(P1 - 2P2 + P3) over T^2, so
  * its extremes are at the knots: the largest acceleration the card
  * commands is the largest second difference of the records over T^2,
- * exactly, with no sampling. The planner keeps every axis within its amax
- * on that spline at the limits it is measured at (docs/planner.md), but
- * not at all limits ("Known limits"). A plan that passes an axis' amax by
- * more than the reserve the planner's margin keeps for the card (its
- * correction tables and time base take up to 4 % of amax), plus two
- * counts of rounding, is refused with the axis and the time instead of
- * being sent to the drives. The runner does not judge it: a live
- * override changes the plan the first pass judged.
+ * exactly, with no sampling. The planner plans within its margin of every
+ * amax (0.95), which leaves the card's correction tables and time base
+ * their reserve (up to 4 % of amax); on that spline it keeps within amax
+ * at the limits it is measured at (docs/planner.md), but not at all limits
+ * ("Known limits"). A plan whose records pass an axis' amax is refused
+ * with the axis and the time instead of being sent to the drives, and
+ * sh2000_program_check() plans it again with a smaller margin. The runner does not judge it: a live override changes
+ * the plan the first pass judged.
  */
 #include <errno.h>
 #include <math.h>
@@ -174,8 +174,9 @@ static int clamp(const struct sh2000_limits *l, double mm[SH2000_AXES])
 }
 
 /* The second difference of three consecutive records over T^2, the
- * spline's acceleration at the middle one's knot. */
-static int check_accel(const struct sh2000_setpoints *c, const double *a,
+ * spline's acceleration at the middle one's knot: kept as the peak, and
+ * judged against amax. */
+static int check_accel(struct sh2000_setpoints *c, const double *a,
 		       const double *b, const double *cc, uint64_t n,
 		       char *msg, size_t len)
 {
@@ -184,15 +185,22 @@ static int check_accel(const struct sh2000_setpoints *c, const double *a,
 	unsigned int ax;
 
 	for (ax = 0; ax < SH2000_AXES; ax++) {
-		double d2 = a[ax] - 2.0 * b[ax] + cc[ax];
+		double d2 = fabs(a[ax] - 2.0 * b[ax] + cc[ax]);
+		double f = d2 * c->per_amax[ax];
 
-		if (fabs(d2) <= c->accel_limit[ax])
+		if (f > c->accel_peak) {
+			c->accel_peak = f;
+			c->accel_axis = ax;
+		}
+		if (d2 <= c->accel_limit[ax])
 			continue;
 		if (msg && len)
 			snprintf(msg, len,
-				 "axis %c: the planned set-points accelerate at %.0f mm/s^2 at %.3f s, over its amax of %.0f mm/s^2 by more than the planner's margin keeps: the planner does not hold these limits (docs/planner.md \"Known limits\")",
-				 name[ax], fabs(d2) / T2,
-				 (double)n * c->period_s, c->amax[ax]);
+				 "axis %c: the planned set-points accelerate at %.0f mm/s^2 at %.3f s, over its amax of %.0f mm/s^2 (planned with the margin %.3f: the planner does not hold these limits there, docs/planner.md \"Known limits\")",
+				 name[ax], d2 / T2, (double)n * c->period_s,
+				 c->amax[ax], c->margin);
+		c->accel_peak = f;
+		c->accel_axis = ax;
 		return -ERANGE;
 	}
 	return 0;
@@ -206,16 +214,20 @@ void sh2000_setpoints_accel(struct sh2000_setpoints *c,
 
 	c->judge_accel = 1;
 	c->period_s = pc->period_s;
+	c->margin = pc->margin;
 	for (a = 0; a < SH2000_AXES; a++) {
 		c->amax[a] = pc->amax[a];
-		c->accel_limit[a] = (2.0 - pc->margin) * pc->amax[a] * T2 +
-				    2.0 / pc->counts_per_mm[a];
+		c->per_amax[a] = 1.0 / (pc->amax[a] * T2);
+		/* the records as planned, before the card rounds them to
+		 * counts (which moves a second difference by two counts at
+		 * most: 5 mm/s^2 at 10 nm and 2 ms); an ulp's slack */
+		c->accel_limit[a] = pc->amax[a] * T2 * (1.0 + 1e-9);
 	}
 }
 
 /* Record mm's spans (and after END, the padded ones): their set-points
  * within the limits, their acceleration within the guard's. */
-static int check_record(const struct sh2000_setpoints *c, const double *mm,
+static int check_record(struct sh2000_setpoints *c, const double *mm,
 			uint64_t k, int end, char *msg, size_t len)
 {
 	const double (*w)[SH2000_AXES] = c->w;

@@ -23,6 +23,11 @@ struct sh2000_setpoints {
 	int judge_accel;		/* sh2000_setpoints_accel() was called */
 	double accel_limit[SH2000_AXES]; /* the most |P[k-1] - 2P[k] + P[k+1]| */
 	double amax[SH2000_AXES];	/* mm/s^2, for the message */
+	double per_amax[SH2000_AXES];	/* 1 / (amax T^2) */
+	double accel_peak;		/* the most |second difference| seen,
+					 * as a fraction of its axis' amax */
+	unsigned int accel_axis;	/* that axis */
+	double margin;			/* the plan's, for the message */
 	double period_s;
 	int have_rest;
 	uint64_t points;		/* records seen */
@@ -33,8 +38,9 @@ void sh2000_setpoints_init(struct sh2000_setpoints *c,
 /* Judge the points by pc's gantry pair too (sh2000_pair_rule_init). */
 void sh2000_setpoints_pair(struct sh2000_setpoints *c,
 			   const struct sh2000_path_config *pc);
-/* Judge the set-points' acceleration too, by pc's amax, period, scale and
- * margin (setpoints.c): a record past it is -ERANGE. */
+/* Judge the set-points' acceleration too, by pc's amax, period and scale
+ * (setpoints.c): a record past amax is -ERANGE; the peak
+ * is kept in accel_peak, accel_axis. */
 void sh2000_setpoints_accel(struct sh2000_setpoints *c,
 			    const struct sh2000_path_config *pc);
 /* The card rests at mm (a new plan starts there). */

@@ -244,8 +244,26 @@ struct sh2000_program_plan {
 	/* a failure: "file:line[:column]" of the block and the reason */
 	char where[256];
 	char error[320];
-	uint64_t reserved[8];	/* room to grow, zero (sh2000.h, above
-				 * struct sh2000_status) */
+	union {
+		uint64_t reserved[8];	/* room to grow, zero (sh2000.h,
+					 * above struct sh2000_status) */
+		__extension__ struct {
+			/* The largest acceleration of the card's set-points
+			 * (the spline through the records: exact), as a
+			 * fraction of its axis' amax, and that axis; for a
+			 * plan refused over amax, the one refused. */
+			double accel_peak;
+			unsigned int accel_axis;
+			/* 1: refused because the set-points pass an axis'
+			 * amax (-ERANGE) */
+			unsigned int accel_over;
+			/* the planner's margin (pc->margin) it was planned
+			 * with, and how many times sh2000_program_check()
+			 * planned it again with a smaller one */
+			double margin;
+			unsigned int replans;
+		};
+	};
 };
 
 /*
@@ -266,12 +284,33 @@ int sh2000_program_axes(struct sh2000_prog_reader *r,
  * filled); -SH2000_EPROGRAM when the program has errors (they are in the
  * reader's diags); -SH2000_ELIMIT, -EINVAL... when a block cannot be
  * planned or leaves the limits (plan->where and plan->error say which and
- * why); -ENOMEM, -EIO.
+ * why); -ERANGE with plan->accel_over when the planned set-points
+ * accelerate an axis past its amax (sh2000_program_check() plans again);
+ * -ENOMEM, -EIO.
  */
 int sh2000_program_plan(struct sh2000_prog_reader *r,
 			const struct sh2000_path_config *pc,
 			const struct sh2000_program_opts *o,
 			struct sh2000_program_plan *plan);
+
+/*
+ * The first pass as every front end runs it: sh2000_program_axes(), then
+ * sh2000_program_plan() with *pc. Where the planned set-points would
+ * accelerate an axis past its amax (the planner's known limits:
+ * docs/planner.md), the reader is rewound and the program planned again
+ * with a smaller pc->margin, as many times as it takes (at most
+ * SH2000_PROGRAM_REPLANS, in steps of 1 % that grow: down to about half
+ * the margin): no accepted plan passes an axis' amax. *pc is then what the second pass
+ * plans with (plan->margin, plan->replans say what changed). r must be
+ * fresh or at its first line, as sh2000_program_axes() leaves it. Returns
+ * as sh2000_program_plan(); -ERANGE (plan->accel_over) when no margin
+ * down to the least keeps the limits.
+ */
+int sh2000_program_check(struct sh2000_prog_reader *r,
+			 struct sh2000_path_config *pc,
+			 const struct sh2000_program_opts *o,
+			 struct sh2000_program_plan *plan);
+#define SH2000_PROGRAM_REPLANS	10
 
 /* How far an enabled axis may stand from the plan's start when the second
  * pass begins: a thousandth of a millimetre (rounding of counts to mm). */

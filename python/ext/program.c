@@ -98,6 +98,7 @@ static int program_init(PyProgram *p, PyObject *args, PyObject *kw)
 		sh2k_raise(r, card->h, NULL, NULL);
 		return -1;
 	}
+	p->margin = p->pc.margin;
 	sh2000_prog_options_default(&po);
 	memcpy(po.start, p->pc.start, sizeof(po.start));
 	po.feed_mm_s = feed;
@@ -115,12 +116,15 @@ static int program_init(PyProgram *p, PyObject *args, PyObject *kw)
 
 static PyObject *plan_dict(const struct sh2000_program_plan *pl)
 {
-	return Py_BuildValue("{s:K,s:K,s:d,s:I,s:K}",
+	return Py_BuildValue("{s:K,s:K,s:d,s:I,s:K,s:d,s:I,s:d,s:I}",
 			     "blocks", (unsigned long long)pl->blocks,
 			     "points", (unsigned long long)pl->points,
 			     "seconds", pl->seconds, "moved", pl->moved,
 			     "optional_skipped",
-			     (unsigned long long)pl->optional_skipped);
+			     (unsigned long long)pl->optional_skipped,
+			     "accel_peak", pl->accel_peak,
+			     "accel_axis", pl->accel_axis,
+			     "margin", pl->margin, "replans", pl->replans);
 }
 
 /* check(override, optional_stop): the first pass, from the start. */
@@ -150,13 +154,14 @@ static PyObject *program_check(PyProgram *p, PyObject *args)
 	/* the first pass reads a fresh reader: rewinding it would make it
 	 * a replay, which stops at the first error instead of listing all;
 	 * a reader read before is at its first line after the scan below */
-	/* the axes it moves: a scan that leaves the reader as it was, at
-	 * its first line (a fresh one still fresh) */
-	SH2K_CALL(p->card, r = sh2000_program_axes(p->reader, &p->pc));
+	/* the axes it moves (a scan that leaves the reader as it was, at
+	 * its first line: a fresh one still fresh), the plan, and the
+	 * margin that keeps every axis within its amax, into p->pc: the
+	 * second pass plans with it */
 	p->read = 1;
-	if (r == 0)
-		SH2K_CALL(p->card, r = sh2000_program_plan(p->reader, &p->pc, &o,
-							   &p->plan));
+	p->pc.margin = p->margin;
+	SH2K_CALL(p->card, r = sh2000_program_check(p->reader, &p->pc, &o,
+						    &p->plan));
 	if (r == -SH2000_EPROGRAM)
 		return sh2k_program_raise(p, r, NULL, NULL);
 	if (r < 0)
@@ -217,7 +222,7 @@ int sh2k_program_ok(PyProgram *p)
 #define M SH2K_METHOD
 static PyMethodDef program_methods[] = {
 	M("check", program_check, METH_VARARGS,
-	  "check([override, optional_stop]): sh2000_program_plan, a dict"),
+	  "check([override, optional_stop]): sh2000_program_check, a dict"),
 	M("run", sh2k_program_run, METH_VARARGS,
 	  "run(progress, pause, override, optional_stop): sh2000_run_program"),
 	M("diagnostics", program_diagnostics, METH_NOARGS,

@@ -12,6 +12,8 @@ typedef struct {
 	struct sh2000_prog_reader *reader;
 	struct sh2000_prog_diags diags;
 	struct sh2000_path_config pc;	/* the card's, at open */
+	double margin;			/* pc's at open: check() may plan
+					 * with less, each from this one */
 	struct sh2000_program_plan plan;
 	int read;			/* a check() has read the reader */
 	int checked;			/* plan is the last check()'s */

@@ -108,12 +108,19 @@ class Plan:
     moved: str          # the axes the program moves, "xy"
     moved_mask: int
     optional_skipped: int
+    accel_peak: float   # the set-points' largest acceleration / its axis' amax
+    accel_axis: str     # that axis, "x"
+    margin: float       # the planner's margin it was planned with
+    replans: int        # times planned again with a smaller one
 
     @classmethod
     def from_c(cls, d):
         return cls(blocks=d["blocks"], points=d["points"], seconds=d["seconds"],
                    moved=axes_text(d["moved"]), moved_mask=d["moved"],
-                   optional_skipped=d["optional_skipped"])
+                   optional_skipped=d["optional_skipped"],
+                   accel_peak=d["accel_peak"],
+                   accel_axis=axes_text(1 << d["accel_axis"]),
+                   margin=d["margin"], replans=d["replans"])
 
 
 @dataclass(frozen=True)

@@ -234,3 +234,29 @@ def test_check_holds_still_the_axes_a_program_never_moves(card):
         card.enable(plan.moved)
         prog.run()
     assert card.status().axis("z").pos_mm == pytest.approx(42.8625, abs=0.001)
+
+
+def test_check_plans_again_where_the_planner_passes_amax(card):
+    """Where the planner alone takes an axis past its amax, check() plans
+    again with a smaller margin (sh2000_program_check, as sh2000-upload;
+    tests/tools/upload's accel_fit): the plan keeps amax, a second check
+    starts from the card's margin again, and the run ends where the
+    program does."""
+    data = (pathlib.Path(__file__).resolve().parents[1] /
+            "tools/upload/data/accel_fit.ngc")
+    with card.program(data) as prog:
+        plan = prog.check()
+        assert plan.replans >= 1 and plan.margin < 0.95
+        assert 0.9 < plan.accel_peak <= 1.0 and plan.accel_axis in "xy"
+        again = prog.check()
+        assert again == plan
+        card.enable(plan.moved)
+        stats = prog.run()
+    assert stats.points == plan.points
+    assert card.status().axis("x").pos_mm == pytest.approx(13.5, abs=0.001)
+    assert card.status().axis("y").pos_mm == pytest.approx(7.5, abs=0.001)
+    with card.program(pathlib.Path(__file__).resolve().parents[2] /
+                      "examples/part.ngc") as prog:
+        plan = prog.check()
+        assert plan.replans == 0 and plan.margin == 0.95
+        assert 0 < plan.accel_peak <= 1.0

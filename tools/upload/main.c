@@ -4,7 +4,7 @@
  *
  * The order of things (sh2000-upload(1) is the manual): check that the
  * card is ready, read, check and plan the whole program once (the first
- * pass, sh2000_program_plan: every error is found before anything moves),
+ * pass, sh2000_program_check: every error is found before anything moves),
  * then enable the axes, rewind and stream it (the second pass,
  * sh2000_run_program). Both passes read the program block by block, so a
  * program of any length runs in the same memory. An error before
@@ -65,27 +65,17 @@ static int path_config(struct sh2000 *h, const struct upl_opts *o,
 	return SH2000_EXIT_OK;
 }
 
-/* The axes the program never moves are held still: their limits do not
- * bound the plan (both passes plan with *pc). */
-static int still_axes(const struct upl_opts *o, struct sh2000_path_config *pc,
-		      struct upl_source *src)
-{
-	int e = sh2000_program_axes(src->reader, pc);
-
-	if (e) {
-		sh2000_tool_msg("%s: %s", o->file, sh2000_strerror(e));
-		return SH2000_EXIT_CARD;
-	}
-	return SH2000_EXIT_OK;
-}
-
-/* The first pass: everything read, checked and planned. */
+/* The first pass: everything read, checked and planned; the axes the
+ * program never moves held still (their limits do not bound the plan), and
+ * a smaller margin where the plan would pass an axis' amax (both passes
+ * plan with *pc). */
 static int first_pass(struct sh2000 *h, const struct upl_opts *o,
-		      const struct sh2000_path_config *pc,
+		      struct sh2000_path_config *pc,
 		      struct upl_source *src, struct sh2000_program_plan *plan)
 {
 	struct sh2000_program_opts po;
 	struct sh2000_limits lim;
+	double margin0 = pc->margin;
 	int e = sh2000_limits_get(h, &lim);
 
 	if (e)
@@ -94,7 +84,7 @@ static int first_pass(struct sh2000 *h, const struct upl_opts *o,
 	po.override = o->override;
 	po.optional_stop = o->optional_stop;
 	po.limits = &lim;
-	e = sh2000_program_plan(src->reader, pc, &po, plan);
+	e = sh2000_program_check(src->reader, pc, &po, plan);
 	if (e == -SH2000_EPROGRAM)
 		return upl_source_errors(src, o);
 	sh2000_prog_diags_print(&src->diags, stderr);	/* the warnings */
@@ -108,6 +98,9 @@ static int first_pass(struct sh2000 *h, const struct upl_opts *o,
 		sh2000_tool_msg("%s: the plan failed; nothing moved", o->file);
 		return SH2000_EXIT_INPUT;
 	}
+	if (plan->replans && !o->quiet)
+		sh2000_tool_msg("%s: planned with the margin %.3f, not %.3f: with that, the set-points passed an axis' amax (the planner's known limits, docs/planner.md)",
+				o->file, plan->margin, margin0);
 	if (plan->optional_skipped && !o->quiet)
 		sh2000_tool_msg("M1 optional stops are skipped (--optional-stop pauses at them)");
 	return SH2000_EXIT_OK;
@@ -128,6 +121,14 @@ static void dry_run_report(const struct upl_opts *o,
 	printf("  axes moved           %s\n", plan->moved ? names : "none");
 	upl_axes_text(pc->still_axes, names);
 	printf("  axes held still      %s\n", pc->still_axes ? names : "none");
+	upl_axes_text(1u << plan->accel_axis, names);
+	printf("  peak acceleration    %.1f %% of amax (%s)\n",
+	       plan->accel_peak * 100.0, names);
+	printf("  planner margin       %.3f", plan->margin);
+	if (plan->replans)
+		printf(" (planned %u times: with a larger one the set-points passed an axis' amax)",
+		       plan->replans + 1);
+	printf("\n");
 }
 
 /* The plan starts where the card holds now (enabling keeps the position);
@@ -256,8 +257,6 @@ static int upload(struct sh2000 *h, const struct upl_opts *o,
 		x = path_config(h, o, &pc);
 	if (!x)
 		x = upl_source_open(src, o, pc.start);
-	if (!x)
-		x = still_axes(o, &pc, src);
 	if (!x)
 		x = first_pass(h, o, &pc, src, &plan);
 	if (x)

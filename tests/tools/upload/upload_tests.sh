@@ -161,6 +161,8 @@ t_dry_run() {
 	has "nothing moved \(--dry-run\)" out
 	has "planned time +[0-9.]+ s" out
 	has "axes moved +x y z" out
+	has "peak acceleration +[0-9.]+ % of amax \([xyza]\)$" out
+	has "planner margin +0\.950$" out
 	no_motion tr.csv
 	no_motion p.png
 	expect 5 "--dry-run finds the planner's errors" -- "$UPLOAD" -d sim --dry-run "$DATA/bad_plan.ngc"
@@ -400,6 +402,24 @@ t_accel_guard() {
 			{ fail "sh2000ctl: back to 0"; cat ctl.out; }
 	done
 	stop_sim
+}
+
+# Where the planner alone would take an axis past its amax, the first pass
+# plans the program again with a smaller margin and says so (not under
+# -q); the plan it runs keeps amax and ends where the program does (the
+# fine set-points measured: tests/planner/test_safe.c test_accel_fit).
+t_accel_fit() {
+	local f=$DATA/accel_fit.ngc peak
+	expect 0 "--dry-run" -- "$UPLOAD" -d sim --dry-run "$f" || return
+	has "planner margin +0\.9[0-4][0-9] \(planned [0-9]+ times: with a larger one the set-points passed an axis' amax\)$" out
+	has "accel_fit.ngc: planned with the margin 0\.9[0-4][0-9], not 0\.950" err
+	peak=$(sed -n 's/^  peak acceleration *\([0-9.]*\) % .*/\1/p' out)
+	echo "peak acceleration ${peak} % of amax"
+	[ -n "$peak" ] && le "$peak" 100 || fail "peak acceleration '$peak' % of amax"
+	expect 0 "runs" -- "$UPLOAD" -q -d sim --trace tr.csv "$f" || return
+	grep -q "planned with the margin" err && fail "-q: the margin message given"
+	"$CHECK" tr.csv end >e
+	[ "$(value cmd e)" = "13.500000,7.500000,0.000000,0.000000" ] || fail "end set-point $(value cmd e), expected exactly 13.5,7.5,0,0"
 }
 
 # An axis the program never moves is held still: its limits do not bound
@@ -660,7 +680,7 @@ t_tool_pause() {
 }
 
 case ${1:-} in
-geometry|raw|override|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop|shm_hold|shm_other_stop|moved_axes|tool_table|tool_rs274|tool_pause|moved_since_check|refused_trace|accel_guard|still_axes)
+geometry|raw|override|bad_unknown|bad_arc|bad_nan|bad_feed|bad_plan|warnings|csv|json|dry_run|usage|device|rs274_missing|rs274|plot|plot_missing|pause|fault|shm|shm_stop|shm_hold|shm_other_stop|moved_axes|tool_table|tool_rs274|tool_pause|moved_since_check|refused_trace|accel_guard|accel_fit|still_axes)
 	"t_$1" ;;
 *) echo "usage: upload_tests.sh TEST"; exit 2 ;;
 esac

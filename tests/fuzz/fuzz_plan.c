@@ -25,10 +25,13 @@
  * SH2000_FUZZ_VERBOSE=1 prints the reader's diagnostics, the count of
  * points and what the checks measured (to look at one input).
  */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include <sh2000/run.h>
 
 #include "fuzz.h"
 #include "spcheck.h"
@@ -325,6 +328,10 @@ static void plan(const struct sh2000_program *prog, struct plan_check *pc)
 
 		if (b->kind == SH2000_PROG_END)
 			break;
+		/* as the front ends plan it: an M1 goes on (optional_stop
+		 * off, sh2000_program_plan()) */
+		if (b->kind == SH2000_PROG_PAUSE && b->u.optional)
+			continue;
 		if (b->kind == SH2000_PROG_DWELL || b->kind == SH2000_PROG_PAUSE) {
 			r = sh2000_path_finish(p);
 			continue;
@@ -373,14 +380,78 @@ static void hold_still(const struct sh2000_program *prog,
 		}
 }
 
+/* The input as read: its format and text (the check reads it again). */
+struct input {
+	enum sh2000_prog_format fmt;
+	const char *text;
+	size_t len;
+};
+
+static void read_options(struct sh2000_prog_options *po)
+{
+	sh2000_prog_options_default(po);
+	po->feed_mm_s = 20.0;
+}
+
+/*
+ * The margin the first pass as the front ends run it plans with
+ * (sh2000_program_check(): where the set-points pass an axis' amax, it
+ * plans the whole program again with a smaller one), into cfg. 1: the
+ * front ends refuse the program (the check found another error, or no
+ * margin kept amax: that is a failure here).
+ */
+static int fit_margin(const struct input *in, struct sh2000_path_config *cfg)
+{
+	struct sh2000_path_config c = *cfg;
+	struct sh2000_program_plan plan;
+	struct sh2000_prog_options po;
+	struct sh2000_prog_reader *r;
+	struct sh2000_prog_diags d;
+	int e;
+
+	read_options(&po);
+	sh2000_prog_diags_init(&d);
+	e = sh2000_prog_reader_open_text(&r, in->fmt, "fuzz", in->text,
+					 in->len, &po, &d);
+	if (e)
+		fz_fail("the reader opened the program once, not twice (%d)", e);
+	e = sh2000_program_check(r, &c, NULL, &plan);
+	sh2000_prog_reader_close(r);
+	sh2000_prog_diags_free(&d);
+	if (e == -ERANGE && plan.accel_over)
+		fz_fail("no margin down to %.3f kept amax (%u plans): %s",
+			plan.margin, plan.replans + 1, plan.error);
+	if (e)
+		return 1;
+	cfg->margin = c.margin;
+	return 0;
+}
+
+/* Plan prog with pc->cfg and check its fine set-points. */
+static void plan_checked(const struct sh2000_program *prog,
+			 struct plan_check *pc)
+{
+	double seconds = 0;
+
+	pc->points = 0;
+	for (size_t i = 0; i < prog->count; i++)
+		seconds += block_seconds(&pc->cfg, &prog->blocks[i]);
+	pc->budget = BUDGET_FACTOR * seconds / pc->cfg.period_s + 1000.0;
+	sp_init(&pc->sp, &pc->cfg, pc->cfg.start, &pc->path,
+		geo_tol(prog, &pc->cfg) + pc->path.flat);
+	plan(prog, pc);
+}
+
 /* Plan prog with every axis at vmax and amax (0: the planner's defaults),
  * the axes it never moves held still if hold, and check its fine
- * set-points. */
-static void check_at(const struct sh2000_program *prog, double vmax,
+ * set-points: with the margin the front ends plan it with (fit_margin(),
+ * asked only when the configured one passes amax: it plans all of a
+ * program, not POINTS_CAP points). */
+static void check_at(const struct input *in,
+		     const struct sh2000_program *prog, double vmax,
 		     double amax, int hold, int verbose)
 {
 	struct plan_check pc;
-	double seconds = 0;
 
 	memset(&pc, 0, sizeof(pc));
 	sh2000_path_config_default(&pc.cfg);
@@ -397,23 +468,30 @@ static void check_at(const struct sh2000_program *prog, double vmax,
 	}
 	if (hold)
 		hold_still(prog, &pc.cfg);
-	for (size_t i = 0; i < prog->count; i++)
-		seconds += block_seconds(&pc.cfg, &prog->blocks[i]);
-	pc.budget = BUDGET_FACTOR * seconds / pc.cfg.period_s + 1000.0;
 	if (sp_path_build(&pc.path, prog) == 0) {
-		sp_init(&pc.sp, &pc.cfg, pc.cfg.start, &pc.path,
-			geo_tol(prog, &pc.cfg) + pc.path.flat);
-		plan(prog, &pc);
+		plan_checked(prog, &pc);
+		if (pc.sp.a_ratio > 1.0) {
+			double m = pc.cfg.margin;
+
+			if (fit_margin(in, &pc.cfg))
+				goto out;
+			if (verbose)
+				fprintf(stderr, "amax %g: %.4f of amax at the margin %.3f: planned with %.3f (sh2000_program_check)\n",
+					pc.cfg.amax[0], pc.sp.a_ratio, m,
+					pc.cfg.margin);
+			plan_checked(prog, &pc);
+		}
 		if (verbose)
 			fprintf(stderr, "amax %g: fine set-points: v %.4f a %.4f j %.4f of the limits, %.6f mm from the path (allowed %.6f)\n",
 				pc.cfg.amax[0], pc.sp.v_ratio, pc.sp.a_ratio,
 				pc.sp.j_ratio, pc.sp.dev, pc.sp.tol);
 		check_setpoints(&pc, prog);
 	}
+out:
 	sp_path_free(&pc.path);
 	if (verbose)
-		fprintf(stderr, "amax %g: %zu blocks, at most %.3f s: %llu points\n",
-			pc.cfg.amax[0], prog->count, seconds,
+		fprintf(stderr, "amax %g: %zu blocks, %llu points\n",
+			pc.cfg.amax[0], prog->count,
 			(unsigned long long)pc.points);
 }
 
@@ -429,8 +507,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		verbose = getenv("SH2000_FUZZ_VERBOSE") != NULL;
 	if (size < 1)
 		return 0;
-	sh2000_prog_options_default(&po);
-	po.feed_mm_s = 20.0;
+	read_options(&po);
 	sh2000_program_init(&prog);
 	sh2000_prog_diags_init(&d);
 	r = sh2000_program_read(&prog, format_of(data[0]), "fuzz",
@@ -441,9 +518,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	if (r == 0) {
 		/* the planner's own defaults, then the card model's limits,
 		 * where the controller holds one jerk a period */
-		check_at(&prog, 0, 0, 0, verbose);
-		check_at(&prog, CARD_VMAX, CARD_AMAX, 0, verbose);
-		check_at(&prog, CARD_VMAX, CARD_AMAX, 1, verbose);
+		const struct input in = {
+			format_of(data[0]), (const char *)data + 1, size - 1
+		};
+
+		check_at(&in, &prog, 0, 0, 0, verbose);
+		check_at(&in, &prog, CARD_VMAX, CARD_AMAX, 0, verbose);
+		check_at(&in, &prog, CARD_VMAX, CARD_AMAX, 1, verbose);
 	}
 	sh2000_program_free(&prog);
 	return 0;

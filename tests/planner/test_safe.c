@@ -963,6 +963,40 @@ static void test_accel_fit(void **state)
 	assert_true(plan.accel_peak <= 1.0);
 	assert_int_equal(fit.still_axes, 1u << 2 | 1u << 3);
 
+	/* the same moves, then a line beyond a soft limit after a dwell
+	 * (which plans the moves to their end first): planned again for
+	 * the acceleration, then refused at the line; the margin is left
+	 * as it was */
+	{
+		static const char beyond[] =
+			"G21 G90 G64 P0.1 Q0\nG1 X0.7 F24000\nX7.699 Y2.394\n"
+			"X10.928 Y4.70\nX11.029 Y4.8046\nX11.145 Y4.888\n"
+			"X13.5 Y7.5\nG4 P0\nG1 X30\nM2\n";
+		struct sh2000_path_config bad = cfg;
+		struct sh2000_program_opts o;
+		struct sh2000_limits lim;
+
+		for (unsigned int k = 0; k < SH2000_AXES; k++) {
+			lim.lo[k] = -100;
+			lim.hi[k] = 20;
+		}
+		sh2000_program_opts_default(&o);
+		o.limits = &lim;
+		sh2000_prog_diags_init(&d);
+		assert_int_equal(sh2000_prog_reader_open_text(&rd,
+				SH2000_PROG_GCODE, "t.ngc", beyond,
+				strlen(beyond), NULL, &d), 0);
+		assert_int_equal(sh2000_program_check(rd, &bad, &o, &plan),
+				 -SH2000_ELIMIT);
+		sh2000_prog_reader_close(rd);
+		sh2000_prog_diags_free(&d);
+		printf("beyond a limit: %u plans, margin %.3f: %s\n",
+		       plan.replans + 1, bad.margin, plan.error);
+		assert_true(plan.replans >= 1);
+		assert_float_equal(bad.margin, cfg.margin, 0);
+		assert_string_equal(plan.where, "t.ngc:9:1");
+	}
+
 	/* the second pass plans with fit: the same records */
 	assert_int_equal(plan_gcode(prog, &fit, 0.101, &r), 0);
 	printf("margin %.3f: a %.4f of amax, %.6f mm off the path, %zu records\n",

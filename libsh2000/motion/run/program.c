@@ -210,26 +210,23 @@ int sh2000_program_check(struct sh2000_prog_reader *r,
 			 const struct sh2000_program_opts *o,
 			 struct sh2000_program_plan *plan)
 {
+	double margin = pc->margin;
 	unsigned int replans = 0;
 	int e = sh2000_program_axes(r, pc);
 
-	if (e)
-		return e;
-	for (;;) {
-		double m;
-
+	while (!e) {
 		e = sh2000_program_plan(r, pc, o, plan);
 		plan->replans = replans;
 		if (e != -ERANGE || !plan->accel_over ||
 		    replans == SH2000_PROGRAM_REPLANS)
-			return e;
-		m = next_margin(pc->margin, replans);
+			break;
 		e = sh2000_prog_reader_rewind(r);
-		if (e)
-			return e;
-		pc->margin = m;
-		replans++;
+		pc->margin = next_margin(pc->margin, replans++);
 	}
+	/* a program that cannot run leaves the margin as it was */
+	if (e)
+		pc->margin = margin;
+	return e;
 }
 
 /* ---- the second pass ------------------------------------------------------- */

@@ -103,7 +103,11 @@ def no_mark():
     joint_mode()
     c.home(-1)
     why = "x: index-enable: no index mark within the arm's travel"
+    # LinuxCNC queues its own "joint 0 amplifier fault" after hal_sh2000's
+    # message and may turn the machine off before it arrives: wait for all
+    # three, each checked below
     wait(lambda: any(why in m for m in errors) and
+         any("amplifier fault" in m and "joint 0" in m for m in errors) and
          s.task_state != linuxcnc.STATE_ON, HOME_TIMEOUT)
     check("no mark: LinuxCNC shows joint 0's amplifier fault",
           any("amplifier fault" in m and "joint 0" in m for m in errors),

@@ -21,9 +21,9 @@ struct sh2000_setpoints {
 	double rest[SH2000_AXES];	/* where the last motion ended */
 	int in_motion;			/* w holds this motion's window */
 	int judge_accel;		/* sh2000_setpoints_accel() was called */
-	double accel_limit[SH2000_AXES]; /* the most |P[k-1] - 2P[k] + P[k+1]| */
 	double amax[SH2000_AXES];	/* mm/s^2, for the message */
-	double per_amax[SH2000_AXES];	/* 1 / (amax T^2) */
+	double per_amax[SH2000_AXES];	/* 1 / (amax T^2): |P[k-1] - 2P[k] +
+					 * P[k+1]| times it, at most 1 */
 	double accel_peak;		/* the most |second difference| seen,
 					 * as a fraction of its axis' amax */
 	unsigned int accel_axis;	/* that axis */
@@ -39,8 +39,8 @@ void sh2000_setpoints_init(struct sh2000_setpoints *c,
 void sh2000_setpoints_pair(struct sh2000_setpoints *c,
 			   const struct sh2000_path_config *pc);
 /* Judge the set-points' acceleration too, by pc's amax, period and scale
- * (setpoints.c): a record past amax is -ERANGE; the peak
- * is kept in accel_peak, accel_axis. */
+ * (setpoints.c): a record past amax is -ERANGE; the peak is kept in
+ * accel_peak, accel_axis. */
 void sh2000_setpoints_accel(struct sh2000_setpoints *c,
 			    const struct sh2000_path_config *pc);
 /* The card rests at mm (a new plan starts there). */

@@ -300,12 +300,12 @@ int sh2000_program_plan(struct sh2000_prog_reader *r,
  * docs/planner.md), the reader is rewound and the program planned again
  * with a smaller pc->margin, as many times as it takes (at most
  * SH2000_PROGRAM_REPLANS, in steps of 1 % that grow: down to about half
- * the margin): no accepted plan passes an axis' amax. *pc is then what the second pass
- * plans with (plan->margin, plan->replans say what changed); on an error
- * pc->margin is left as it was. r must be fresh or at its first line, as
- * sh2000_program_axes() leaves it. Returns as sh2000_program_plan();
- * -ERANGE (plan->accel_over) when no margin down to the least keeps the
- * limits.
+ * the margin): no accepted plan passes an axis' amax. *pc is then what
+ * the second pass plans with (plan->margin, plan->replans say what
+ * changed); on an error pc->margin is left as it was. r must be fresh
+ * or at its first line, as sh2000_program_axes() leaves it. Returns as
+ * sh2000_program_plan(); -ERANGE (plan->accel_over) when no margin down
+ * to the least keeps the limits.
  */
 int sh2000_program_check(struct sh2000_prog_reader *r,
 			 struct sh2000_path_config *pc,

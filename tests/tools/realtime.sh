@@ -13,7 +13,11 @@
 #   RT_HOST      the programs that command or stream to it (sh2000ctl,
 #                sh2000-upload, sh2000-tune): below the card,
 #   RT_OPERATOR  a test's own step that must act while a motion is under
-#                way (a second signal during a stop): below the host.
+#                way (a second signal during a stop; sh2000ctl's status
+#                polls, STOP or live parameters beside the host): below
+#                the host, which it must never hold off a core (at equal
+#                SCHED_FIFO priority, a starting sanitized sh2000ctl did
+#                for a tenth of a second when the test had one core).
 # All of them sleep between their polls, so none takes a core for itself.
 # Without the permission they run as they are and the tests say so once.
 RT_CARD=()

@@ -10,9 +10,10 @@ NAME=ctlhome-$$
 start_sim "$NAME" || finish
 D=(-d "sim:$NAME")
 
-# card_is STATE: the card's state now is STATE (for wait_for)
+# card_is STATE: the card's state now is STATE (for wait_for), asked as an
+# operator beside the host that homes or moves
 card_is() {
-	[ "$("${CTL_RT[@]}" "${D[@]}" status --json 2>/dev/null | tail -n 1 |
+	[ "$("${CTL_OP[@]}" "${D[@]}" status --json 2>/dev/null | tail -n 1 |
 		"$JSONQ" /state 2>/dev/null)" = "$1" ]
 }
 # at_rest_clean: idle, nothing latched, x not homed, x enabled
@@ -57,9 +58,9 @@ printf '%s\n' "$out" | awk '{ gsub(/[(),;]/, ""); e = $8; f = $12; d = -e - f; i
 "${CTL_RT[@]}" "${D[@]}" move x=40 --feed 20 >"$T/move.out" 2>"$T/move.err" &
 MP=$!
 wait_for "the move to run" card_is running
-expect 1 "${CTL_RT[@]}" "${D[@]}" home x &&
+expect 1 "${CTL_OP[@]}" "${D[@]}" home x &&
 	err_has "^sh2000ctl: sim:$NAME: home: the motion is held by sh2000ctl \(pid $MP\); it has to finish or close the card first$"
-expect 0 "${CTL_RT[@]}" "${D[@]}" stop
+expect 0 "${CTL_OP[@]}" "${D[@]}" stop
 wait $MP
 # a disabled axis: the hint, not the card's raw refusal
 expect 0 "${CTL_RT[@]}" "${D[@]}" disable x

@@ -11,7 +11,7 @@ D=(-d "sim:$NAME")
 # move another process streams is under way)
 moving_past() {
 	local v
-	v=$("${CTL_RT[@]}" "${D[@]}" status --json 2>/dev/null | "$JSONQ" /state /axes/0/cmd_mm) ||
+	v=$("${CTL_OP[@]}" "${D[@]}" status --json 2>/dev/null | "$JSONQ" /state /axes/0/cmd_mm) ||
 		return 1
 	awk -v v="$v" -v mm="$1" 'BEGIN { split(v, f, "\t"); exit !(f[1] == "running" && f[2] > mm) }'
 }
@@ -63,7 +63,7 @@ expect 0 "${CTL_RT[@]}" "${D[@]}" stop
 "${CTL_RT[@]}" "${D[@]}" move x=40 --feed 20 >"$T/move.out" 2>"$T/move.err" &
 MP=$!
 wait_for "the move to x=40 to run" moving_past -1000
-expect 0 "${CTL_RT[@]}" "${D[@]}" estop
+expect 0 "${CTL_OP[@]}" "${D[@]}" estop
 wait $MP
 mrc=$?
 checks=$((checks + 1))
@@ -81,7 +81,7 @@ expect 0 "${CTL_RT[@]}" "${D[@]}" status --json &&
 "${CTL_RT[@]}" "${D[@]}" move x=200 --feed 20 >"$T/move.out" 2>"$T/move.err" &
 MP=$!
 wait_for "the move to x=200 to run" moving_past -1000
-expect 0 "${CTL_RT[@]}" "${D[@]}" stop
+expect 0 "${CTL_OP[@]}" "${D[@]}" stop
 wait $MP
 mrc=$?
 checks=$((checks + 1))

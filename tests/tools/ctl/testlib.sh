@@ -7,6 +7,10 @@ unset SH2000_DEVICE
 . "$(dirname "${BASH_SOURCE[0]}")/../realtime.sh"
 # sh2000ctl as a host of a served card runs it (realtime.sh)
 CTL_RT=("${RT_HOST[@]}" "$CTL")
+# sh2000ctl as an operator's second terminal while another program is the
+# host (streams, homes): below that host, which a starting sh2000ctl (a
+# tenth of a second of CPU under the sanitizers) must never hold back
+CTL_OP=("${RT_OPERATOR[@]}" "$CTL")
 T=$(mktemp -d /tmp/sh2000-tooltest.XXXXXX)
 fails=0
 checks=0

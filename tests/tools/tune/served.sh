@@ -50,8 +50,9 @@ expect 0 "${CTL_RT[@]}" "${S[@]}" status --json &&
 # the card's timing as they were, nothing latched
 "${TUNE_RT[@]}" "${S[@]}" x --chirp 10:250 --duration 4 >"$T/sig.out" 2>"$T/sig.err" &
 tpid=$!
+# (asked as an operator, below the streaming sh2000-tune: realtime.sh)
 chirp_runs() {
-	"${CTL_RT[@]}" "${S[@]}" status --json 2>/dev/null | grep -q '"state": *"running"'
+	"${CTL_OP[@]}" "${S[@]}" status --json 2>/dev/null | grep -q '"state": *"running"'
 }
 wait_for "the chirp to run on the card" chirp_runs
 kill -TERM $tpid

@@ -598,7 +598,8 @@ t_shm_other_stop() {
 	start_sim $name
 	start_long_upload $name ostop.err
 	local pid=$UPLOAD_PID
-	"${RT_HOST[@]}" "$CTL" -d sim:$name stop >ctl.out 2>ctl.err ||
+	# the operator's STOP: below the streaming upload (realtime.sh)
+	"${RT_OPERATOR[@]}" "$CTL" -d sim:$name stop >ctl.out 2>ctl.err ||
 		{ fail "sh2000ctl stop: exit $?"; cat ctl.err; }
 	wait $pid
 	local rc=$?

@@ -197,6 +197,10 @@ static void send(struct sh2000_path *p, const struct el *e, const double o[4])
 	}
 }
 
+/* run() at the library's default limits (500 mm/s, 50000 mm/s^2), not
+ * the card model's. */
+static int at_defaults;
+
 /* Run program pg under the mode through the card model. */
 static void run(const struct prog *pg, enum sh2000_path_mode mode, double tol,
 		double q, struct meas *m)
@@ -213,7 +217,7 @@ static void run(const struct prog *pg, enum sh2000_path_mode mode, double tol,
 	for (i = 0; i < MAXEL; i++)
 		m->near[i] = INFINITY;
 	sh2000_path_config_default(&c);
-	for (a = 0; a < 4; a++) {
+	for (a = 0; a < 4 && !at_defaults; a++) {
 		c.vmax[a] = VMAX;
 		c.amax[a] = AMAX;
 	}
@@ -684,6 +688,52 @@ static void test_short_curve(void **s)
 	assert_true(m.a_ratio <= 1.0);
 }
 
+/* A line at feed f (mm/s) to (x, y), or a rapid there. */
+static void line_at(struct prog *pg, double x, double y, double f)
+{
+	line(pg, x, y, 0);
+	pg->el[pg->n - 1].feed = f;
+	pg->el[pg->n - 1].rapid = f == 0.0;
+}
+
+/* Corners whose blend is shorter than the card's points are apart, at the
+ * library's default limits (50000 mm/s^2) and G64 P0.01: a 13 degree turn
+ * from a long line into 0.25 mm moves that turn back and forth, near 400
+ * mm/s. The card's spline rounds such a corner as if it were sharp, by
+ * 0.34 v T sin(turn / 2), whatever the blend (blend.c,
+ * spline_corner_vlim()): without that bound on the blend's speed these
+ * passed 11.1 and 11.0 um from the path (fuzz_plan). */
+static void test_short_blend_spline(void **s)
+{
+	static struct prog pg;
+	struct meas m;
+
+	(void)s;
+	at_defaults = 1;
+	new_prog(&pg, "short-blend");
+	line_at(&pg, 7.0, 0.0, 40.0);
+	line_at(&pg, 2.739, 0.0, 40.0);
+	line_at(&pg, 9.0135, 3.208, 400.0);
+	line_at(&pg, 9.204, 3.36828, 400.0);
+	line_at(&pg, 9.39, 3.47, 400.0);
+	line_at(&pg, 9.65, 3.66, 400.0);
+	run(&pg, SH2000_PATH_BLEND, 0.01, 0, &m);
+	print_message("%-12s G64 P0.01  max deviation %.4f mm (50000 mm/s^2)\n",
+		      pg.name, m.max);
+	assert_true(m.max <= 0.01 + 0.0005);
+	new_prog(&pg, "short-zigzag");
+	line_at(&pg, 7.8, 2.5, 0.0);
+	line_at(&pg, 8.284, 2.739, 345.95);
+	line_at(&pg, 8.41, 2.839, 345.95);
+	line_at(&pg, 8.594, 2.93, 345.95);
+	line_at(&pg, 8.79, 3.08, 345.95);
+	run(&pg, SH2000_PATH_BLEND, 0.01, 0, &m);
+	at_defaults = 0;
+	print_message("%-12s G64 P0.01  max deviation %.4f mm (50000 mm/s^2)\n",
+		      pg.name, m.max);
+	assert_true(m.max <= 0.01 + 0.0005);
+}
+
 /* Short moves as in LinuxCNC's 3D_Chips: 0.25 mm, in runs of 24 turning
  * 3 degrees each way in turn, a 40 degree corner between the runs, G64
  * P0.1 at full speed. The blends after a corner cannot reach the speed
@@ -1152,6 +1202,7 @@ int main(void)
 		cmocka_unit_test(test_two_corners_one_speed),
 		cmocka_unit_test(test_zigzag_swing),
 		cmocka_unit_test(test_spiral_swing),
+		cmocka_unit_test(test_short_blend_spline),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

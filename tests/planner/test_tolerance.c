@@ -263,7 +263,9 @@ static uint64_t polygon_points(enum sh2000_path_mode mode, double tol)
 /* A sub-micrometre tolerance still blends the small turns of a curve:
  * only corners too narrow to blend and too slow to matter are stops (a
  * rule that stopped on every corner under 1 um took a 1 degree polygon
- * at P0.0005 in 7.14 s instead of 1.70). */
+ * at P0.0005 in 7.14 s instead of 1.70; the card's spline rounding each
+ * corner within P, blend.c's spline_corner_vlim(), takes it to 2.19 s,
+ * 1097 points against G61.1's 2891). */
 static void test_tiny_tolerance_curve(void **s)
 {
 	uint64_t fine = polygon_points(SH2000_PATH_BLEND, 0.0005);
@@ -272,7 +274,7 @@ static void test_tiny_tolerance_curve(void **s)
 	(void)s;
 	print_message("1 degree polygon: G64 P0.0005 %llu points, G61.1 %llu\n",
 		      (unsigned long long)fine, (unsigned long long)g61);
-	assert_true(fine * 3 < g61);
+	assert_true(fine * 5 < g61 * 2);
 }
 
 /* G64 P Q: CAM-style tiny moves that wobble within Q of a line are taken

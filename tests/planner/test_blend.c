@@ -696,20 +696,32 @@ static void line_at(struct prog *pg, double x, double y, double f)
 	pg->el[pg->n - 1].rapid = f == 0.0;
 }
 
+/* pg at the library's default limits within G64 P0.01 (and the
+ * measurement's half micrometre) on the card's set-points. */
+static void within_p_at_defaults(const struct prog *pg)
+{
+	struct meas m;
+
+	at_defaults = 1;
+	run(pg, SH2000_PATH_BLEND, 0.01, 0, &m);
+	at_defaults = 0;
+	print_message("%-12s G64 P0.01  max deviation %.4f mm (50000 mm/s^2)\n",
+		      pg->name, m.max);
+	assert_true(m.max <= 0.01 + 0.0005);
+}
+
 /* Corners whose blend is shorter than the card's points are apart, at the
  * library's default limits (50000 mm/s^2) and G64 P0.01: a 13 degree turn
  * from a long line into 0.25 mm moves that turn back and forth, near 400
  * mm/s. The card's spline rounds such a corner as if it were sharp, by
- * 0.34 v T sin(turn / 2), whatever the blend (blend.c,
- * spline_corner_vlim()): without that bound on the blend's speed these
+ * 0.34 v T sin(turn / 2), whatever the blend (limits.c,
+ * pl_corner_spline_vlim()): without that bound on the blend's speed these
  * passed 11.1 and 11.0 um from the path (fuzz_plan). */
 static void test_short_blend_spline(void **s)
 {
 	static struct prog pg;
-	struct meas m;
 
 	(void)s;
-	at_defaults = 1;
 	new_prog(&pg, "short-blend");
 	line_at(&pg, 7.0, 0.0, 40.0);
 	line_at(&pg, 2.739, 0.0, 40.0);
@@ -717,21 +729,14 @@ static void test_short_blend_spline(void **s)
 	line_at(&pg, 9.204, 3.36828, 400.0);
 	line_at(&pg, 9.39, 3.47, 400.0);
 	line_at(&pg, 9.65, 3.66, 400.0);
-	run(&pg, SH2000_PATH_BLEND, 0.01, 0, &m);
-	print_message("%-12s G64 P0.01  max deviation %.4f mm (50000 mm/s^2)\n",
-		      pg.name, m.max);
-	assert_true(m.max <= 0.01 + 0.0005);
+	within_p_at_defaults(&pg);
 	new_prog(&pg, "short-zigzag");
 	line_at(&pg, 7.8, 2.5, 0.0);
 	line_at(&pg, 8.284, 2.739, 345.95);
 	line_at(&pg, 8.41, 2.839, 345.95);
 	line_at(&pg, 8.594, 2.93, 345.95);
 	line_at(&pg, 8.79, 3.08, 345.95);
-	run(&pg, SH2000_PATH_BLEND, 0.01, 0, &m);
-	at_defaults = 0;
-	print_message("%-12s G64 P0.01  max deviation %.4f mm (50000 mm/s^2)\n",
-		      pg.name, m.max);
-	assert_true(m.max <= 0.01 + 0.0005);
+	within_p_at_defaults(&pg);
 }
 
 /* Short moves as in LinuxCNC's 3D_Chips: 0.25 mm, in runs of 24 turning

@@ -264,7 +264,7 @@ static uint64_t polygon_points(enum sh2000_path_mode mode, double tol)
  * only corners too narrow to blend and too slow to matter are stops (a
  * rule that stopped on every corner under 1 um took a 1 degree polygon
  * at P0.0005 in 7.14 s instead of 1.70; the card's spline rounding each
- * corner within P, blend.c's spline_corner_vlim(), takes it from 788
+ * corner within P, pl_corner_spline_vlim(), takes it from 788
  * points to 1097, 2.19 s, against G61.1's 2891). */
 static void test_tiny_tolerance_curve(void **s)
 {

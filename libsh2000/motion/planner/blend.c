@@ -42,8 +42,12 @@
 #define BLEND_SPLINE_MM 0.001
 #define BLEND_SPLINE_DIV 50.0
 #define BLEND_SHARE_RAW 0.5
-/* v T sin(turn / 2) at most this times the tolerance at a blend (where
- * the spline rounds it by 0.34 of that: spline_corner_vlim()) */
+/* The card's spline rounds a blend shorter than its points are apart as
+ * if the corner were sharp (pl_corner_spline_vlim()): two thirds of the
+ * tolerance for that cut, a third for the speed changing around the
+ * corner, which spaced the points unevenly and took a blend at 50000
+ * mm/s^2 from 9.6 um (constant speed) to 11.1 um (fuzz_plan,
+ * regress-blend-short). */
 #define BLEND_CORNER_SPLINE 2.0
 /* An arc is cut by at most this angle (rad): over it the arc stays close
  * to its tangent, so the corner's tolerance rule gives a first cut the
@@ -330,24 +334,6 @@ static int stop_faster(const struct sh2000_path *p,
 		    stop_cost(p, b0, b, vb, 0.0);
 }
 
-/*
- * The speed at which the card's spline keeps a blended corner of turn phi
- * within tol. Its points lie v T apart, and a blend shorter than about
- * 1.4 v T falls between two of them: the spline then rounds the corner as
- * if it were sharp, 0.34 v T sin(phi / 2) inside it, blend or not
- * (computed for an interpolating cubic B-spline at constant speed: the
- * greater of that and the blend's own deviation, at every phase of the
- * points). BLEND_CORNER_SPLINE keeps a third of the tolerance for the
- * speed changing around the corner, which spaced the points unevenly and
- * took a blend at 50000 mm/s^2 from 9.6 um (constant speed) to 11.1 um
- * (fuzz_plan, regress-blend-short).
- */
-static double spline_corner_vlim(const struct sh2000_path *p, double phi,
-				 double tol)
-{
-	return BLEND_CORNER_SPLINE * tol / (p->cfg.period_s * sin(phi / 2));
-}
-
 /* mm of the tolerance kept for the compensated spline (at grow 1) */
 static double spline_room(const struct sh2000_path *p)
 {
@@ -390,7 +376,9 @@ unsigned int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
 	else
 		n = blend_curves(p, t, b, phi, share * tol, smax, k);
 	for (i = 0; i < n; i++)
-		k[i].vlim = pl_min(k[i].vlim, spline_corner_vlim(p, phi, tol));
+		k[i].vlim = pl_min(k[i].vlim,
+				   pl_corner_spline_vlim(p, sin(phi / 2), tol,
+							 BLEND_CORNER_SPLINE));
 	if (stop_faster(p, &t0, &b0, t, b, k, n)) {
 		/* the corner is visited at rest instead, uncut */
 		*t = t0;

@@ -221,6 +221,12 @@ double pl_block_accel(const struct sh2000_path *p, const struct pl_block *b)
 	return fmin(pl_accel_room(p, A * p->a_scale), p->a_top);
 }
 
+double pl_corner_spline_vlim(const struct sh2000_path *p, double sh,
+			     double tol, double k)
+{
+	return k * tol / (p->cfg.period_s * sh);
+}
+
 double pl_junction(const struct sh2000_path *p, const double t1[SH2000_AXES],
 		   const double t0[SH2000_AXES])
 {
@@ -240,9 +246,10 @@ double pl_junction(const struct sh2000_path *p, const double t1[SH2000_AXES],
 	if (ch < 1e-9 || (k == 1.0 && c->corner_tol < PL_RAW_TOL_REST_MM))
 		return 0.0;
 	v = sqrt(p->lim.A * c->corner_tol * ch / (1.0 - ch));
-	/* the card's spline rounds the corner by about vT sin(turn/2) / 3;
-	 * half of that, for the speed changing around it */
-	v = fmin(v, 1.5 * c->corner_tol / (T * sh));
+	/* the card's spline rounds the corner: half the tolerance for it,
+	 * half for the speed changing around it */
+	v = fmin(v, pl_corner_spline_vlim(p, sh, c->corner_tol,
+					  PL_JUNCTION_SPLINE));
 	for (a = 0; a < SH2000_AXES; a++) {
 		double dt = fabs(t0[a] - t1[a]);
 		double room = c->margin * c->amax[a] - p->lim.A;

@@ -448,6 +448,19 @@ static inline double pl_accel_room(const struct sh2000_path *p, double A)
 #define PL_CURV_RING 0.5
 double pl_curv_step(const struct sh2000_path *p, const struct pl_block *b0,
 		    const struct pl_block *b1);
+/*
+ * The card's spline rounding a corner, one rule for the junction and the
+ * blend: its points lie v T apart, and a corner between two of them is
+ * cut by about v T sh / 3 (sh the sine of half the turn), sharp or
+ * blended (a blend shorter than about 1.4 v T; computed for an
+ * interpolating cubic B-spline at constant speed, at every phase of the
+ * points: 0.34). The speed at which that cut is k / 3 of tol at most: the
+ * junction takes k = PL_JUNCTION_SPLINE (half the tolerance, half for the
+ * speed changing around the corner), a blend blend.c's BLEND_CORNER_SPLINE.
+ */
+#define PL_JUNCTION_SPLINE 1.5
+double pl_corner_spline_vlim(const struct sh2000_path *p, double sh,
+			     double tol, double k);
 /* Speed allowed through the corner from tangent t1 (in) to t0 (out). */
 double pl_junction(const struct sh2000_path *p, const double t1[SH2000_AXES],
 		   const double t0[SH2000_AXES]);

@@ -4,9 +4,10 @@
  * cycle), projected onto the exact geometry of the program, move along it
  * no faster than the programmed feed plus 0.01 %, measured as arc length
  * over 10 ms windows (and reported per servo cycle), and no axis exceeds
- * its vmax or amax -- on lines, arcs and NURBS, with speed changes, in
- * compensated and raw output. Measured where the user sees it: on what the
- * card commands, not on the planned points (feedcheck.h).
+ * its vmax or amax -- on lines, arcs and NURBS (the free-form curve and
+ * the butterfly of curves.h), with speed changes, in compensated and raw
+ * output. Measured where the user sees it: on what the card commands, not
+ * on the planned points (feedcheck.h).
  */
 #include <math.h>
 #include <setjmp.h>
@@ -18,22 +19,27 @@
 
 #include <cmocka.h>
 
+#include "curves.h"
 #include "feedcheck.h"
 
 #define FEED_SLACK 1e-4		/* 0.01 % */
 
-/* amax: every axis' (0: the planner's default). Returns the fastest
+/* vmax, amax: every axis' (0: the planner's default). Returns the fastest
  * 10 ms window's speed over the feed (a fraction). */
-static double measure_cfg(const char *name, fc_program_fn prog, int raw,
-			  int trap, double amax)
+static double measure_lim(const char *name, fc_program_fn prog, int raw,
+			  int trap, double vmax, double amax)
 {
 	static struct fc_run f;
 	struct sh2000_path_config c;
 	double win, cyc;
 
 	sh2000_path_config_default(&c);
-	for (unsigned int a = 0; amax > 0 && a < 4; a++)
-		c.amax[a] = amax;
+	for (unsigned int a = 0; a < 4; a++) {
+		if (vmax > 0)
+			c.vmax[a] = vmax;
+		if (amax > 0)
+			c.amax[a] = amax;
+	}
 	c.output = raw ? SH2000_OUTPUT_RAW : SH2000_OUTPUT_COMPENSATED;
 	if (trap)
 		c.profile = SH2000_PROFILE_TRAPEZOID;
@@ -52,6 +58,12 @@ static double measure_cfg(const char *name, fc_program_fn prog, int raw,
 	assert_true(f.a_ratio <= 1.0);
 	fc_close(&f);
 	return win;
+}
+
+static double measure_cfg(const char *name, fc_program_fn prog, int raw,
+			  int trap, double amax)
+{
+	return measure_lim(name, prog, raw, trap, 0, amax);
 }
 
 static void measure(const char *name, fc_program_fn prog, int raw)
@@ -104,33 +116,46 @@ static int prog_arcs(struct sh2000_path *p, struct fc_model *m,
 
 /* The free-form curve of the planner's tests at 25 mm/s (where the
  * curvature changes the speed) and then at 150 mm/s. */
-static const double ff_ctrl[8][4] = {
-	{ 0, 0, 0, 0 }, { 5, 10, 0, 0 }, { 10, -5, 1, 0 }, { 15, 8, 2, 0 },
-	{ 20, 0, 2, 0 }, { 22, 12, 1, 0 }, { 30, 5, 0, 0 }, { 32, 0, 0, 0 },
-};
-static const double ff_w[8] = { 1, 2, 0.5, 1, 3, 1, 1, 1 };
-static const double ff_k[12] = { 0, 0, 0, 0, 0.2, 0.4, 0.5, 0.8, 1, 1, 1, 1 };
-
 static int prog_nurbs(struct sh2000_path *p, struct fc_model *m,
 		      const double o[4])
 {
-	static double pts[2][8][4];
+	static double pts[2][FF_NPTS][4];
 	static const double feeds[2] = { 25, 150 };
 
 	for (unsigned int k = 0; k < 2; k++) {
-		struct sh2000_nurbs n = { 3, 8, (const double (*)[4])pts[k],
-					  ff_w, ff_k };
+		struct sh2000_nurbs n = ff_nurbs(pts[k], k ? m->end : o);
 
-		for (unsigned int i = 0; i < 8; i++)
-			for (unsigned int a = 0; a < 4; a++)
-				pts[k][i][a] = (k ? m->end[a] : o[a]) +
-					       ff_ctrl[i][a];
 		m->u = 0;
 		if (fc_model_nurbs(m, &n, feeds[k]) ||
 		    sh2000_path_nurbs(p, &n, feeds[k]))
 			return -1;
 	}
 	return 0;
+}
+
+/* The butterfly at feed F, from rest to rest. */
+static int prog_bfly(struct sh2000_path *p, struct fc_model *m,
+		     const double o[4], double feed)
+{
+	static struct bfly b;
+	struct sh2000_nurbs n = bfly_nurbs(&b, o);
+
+	m->u = 0;
+	if (fc_model_nurbs(m, &n, feed) || sh2000_path_nurbs(p, &n, feed))
+		return -1;
+	return 0;
+}
+
+static int prog_bfly_25(struct sh2000_path *p, struct fc_model *m,
+			const double o[4])
+{
+	return prog_bfly(p, m, o, 25);
+}
+
+static int prog_bfly_300(struct sh2000_path *p, struct fc_model *m,
+			 const double o[4])
+{
+	return prog_bfly(p, m, o, 300);
 }
 
 static void test_feed_lines(void **s)
@@ -173,6 +198,53 @@ static void test_feed_period_jerk(void **s)
 				5000) >= -FEED_SLACK);
 }
 
+/* The butterfly can be planned as one curve: its derivative never
+ * vanishes (the planner refuses a curve that stands still) and its
+ * tangent never turns back (a cusp), sampled 20000 times: between two
+ * samples it turns by at most 0.0125 rad (at the loops beside the body),
+ * where a cusp would turn it by half a turn. */
+static void test_butterfly_shape(void **s)
+{
+	static const double o[4] = { 0, 0, 0, 0 };
+	struct bfly b;
+	struct sh2000_nurbs n = bfly_nurbs(&b, o);
+	double c[4], d[4], t0[4] = { 0 }, vmin = INFINITY, cmin = 1;
+
+	(void)s;
+	assert_int_equal(sh2000_nurbs_check(&n, NULL, 0), 0);
+	for (unsigned int k = 0; k <= 20000; k++) {
+		double v, dot = 0;
+
+		sh2000_nurbs_eval(&n, k / 20000.0, c, d, NULL);
+		v = fc_norm4(d);
+		vmin = fmin(vmin, v);
+		for (unsigned int a = 0; a < 4; a++) {
+			dot += t0[a] * d[a] / v;
+			t0[a] = d[a] / v;
+		}
+		if (k)
+			cmin = fmin(cmin, dot);
+	}
+	print_message("butterfly: |C'(u)| >= %.2f mm, the tangent turns by at most %.4f rad a sample\n",
+		      vmin, acos(cmin));
+	assert_true(vmin > 40);
+	assert_true(cmin > cos(0.1));
+}
+
+/* The butterfly at the card model's limits (400 mm/s, 5000 mm/s^2, the
+ * default jerk), compensated, S-curve, at 25 mm/s (the curvature slows it
+ * only at the two small loops beside the body) and 300 mm/s (which it
+ * allows on half the length): never over the feed, and the fastest 10 ms
+ * window at it within 0.01 %. */
+static void test_feed_butterfly(void **s)
+{
+	(void)s;
+	assert_true(measure_lim("butterfly, 25", prog_bfly_25, 0, 0, 400,
+				5000) >= -FEED_SLACK);
+	assert_true(measure_lim("butterfly, 300", prog_bfly_300, 0, 0, 400,
+				5000) >= -FEED_SLACK);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -180,6 +252,8 @@ int main(void)
 		cmocka_unit_test(test_feed_arcs),
 		cmocka_unit_test(test_feed_nurbs),
 		cmocka_unit_test(test_feed_period_jerk),
+		cmocka_unit_test(test_butterfly_shape),
+		cmocka_unit_test(test_feed_butterfly),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The free-form curves the feed test (test_feed.c) runs, defined once
- * for it and for whatever else measures on them:
+ * The free-form curves the feed test (test_feed.c) and the feed benchmark
+ * (bench/feed) run, defined once:
  *
  *  - the free-form NURBS of the planner's tests: cubic, 8 control points,
  *    uneven weights, 32 mm across in x and 44.7 mm long;

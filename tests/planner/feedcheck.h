@@ -5,9 +5,9 @@
  * program's exact geometry (lines, arcs, NURBS) and the arc length
  * travelled recorded, together with the largest axis velocity and
  * acceleration against their limits, and the servo cycles the set-point
- * moved in. The feed test (test_feed.c) measures with it; header-only, so
- * that a benchmark can measure the same way: no test framework, errors are
- * returned.
+ * moved in. The feed test (test_feed.c) and the feed benchmark (bench/feed)
+ * measure with it, so both measure the same way. Header-only; no test
+ * framework: errors are returned.
  *
  * FEED_DEBUG=1 in the environment prints the NURBS lengths and jumps of
  * the projection, FEED_WHERE=1 where the fastest window lies.

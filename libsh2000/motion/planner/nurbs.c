@@ -3,7 +3,8 @@
  * A NURBS the planner holds: its own copy of the caller's curve (the
  * window may outlive the caller's arrays), evaluated by the one evaluator
  * of sh2000/geometry.h, its arc length by Gauss-Legendre, and its frame
- * (unit tangent and curvature) for the speed limits.
+ * (unit tangent and curvature) for the speed limits, and the parameter at
+ * an arc length (entering a block, cutting one for a blend).
  */
 #include <math.h>
 #include <string.h>
@@ -145,4 +146,55 @@ double pl_nurbs_frame(const struct pl_nurbs *nb, double u,
 		}
 	*kappa = (n1 > 0.0 && cr > 0.0) ? sqrt(cr) / (n1 * n1 * n1) : 0.0;
 	return n1;
+}
+
+/*
+ * The parameter at arc length s from u0 along [u0, u1] (whose length is L),
+ * with the arc length reached in *len. The arc length from u0 grows with
+ * u, so [lo, hi] with the arc short at lo and long at hi always holds the
+ * answer: a Newton step is taken only where it lands inside the bracket
+ * and at least halves the error of the step before, bisection otherwise
+ * (a safeguarded Newton, as rtsafe in Numerical Recipes). The
+ * parametrisation can be very uneven (a tiny weight puts nearly all the
+ * length at one end of a span), where plain Newton steps overshoot to the
+ * block's ends and a few of them left the point on a wrong parameter, far
+ * from the planned distance. Lengths are measured from the bracket's low
+ * end, so each integral is short.
+ */
+double pl_nurbs_u_at(const struct pl_nurbs *nb, double u0, double u1, double L,
+		     double s, double *len)
+{
+	double lo = u0, hi = u1, l_lo = 0.0, u, l = 0.0, prev = INFINITY;
+	unsigned int it;
+
+	if (!(s > 0.0) || !(L > 0.0)) {
+		*len = 0.0;
+		return u0;
+	}
+	s = pl_min(s, L);
+	u = lo + (hi - lo) * s / L;
+	for (it = 0; it < 200; it++) {
+		double f, sp, un;
+
+		l = l_lo + pl_nurbs_length(nb, lo, u);
+		f = l - s;
+		if (fabs(f) <= 1e-12 * (1.0 + s))
+			break;
+		if (f < 0.0) {
+			lo = u;
+			l_lo = l;
+		} else {
+			hi = u;
+		}
+		if (hi - lo <= 1e-15 * (1.0 + fabs(hi)))
+			break;
+		sp = speed_at(nb, u);
+		un = sp > 0.0 ? u - f / sp : NAN;
+		if (!(un > lo && un < hi) || fabs(f) > 0.5 * prev)
+			un = 0.5 * (lo + hi);
+		prev = fabs(f);
+		u = un;
+	}
+	*len = l;
+	return u;
 }

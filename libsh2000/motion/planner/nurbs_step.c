@@ -116,52 +116,15 @@ static double step(struct sh2000_path *p, const struct pl_nurbs *nb,
 	return u;
 }
 
-/*
- * Entering the curve: the parameter at arc length p->s into block b. The
- * arc length from the block's start grows with u, so [lo, hi] with the
- * arc short at lo and long at hi always holds the answer: a Newton step
- * is taken only where it lands inside the bracket and at least halves the
- * error of the step before, bisection otherwise (a safeguarded Newton, as
- * rtsafe in Numerical Recipes). The parametrisation can be very uneven (a
- * tiny weight puts nearly all the length at one end of a span), where
- * plain Newton steps overshoot to the block's ends and a few of them left
- * the point on a wrong parameter, far from the planned distance. Lengths
- * are measured from the bracket's low end, so each integral is short.
- */
+/* Entering the curve: the parameter at arc length p->s into block b. */
 static double enter(struct sh2000_path *p, const struct pl_block *b,
 		    double c[4])
 {
-	const struct pl_nurbs *nb = b->g.nurbs.nb;
-	double s = fmin(fmax(p->s, 0.0), b->L), lo = b->g.nurbs.u0;
-	double hi = b->g.nurbs.u1, l_lo = 0.0, u, l = 0.0, prev = INFINITY;
-	unsigned int it;
+	double s = fmin(fmax(p->s, 0.0), b->L), l;
+	double u = pl_nurbs_u_at(b->g.nurbs.nb, b->g.nurbs.u0, b->g.nurbs.u1,
+				 b->L, s, &l);
 
-	u = lo + (hi - lo) * s / b->L;
-	for (it = 0; it < 200 && s > 0.0; it++) {
-		double f, sp, un;
-
-		l = l_lo + pl_nurbs_length(nb, lo, u);
-		f = l - s;
-		if (fabs(f) <= 1e-12 * (1.0 + s))
-			break;
-		if (f < 0.0) {
-			lo = u;
-			l_lo = l;
-		} else {
-			hi = u;
-		}
-		if (hi - lo <= 1e-15 * (1.0 + fabs(hi)))
-			break;
-		sp = point_speed(nb, u, c);
-		un = sp > 0.0 ? u - f / sp : NAN;
-		if (!(un > lo && un < hi) || fabs(f) > 0.5 * prev)
-			un = 0.5 * (lo + hi);
-		prev = fabs(f);
-		u = un;
-	}
-	if (s <= 0.0)
-		u = lo;
-	p->hist_speed = point_speed(nb, u, c);
+	p->hist_speed = point_speed(b->g.nurbs.nb, u, c);
 	p->s = s <= 0.0 ? 0.0 : l;
 	return u;
 }

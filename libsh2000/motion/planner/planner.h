@@ -93,6 +93,10 @@ double pl_nurbs_length(const struct pl_nurbs *nb, double u0, double u1);
 /* The same for a piece whose speed |C'| is known to be even (within 4x):
  * one 8-point rule. */
 double pl_nurbs_length_even(const struct pl_nurbs *nb, double u0, double u1);
+/* The parameter at arc length s from u0 along [u0, u1], whose length is
+ * L; the arc length it reaches in *len. */
+double pl_nurbs_u_at(const struct pl_nurbs *nb, double u0, double u1, double L,
+		     double s, double *len);
 /* Curvature and unit tangent at u; returns |C'(u)|. */
 double pl_nurbs_frame(const struct pl_nurbs *nb, double u,
 		      double t[SH2000_AXES], double *kappa);

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 /*
- * Blends at corners next to arcs (G64 P), checked where it matters: the
- * card model's fine set-points against the exact programmed path of lines
- * and arcs with corners that are not tangent: line-arc and arc-line in XY,
- * arc-arc in XY and in XZ, a helix between lines. Every set-point stays
+ * Blends at corners next to arcs and NURBS (G64 P), checked where it
+ * matters: the card model's fine set-points against the exact programmed
+ * path of lines, arcs and NURBS with corners that are not tangent:
+ * line-arc and arc-line in XY, arc-arc in XY and in XZ, a helix between
+ * lines, lines and arcs into and out of NURBS. Every set-point stays
  * within P of the path, the corners next to arcs are rounded (not
  * visited), and no axis passes its vmax or amax on the card's servo
  * cycles, at the card model's limits (400 mm/s, 5000 mm/s^2). A pocket of
@@ -28,6 +29,7 @@
 #define MAXEL 1024
 #define ARC_STEP 0.002		/* rad between the reference's samples */
 #define WINDOW 400		/* chords searched either side of the last */
+#define NURBS_SAMPLES 20000	/* per curve: chords of 2 um on 40 mm */
 
 /* One programmed move: a line, or an arc around centre (plane
  * coordinates, relative to the program's origin). */
@@ -38,6 +40,10 @@ struct el {
 	enum sh2000_plane plane;
 	double e[4];
 	double c[2];
+	/* a NURBS (when not NULL), its control points relative to the
+	 * program's origin, the first one where the move before ends; e is
+	 * its last */
+	const struct sh2000_nurbs *nurbs;
 };
 
 struct prog {
@@ -49,8 +55,8 @@ struct prog {
 };
 
 /* The exact path as a polyline (arcs sampled every ARC_STEP: the chords
- * fall inside by R ARC_STEP^2 / 8, 0.005 um at R 10) and what the card
- * did. */
+ * fall inside by R ARC_STEP^2 / 8, 0.005 um at R 10; NURBS at
+ * NURBS_SAMPLES even steps of the parameter) and what the card did. */
 struct meas {
 	double (*poly)[4];
 	size_t npoly, cap;
@@ -95,6 +101,18 @@ static void reference(struct meas *m, const struct prog *pg)
 		struct sh2000_arc g;
 		char msg[200];
 
+		if (e->nurbs) {
+			double umin = sh2000_nurbs_umin(e->nurbs);
+			double umax = sh2000_nurbs_umax(e->nurbs), x[4];
+
+			for (k = 1; k <= NURBS_SAMPLES; k++) {
+				sh2000_nurbs_eval(e->nurbs, umin + (umax - umin) *
+						  k / NURBS_SAMPLES, x, NULL, NULL);
+				poly_add(m, x);
+			}
+			memcpy(at, e->e, sizeof(at));
+			continue;
+		}
 		if (!e->arc) {
 			poly_add(m, e->e);
 			memcpy(at, e->e, sizeof(at));
@@ -179,7 +197,17 @@ static void send(struct sh2000_path *p, const struct el *e, const double o[4])
 
 	for (a = 0; a < 4; a++)
 		end[a] = o[a] + e->e[a];
-	if (e->rapid) {
+	if (e->nurbs) {
+		double pts[16][4];
+		struct sh2000_nurbs n = *e->nurbs;
+
+		assert_true(n.npoints <= 16);
+		for (f = 0; f < n.npoints; f++)
+			for (a = 0; a < 4; a++)
+				pts[f][a] = o[a] + n.points[f][a];
+		n.points = (const double (*)[4])pts;
+		assert_int_equal(sh2000_path_nurbs(p, &n, e->feed > 0 ? e->feed : FEED), 0);
+	} else if (e->rapid) {
 		assert_int_equal(sh2000_path_rapid(p, end), 0);
 	} else if (!e->arc) {
 		assert_int_equal(sh2000_path_line(p, end, e->feed > 0 ? e->feed : FEED), 0);
@@ -404,6 +432,68 @@ static void test_helix(void **s)
 
 	(void)s;
 	prog_helix(&pg);
+	check_both(&pg);
+}
+
+/* A NURBS of degree deg from control points pts (the first where the
+ * move before ends), weights w, clamped uniform knots (LinuxCNC's G5.2). */
+static void nurbs(struct prog *pg, struct sh2000_nurbs *n, unsigned int deg,
+		  const double (*pts)[4], const double *w, double *knots,
+		  size_t np)
+{
+	struct el *e = &pg->el[pg->n++];
+	size_t i;
+
+	for (i = 0; i < np + deg + 1; i++)
+		knots[i] = i <= deg ? 0.0 : i >= np ? (double)(np - deg) :
+			   (double)(i - deg);
+	n->degree = deg;
+	n->npoints = np;
+	n->points = pts;
+	n->weights = w;
+	n->knots = knots;
+	memset(e, 0, sizeof(*e));
+	e->nurbs = n;
+	memcpy(e->e, pts[np - 1], sizeof(e->e));
+}
+
+/* Corners of 20 to 56 degrees at the ends of four NURBS: line-NURBS,
+ * NURBS-line, NURBS-arc, arc-NURBS, NURBS-NURBS (a heavier weight and a
+ * quadratic among them). */
+static void prog_nurbs(struct prog *pg)
+{
+	static const double a[5][4] = { { 10, 0 }, { 14, 4 }, { 12, 10 },
+					{ 20, 12 }, { 24, 8 } };
+	static const double b[4][4] = { { 34, 8 }, { 38, 14 }, { 44, 10 },
+					{ 48, 16 } };
+	static const double c[4][4] = { { 48, 26 }, { 44, 30 }, { 40, 26 },
+					{ 36, 30 } };
+	static const double d[4][4] = { { 36, 30 }, { 32, 30 }, { 30, 26 },
+					{ 26, 26 } };
+	static const double wa[5] = { 1, 1, 2, 1, 1 }, w1[4] = { 1, 1, 1, 1 };
+	static struct sh2000_nurbs n[4];
+	static double k[4][10];
+	unsigned int i;
+
+	new_prog(pg, "NURBS ends");
+	line(pg, 10, 0, 0);
+	nurbs(pg, &n[0], 3, a, wa, k[0], 5);
+	line(pg, 34, 8, 0);
+	nurbs(pg, &n[1], 2, b, w1, k[1], 4);
+	arc(pg, SH2000_PLANE_XY, 1, 48, 26, 0, 48, 21);
+	nurbs(pg, &n[2], 3, c, w1, k[2], 4);
+	nurbs(pg, &n[3], 3, d, w1, k[3], 4);
+	line(pg, 10, 20, 0);
+	for (i = 1; i < pg->n; i++)
+		corner_at(pg, i);
+}
+
+static void test_nurbs_ends(void **s)
+{
+	static struct prog pg;
+
+	(void)s;
+	prog_nurbs(&pg);
 	check_both(&pg);
 }
 
@@ -1188,6 +1278,7 @@ int main(void)
 		cmocka_unit_test(test_line_arc),
 		cmocka_unit_test(test_arc_arc),
 		cmocka_unit_test(test_helix),
+		cmocka_unit_test(test_nurbs_ends),
 		cmocka_unit_test(test_pocket),
 		cmocka_unit_test(test_surface),
 		cmocka_unit_test(test_line_accel),

@@ -10,10 +10,11 @@
  *
  * Two straight moves: one circular arc in the plane of the two moves
  * (LinuxCNC's trajectory planner blends the same way); its depth is exact.
- * A corner next to an arc or a helix (line-arc, arc-line, arc-arc, any
- * planes): a biarc, two circular arcs meeting tangentially, from the point
- * and tangent where the first move is cut to those where the second one
- * is (biarc.c). No single circle is tangent to a helix and a line in
+ * A corner next to an arc, a helix or the end of a NURBS (line-arc,
+ * arc-line, arc-arc in any planes, a NURBS' first or last block against
+ * any of them): a biarc, two circular arcs meeting tangentially, from the
+ * point and tangent where the first move is cut to those where the second
+ * one is (biarc.c). No single circle is tangent to a helix and a line in
  * general, while a biarc exists for any two points and tangents, in any
  * number of axes, and is made of the blend arcs the controller already
  * knows. Its depth has no closed form: it is measured against the pieces
@@ -88,8 +89,28 @@
  * planned 35.714 s at 0.25, 35.666 s at 0.35, 35.672 s at 0.5). */
 #define STOP_VB_SHARE 0.35
 
-/* The last block queued, if it is a line or an arc that can still be cut
- * short. */
+/* Blocks a blend may cut: lines, arcs and NURBS blocks. */
+static int cuttable(const struct pl_block *b)
+{
+	return b->type == BLK_LINE || b->type == BLK_ARC ||
+	       b->type == BLK_NURBS;
+}
+
+/* Whether b starts where t ends: exactly, or for a NURBS, whose ends are
+ * evaluated, within the rounding of its evaluation. */
+static int meet(const struct pl_block *t, const struct pl_block *b)
+{
+	double d[SH2000_AXES];
+	unsigned int a;
+
+	if (t->type != BLK_NURBS && b->type != BLK_NURBS)
+		return !memcmp(t->p1, b->p0, sizeof(t->p1));
+	for (a = 0; a < SH2000_AXES; a++)
+		d[a] = b->p0[a] - t->p1[a];
+	return pl_dot(d, d) < BLEND_MIN_MM * BLEND_MIN_MM;
+}
+
+/* The last block queued, if it is one that can still be cut short. */
 static struct pl_block *tail_block(struct sh2000_path *p)
 {
 	struct pl_block *t;
@@ -97,7 +118,7 @@ static struct pl_block *tail_block(struct sh2000_path *p)
 	if (!p->count || p->count + PL_ROOM > p->cap)
 		return NULL;
 	t = (struct pl_block *)pl_block_at(p, p->count - 1);
-	if ((t->type != BLK_LINE && t->type != BLK_ARC) || t->stop_after)
+	if (!cuttable(t) || t->stop_after)
 		return NULL;
 	/* the controller may be in it: leave what it is about to reach */
 	if (p->count == 1 && p->moving)
@@ -147,13 +168,37 @@ static double poly_dist(const double x[SH2000_AXES],
 	return m;
 }
 
-/* The piece b of a line or an arc as a polyline; returns its points and
- * in *sag how far the chords may fall inside the arc. */
+/* The piece b of a NURBS block as a polyline, evenly in its parameter;
+ * in *sag how far the curve strays from its chords: twice what it does
+ * at each chord's middle parameter (a chord this short of a smooth curve
+ * is nearly an arc's, whose sagitta is at its middle). */
+static unsigned int nurbs_poly(const struct pl_block *b,
+			       double (*pts)[SH2000_AXES], double *sag)
+{
+	double u0 = b->g.nurbs.u0, du = (b->g.nurbs.u1 - u0) / PIECE_CHORDS;
+	double m[SH2000_AXES];
+	unsigned int i;
+
+	*sag = 0.0;
+	for (i = 0; i <= PIECE_CHORDS; i++)
+		pl_nurbs_eval(b->g.nurbs.nb, u0 + du * i, pts[i], NULL, NULL);
+	memcpy(pts[PIECE_CHORDS], b->p1, sizeof(b->p1));
+	for (i = 0; i < PIECE_CHORDS; i++) {
+		pl_nurbs_eval(b->g.nurbs.nb, u0 + du * (i + 0.5), m, NULL, NULL);
+		*sag = pl_max(*sag, 2.0 * pl_seg_dist(m, pts[i], pts[i + 1]));
+	}
+	return PIECE_CHORDS + 1;
+}
+
+/* The piece b of a line, an arc or a NURBS block as a polyline; returns
+ * its points and in *sag how far the chords may fall inside the curve. */
 static unsigned int piece_poly(const struct pl_block *b,
 			       double (*pts)[SH2000_AXES], double *sag)
 {
 	unsigned int i, n = b->type == BLK_LINE ? 1 : PIECE_CHORDS;
 
+	if (b->type == BLK_NURBS)
+		return nurbs_poly(b, pts, sag);
 	*sag = 0.0;
 	if (b->type == BLK_ARC) {
 		double h = b->L / n;
@@ -230,8 +275,9 @@ static unsigned int blend_lines(struct sh2000_path *p, struct pl_block *t,
 	return 1;
 }
 
-/* Next to an arc: a biarc, its cuts shortened until it stays within tol
- * of the corner's pieces (and no slower than the corner itself). */
+/* Next to an arc or a NURBS: a biarc, its cuts shortened until it stays
+ * within tol of the corner's pieces (and no slower than the corner
+ * itself). */
 static unsigned int blend_curves(struct sh2000_path *p, struct pl_block *t,
 				 struct pl_block *b, double phi, double tol,
 				 double smax, struct pl_block *k)
@@ -350,13 +396,18 @@ unsigned int pl_blend_corner(struct sh2000_path *p, struct pl_block *b,
 	struct pl_block *t, t0, b0;
 	unsigned int n, i;
 
-	if ((b->type != BLK_LINE && b->type != BLK_ARC) ||
+	if (!cuttable(b) ||
 	    p->cfg.mode != SH2000_PATH_BLEND || !(tol > 0.0) ||
 	    (p->cfg.output == SH2000_OUTPUT_RAW && tol < PL_RAW_TOL_REST_MM) ||
 	    p->stop_next)
 		return 0;	/* the corner's junction rule (pl_junction()) */
 	t = tail_block(p);
-	if (!t || memcmp(t->p1, b->p0, sizeof(t->p1)))
+	if (!t || !meet(t, b))
+		return 0;
+	/* inside one curve: a cusp or a knot of multiplicity degree, where
+	 * the curve itself turns (expand.c stops there) */
+	if (t->type == BLK_NURBS && b->type == BLK_NURBS &&
+	    t->g.nurbs.nb == b->g.nurbs.nb)
 		return 0;
 	phi = acos(pl_max(-1.0, pl_min(1.0, pl_dot(t->t1, b->t0))));
 	if (phi < 1e-6 || phi > M_PI - 1e-3)

@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 /*
- * Pieces of lines and arcs: a blend (blend.c) replaces the ends of the two
- * blocks at a corner, so it needs the blocks cut short and the pieces it
- * cut away (to measure how far the blend strays from them). An arc's
- * piece is the same arc over a part of its sweep; the arc's frame (length
- * and end tangents) is one formula for whole arcs and pieces.
+ * Pieces of lines, arcs and NURBS blocks: a blend (blend.c) replaces the
+ * ends of the two blocks at a corner, so it needs the blocks cut short and
+ * the pieces it cut away (to measure how far the blend strays from them).
+ * An arc's piece is the same arc over a part of its sweep; the arc's frame
+ * (length and end tangents) is one formula for whole arcs and pieces. A
+ * NURBS block's piece is the curve over a part of the block's parameter
+ * range, found by arc length.
  */
 #include <string.h>
 #include <math.h>
@@ -60,6 +62,28 @@ void pl_arc_frame(struct pl_block *b)
 	arc_end_tangent(lin, lin2, dr, g->r1 * g->sweep, th1, i, j, b->t1);
 }
 
+/* The NURBS block b between arc lengths s0 and s1 into k (a copy of b):
+ * the parameters there, the ends' points and tangents, the length. */
+static void nurbs_cut(const struct pl_block *b, double s0, double s1,
+		      struct pl_block *k)
+{
+	const struct pl_nurbs *nb = b->g.nurbs.nb;
+	double u0 = b->g.nurbs.u0, u1 = b->g.nurbs.u1, len, kappa;
+
+	if (s0 > 0.0) {
+		k->g.nurbs.u0 = pl_nurbs_u_at(nb, u0, u1, b->L, s0, &len);
+		pl_nurbs_eval(nb, k->g.nurbs.u0, k->p0, NULL, NULL);
+		pl_nurbs_frame(nb, k->g.nurbs.u0, k->t0, &kappa);
+	}
+	if (s1 < b->L) {
+		k->g.nurbs.u1 = pl_nurbs_u_at(nb, u0, u1, b->L, s1, &len);
+		pl_nurbs_eval(nb, k->g.nurbs.u1, k->p1, NULL, NULL);
+		pl_nurbs_frame(nb, k->g.nurbs.u1, k->t1, &kappa);
+	}
+	if (s0 > 0.0 || s1 < b->L)
+		k->L = pl_nurbs_length(nb, k->g.nurbs.u0, k->g.nurbs.u1);
+}
+
 void pl_block_cut(const struct pl_block *b, double s0, double s1,
 		  struct pl_block *out)
 {
@@ -77,6 +101,8 @@ void pl_block_cut(const struct pl_block *b, double s0, double s1,
 		if (s1 >= b->L)
 			memcpy(k.p1, b->p1, sizeof(k.p1));
 		k.L = s1 - s0;
+	} else if (b->type == BLK_NURBS) {
+		nurbs_cut(b, s0, s1, &k);
 	} else {	/* BLK_ARC: the arc is uniform in its fraction */
 		const struct sh2000_arc *g = &b->g.arc;
 		double f0 = s0 / b->L, f1 = s1 / b->L;

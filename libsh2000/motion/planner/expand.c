@@ -117,6 +117,17 @@ static void probe_block(const struct sh2000_path *p,
 		}
 }
 
+/* A block whose speed limit varies more than this within it is halved:
+ * its lowest sample holds the whole block, so the closer the blocks
+ * follow the curve's limit, the less the carriage waits before and after
+ * a tight turn. bench_feed, compensated, the card model's limits, cycle
+ * time over L/F: the free-form NURBS at 150 mm/s 1.657 at 4, 1.644 at
+ * 1.5, 1.603 at 1.2, 1.604 at 1.1; the butterfly at 300 mm/s 1.569,
+ * 1.566 at 1.2, 1.552 at 1.1. The planner's throughput on free-form
+ * NURBS falls with the blocks (bench_planner throughput freeform on a
+ * loaded machine: 266,000 points/s at 4, 194,000 at 1.2, 112,000 at 1.1). */
+#define NURBS_SPLIT_RATIO 1.2
+
 /* Halvings of a sixteenth of a span at most (4096 pieces). */
 #define PL_NURBS_SPLIT_MIN (1.0 / 4096.0)
 
@@ -151,11 +162,11 @@ int pl_nurbs_expand(struct sh2000_path *p)
 		if (nb->cut > pr.u0 && nb->cut < pr.u1)
 			pr.u0 = nb->cut;	/* the rest after a cut */
 		probe_block(p, nb, &pr);
-		/* where the limit changes a lot within the block (a tight
-		 * turn where a heavy weight crowds the parameter, or the
-		 * approach to a sharp turn), halve it: the low limit would
-		 * hold the whole block back */
-		while (pr.vhigh > 4.0 * pr.vlim &&
+		/* where the limit changes within the block (a tight turn,
+		 * where a heavy weight crowds the parameter, or the approach
+		 * to a sharp turn), halve it: the low limit would hold the
+		 * whole block back */
+		while (pr.vhigh > NURBS_SPLIT_RATIO * pr.vlim &&
 		       pr.u1 - pr.u0 > du * PL_NURBS_SPLIT_MIN) {
 			pr.u1 = 0.5 * (pr.u0 + pr.u1);
 			probe_block(p, nb, &pr);

@@ -26,7 +26,12 @@
  * the match is unambiguous and the B-spline's smoothing of accelerations
  * does not bias it), and filtered: while the card plays the stream
  * without a gap it is constant, whatever the card's clock does against
- * the PC's.
+ * the PC's. So a measurement far from it is an outlier, not a change:
+ * what does move the card's timeline (a gap, a jump of its clock) voids
+ * the delay instead. One such outlier, taken while the card played a
+ * homing's stop at the index mark, moved D by 0.14 periods and LinuxCNC
+ * tripped on the following error of the move to HOME (0.14 ms x 100
+ * mm/s is 14 um, the sample's limit there 15 um).
  */
 #include <math.h>
 #include <string.h>
@@ -39,6 +44,12 @@
 #define FB_MAX_ACCEL		0.002
 /* Filter of the measured delay. */
 #define FB_GAIN			0.1
+/* A measurement this far (periods) from a valid delay is an outlier ... */
+#define FB_OUTLIER		0.05
+/* ... unless this many in a row, of distinct snapshots, agree. */
+#define FB_OUTLIER_RUN		10
+/* The largest Newton step (periods) from a valid delay's guess. */
+#define FB_MAX_STEP		0.25
 
 /* The stream's command at fractional record u (linear between records),
  * its velocity there (counts per record) and, if t is not NULL, the
@@ -112,15 +123,72 @@ void hsc_clock_offset(struct hsc_card *c, long late_ns)
 	c->clock_off_valid = 1;
 }
 
+/*
+ * The motion steady over every record the card's set-point at record u
+ * depends on: its B-spline window, records floor(u) - 1 .. floor(u) + 2.
+ * A match across a record where the command stops or turns is biased by
+ * the spline's smoothing there (some 30 counts off the records' corner
+ * at a homing's stop), which the Newton step divides by the speed.
+ */
+static int steady_at(const struct hsc_card *c, double u, double speed)
+{
+	double p[3][SH2000_AXES], v[3][SH2000_AXES];
+	unsigned int a, i;
+
+	for (i = 0; i < 3; i++)
+		if (history_at(c, u - 1.0 + i, p[i], v[i], NULL) < 0)
+			return 0;
+	for (a = 0; a < SH2000_AXES; a++)
+		for (i = 1; i < 3; i++)
+			if (fabs(v[i][a] - v[0][a]) > FB_MAX_ACCEL * speed + 1.0)
+				return 0;
+	return 1;
+}
+
+/* A measured delay d into the filter: outliers only as a run that agrees
+ * (FB_OUTLIER_RUN), the first of a void delay at once. */
+static void delay_take(struct hsc_card *c, double d)
+{
+	c->delay_n++;
+	if (!c->delay_valid) {
+		c->delay = d;
+		c->delay_valid = 1;
+		c->delay_out_n = 0;
+		return;
+	}
+	if (fabs(d - c->delay) <= FB_OUTLIER) {
+		c->delay += FB_GAIN * (d - c->delay);
+		c->delay_out_n = 0;
+		return;
+	}
+	if (c->delay_out_n && fabs(d - c->delay_out) <= FB_OUTLIER) {
+		c->delay_out_n++;
+	} else {
+		c->delay_out = d;
+		c->delay_out_n = 1;
+	}
+	if (c->delay_out_n >= FB_OUTLIER_RUN) {
+		c->delay = d;
+		c->delay_out_n = 0;
+	}
+}
+
 /* One fresh snapshot: measure the delay where the motion allows. */
 void hsc_delay_update(struct hsc_card *c)
 {
 	double pos[SH2000_AXES], vel[SH2000_AXES], v2 = 0, dot = 0;
-	double t, u, d, va[SH2000_AXES], pa[SH2000_AXES];
+	double t, u;
 	unsigned int a, en = hsc_enabled(&c->st);
 
 	if (!c->streaming || !en)
 		return;
+	/* once per snapshot: the card's status comes a little slower than
+	 * the ticks, and a card that lags leaves one in place for several;
+	 * each read of it again would count its measurement again */
+	if (c->delay_cycle_seen && c->delay_cycle == c->st.card_cycle)
+		return;
+	c->delay_cycle = c->st.card_cycle;
+	c->delay_cycle_seen = 1;
 	t = c->snap_t;
 	/* first guess: the card plays the record pushed fill + 2 records
 	 * before the newest (the ring, then the B-spline window) */
@@ -134,25 +202,15 @@ void hsc_delay_update(struct hsc_card *c)
 		v2 += vel[a] * vel[a];
 		dot += vel[a] * ((double)c->st.axis[a].cmd_counts - pos[a]);
 	}
-	if (v2 < FB_MIN_SPEED * FB_MIN_SPEED)
+	if (v2 < FB_MIN_SPEED * FB_MIN_SPEED || !steady_at(c, u, sqrt(v2)))
 		return;
-	/* one Newton step along the motion, then check it is steady over
-	 * the neighbouring ticks */
+	/* one Newton step along the motion, then steady there too */
+	if (c->delay_valid && fabs(dot / v2) > FB_MAX_STEP)
+		return;
 	u += dot / v2;
-	if (history_at(c, u - 1, pa, va, NULL) < 0 ||
-	    history_at(c, u, pos, vel, NULL) < 0)
+	if (!steady_at(c, u, sqrt(v2)))
 		return;
-	for (a = 0; a < SH2000_AXES; a++)
-		if (fabs(vel[a] - va[a]) > FB_MAX_ACCEL * sqrt(v2) + 1.0)
-			return;
-	d = t - u;
-	c->delay_n++;
-	if (!c->delay_valid || fabs(d - c->delay) > 2.0) {
-		c->delay = d;	/* first, or after a jump: take it */
-		c->delay_valid = 1;
-	} else {
-		c->delay += FB_GAIN * (d - c->delay);
-	}
+	delay_take(c, t - u);
 }
 
 /* position-fb of axis a in counts. */

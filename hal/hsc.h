@@ -281,6 +281,12 @@ struct hsc_card {
 	uint64_t start_ref;
 	int start_check;	/* 0: checked, or nothing to check */
 	int delay_n;
+	/* the snapshot the delay was last measured on; a run of outliers
+	 * (feedback.c) */
+	uint64_t delay_cycle;
+	int delay_cycle_seen;
+	double delay_out;
+	int delay_out_n;
 
 	struct hsc_index ix[SH2000_AXES];
 	uint64_t ix_fail_tick;	/* tick + 1 of the last index failure */

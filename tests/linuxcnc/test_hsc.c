@@ -412,6 +412,43 @@ static void test_stall_caught_up(void **state)
 	}
 }
 
+/*
+ * A homing's turn at the index mark: the search at -1 mm/s stops within
+ * a tick (at ten phases of it, so the record across the stop is 5 to 95
+ * counts) and LinuxCNC moves 5 mm back to HOME at once. The card plays
+ * the stop and the turn while the driver measures its delay: the delay
+ * must not move (the card plays without a gap), so LinuxCNC's following
+ * error in the move stays the card's own. A match across the stop, whose
+ * set-point the B-spline smooths some 30 counts off the records, once
+ * moved the delay by 0.14 periods, and LinuxCNC tripped at 15 um.
+ */
+static void test_delay_through_turn(void **state)
+{
+	double cmd[SH2000_AXES] = { 0 }, T = PERIOD_NS * 1e-9, before, worst;
+	double most = 0, worst_all = 0;
+	int k;
+
+	(void)state;
+	for (k = 0; k < 10; k++) {
+		struct rig *r = moving_rig(-1.0, cmd);
+
+		assert_true(r->c.delay_valid);
+		before = r->c.delay;
+		cmd[0] -= 1.0 * T * (k + 0.5) / 10.0;
+		tick(r, cmd);
+		ticks(r, 2);
+		move(r, 0, cmd[0] + 5.0, 100.0, 1000.0, &worst);
+		assert_true(r->c.delay_valid);
+		most = fmax(most, fabs(r->c.delay - before));
+		worst_all = fmax(worst_all, worst);
+		rig_close(r);
+	}
+	print_message("a homing's turn at ten phases of a tick: the delay moved by at most %.4f periods, LinuxCNC's following error at most %.3f um off the card's\n",
+		      most, worst_all * 1e3);
+	assert_true(most < 0.005);
+	assert_true(worst_all < 0.001);
+}
+
 /* A card that loses 40 periods for good (a served card further behind
  * than it catches up): after HSC_SLIP_TICKS the stream catches the card
  * up (HSC_SLIP_RATE faster), without a step the card would refuse, and
@@ -1042,6 +1079,7 @@ int main(void)
 		cmocka_unit_test(test_underrun),
 		cmocka_unit_test(test_stopped_by_another_program),
 		cmocka_unit_test(test_stall_caught_up),
+		cmocka_unit_test(test_delay_through_turn),
 		cmocka_unit_test(test_slip_recentred),
 		cmocka_unit_test(test_lost_refilled),
 		cmocka_unit_test(test_target_raised),

@@ -180,9 +180,9 @@ static unsigned int nurbs_poly(const struct pl_block *b,
 	unsigned int i;
 
 	*sag = 0.0;
-	for (i = 0; i <= PIECE_CHORDS; i++)
+	for (i = 0; i < PIECE_CHORDS; i++)
 		pl_nurbs_eval(b->g.nurbs.nb, u0 + du * i, pts[i], NULL, NULL);
-	memcpy(pts[PIECE_CHORDS], b->p1, sizeof(b->p1));
+	memcpy(pts[PIECE_CHORDS], b->p1, sizeof(b->p1));	/* C(u1) */
 	for (i = 0; i < PIECE_CHORDS; i++) {
 		pl_nurbs_eval(b->g.nurbs.nb, u0 + du * (i + 0.5), m, NULL, NULL);
 		*sag = pl_max(*sag, 2.0 * pl_seg_dist(m, pts[i], pts[i + 1]));
